@@ -1,0 +1,89 @@
+"""The ``swatch`` command: a thin click layer that parses, calls the library and reports.
+
+Subcommands live in ``swatch/commands/`` and are imported only when used (fast start-up).
+Bad input raises :class:`swatch.errors.SwatchError` (or a click usage error) and is reported as
+one line ``error: ...`` with exit status 2; no traceback (``SWATCH_DEBUG=1`` shows one for bugs).
+"""
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+
+import click
+
+from swatch import __version__
+from swatch.errors import SwatchError
+
+#: command name -> "module:attribute"
+COMMANDS = {
+    "spectrum": "swatch.commands.engine:spectrum",
+    "color": "swatch.commands.engine:color",
+    "materials": "swatch.commands.engine:materials",
+    "roughness": "swatch.commands.engine:roughness",
+    "angular": "swatch.commands.render:angular",
+    "render": "swatch.commands.render:render",
+    "catalog": "swatch.commands.catalog:catalog",
+    "fit": "swatch.commands.fit:fit",
+    "match": "swatch.commands.fit:match",
+}
+
+
+class LazyGroup(click.Group):
+    def list_commands(self, ctx):
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx, name):
+        target = COMMANDS.get(name)
+        if target is None:
+            return None
+        module, attr = target.split(":")
+        return getattr(importlib.import_module(module), attr)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="swatch")
+def cli():
+    """Physics-based colour swatches for anodised titanium.
+
+    Thin-film interference of the anodic oxide, evaluated on the half-vector facet
+    (Fujii et al.), in spectra, CIELAB values, renders and catalog sheets.
+    """
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: run the CLI, turning every expected failure into one line and exit 2."""
+    try:
+        rv = cli.main(args=argv, prog_name="swatch", standalone_mode=False)
+    except SwatchError as exc:
+        click.echo(f"error: {_one_line(exc)}", err=True)
+        return 2
+    except click.exceptions.Abort:
+        click.echo("error: aborted", err=True)
+        return 130
+    except click.ClickException as exc:
+        cmd = f" (see 'swatch {exc.ctx.command_path.split(' ', 1)[1]} --help')" if getattr(exc, "ctx", None) and " " in exc.ctx.command_path else ""
+        click.echo(f"error: {_one_line(exc.format_message())}{cmd}", err=True)
+        return exc.exit_code if exc.exit_code else 2
+    except KeyboardInterrupt:
+        click.echo("error: interrupted; nothing half-written was left behind", err=True)
+        return 130
+    except BrokenPipeError:
+        return 0
+    except OSError as exc:
+        click.echo(f"error: {_one_line(exc.strerror or exc)}: {exc.filename or ''}".rstrip(": "), err=True)
+        return 2
+    except Exception as exc:  # a bug: still one line unless debugging
+        if os.environ.get("SWATCH_DEBUG"):
+            raise
+        click.echo(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); set SWATCH_DEBUG=1 for a traceback", err=True)
+        return 70
+    return rv if isinstance(rv, int) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

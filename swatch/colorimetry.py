@@ -1,0 +1,183 @@
+"""Colorimetry through colour-science: spectra -> XYZ -> CIELAB / LCh -> display RGB, and ΔE.
+
+A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its
+weights (W, 3) are obtained from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the
+method ``colour.sd_to_XYZ`` uses by default) applied to the unit impulses of the grid. Because
+that conversion is linear in the reflectance, ``R @ weights`` equals ``colour.sd_to_XYZ`` of any
+spectrum R on the grid, and many spectra convert in one matrix product.
+
+Scale: XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's convention);
+CIELAB uses the illuminant's own white under the chosen observer.
+"""
+from __future__ import annotations
+
+import functools
+
+import colour
+import numpy as np
+
+from swatch.errors import SwatchError
+
+__all__ = [
+    "OBSERVERS",
+    "RGB_SPACES",
+    "Colorimeter",
+    "get_colorimeter",
+    "illuminant_names",
+    "delta_E_ab",
+    "delta_E_00",
+    "Lab_to_LCh",
+    "srgb_hex",
+    "hex_to_Lab",
+]
+
+OBSERVERS = {
+    "10": "CIE 1964 10 Degree Standard Observer",
+    "2": "CIE 1931 2 Degree Standard Observer",
+}
+RGB_SPACES = {"srgb": "sRGB", "display-p3": "Display P3", "acescg": "ACEScg"}
+#: Wavelength steps the ASTM E308 practice (colour.sd_to_XYZ's default) accepts.
+ASTM_E308_STEPS_NM = (1.0, 5.0, 10.0, 20.0)
+
+
+def illuminant_names() -> list[str]:
+    """The illuminant names colour-science has spectra for."""
+    return sorted(colour.SDS_ILLUMINANTS.keys())
+
+
+def _observer_name(observer) -> str:
+    key = str(observer).strip().lower().replace("°", "").replace("deg", "").strip()
+    if key in OBSERVERS:
+        return OBSERVERS[key]
+    for name in OBSERVERS.values():
+        if key == name.lower():
+            return name
+    raise SwatchError(f"unknown observer {observer!r}; use 10 (CIE 1964 10°) or 2 (CIE 1931 2°)")
+
+
+def _illuminant_name(illuminant: str) -> str:
+    for name in colour.SDS_ILLUMINANTS.keys():
+        if name.lower() == str(illuminant).strip().lower():
+            return name
+    raise SwatchError(
+        f"unknown illuminant {illuminant!r}; use one of colour-science's: "
+        + ", ".join(n for n in illuminant_names() if len(n) <= 6)
+        + " ..."
+    )
+
+
+class Colorimeter:
+    """Converts reflectance spectra on one wavelength grid to colour coordinates."""
+
+    def __init__(self, wavelength_nm, illuminant: str = "D65", observer="10"):
+        wl = np.asarray(wavelength_nm, dtype=np.float64)
+        if wl.ndim != 1 or wl.size < 3:
+            raise SwatchError("colorimetry needs a wavelength grid of at least 3 samples")
+        steps = np.diff(wl)
+        step = float(steps[0])
+        if not np.allclose(steps, step) or not any(np.isclose(step, s) for s in ASTM_E308_STEPS_NM):
+            raise SwatchError("colorimetry needs an evenly spaced 1, 5, 10 or 20 nm grid (ASTM E308)")
+        self.observer_name = _observer_name(observer)
+        self.illuminant_name = _illuminant_name(illuminant)
+        cmfs = colour.MSDS_CMFS[self.observer_name]
+        lo, hi = cmfs.shape.start, cmfs.shape.end
+        if wl[0] < lo or wl[-1] > hi:
+            raise SwatchError(
+                f"wavelength grid {wl[0]:g}–{wl[-1]:g} nm is outside the observer's range {lo:g}–{hi:g} nm"
+            )
+        self.wavelength_nm = wl
+        self.observer = "10" if "1964" in self.observer_name else "2"
+        self.illuminant = self.illuminant_name
+        self.cmfs = cmfs
+        self.illuminant_sd = colour.SDS_ILLUMINANTS[self.illuminant_name]
+        basis = colour.MultiSpectralDistributions(np.eye(wl.size), wl)
+        #: (W, 3) weights: XYZ = R @ weights, Y = 100 for R = 1.
+        self.weights = np.ascontiguousarray(
+            colour.msds_to_XYZ(basis, cmfs, self.illuminant_sd, method="ASTM E308")
+        )
+        self.white_XYZ = self.weights.sum(axis=0)
+        self.white_xy = colour.XYZ_to_xy(self.white_XYZ / 100.0)
+
+    # -- conversions (all vectorised over leading axes) --------------------------------------
+    def XYZ(self, reflectance) -> np.ndarray:
+        """Tristimulus values (..., 3) of reflectance spectra (..., W); Y = 100 for R = 1."""
+        return np.asarray(reflectance, dtype=np.float64) @ self.weights
+
+    def Lab(self, XYZ) -> np.ndarray:
+        """CIELAB relative to the illuminant's white under this observer."""
+        return colour.XYZ_to_Lab(np.asarray(XYZ) / 100.0, self.white_xy)
+
+    def Lab_to_XYZ(self, Lab) -> np.ndarray:
+        return colour.Lab_to_XYZ(np.asarray(Lab), self.white_xy) * 100.0
+
+    def spectrum_Lab(self, reflectance) -> np.ndarray:
+        return self.Lab(self.XYZ(reflectance))
+
+    def rgb_linear(self, XYZ, space: str = "srgb") -> np.ndarray:
+        """Linear RGB (1.0 = the white's Y) in ``space`` (srgb, display-p3, acescg).
+
+        The illuminant's white is adapted to the space's white with the Bradford transform.
+        """
+        name = RGB_SPACES.get(str(space).lower())
+        if name is None:
+            raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(RGB_SPACES)}")
+        return colour.XYZ_to_RGB(
+            np.asarray(XYZ) / 100.0,
+            name,
+            illuminant=self.white_xy,
+            chromatic_adaptation_transform="Bradford",
+        )
+
+    def display(self, XYZ, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
+        """Display-encoded RGB in [0, 1] (clipped) and an in-gamut flag per colour."""
+        rgb = self.rgb_linear(XYZ, space)
+        tol = 1e-6
+        in_gamut = np.all((rgb >= -tol) & (rgb <= 1.0 + tol), axis=-1)
+        name = RGB_SPACES[str(space).lower()]
+        encoded = colour.RGB_COLOURSPACES[name].cctf_encoding(np.clip(rgb, 0.0, 1.0))
+        return np.clip(encoded, 0.0, 1.0), in_gamut
+
+
+@functools.lru_cache(maxsize=32)
+def _cached(grid: tuple, illuminant: str, observer: str) -> Colorimeter:
+    return Colorimeter(np.array(grid), illuminant, observer)
+
+
+def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Colorimeter:
+    """A cached :class:`Colorimeter` (weights are computed once per grid/illuminant/observer)."""
+    return _cached(tuple(np.asarray(wavelength_nm, dtype=float).tolist()), str(illuminant), str(observer))
+
+
+def delta_E_ab(Lab1, Lab2) -> np.ndarray:
+    """CIE 1976 ΔE*ab (the paper's eq. 6)."""
+    return colour.delta_E(np.asarray(Lab1), np.asarray(Lab2), method="CIE 1976")
+
+
+def delta_E_00(Lab1, Lab2) -> np.ndarray:
+    """CIEDE2000 ΔE00."""
+    return colour.delta_E(np.asarray(Lab1), np.asarray(Lab2), method="CIE 2000")
+
+
+def Lab_to_LCh(Lab) -> np.ndarray:
+    """CIE LCh(ab) with hue in degrees [0, 360)."""
+    return colour.Lab_to_LCHab(np.asarray(Lab))
+
+
+def srgb_hex(encoded_rgb) -> np.ndarray | str:
+    """``#rrggbb`` strings of display-encoded RGB values in [0, 1]."""
+    arr = np.asarray(encoded_rgb, dtype=np.float64)
+    ints = np.round(np.clip(arr, 0.0, 1.0) * 255.0).astype(np.int64)
+    flat = ints.reshape(-1, 3)
+    out = np.array(["#%02x%02x%02x" % tuple(v) for v in flat], dtype=object)
+    return out[0] if arr.ndim == 1 else out.reshape(arr.shape[:-1])
+
+
+def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
+    """CIELAB (under the colorimeter's illuminant/observer) of an sRGB hex colour ``RRGGBB``."""
+    h = hex_code.strip().lstrip("#")
+    if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
+        raise SwatchError(f"bad hex colour {hex_code!r}; give six hex digits like 1f4e9a")
+    encoded = np.array([int(h[i : i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
+    rgb = colour.RGB_COLOURSPACES["sRGB"].cctf_decoding(encoded)
+    XYZ = colour.RGB_to_XYZ(rgb, "sRGB", illuminant=colorimeter.white_xy, chromatic_adaptation_transform="Bradford")
+    return colorimeter.Lab(XYZ * 100.0)

@@ -1,0 +1,1 @@
+"""click subcommands of ``swatch`` (thin: parse, call the library, report)."""

@@ -1,0 +1,124 @@
+"""Options and parsing shared by the subcommands."""
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+import click
+import numpy as np
+
+from swatch.errors import SwatchError
+from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+from swatch.model import DEFAULT_NM_PER_V, check_thickness_nm, voltage_to_thickness_nm
+
+MAX_RANGE_POINTS = 100_000
+
+
+def parse_range(text: str, what: str, unit: str) -> np.ndarray:
+    """``A:B:STEP`` (inclusive of B when it falls on the grid), ``N,N,...`` or ``N``."""
+    s = str(text).strip()
+    if not s:
+        raise SwatchError(f"empty {what}; give A:B:STEP or a list N,N,... in {unit}")
+
+    def num(tok: str) -> float:
+        try:
+            v = float(tok)
+        except ValueError:
+            raise SwatchError(f"{what} {tok.strip()!r} is not a number; give A:B:STEP or N,N,... in {unit}") from None
+        if not math.isfinite(v):
+            raise SwatchError(f"{what} must be finite, got {tok.strip()!r}")
+        return v
+
+    if ":" in s:
+        parts = s.split(":")
+        if len(parts) != 3:
+            raise SwatchError(f"{what} range {s!r} must be A:B:STEP in {unit}")
+        a, b, step = (num(p) for p in parts)
+        if step <= 0:
+            raise SwatchError(f"{what} range {s!r} needs a step > 0")
+        if b < a:
+            raise SwatchError(f"{what} range {s!r} is reversed; give A <= B")
+        count = int(math.floor((b - a) / step + 1e-9)) + 1
+        if count > MAX_RANGE_POINTS:
+            raise SwatchError(f"{what} range {s!r} has {count} points; at most {MAX_RANGE_POINTS}")
+        return a + step * np.arange(count)
+    vals = [num(p) for p in s.split(",") if p.strip() != ""]
+    if not vals:
+        raise SwatchError(f"empty {what}; give A:B:STEP or a list N,N,... in {unit}")
+    return np.array(vals, dtype=np.float64)
+
+
+def thickness_options(multiple: bool):
+    """``--thickness`` / ``--voltage`` (+ ``--nm-per-volt``) resolving to ``thickness_nm``."""
+    t_help = "film thickness in nm: A:B:STEP or N,N,..." if multiple else "film thickness in nm"
+    v_help = "anodising voltage in V instead of a thickness" + (": A:B:STEP or N,N,..." if multiple else "")
+
+    def deco(f):
+        f = click.option("--nm-per-volt", type=float, default=DEFAULT_NM_PER_V, show_default=True,
+                         help="anodic growth rate (default: the paper's blue sample, 50.8 nm at 25 V)")(f)
+        f = click.option("--voltage", "voltage", type=str, default=None, help=v_help)(f)
+        f = click.option("--thickness", "thickness", type=str, default=None, help=t_help)(f)
+        return f
+
+    return deco
+
+
+def resolve_thickness(thickness: str | None, voltage: str | None, nm_per_volt: float, multiple: bool):
+    """Return (thickness_nm array, voltage_V array or None)."""
+    if (thickness is None) == (voltage is None):
+        raise SwatchError("give exactly one of --thickness NM or --voltage V")
+    if thickness is not None:
+        d = parse_range(thickness, "thickness", "nm")
+        v = None
+    else:
+        v = parse_range(voltage, "voltage", "V")
+        d = voltage_to_thickness_nm(v, nm_per_volt)
+    if not multiple and d.size != 1:
+        raise SwatchError("this command takes one thickness (or voltage), not a range")
+    return check_thickness_nm(d), v
+
+
+def material_options(f):
+    f = click.option("--substrate", default=DEFAULT_SUBSTRATE, show_default=True, help="substrate table (swatch materials list)")(f)
+    f = click.option("--film", default=DEFAULT_FILM, show_default=True, help="film table (swatch materials list)")(f)
+    return f
+
+
+def grid_option(f):
+    return click.option("--wavelengths", "wavelengths", default="380:780:5", show_default=True,
+                        help="wavelength grid START:STOP:STEP in nm (colorimetry: 1, 5, 10 or 20 nm steps)")(f)
+
+
+def resolve_grid(text: str) -> np.ndarray:
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise SwatchError(f"wavelength grid {text!r} must be START:STOP:STEP in nm")
+    try:
+        a, b, s = (float(p) for p in parts)
+    except ValueError:
+        raise SwatchError(f"wavelength grid {text!r} must be numbers START:STOP:STEP in nm") from None
+    return wavelength_grid(a, b, s)
+
+
+def geometry_options(f):
+    f = click.option("--view-azimuth", "view_azimuth", type=float, default=None,
+                     help="view azimuth in degrees (default: light azimuth + 180, the plane of incidence)")(f)
+    f = click.option("--light-azimuth", "light_azimuth", type=float, default=0.0, show_default=True, help="light azimuth in degrees")(f)
+    f = click.option("--view", "view", type=float, default=0.0, show_default=True, help="view polar angle from the normal, degrees [0, 90)")(f)
+    f = click.option("--light", "light", type=float, default=45.0, show_default=True, help="light polar angle from the normal, degrees [0, 90)")(f)
+    return f
+
+
+def colour_options(f):
+    f = click.option("--observer", default="10", show_default=True, help="10 (CIE 1964) or 2 (CIE 1931)")(f)
+    f = click.option("--illuminant", default="D65", show_default=True, help="CIE illuminant name (D65, D50, A, FL2, ...)")(f)
+    return f
+
+
+def echo_json(obj) -> None:
+    click.echo(json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False))
+
+
+def is_terminal() -> bool:
+    return sys.stderr.isatty()

@@ -1,0 +1,82 @@
+"""Light/view geometry and the half vector (the paper's eq. 5).
+
+Angles are polar angles from the macroscopic surface normal (``*_deg``) and azimuths around it.
+The default geometry is the paper's: light and view in one plane of incidence, on opposite sides
+of the normal (``view_azimuth_deg = light_azimuth_deg + 180``), so ``light_deg == view_deg`` is
+the mirror direction.
+
+The half vector ``h = (l + v) / |l + v|`` is the normal of the microfacets that mirror the light
+into the view. The incidence angle on those facets is ``theta_d = 1/2 arccos(l . v)``; in plane
+it equals ``(theta_l + theta_v) / 2``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from swatch.errors import SwatchError
+
+__all__ = [
+    "direction",
+    "check_polar_deg",
+    "cos_light_view",
+    "cos_theta_d",
+    "theta_d_deg",
+    "cos_theta_h",
+    "aspecular_view_deg",
+]
+
+
+def check_polar_deg(angle_deg, what: str) -> np.ndarray:
+    """Return the angle as float64, or raise: polar angles must be finite and in [0, 90)."""
+    a = np.asarray(angle_deg, dtype=np.float64)
+    if not np.all(np.isfinite(a)) or np.any(a < 0) or np.any(a >= 90):
+        raise SwatchError(f"{what} angle must be in [0, 90) degrees from the normal")
+    return a
+
+
+def direction(polar_deg, azimuth_deg) -> np.ndarray:
+    """Unit vectors (..., 3) for polar angles from +z and azimuths from +x."""
+    t = np.radians(np.asarray(polar_deg, dtype=np.float64))
+    p = np.radians(np.asarray(azimuth_deg, dtype=np.float64))
+    t, p = np.broadcast_arrays(t, p)
+    s = np.sin(t)
+    return np.stack([s * np.cos(p), s * np.sin(p), np.cos(t)], axis=-1)
+
+
+def cos_light_view(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None) -> np.ndarray:
+    """``l . v`` (opposite sides of the normal in one plane when ``view_azimuth_deg`` is None)."""
+    tl = np.radians(np.asarray(light_deg, dtype=np.float64))
+    tv = np.radians(np.asarray(view_deg, dtype=np.float64))
+    pl = np.radians(np.asarray(light_azimuth_deg, dtype=np.float64))
+    pv = pl + np.pi if view_azimuth_deg is None else np.radians(np.asarray(view_azimuth_deg, dtype=np.float64))
+    return np.cos(tl) * np.cos(tv) + np.sin(tl) * np.sin(tv) * np.cos(pl - pv)
+
+
+def cos_theta_d(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None) -> np.ndarray:
+    """Cosine of the incidence angle on the half-vector facet: ``sqrt((1 + l.v) / 2)``."""
+    c = cos_light_view(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+    return np.sqrt(np.clip(0.5 * (1.0 + c), 0.0, 1.0))
+
+
+def theta_d_deg(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None) -> np.ndarray:
+    """Incidence angle on the half-vector facet, ``1/2 arccos(l . v)``, in degrees."""
+    c = cos_light_view(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+    return 0.5 * np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def cos_theta_h(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None) -> np.ndarray:
+    """Cosine of the half vector's polar angle (the facet normal's tilt from the macro normal)."""
+    pl = np.asarray(light_azimuth_deg, dtype=np.float64)
+    pv = pl + 180.0 if view_azimuth_deg is None else view_azimuth_deg
+    s = direction(light_deg, pl) + direction(view_deg, pv)
+    return s[..., 2] / np.linalg.norm(s, axis=-1)
+
+
+def aspecular_view_deg(light_deg, aspecular_deg) -> np.ndarray:
+    """In-plane signed view angle for an aspecular angle (ASTM E2194 multi-angle geometry).
+
+    The specular direction is ``light_deg`` on the far side; the aspecular angle is measured from
+    it towards the light. Returns the view polar angle with sign: positive on the far side
+    (opposite the light), negative on the light's side.
+    """
+    return np.asarray(light_deg, dtype=np.float64) - np.asarray(aspecular_deg, dtype=np.float64)

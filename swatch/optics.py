@@ -1,0 +1,229 @@
+"""Thin-film optics: Airy reflectance of ambient / film / substrate and coherent multilayer stacks.
+
+Conventions (the same as Byrnes' ``tmm`` package, our reference):
+
+* complex refractive index ``n + i k`` with ``k >= 0`` for absorption (fields ``exp(i (k z - w t))``);
+* in a layer j, ``q_j = n_j cos(theta_j) = sqrt(n_j**2 - (n_0 sin theta_0)**2)`` (complex Snell's law),
+  on the branch whose wave decays (or, when lossless, travels) away from the interface:
+  ``Im q > 0``, or ``Im q == 0`` and ``Re q > 0``;
+* Fresnel amplitudes ``r_s = (q_i - q_j) / (q_i + q_j)`` and
+  ``r_p = (n_j**2 q_i - n_i**2 q_j) / (n_j**2 q_i + n_i**2 q_j)``
+  (equal to tmm's ``(n_j cos th_i - n_i cos th_j) / (n_j cos th_i + n_i cos th_j)``);
+* one-way phase in a film of thickness d: ``delta = 2 pi d q / lambda``; the paper's eq. 3 is the
+  round-trip phase ``2 delta``.
+
+Shapes: ``thickness_nm`` and ``incidence_deg`` broadcast together to a shape S; the index arrays
+are given on the wavelength grid (shape (W,)); results have shape ``S + (W,)``. Everything is
+float64 / complex128 and vectorised by broadcasting: no loops over thickness, angle or wavelength.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from swatch.errors import SwatchError
+
+__all__ = [
+    "Reflectance",
+    "layer_q",
+    "fresnel_r",
+    "film_reflectance",
+    "stack_reflectance",
+    "film_reflectance_cos",
+]
+
+
+@dataclass(frozen=True)
+class Reflectance:
+    """Reflectance of a coated surface for s and p polarisation (and the unpolarised mean).
+
+    ``r_s``/``r_p`` are the complex amplitude coefficients (``None`` when not requested).
+    """
+
+    R_s: np.ndarray
+    R_p: np.ndarray
+    r_s: np.ndarray | None = None
+    r_p: np.ndarray | None = None
+
+    @property
+    def R(self) -> np.ndarray:
+        """Unpolarised reflectance: the mean of s and p."""
+        return 0.5 * (self.R_s + self.R_p)
+
+
+def layer_q(n_layer: np.ndarray, kx: np.ndarray) -> np.ndarray:
+    """``n cos(theta)`` in a layer of complex index ``n_layer`` for the tangential index ``kx``.
+
+    ``kx = n_0 sin(theta_0)`` is conserved across planar interfaces (Snell's law). The square
+    root's branch is the one of a forward wave: decaying into an absorbing medium (``Im q > 0``),
+    or propagating forwards (``Re q > 0``) when lossless.
+    """
+    q = np.sqrt(np.asarray(n_layer, dtype=np.complex128) ** 2 - np.asarray(kx) ** 2)
+    # The principal root already has Re q >= 0; a negative-zero imaginary part of the radicand
+    # (lossless, evanescent) would give Im q < 0, the growing wave: flip it.
+    return np.where(q.imag < 0, -q, q)
+
+
+def fresnel_r(n_i, q_i, n_j, q_j) -> tuple[np.ndarray, np.ndarray]:
+    """Fresnel amplitude reflection coefficients (r_s, r_p) from medium i into medium j."""
+    r_s = (q_i - q_j) / (q_i + q_j)
+    a = n_j * n_j * q_i
+    b = n_i * n_i * q_j
+    r_p = (a - b) / (a + b)
+    return r_s, r_p
+
+
+def _as_index(n, wavelength_nm: np.ndarray, what: str) -> np.ndarray:
+    arr = np.broadcast_to(np.asarray(n, dtype=np.complex128), wavelength_nm.shape)
+    if not np.all(np.isfinite(arr)):
+        raise SwatchError(f"{what} refractive index has non-finite values; give finite n and k")
+    if np.any(arr.imag < 0):
+        raise SwatchError(f"{what} refractive index has k < 0; k must be >= 0 (absorption)")
+    return arr
+
+
+def _check_geometry(thickness_nm: np.ndarray, incidence_deg: np.ndarray) -> None:
+    if not np.all(np.isfinite(thickness_nm)) or np.any(thickness_nm < 0):
+        raise SwatchError("film thickness must be finite and >= 0 nm")
+    if not np.all(np.isfinite(incidence_deg)) or np.any(incidence_deg < 0) or np.any(incidence_deg >= 90):
+        raise SwatchError("incidence angle must be in [0, 90) degrees")
+
+
+def _wavelengths(wavelength_nm) -> np.ndarray:
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    if wl.ndim != 1 or wl.size == 0 or not np.all(np.isfinite(wl)) or np.any(wl <= 0):
+        raise SwatchError("wavelength grid must be a non-empty 1-D array of positive nm values")
+    return wl
+
+
+def film_reflectance_cos(
+    thickness_nm,
+    cos_incidence,
+    wavelength_nm,
+    n_film,
+    n_substrate,
+    n_ambient: float = 1.0,
+    amplitudes: bool = False,
+) -> Reflectance:
+    """Airy reflectance of one film, with the incidence angle given by its cosine.
+
+    The fast path: the Fresnel coefficients depend on (angle, wavelength) only and are computed
+    once; the thickness enters only through the film's round-trip attenuation ``rho`` and phase
+    ``phi``. The reflectance is evaluated in real arithmetic:
+
+    ``|r01 + r12 E|^2 / |1 + r01 r12 E|^2`` with ``E = rho e^{i phi}``, expanded as
+    ``(|r01|^2 + rho^2 |r12|^2 + 2 rho Re(conj(r01) r12 e^{i phi})) /
+    (1 + rho^2 |r01 r12|^2 + 2 rho Re(r01 r12 e^{i phi}))``.
+
+    With ``amplitudes=True`` the complex r_s and r_p are also returned (computed directly).
+    """
+    wl = _wavelengths(wavelength_nm)
+    n1 = _as_index(n_film, wl, "film")
+    n2 = _as_index(n_substrate, wl, "substrate")
+    n0 = float(np.real(n_ambient))
+    d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
+    cos0 = np.asarray(cos_incidence, dtype=np.float64)[..., None]
+    sin0 = np.sqrt(np.clip(1.0 - cos0 * cos0, 0.0, 1.0))
+    kx = n0 * sin0
+    q0 = (n0 * cos0).astype(np.complex128)
+    q1 = layer_q(n1, kx)
+    q2 = layer_q(n2, kx)
+    r01s, r01p = fresnel_r(n0, q0, n1, q1)
+    r12s, r12p = fresnel_r(n1, q1, n2, q2)
+
+    # Round-trip phase 2*delta = 4 pi d q1 / lambda, split into attenuation and phase.
+    k4 = (4.0 * np.pi / wl) * q1  # (angle..., W)
+    phi = d * k4.real
+    rho = np.exp(-d * k4.imag)
+    cphi = np.cos(phi)
+    sphi = np.sin(phi)
+
+    def airy_R(r01, r12):
+        c = np.conj(r01) * r12
+        g = r01 * r12
+        num = np.abs(r01) ** 2 + rho * (rho * np.abs(r12) ** 2 + 2.0 * (c.real * cphi - c.imag * sphi))
+        den = 1.0 + rho * (rho * np.abs(g) ** 2 + 2.0 * (g.real * cphi - g.imag * sphi))
+        return num / den
+
+    R_s = airy_R(r01s, r12s)
+    R_p = airy_R(r01p, r12p)
+    if not amplitudes:
+        return Reflectance(R_s=R_s, R_p=R_p)
+    e = rho * (cphi + 1j * sphi)
+    r_s = (r01s + r12s * e) / (1.0 + r01s * r12s * e)
+    r_p = (r01p + r12p * e) / (1.0 + r01p * r12p * e)
+    return Reflectance(R_s=R_s, R_p=R_p, r_s=r_s, r_p=r_p)
+
+
+def film_reflectance(
+    thickness_nm,
+    incidence_deg,
+    wavelength_nm,
+    n_film,
+    n_substrate,
+    n_ambient: float = 1.0,
+    amplitudes: bool = False,
+) -> Reflectance:
+    """Airy reflectance (multiple reflections included) of ambient / film / substrate.
+
+    ``thickness_nm`` and ``incidence_deg`` (from the surface normal, in [0, 90)) broadcast to S;
+    ``n_film``/``n_substrate`` are complex indices on ``wavelength_nm`` (shape (W,)) or scalars.
+    Returns R_s, R_p (and r_s, r_p with ``amplitudes=True``) of shape ``S + (W,)``.
+    """
+    d = np.asarray(thickness_nm, dtype=np.float64)
+    theta = np.asarray(incidence_deg, dtype=np.float64)
+    _check_geometry(d, theta)
+    return film_reflectance_cos(
+        d, np.cos(np.radians(theta)), wavelength_nm, n_film, n_substrate, n_ambient, amplitudes
+    )
+
+
+def stack_reflectance(
+    thicknesses_nm: Sequence,
+    n_layers: Sequence,
+    n_substrate,
+    incidence_deg,
+    wavelength_nm,
+    n_ambient: float = 1.0,
+) -> Reflectance:
+    """Coherent reflectance of a stack of films on a substrate by the transfer-matrix product.
+
+    ``thicknesses_nm[j]`` and ``n_layers[j]`` describe film j, listed from the ambient side
+    (e.g. a clear lacquer first, then the oxide). Each thickness broadcasts with
+    ``incidence_deg`` to S; indices are on the wavelength grid. The characteristic matrix is
+    ``M = D_01 P_1 D_12 P_2 ... D_N,sub`` with ``D_ij = [[1, r_ij], [r_ij, 1]] / t_ij`` and
+    ``P_j = diag(exp(-i delta_j), exp(i delta_j))``; ``r = M_10 / M_00`` (the 1/t factors
+    cancel in the ratio and are left out). With one film this equals :func:`film_reflectance`.
+    """
+    if len(thicknesses_nm) != len(n_layers):
+        raise SwatchError("a stack needs one thickness per film layer")
+    wl = _wavelengths(wavelength_nm)
+    theta = np.asarray(incidence_deg, dtype=np.float64)
+    ds = [np.asarray(t, dtype=np.float64) for t in thicknesses_nm]
+    for d in ds:
+        _check_geometry(d, theta)
+    n0 = float(np.real(n_ambient))
+    ns = [np.asarray(n0, dtype=np.complex128)] + [
+        _as_index(n, wl, f"layer {j + 1}") for j, n in enumerate(n_layers)
+    ] + [_as_index(n_substrate, wl, "substrate")]
+    kx = n0 * np.sin(np.radians(theta))[..., None]
+    qs = [layer_q(n, kx) for n in ns]
+    out = {}
+    for pol in ("s", "p"):
+        m00 = m01 = m10 = m11 = None
+        for j in range(len(ns) - 1):
+            rs, rp = fresnel_r(ns[j], qs[j], ns[j + 1], qs[j + 1])
+            r = rs if pol == "s" else rp
+            if m00 is None:  # D_01
+                m00, m01, m10, m11 = 1.0 + 0 * r, r, r, 1.0 + 0 * r
+            else:  # multiply by P_j then D_j,j+1
+                delta = (2.0 * np.pi / wl) * qs[j] * ds[j - 1][..., None]
+                em, ep = np.exp(-1j * delta), np.exp(1j * delta)
+                a00, a01, a10, a11 = m00 * em, m01 * ep, m10 * em, m11 * ep
+                m00, m01 = a00 + a01 * r, a00 * r + a01
+                m10, m11 = a10 + a11 * r, a10 * r + a11
+        out[pol] = m10 / m00
+    r_s, r_p = out["s"], out["p"]
+    return Reflectance(R_s=np.abs(r_s) ** 2, R_p=np.abs(r_p) ** 2, r_s=r_s, r_p=r_p)
