@@ -18,6 +18,8 @@ float64 / complex128 and vectorised by broadcasting: no loops over thickness, an
 """
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -32,6 +34,7 @@ __all__ = [
     "film_reflectance",
     "stack_reflectance",
     "film_reflectance_cos",
+    "film_reflectance_sweep",
 ]
 
 
@@ -109,13 +112,9 @@ def film_reflectance_cos(
 ) -> Reflectance:
     """Airy reflectance of one film, with the incidence angle given by its cosine.
 
-    The fast path: the Fresnel coefficients depend on (angle, wavelength) only and are computed
-    once; the thickness enters only through the film's round-trip attenuation ``rho`` and phase
-    ``phi``. The reflectance is evaluated in real arithmetic:
-
-    ``|r01 + r12 E|^2 / |1 + r01 r12 E|^2`` with ``E = rho e^{i phi}``, expanded as
-    ``(|r01|^2 + rho^2 |r12|^2 + 2 rho Re(conj(r01) r12 e^{i phi})) /
-    (1 + rho^2 |r01 r12|^2 + 2 rho Re(r01 r12 e^{i phi}))``.
+    The Fresnel coefficients depend on (angle, wavelength) only and are computed once; the
+    thickness enters only through the round-trip phase factor ``E = rho e^{i phi}``, and
+    ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2`` is evaluated in real arithmetic.
 
     With ``amplitudes=True`` the complex r_s and r_p are also returned (computed directly).
     """
@@ -133,28 +132,202 @@ def film_reflectance_cos(
     r01s, r01p = fresnel_r(n0, q0, n1, q1)
     r12s, r12p = fresnel_r(n1, q1, n2, q2)
 
-    # Round-trip phase 2*delta = 4 pi d q1 / lambda, split into attenuation and phase.
+    # Round-trip phase factor E = exp(2 i delta) = rho e^{i phi}, 2 delta = 4 pi d q1 / lambda.
     k4 = (4.0 * np.pi / wl) * q1  # (angle..., W)
     phi = d * k4.real
     rho = np.exp(-d * k4.imag)
-    cphi = np.cos(phi)
-    sphi = np.sin(phi)
-
-    def airy_R(r01, r12):
-        c = np.conj(r01) * r12
-        g = r01 * r12
-        num = np.abs(r01) ** 2 + rho * (rho * np.abs(r12) ** 2 + 2.0 * (c.real * cphi - c.imag * sphi))
-        den = 1.0 + rho * (rho * np.abs(g) ** 2 + 2.0 * (g.real * cphi - g.imag * sphi))
-        return num / den
-
-    R_s = airy_R(r01s, r12s)
-    R_p = airy_R(r01p, r12p)
+    E_r = rho * np.cos(phi)
+    E_i = rho * np.sin(phi)
+    coeffs = _airy_coefficients(r01s, r12s, r01p, r12p)
+    R_s, R_p = _airy_R(E_r, E_i, coeffs)
     if not amplitudes:
         return Reflectance(R_s=R_s, R_p=R_p)
-    e = rho * (cphi + 1j * sphi)
+    e = E_r + 1j * E_i
     r_s = (r01s + r12s * e) / (1.0 + r01s * r12s * e)
     r_p = (r01p + r12p * e) / (1.0 + r01p * r12p * e)
     return Reflectance(R_s=R_s, R_p=R_p, r_s=r_s, r_p=r_p)
+
+
+def _airy_coefficients(r01s, r12s, r01p, r12p) -> tuple:
+    """Real and imaginary parts of r01, r12 and r01 r12 per polarisation (for :func:`_airy_R`)."""
+    out = []
+    for r01, r12 in ((r01s, r12s), (r01p, r12p)):
+        g = r01 * r12
+        out.append((r01.real, r01.imag, r12.real, r12.imag, g.real, g.imag))
+    return tuple(out)
+
+
+def _airy_R(E_r: np.ndarray, E_i: np.ndarray, coeffs: tuple, out_s=None, out_p=None, work=None):
+    """R_s, R_p = |r01 + r12 E|^2 / |1 + r01 r12 E|^2 from the phase factor ``E = E_r + i E_i``.
+
+    Real arithmetic on preallocatable buffers: ``out_s``/``out_p`` receive the results and
+    ``work`` (three arrays of E's shape) holds the temporaries. Numerator and denominator are
+    formed as complex numbers before squaring their moduli, so near-total internal cancellation
+    (grazing incidence, |r01 r12| -> 1) keeps full relative precision.
+    """
+    if work is None:
+        work = (np.empty_like(E_r), np.empty_like(E_r), np.empty_like(E_r))
+    im, den, tmp = work
+    result = []
+    for (a_r, a_i, b_r, b_i, g_r, g_i), out in zip(coeffs, (out_s, out_p)):
+        num = np.multiply(b_r, E_r, out=out) if out is not None else b_r * E_r
+        num -= np.multiply(b_i, E_i, out=tmp)
+        num += a_r
+        np.multiply(b_r, E_i, out=im)
+        im += np.multiply(b_i, E_r, out=tmp)
+        im += a_i
+        num *= num
+        num += np.multiply(im, im, out=tmp)  # |r01 + r12 E|^2
+        np.multiply(g_r, E_r, out=den)
+        den -= np.multiply(g_i, E_i, out=tmp)
+        den += 1.0
+        np.multiply(g_r, E_i, out=im)
+        im += np.multiply(g_i, E_r, out=tmp)
+        den *= den
+        den += np.multiply(im, im, out=tmp)  # |1 + r01 r12 E|^2
+        num /= den
+        result.append(num)
+    return result[0], result[1]
+
+
+_FAR = 1e100
+#: Sweeps smaller than this many spectral samples run on one thread.
+_THREADED_MIN_SAMPLES = 200_000
+
+
+def _workers(samples: int, blocks: int) -> int:
+    if samples < _THREADED_MIN_SAMPLES or blocks < 2:
+        return 1
+    return max(1, min(blocks, os.cpu_count() or 1, 4))
+
+
+
+def _pole_form(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Write ``|a + b E|^2`` as ``K |E - z|^2`` (``z = -a / b``, ``K = |b|^2``).
+
+    Where ``|b|`` is negligible against ``|a|`` the pole is put far away (``|z| = 1e100``) with
+    ``K = |a|^2 / |z|^2``, which gives ``|a|^2`` to rounding for any ``|E| <= 1`` without
+    dividing by zero.
+    """
+    a = np.broadcast_to(np.asarray(a, dtype=np.complex128), np.shape(b))
+    abs2_a = a.real * a.real + a.imag * a.imag
+    abs2_b = b.real * b.real + b.imag * b.imag
+    degenerate = abs2_b <= abs2_a / (_FAR * _FAR)
+    inv = np.divide(1.0, abs2_b, out=np.zeros_like(abs2_b), where=~degenerate)
+    z = -(a * np.conj(b)) * inv  # -a / b
+    z[degenerate] = _FAR
+    K = np.where(degenerate, abs2_a / (_FAR * _FAR), abs2_b)
+    return K, z
+
+
+def _abs2_shift(E_r: np.ndarray, E_i: np.ndarray, z: np.ndarray, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+    """``out = |E - z|^2`` for E given by its real and imaginary parts (z broadcasts)."""
+    np.subtract(E_r, z.real, out=out)
+    out *= out
+    np.subtract(E_i, z.imag, out=tmp)
+    tmp *= tmp
+    out += tmp
+    return out
+
+
+def film_reflectance_sweep(
+    thickness_start_nm: float,
+    thickness_step_nm: float,
+    count: int,
+    incidence_deg,
+    wavelength_nm,
+    n_film,
+    n_substrate,
+    n_ambient: float = 1.0,
+) -> Reflectance:
+    """Reflectance over an evenly spaced thickness sweep ``start + step * j``, ``j < count``.
+
+    The result has shape ``(count,) + incidence.shape + (W,)`` and equals
+    :func:`film_reflectance` on the same thicknesses to rounding. It is faster for sweeps
+    (thickness tables, fitting searches, process windows, the benchmark grid):
+
+    * the phase factor is split as ``E_{kB+i} = O_k I_i`` with ``B ~ sqrt(count)``; the inner
+      factors ``I_i = E_step**i`` and the block factors ``O_k = E_start E_{B step}**k`` come
+      from cumulative products (rounding grows as ``sqrt(count) * eps``), so only three rows
+      need transcendental functions and each sample costs one complex multiplication;
+    * numerator and denominator are written as ``K |E - z|^2`` (see :func:`_pole_form`), five
+      real operations each per sample, formed as differences before squaring so cancellation
+      near total reflection keeps its precision;
+    * blocks of B thicknesses keep the temporaries in cache, and a large sweep shares its blocks
+      among threads, one per core (numpy releases the GIL; results are identical).
+    """
+    count = int(count)
+    if count < 1:
+        raise SwatchError("a thickness sweep needs at least one thickness")
+    start = float(thickness_start_nm)
+    step = float(thickness_step_nm)
+    last = start + step * (count - 1)
+    _check_geometry(np.array([start, last]), np.asarray(incidence_deg, dtype=np.float64))
+    wl = _wavelengths(wavelength_nm)
+    n1 = _as_index(n_film, wl, "film")
+    n2 = _as_index(n_substrate, wl, "substrate")
+    n0 = float(np.real(n_ambient))
+    cos0 = np.cos(np.radians(np.asarray(incidence_deg, dtype=np.float64)))[..., None]
+    sin0 = np.sqrt(np.clip(1.0 - cos0 * cos0, 0.0, 1.0))
+    kx = n0 * sin0
+    q0 = (n0 * cos0).astype(np.complex128)
+    q1 = layer_q(n1, kx)
+    q2 = layer_q(n2, kx)
+    r01s, r01p = fresnel_r(n0, q0, n1, q1)
+    r12s, r12p = fresnel_r(n1, q1, n2, q2)
+    k4 = (4.0 * np.pi / wl) * q1  # (angle..., W)
+
+    def phase(d: float) -> np.ndarray:
+        return np.exp(-d * k4.imag) * (np.cos(d * k4.real) + 1j * np.sin(d * k4.real))
+
+    B = max(1, int(np.ceil(np.sqrt(count))))
+    # Inner factors E_i = E_1**i (i < B) by a cumulative product (rounding grows as i * eps).
+    inner = np.empty((B,) + k4.shape, dtype=np.complex128)
+    inner[0] = 1.0
+    inner[1:] = phase(step)
+    np.cumprod(inner, axis=0, out=inner)
+    I_r, I_i = np.ascontiguousarray(inner.real), np.ascontiguousarray(inner.imag)
+    nblocks = -(-count // B)
+    outer = np.empty((nblocks,) + k4.shape, dtype=np.complex128)  # O_k = E_start * E_B**k
+    outer[0] = phase(start)
+    outer[1:] = phase(step * B)
+    np.cumprod(outer, axis=0, out=outer)
+    O_r, O_i = np.ascontiguousarray(outer.real), np.ascontiguousarray(outer.imag)
+
+    # |r01 + r12 E|^2 = K_num |E - z_num|^2 and |1 + r01 r12 E|^2 = K_den |E - z_den|^2.
+    poles = []
+    for r01, r12 in ((r01s, r12s), (r01p, r12p)):
+        K_num, z_num = _pole_form(r01, r12)
+        K_den, z_den = _pole_form(1.0 + 0j, r01 * r12)
+        poles.append((K_num / K_den, z_num, z_den))
+    shape = (count,) + k4.shape
+    R_s = np.empty(shape)
+    R_p = np.empty(shape)
+
+    def run_blocks(blocks: range) -> None:
+        E_r, E_i, den, tmp = (np.empty((B,) + k4.shape) for _ in range(4))
+        for k in blocks:  # blocks of B thicknesses (not a per-sample loop)
+            lo, hi = k * B, min(count, (k + 1) * B)
+            n = hi - lo
+            e_r, e_i, d, t = E_r[:n], E_i[:n], den[:n], tmp[:n]
+            np.multiply(I_r[:n], O_r[k], out=e_r)  # E = I_i O_k
+            e_r -= np.multiply(I_i[:n], O_i[k], out=t)
+            np.multiply(I_r[:n], O_i[k], out=e_i)
+            e_i += np.multiply(I_i[:n], O_r[k], out=t)
+            for (K, z_num, z_den), out in zip(poles, (R_s[lo:hi], R_p[lo:hi])):
+                _abs2_shift(e_r, e_i, z_num, out, t)
+                _abs2_shift(e_r, e_i, z_den, d, t)
+                out /= d
+                out *= K
+
+    # numpy releases the GIL in ufuncs: large sweeps split their blocks over the cores.
+    workers = _workers(count * int(np.prod(k4.shape)), nblocks)
+    if workers == 1:
+        run_blocks(range(nblocks))
+    else:
+        with ThreadPoolExecutor(workers) as pool:
+            list(pool.map(run_blocks, [range(i, nblocks, workers) for i in range(workers)]))
+    return Reflectance(R_s=R_s, R_p=R_p)
 
 
 def film_reflectance(

@@ -1,0 +1,46 @@
+"""``make bench``: time the project against the reference implementations in the same run.
+
+Runs each section (benchmarks/bench_<area>.py, ``run() -> list[str]``) and prints its lines.
+The engine section runs last, so the final line is ``ratio_vs_colour=X ratio_vs_tmm=Y``.
+Machines here are noisy: every figure is a median of repeats, and ratios are measured in one run.
+"""
+from __future__ import annotations
+
+import importlib
+import os
+import platform
+import sys
+
+import numpy as np
+
+SECTIONS = ["render", "catalog", "fit", "engine"]
+
+
+def machine() -> str:
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            for line in fh:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return (f"machine: {cpu}; {os.cpu_count()} cores; Python {platform.python_version()}; "
+            f"numpy {np.__version__}")
+
+
+def main(argv: list[str]) -> int:
+    wanted = argv or SECTIONS
+    print(machine(), flush=True)
+    for name in SECTIONS:
+        if name not in wanted:
+            continue
+        module = importlib.import_module(f"benchmarks.bench_{name}")
+        for line in module.run():
+            print(line, flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
