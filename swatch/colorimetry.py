@@ -12,6 +12,7 @@ CIELAB uses the illuminant's own white under the chosen observer.
 from __future__ import annotations
 
 import functools
+import warnings
 
 import colour
 import numpy as np
@@ -91,10 +92,14 @@ class Colorimeter:
         self.cmfs = cmfs
         self.illuminant_sd = colour.SDS_ILLUMINANTS[self.illuminant_name]
         basis = colour.MultiSpectralDistributions(np.eye(wl.size), wl)
-        #: (W, 3) weights: XYZ = R @ weights, Y = 100 for R = 1.
-        self.weights = np.ascontiguousarray(
-            colour.msds_to_XYZ(basis, cmfs, self.illuminant_sd, method="ASTM E308")
-        )
+        with warnings.catch_warnings():
+            # ASTM E308 aligns the spectra to its practice range (and says so); that is exactly
+            # what colour.sd_to_XYZ does to a single spectrum, which these weights reproduce.
+            warnings.simplefilter("ignore", colour.utilities.ColourRuntimeWarning)
+            #: (W, 3) weights: XYZ = R @ weights, Y = 100 for R = 1.
+            self.weights = np.ascontiguousarray(
+                colour.msds_to_XYZ(basis, cmfs, self.illuminant_sd, method="ASTM E308")
+            )
         self.white_XYZ = self.weights.sum(axis=0)
         self.white_xy = colour.XYZ_to_xy(self.white_XYZ / 100.0)
 
@@ -131,7 +136,9 @@ class Colorimeter:
     def display(self, XYZ, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
         """Display-encoded RGB in [0, 1] (clipped) and an in-gamut flag per colour."""
         rgb = self.rgb_linear(XYZ, space)
-        tol = 1e-6
+        # The spaces' whitepoints are given to 4 digits, so the adapted perfect white lands
+        # within 2e-4 of (1, 1, 1): allow 1e-3 (a quarter of one 8-bit code value).
+        tol = 1e-3
         in_gamut = np.all((rgb >= -tol) & (rgb <= 1.0 + tol), axis=-1)
         name = RGB_SPACES[str(space).lower()]
         encoded = colour.RGB_COLOURSPACES[name].cctf_encoding(np.clip(rgb, 0.0, 1.0))

@@ -1,0 +1,112 @@
+"""Colorimetry against colour-science's own conversions (sd_to_XYZ, XYZ_to_Lab, ...)."""
+from __future__ import annotations
+
+import warnings
+
+import colour
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+import swatch  # noqa: F401
+from swatch import colorimetry
+from swatch.colorimetry import Colorimeter, delta_E_00
+from swatch.errors import SwatchError
+from swatch.materials import wavelength_grid
+
+GRIDS = [(380, 780, 5), (380, 780, 1), (380, 780, 10), (400, 700, 20), (360, 830, 5)]
+SETUPS = [("D65", "10"), ("D65", "2"), ("A", "10"), ("D50", "2"), ("FL2", "10")]
+
+
+def reference_XYZ(R, wl, illuminant, observer):
+    cmfs = colour.MSDS_CMFS[colorimetry.OBSERVERS[observer]]
+    sd = colour.SpectralDistribution(R, wl)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", colour.utilities.ColourRuntimeWarning)
+        return colour.sd_to_XYZ(sd, cmfs, colour.SDS_ILLUMINANTS[illuminant])
+
+
+@pytest.mark.parametrize("grid", GRIDS)
+@pytest.mark.parametrize("illuminant, observer", SETUPS)
+def test_XYZ_and_Lab_agree_with_sd_to_XYZ(grid, illuminant, observer):
+    wl = wavelength_grid(*grid)
+    cm = Colorimeter(wl, illuminant, observer)
+    rng = np.random.default_rng(hash((grid, illuminant, observer)) % 2**32)
+    spectra = np.vstack([rng.random((6, wl.size)), np.ones(wl.size), 0.5 * np.ones(wl.size),
+                         np.clip(np.sin(wl / 40.0), 0, 1)])
+    ours = cm.XYZ(spectra)
+    ref = np.array([reference_XYZ(R, wl, illuminant, observer) for R in spectra])
+    assert np.max(np.abs(ours - ref)) < 1e-8
+    # CIELAB relative to the illuminant's white, computed by colour-science itself.
+    white = reference_XYZ(np.ones(wl.size), wl, illuminant, observer)
+    ref_Lab = colour.XYZ_to_Lab(ref / 100.0, colour.XYZ_to_xy(white / 100.0))
+    assert np.max(delta_E_00(cm.Lab(ours), ref_Lab)) <= 0.01
+
+
+@settings(max_examples=50, deadline=None)
+@given(arrays(np.float64, 81, elements=st.floats(0.0, 1.0)))
+def test_any_spectrum_agrees_with_sd_to_XYZ(R):
+    wl = wavelength_grid()
+    cm = colorimetry.get_colorimeter(wl)
+    ref = reference_XYZ(R, wl, "D65", "10")
+    assert np.allclose(cm.XYZ(R), ref, atol=1e-9)
+
+
+def test_perfect_white_is_L100_and_white_hex():
+    cm = colorimetry.get_colorimeter(wavelength_grid())
+    XYZ = cm.XYZ(np.ones(81))
+    assert np.allclose(XYZ[1], 100.0)
+    assert np.allclose(cm.Lab(XYZ), [100.0, 0.0, 0.0], atol=1e-9)
+    enc, ok = cm.display(XYZ)
+    assert colorimetry.srgb_hex(enc) == "#ffffff" and bool(ok)
+    enc, ok = cm.display(cm.XYZ(np.zeros(81)))
+    assert colorimetry.srgb_hex(enc) == "#000000"
+
+
+def test_srgb_matches_colour_science_for_d65_2deg():
+    """With D65 and the 2° observer no adaptation happens: our sRGB equals colour's XYZ_to_sRGB."""
+    cm = colorimetry.get_colorimeter(wavelength_grid(), "D65", "2")
+    rng = np.random.default_rng(3)
+    XYZ = cm.XYZ(rng.random((10, 81)))
+    ref = colour.XYZ_to_RGB(XYZ / 100.0, "sRGB", illuminant=cm.white_xy, apply_cctf_encoding=False)
+    assert np.allclose(cm.rgb_linear(XYZ, "srgb"), ref, atol=1e-6)
+
+
+def test_out_of_gamut_flag():
+    cm = colorimetry.get_colorimeter(wavelength_grid())
+    wl = cm.wavelength_nm
+    narrow = np.exp(-0.5 * ((wl - 520.0) / 8.0) ** 2)  # a saturated green, outside sRGB
+    _, ok = cm.display(cm.XYZ(narrow))
+    assert not bool(ok)
+    _, ok_p3 = cm.display(cm.XYZ(0.5 * np.ones(81)), "display-p3")
+    assert bool(ok_p3)
+
+
+def test_delta_E_wrappers_match_colour():
+    a, b = np.array([50.0, 10.0, -20.0]), np.array([52.0, 8.0, -25.0])
+    assert colorimetry.delta_E_ab(a, b) == pytest.approx(np.sqrt(4 + 4 + 25))
+    assert colorimetry.delta_E_00(a, b) == pytest.approx(colour.delta_E(a, b, method="CIE 2000"))
+
+
+def test_hex_round_trip():
+    cm = colorimetry.get_colorimeter(wavelength_grid())
+    Lab = colorimetry.hex_to_Lab("#3366cc", cm)
+    enc, _ = cm.display(cm.Lab_to_XYZ(Lab))
+    assert colorimetry.srgb_hex(enc) == "#3366cc"
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (((380, 780, 3), "D65", "10"), "1, 5, 10 or 20"),
+        (((380, 780, 5), "D66", "10"), "unknown illuminant"),
+        (((380, 780, 5), "D65", "4"), "unknown observer"),
+        (((300, 780, 5), "D65", "10"), "outside the observer"),
+    ],
+)
+def test_bad_setups_raise(args, message):
+    grid, ill, obs = args
+    with pytest.raises(SwatchError, match=message):
+        Colorimeter(wavelength_grid(*grid), ill, obs)
