@@ -24,6 +24,7 @@ class ColorTable:
     srgb: np.ndarray  # display-encoded, clipped to [0, 1]
     in_srgb_gamut: np.ndarray  # (N,) bool
     srgb_hex: np.ndarray  # (N,) str
+    in_display_p3_gamut: np.ndarray  # (N,) bool
     delta_E_ab_to_previous: np.ndarray  # (N,), NaN for the first row
 
     def rows(self) -> list[dict]:
@@ -39,6 +40,7 @@ class ColorTable:
                     "LCh": [float(v) for v in self.LCh[i]],
                     "srgb_hex": str(self.srgb_hex[i]),
                     "in_srgb_gamut": bool(self.in_srgb_gamut[i]),
+                    "in_display_p3_gamut": bool(self.in_display_p3_gamut[i]),
                     "delta_E_ab_to_previous": None if np.isnan(dE) else float(dE),
                 }
             )
@@ -61,11 +63,13 @@ def color_table(
     XYZ = colorimeter.XYZ(R)
     Lab = colorimeter.Lab(XYZ)
     srgb, gamut = colorimeter.display(XYZ, "srgb")
+    _, gamut_p3 = colorimeter.display(XYZ, "display-p3")
     dE = np.full(d.shape, np.nan)
     if d.size > 1:
         dE[1:] = delta_E_ab(Lab[1:], Lab[:-1])
     return ColorTable(
         thickness_nm=d, theta_d_deg=float(theta_d), reflectance=R, XYZ=XYZ, Lab=Lab,
         LCh=Lab_to_LCh(Lab), srgb=srgb, in_srgb_gamut=gamut, srgb_hex=np.atleast_1d(srgb_hex(srgb)),
+        in_display_p3_gamut=gamut_p3,
         delta_E_ab_to_previous=dE,
     )
