@@ -29,6 +29,7 @@ from swatch.errors import SwatchError
 
 __all__ = [
     "Reflectance",
+    "FilmAtAngles",
     "layer_q",
     "fresnel_r",
     "film_reflectance",
@@ -101,6 +102,58 @@ def _wavelengths(wavelength_nm) -> np.ndarray:
     return wl
 
 
+class FilmAtAngles:
+    """Ambient / film / substrate at fixed incidence angles: evaluate any number of thicknesses.
+
+    The Fresnel coefficients depend on (angle, wavelength) only and are computed once here;
+    the thickness enters only through the round-trip phase factor
+    ``E = exp(2 i delta) = rho e^{i phi}`` (``2 delta = 4 pi d q1 / lambda``). Used by
+    :func:`film_reflectance_cos`, :func:`film_reflectance_sweep` and the thickness fitter.
+
+    ``cos_incidence`` has any shape A; the coefficient arrays have shape ``A + (W,)``.
+    """
+
+    def __init__(self, cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0):
+        wl = _wavelengths(wavelength_nm)
+        n1 = _as_index(n_film, wl, "film")
+        n2 = _as_index(n_substrate, wl, "substrate")
+        n0 = float(np.real(n_ambient))
+        cos0 = np.asarray(cos_incidence, dtype=np.float64)[..., None]
+        sin0 = np.sqrt(np.clip(1.0 - cos0 * cos0, 0.0, 1.0))
+        kx = n0 * sin0
+        q0 = (n0 * cos0).astype(np.complex128)
+        q1 = layer_q(n1, kx)
+        q2 = layer_q(n2, kx)
+        self.wavelength_nm = wl
+        self.r01 = fresnel_r(n0, q0, n1, q1)  # (s, p)
+        self.r12 = fresnel_r(n1, q1, n2, q2)
+        #: ``4 pi q1 / lambda``: the round-trip phase per nm of film, complex (A..., W).
+        self.k4 = (4.0 * np.pi / wl) * q1
+
+    def phase_factor(self, thickness_nm) -> tuple[np.ndarray, np.ndarray]:
+        """Real and imaginary parts of ``E`` for thicknesses broadcast against the angles."""
+        d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
+        phi = d * self.k4.real
+        rho = np.exp(-d * self.k4.imag)
+        return rho * np.cos(phi), rho * np.sin(phi)
+
+    def reflectance(self, thickness_nm, amplitudes: bool = False) -> Reflectance:
+        """R_s, R_p (and r_s, r_p) for thicknesses broadcast with the angles: shape S + (W,)."""
+        E_r, E_i = self.phase_factor(thickness_nm)
+        (r01s, r01p), (r12s, r12p) = self.r01, self.r12
+        R_s, R_p = _airy_R(E_r, E_i, _airy_coefficients(r01s, r12s, r01p, r12p))
+        if not amplitudes:
+            return Reflectance(R_s=R_s, R_p=R_p)
+        e = E_r + 1j * E_i
+        r_s = (r01s + r12s * e) / (1.0 + r01s * r12s * e)
+        r_p = (r01p + r12p * e) / (1.0 + r01p * r12p * e)
+        return Reflectance(R_s=R_s, R_p=R_p, r_s=r_s, r_p=r_p)
+
+    def sweep(self, thickness_start_nm: float, thickness_step_nm: float, count: int) -> Reflectance:
+        """Reflectance over ``start + step * j``, ``j < count``: see :func:`film_reflectance_sweep`."""
+        return _sweep(self, thickness_start_nm, thickness_step_nm, count)
+
+
 def film_reflectance_cos(
     thickness_nm,
     cos_incidence,
@@ -112,40 +165,11 @@ def film_reflectance_cos(
 ) -> Reflectance:
     """Airy reflectance of one film, with the incidence angle given by its cosine.
 
-    The Fresnel coefficients depend on (angle, wavelength) only and are computed once; the
-    thickness enters only through the round-trip phase factor ``E = rho e^{i phi}``, and
-    ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2`` is evaluated in real arithmetic.
-
-    With ``amplitudes=True`` the complex r_s and r_p are also returned (computed directly).
+    ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2`` (see :class:`FilmAtAngles`), evaluated in
+    real arithmetic. With ``amplitudes=True`` the complex r_s and r_p are also returned.
     """
-    wl = _wavelengths(wavelength_nm)
-    n1 = _as_index(n_film, wl, "film")
-    n2 = _as_index(n_substrate, wl, "substrate")
-    n0 = float(np.real(n_ambient))
-    d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
-    cos0 = np.asarray(cos_incidence, dtype=np.float64)[..., None]
-    sin0 = np.sqrt(np.clip(1.0 - cos0 * cos0, 0.0, 1.0))
-    kx = n0 * sin0
-    q0 = (n0 * cos0).astype(np.complex128)
-    q1 = layer_q(n1, kx)
-    q2 = layer_q(n2, kx)
-    r01s, r01p = fresnel_r(n0, q0, n1, q1)
-    r12s, r12p = fresnel_r(n1, q1, n2, q2)
-
-    # Round-trip phase factor E = exp(2 i delta) = rho e^{i phi}, 2 delta = 4 pi d q1 / lambda.
-    k4 = (4.0 * np.pi / wl) * q1  # (angle..., W)
-    phi = d * k4.real
-    rho = np.exp(-d * k4.imag)
-    E_r = rho * np.cos(phi)
-    E_i = rho * np.sin(phi)
-    coeffs = _airy_coefficients(r01s, r12s, r01p, r12p)
-    R_s, R_p = _airy_R(E_r, E_i, coeffs)
-    if not amplitudes:
-        return Reflectance(R_s=R_s, R_p=R_p)
-    e = E_r + 1j * E_i
-    r_s = (r01s + r12s * e) / (1.0 + r01s * r12s * e)
-    r_p = (r01p + r12p * e) / (1.0 + r01p * r12p * e)
-    return Reflectance(R_s=R_s, R_p=R_p, r_s=r_s, r_p=r_p)
+    film = FilmAtAngles(cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient)
+    return film.reflectance(thickness_nm, amplitudes)
 
 
 def _airy_coefficients(r01s, r12s, r01p, r12p) -> tuple:
@@ -199,7 +223,6 @@ def _workers(samples: int, blocks: int) -> int:
     if samples < _THREADED_MIN_SAMPLES or blocks < 2:
         return 1
     return max(1, min(blocks, os.cpu_count() or 1, 4))
-
 
 
 def _pole_form(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -256,29 +279,26 @@ def film_reflectance_sweep(
     * blocks of B thicknesses keep the temporaries in cache, and a large sweep shares its blocks
       among threads, one per core (numpy releases the GIL; results are identical).
     """
+    _check_geometry(np.zeros(1), np.asarray(incidence_deg, dtype=np.float64))
+    film = FilmAtAngles(np.cos(np.radians(np.asarray(incidence_deg, dtype=np.float64))),
+                        wavelength_nm, n_film, n_substrate, n_ambient)
+    return film.sweep(thickness_start_nm, thickness_step_nm, count)
+
+
+def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: float, count: int) -> Reflectance:
     count = int(count)
     if count < 1:
         raise SwatchError("a thickness sweep needs at least one thickness")
     start = float(thickness_start_nm)
     step = float(thickness_step_nm)
     last = start + step * (count - 1)
-    _check_geometry(np.array([start, last]), np.asarray(incidence_deg, dtype=np.float64))
-    wl = _wavelengths(wavelength_nm)
-    n1 = _as_index(n_film, wl, "film")
-    n2 = _as_index(n_substrate, wl, "substrate")
-    n0 = float(np.real(n_ambient))
-    cos0 = np.cos(np.radians(np.asarray(incidence_deg, dtype=np.float64)))[..., None]
-    sin0 = np.sqrt(np.clip(1.0 - cos0 * cos0, 0.0, 1.0))
-    kx = n0 * sin0
-    q0 = (n0 * cos0).astype(np.complex128)
-    q1 = layer_q(n1, kx)
-    q2 = layer_q(n2, kx)
-    r01s, r01p = fresnel_r(n0, q0, n1, q1)
-    r12s, r12p = fresnel_r(n1, q1, n2, q2)
-    k4 = (4.0 * np.pi / wl) * q1  # (angle..., W)
+    _check_geometry(np.array([start, last]), np.zeros(1))
+    k4 = film.k4
+    (r01s, r01p), (r12s, r12p) = film.r01, film.r12
 
     def phase(d: float) -> np.ndarray:
-        return np.exp(-d * k4.imag) * (np.cos(d * k4.real) + 1j * np.sin(d * k4.real))
+        E_r, E_i = film.phase_factor(d)
+        return E_r + 1j * E_i
 
     B = max(1, int(np.ceil(np.sqrt(count))))
     # Inner factors E_i = E_1**i (i < B) by a cumulative product (rounding grows as i * eps).
