@@ -1,0 +1,464 @@
+"""``swatch catalog build``: content-hashed, incremental, atomic catalog builds.
+
+Layout of an output folder ``DIR``::
+
+    DIR/index.html, catalog.json, catalog.csv, <slug>.cxf, <slug>.ase, sheet_NN.png, sheet_NN.exr
+    DIR/.swatch-catalog/manifest.json   what the last build wrote (file hashes, input fingerprint)
+    DIR/.swatch-catalog/cache/*.npz     tile renders, keyed by the hash of what they depend on
+    DIR/.swatch-catalog/lock            one build at a time (flock)
+
+Incremental: the build's *fingerprint* hashes the validated spec, the spec file's name, the
+source of the modules that compute the outputs, the material and tolerance tables and the
+library versions. If it equals the manifest's and every file listed there is intact, the build
+is a no-op (nothing heavier than numpy is imported). Otherwise the numbers are recomputed (a
+vectorised pass, ~1 s), each swatch's renders are taken from the cache when their key (film,
+substrate, thickness, colorimetry, render options, code) is unchanged, and each sheet is
+recomposed only when its own key (its tiles, labels and metadata) changed.
+
+Atomic: every output is first written into ``DIR/.swatch-catalog/staging-*``. The commit writes
+a journal (the list of files and the new manifest) and then moves the staged files into place
+with ``os.replace`` (SIGINT/SIGTERM held off for those few milliseconds), removes the previous
+build's files that are no longer produced, writes the manifest and deletes the journal. A
+build that fails or is interrupted before the commit leaves the previous catalog untouched (its
+staging folder is removed on the next run); one killed during the commit is completed from the
+journal by the next run. Nothing is written outside ``DIR``. A non-empty ``DIR`` that has no
+manifest is not a swatch catalog and is refused.
+"""
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import json
+import os
+import shutil
+import signal
+import sys
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from swatch.catalog.spec import CatalogSpec, load_spec
+from swatch.errors import SwatchError
+
+__all__ = ["build_catalog", "BuildResult", "FORMAT_VERSION", "META_DIR"]
+
+FORMAT_VERSION = 1
+META_DIR = ".swatch-catalog"
+MANIFEST = "manifest.json"
+JOURNAL = "journal.json"
+
+#: Modules whose code shapes the outputs (their source is hashed into the fingerprint).
+_CODE_MODULES = ("optics", "model", "geometry", "colorimetry", "materials", "appearance", "tolerance",
+                 "microfacet", "render", "imageio")
+
+
+@dataclass
+class BuildResult:
+    out_dir: Path
+    noop: bool
+    swatches: int
+    sheets: int
+    rendered: int = 0  # tiles rendered (not from the cache)
+    composed: int = 0  # sheets written (not reused)
+    seconds: float = 0.0
+    files: list[str] = field(default_factory=list)
+
+
+# -- hashing ---------------------------------------------------------------------------------
+
+def _sha256_file(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _hash_json(obj) -> str:
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+def code_fingerprint() -> dict:
+    """Hashes of the code and tables the outputs depend on, and the libraries' versions."""
+    from importlib import metadata
+
+    import swatch
+    from swatch.materials import tables_dir
+
+    pkg = Path(swatch.__file__).resolve().parent
+    files = [pkg / f"{m}.py" for m in _CODE_MODULES] + sorted((pkg / "catalog").glob("*.py"))
+    code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}
+    tdir = tables_dir()
+    tables = {p.relative_to(tdir).as_posix(): _sha256_file(p)
+              for p in sorted(tdir.glob("optical/*.csv")) + [tdir / "tolerance_grades.csv"]}
+    versions = {}
+    for dist in ("colour-science", "numpy", "OpenImageIO", "OpenEXR", "colour-cxf"):
+        try:
+            versions[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            versions[dist] = None
+    return {"code": code, "tables": tables, "versions": versions, "format": FORMAT_VERSION}
+
+
+def slug(name: str) -> str:
+    out = "".join(ch.lower() if ch.isascii() and ch.isalnum() else "-" for ch in name)
+    out = "-".join(p for p in out.split("-") if p)
+    return out[:60] or "catalog"
+
+
+# -- output folder, lock, journal ------------------------------------------------------------
+
+def _prepare_out_dir(out: Path) -> Path:
+    if out.exists() and not out.is_dir():
+        raise SwatchError(f"output folder {out} is a file; give a folder")
+    meta = out / META_DIR
+    if out.exists():
+        entries = [p for p in out.iterdir() if p.name != META_DIR]
+        if entries and not (meta / MANIFEST).is_file() and not (meta / JOURNAL).is_file():
+            raise SwatchError(
+                f"output folder {out} is not empty and is not a swatch catalog (no {META_DIR}/{MANIFEST}); "
+                "give an empty or new folder, or a folder a previous catalog build wrote")
+    try:
+        meta.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SwatchError(f"cannot create output folder {out}: {exc.strerror}") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise SwatchError(f"output folder {out} is not writable")
+    return meta
+
+
+@contextmanager
+def _locked(meta: Path):
+    import fcntl
+
+    fh = open(meta / "lock", "a+")
+    try:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise SwatchError(f"another catalog build is writing {meta.parent}; wait for it to finish") from None
+        yield
+    finally:
+        fh.close()
+
+
+@contextmanager
+def _signals_held():
+    """Defer SIGINT/SIGTERM/SIGHUP while the staged files are moved into place."""
+    sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    except (AttributeError, ValueError, OSError):  # not the main thread or no support
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _read_json(path: Path):
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+
+
+def _write_json_atomic(path: Path, obj) -> None:
+    from swatch.fileio import atomic_write_text
+
+    atomic_write_text(path, json.dumps(obj, indent=1, sort_keys=True) + "\n")
+
+
+def _fsync_dir(path: Path) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _apply_journal(out: Path, meta: Path, journal: dict) -> None:
+    """Move a complete staging folder into place (idempotent: safe to replay after a crash)."""
+    staging = meta / journal["staging"]
+    for name in journal["files"]:
+        src = staging / name
+        if src.exists():
+            os.replace(src, out / name)
+    for name in journal["remove"]:
+        (out / name).unlink(missing_ok=True)
+    _write_json_atomic(meta / MANIFEST, journal["manifest"])
+    _fsync_dir(out)
+    (meta / JOURNAL).unlink(missing_ok=True)
+    shutil.rmtree(staging, ignore_errors=True)
+
+
+def _recover(out: Path, meta: Path) -> None:
+    journal = _read_json(meta / JOURNAL)
+    if journal is not None:
+        _apply_journal(out, meta, journal)
+    else:
+        (meta / JOURNAL).unlink(missing_ok=True)
+    for stale in meta.glob("staging-*"):
+        shutil.rmtree(stale, ignore_errors=True)
+
+
+def _intact(out: Path, manifest: dict) -> bool:
+    files = manifest.get("files") or {}
+    for name, info in files.items():
+        p = out / name
+        try:
+            if p.stat().st_size != info["size"]:
+                return False
+        except OSError:
+            return False
+        if _sha256_file(p) != info["sha256"]:
+            return False
+    return bool(files)
+
+
+# -- the build -------------------------------------------------------------------------------
+
+def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
+    from swatch.catalog.records import PROCESS_STEP_NM
+    from swatch.tolerance import grades
+
+    grade = next(g for g in grades(spec.scheme) if g.name == spec.grade)
+    return {
+        "name": spec.name,
+        "description": spec.description,
+        "spec_file": spec_name,
+        "film": spec.film,
+        "substrate": spec.substrate,
+        "growth_nm_per_V": spec.growth_nm_per_V,
+        "illuminant": data.illuminant,
+        "observer": data.observer,
+        "observer_name": "1964 10°" if data.observer == "10" else "1931 2°",
+        "wavelength_nm": {"start": float(data.wavelength_nm[0]), "stop": float(data.wavelength_nm[-1]),
+                          "step": spec.wavelength_step_nm},
+        "model": "half-vector thin film (Fujii et al. 2019): Airy reflectance factor at theta_d",
+        "lab_definition": (
+            "CIELAB of the spectral reflectance factor R(theta_d) of the film on the half-vector facet, "
+            "theta_d = 1/2 arccos(l.v), under the illuminant and observer above (colour-science, ASTM E308); "
+            "no intensity or microfacet-distribution term"),
+        "reference_geometry": spec.reference.to_json(),
+        "multi_angle_geometries": [g.to_json() for g in spec.multi_angle],
+        "render": {"shapes": list(spec.shapes), "size_px": spec.size_px, "model": spec.model,
+                   "roughness": spec.roughness, "angular_map": spec.angular_map},
+        "tolerance": {"scheme": spec.scheme, "grade": spec.grade, "max_delta_E_00": grade.max_delta_E_ab,
+                      "grade_description": grade.description,
+                      "note": ("the grade's bound (defined on ΔE*ab) applied to ΔE2000 between the colour "
+                               "at d±δ and at d, at the reference geometry"),
+                      "search_nm": spec.search_nm, "search_step_nm": PROCESS_STEP_NM},
+        "exports": {"cxf": f"{slug(spec.name)}.cxf", "ase": f"{slug(spec.name)}.ase"},
+        "swatch_version": _swatch_version(),
+    }
+
+
+def _swatch_version() -> str:
+    import swatch
+
+    return swatch.__version__
+
+
+def _csv_bytes(spec: CatalogSpec, records: list[dict]) -> bytes:
+    buf = io.StringIO(newline="")
+    w = csv.writer(buf, lineterminator="\n")
+    geo = [g.name for g in spec.multi_angle]
+    head = ["id", "thickness_nm", "voltage_V", "L", "a", "b", "C", "h", "srgb_hex", "in_srgb_gamut", "hue_family",
+            "dE00_previous", "dE00_next", "dEab_previous", "dEab_next", "window_grade", "max_dE00",
+            "thickness_minus_nm", "thickness_plus_nm", "voltage_minus_V", "voltage_plus_V",
+            "minus_capped", "plus_capped"]
+    for g in geo:
+        head += [f"L_{g}", f"a_{g}", f"b_{g}"]
+    head += ["sheet_png", "sheet_exr", "tile_row", "tile_col"]
+    w.writerow(head)
+
+    def f(x):
+        return "" if x is None else repr(x) if isinstance(x, float) else str(x)
+
+    for r in records:
+        pw = r["process_window"]
+        row = [r["id"], r["thickness_nm"], r["voltage_V"], *r["Lab"], r["LCh"][1], r["LCh"][2], r["srgb_hex"],
+               r["in_srgb_gamut"], r["hue_family"],
+               r["delta_E_00_to_neighbours"]["previous"], r["delta_E_00_to_neighbours"]["next"],
+               r["delta_E_ab_to_neighbours"]["previous"], r["delta_E_ab_to_neighbours"]["next"],
+               f"{pw['scheme']} {pw['grade']}", pw["max_delta_E_00"], pw["thickness_minus_nm"], pw["thickness_plus_nm"],
+               pw["voltage_minus_V"], pw["voltage_plus_V"], pw["minus_capped"], pw["plus_capped"]]
+        for g in geo:
+            row += r["multi_angle"][g]
+        row += [r["sheet_png"], r["sheet_exr"], *r["tile"]]
+        w.writerow([f(x) for x in row])
+    return buf.getvalue().encode("utf-8")
+
+
+def _progress(label: str, total: int, enabled: bool):
+    import click
+
+    if not enabled or total == 0:
+        @contextmanager
+        def dummy():
+            class P:
+                def update(self, n):
+                    pass
+            yield P()
+        return dummy()
+    return click.progressbar(length=total, label=label, file=sys.stderr, show_pos=True)
+
+
+def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = False,
+                  log=None) -> BuildResult:
+    """Build (or bring up to date) the catalog of ``spec_path`` in ``out_dir``."""
+    t0 = time.perf_counter()
+    say = log or (lambda msg: None)
+    spec, _raw = load_spec(spec_path)
+    spec_name = Path(spec_path).name
+    out = Path(out_dir)
+    jobs = _check_jobs(jobs)
+    created = not out.exists()
+    meta = _prepare_out_dir(out)
+    try:
+        return _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0)
+    except BaseException:
+        if created and not (meta / MANIFEST).exists() and not (meta / JOURNAL).exists():
+            shutil.rmtree(out, ignore_errors=True)  # a first build that failed leaves nothing behind
+        raise
+
+
+def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildResult:
+    with _locked(meta):
+        _recover(out, meta)
+        fp = code_fingerprint()
+        fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
+        old = _read_json(meta / MANIFEST) or {}
+        if old.get("fingerprint") == fingerprint and _intact(out, old):
+            n_sheets = len([k for k in old.get("files", {}) if k.endswith(".png")])
+            return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
+                               files=sorted(old["files"]))
+        return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
+
+
+def _check_jobs(jobs) -> int:
+    if jobs is None:
+        return max(1, min(os.cpu_count() or 1, 8))
+    if not isinstance(jobs, int) or not 1 <= jobs <= 64:
+        raise SwatchError(f"--jobs must be a whole number from 1 to 64 (got {jobs!r})")
+    return jobs
+
+
+def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0) -> BuildResult:
+    import tempfile
+
+    from swatch.catalog import sheets as sheetmod
+    from swatch.catalog.exports import ase_bytes, cxf_bytes
+    from swatch.catalog.html import index_html
+    from swatch.catalog.records import HUE_FAMILIES, compute
+
+    data = compute(spec)
+    header = _catalog_header(spec, data, spec_name)
+    records = data.records
+    n = len(records)
+    per = spec.per_sheet
+    n_sheets = (n + per - 1) // per
+
+    staging = Path(tempfile.mkdtemp(prefix="staging-", dir=meta))
+    pool = None
+    try:
+        cache = meta / "cache"
+        cache.mkdir(exist_ok=True)
+        # 1. tiles (renders), from the cache or rendered in parallel
+        tile_keys = [sheetmod.tile_key(spec, d, fp) for d in data.thickness_nm]
+        missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
+        pool = sheetmod.make_pool(spec, min(jobs, max(len(missing), n_sheets)))
+        rendered = sheetmod.render_missing(spec, data.thickness_nm, missing, tile_keys, cache, pool,
+                                           lambda total: _progress("rendering swatches", total, progress))
+        # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)
+        sheet_list = []
+        old_sheet_keys = old.get("sheet_keys", {})
+        old_files = old.get("files", {})
+        files: dict[str, dict] = {}
+        todo = []
+        for s in range(n_sheets):
+            recs = records[s * per:(s + 1) * per]
+            png, exr = f"sheet_{s + 1:02d}.png", f"sheet_{s + 1:02d}.exr"
+            key = _hash_json({"tiles": tile_keys[s * per:(s + 1) * per], "records": recs, "header": header,
+                              "number": s + 1, "of": n_sheets, "env": fp})
+            sheet_list.append({"number": s + 1, "png": png, "exr": exr, "swatches": [r["id"] for r in recs],
+                               "key": key})
+            reuse = (old_sheet_keys.get(png) == key and old_sheet_keys.get(exr) == key
+                     and all(_file_matches(out / f, old_files.get(f)) for f in (png, exr)))
+            if reuse:  # unchanged and intact: left in place, not staged
+                for f in (png, exr):
+                    files[f] = old_files[f]
+            else:
+                args = (spec, header, recs, [tile_keys[r["index"] - 1] for r in recs], cache, s + 1, n_sheets,
+                        staging / png, staging / exr)
+                todo.append(pool.submit(sheetmod.compose_sheet, *args) if pool is not None else args)
+        # 3. data files, page and exports (meanwhile the pool composes the sheets)
+        catalog_doc = {"format": "swatch-catalog", "format_version": FORMAT_VERSION, "catalog": header,
+                       "sheets": [{k: v for k, v in sh.items() if k != "key"} for sh in sheet_list],
+                       "swatches": records}
+        outputs = {
+            "catalog.json": (json.dumps(catalog_doc, indent=1, ensure_ascii=False, allow_nan=False) + "\n").encode(),
+            "catalog.csv": _csv_bytes(spec, records),
+            header["exports"]["cxf"]: cxf_bytes(spec, data),
+            header["exports"]["ase"]: ase_bytes(spec, records),
+        }
+        page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
+        outputs["index.html"] = index_html(page_doc).encode("utf-8")
+        for name, blob in outputs.items():
+            (staging / name).write_bytes(blob)
+        with _progress("composing sheets", len(todo), progress) as bar:
+            for job in todo:
+                job.result() if pool is not None else sheetmod.compose_sheet(*job)
+                bar.update(1)
+        composed = len(todo)
+        for name in list(outputs) + [f for sh in sheet_list for f in (sh["png"], sh["exr"]) if f not in files]:
+            p = staging / name
+            files[name] = {"sha256": _sha256_file(p), "size": p.stat().st_size}
+        for p in staging.iterdir():
+            os.chmod(p, 0o644)
+        # 4. commit
+        manifest = {"format": "swatch-catalog-manifest", "format_version": FORMAT_VERSION,
+                    "fingerprint": fingerprint, "spec_file": spec_name, "name": spec.name,
+                    "files": files, "sheet_keys": {f: sh["key"] for sh in sheet_list for f in (sh["png"], sh["exr"])}}
+        removed = sorted(set(old_files) - set(files))
+        journal = {"staging": staging.name, "files": sorted(files), "remove": removed, "manifest": manifest}
+        with _signals_held():
+            _fsync_dir(staging)
+            _write_json_atomic(meta / JOURNAL, journal)
+            _apply_journal(out, meta, journal)
+        # 5. prune the cache to the tiles in use
+        keep = {f"{k}.npz" for k in tile_keys}
+        for p in cache.glob("*.npz"):
+            if p.name not in keep:
+                p.unlink(missing_ok=True)
+    except BaseException:
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+            pool = None
+        if (meta / JOURNAL).exists():
+            raise  # the commit started: the next run completes it from the journal
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    finally:
+        if pool is not None:
+            pool.shutdown(wait=True)
+    return BuildResult(out, False, n, n_sheets, rendered=rendered, composed=composed,
+                       seconds=time.perf_counter() - t0, files=sorted(files))
+
+
+def _file_matches(path: Path, info) -> bool:
+    if not info:
+        return False
+    try:
+        return path.stat().st_size == info["size"] and _sha256_file(path) == info["sha256"]
+    except OSError:
+        return False

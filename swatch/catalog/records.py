@@ -1,0 +1,220 @@
+"""Swatch records: the numbers of every swatch of a catalog, computed in one vectorised pass.
+
+For each thickness: CIELAB / LCh / sRGB at the reference geometry (default 45°:0°), CIELAB at
+each multi-angle geometry (illumination 45°, aspecular -15° ... 110°), ΔE*ab and ΔE2000 to the
+neighbouring swatches, and the process window.
+
+Colour model: the paper's half-vector model (Fujii et al., eqs. 2–5) — the spectral reflectance
+factor of the film on the facet whose normal is the half vector of light and view, i.e. the
+Airy reflectance at ``theta_d = 1/2 arccos(l.v)``, taken as the reflectance factor of the
+swatch at that geometry (no intensity / distribution term: the Lab describes the interference
+colour that the tilted facets show, as in the paper's Table 3 comparison).
+
+Process window: the largest thickness deviations ``-δ-`` / ``+δ+`` such that ΔE2000 between
+the colour at ``d ± δ`` and the colour at the nominal ``d`` (both at the reference geometry)
+stays within the tolerance grade's number for every deviation up to it. The grade's bound
+(defined on ΔE*ab in tables/tolerance_grades.csv) is applied to ΔE2000 here, as the catalog
+issue asks. Voltage window = thickness window / growth rate.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from swatch.catalog.spec import CatalogSpec, Geometry
+from swatch.errors import SwatchError
+
+__all__ = ["CatalogData", "compute", "hue_family", "PROCESS_STEP_NM", "HUE_FAMILIES"]
+
+#: Grid step of the process-window search (the crossing is then interpolated linearly).
+PROCESS_STEP_NM = 0.05
+
+#: CIELAB hue-angle families (degrees, [start, end)); chroma below NEUTRAL_CHROMA is "neutral".
+HUE_FAMILIES = (
+    ("red", 345.0, 35.0),
+    ("orange", 35.0, 70.0),
+    ("yellow", 70.0, 105.0),
+    ("green", 105.0, 165.0),
+    ("cyan", 165.0, 225.0),
+    ("blue", 225.0, 290.0),
+    ("purple", 290.0, 345.0),
+)
+NEUTRAL_CHROMA = 6.0
+_CHUNK = 8
+
+
+def hue_family(chroma: float, hue_deg: float) -> str:
+    if chroma < NEUTRAL_CHROMA:
+        return "neutral"
+    h = hue_deg % 360.0
+    for name, lo, hi in HUE_FAMILIES:
+        if (lo <= h < hi) if lo < hi else (h >= lo or h < hi):
+            return name
+    return "red"  # unreachable: the families cover the circle
+
+
+@dataclass
+class CatalogData:
+    """Arrays for N swatches (reference geometry) plus JSON-ready records."""
+
+    thickness_nm: np.ndarray
+    voltage_V: np.ndarray
+    wavelength_nm: np.ndarray
+    reflectance: np.ndarray  # (N, W) at the reference geometry
+    multi_reflectance: np.ndarray  # (G, N, W)
+    Lab: np.ndarray
+    LCh: np.ndarray
+    srgb_hex: list[str]
+    records: list[dict]
+    illuminant: str  # colour-science's name
+    observer: str
+
+
+def _colorimeter(spec: CatalogSpec, wl):
+    from swatch.colorimetry import get_colorimeter
+
+    try:
+        return get_colorimeter(wl, spec.illuminant, spec.observer)
+    except SwatchError as exc:
+        raise SwatchError(f"{spec.source}: key colour.illuminant: {exc}") from None
+
+
+def wavelengths(spec: CatalogSpec) -> np.ndarray:
+    from swatch.materials import wavelength_grid
+
+    return wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
+
+
+def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
+    refl, _ = coating.half_vector(d, g.light_deg, g.view_deg, 0.0, g.view_azimuth_deg)
+    return refl.R
+
+
+def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search_nm: float):
+    """(minus_nm, plus_nm, minus_capped, plus_capped) arrays for nominal thicknesses ``d``.
+
+    ΔE2000(Lab(d ± δ), Lab(d)) on a δ grid of PROCESS_STEP_NM up to ``search_nm``; the window
+    edge is the first grid crossing of ``bound``, interpolated linearly between the two grid
+    points. ``capped`` means no crossing within the search (or, below, before zero thickness):
+    the window is then the search limit (or ``d`` itself).
+    """
+    from swatch.colorimetry import delta_E_00
+    from swatch.model import MAX_THICKNESS_NM
+
+    if d.size > _CHUNK:  # bound the memory of the (N, K, W) spectra
+        parts = [process_window(coating, cm, d[i:i + _CHUNK], g, bound, search_nm)
+                 for i in range(0, d.size, _CHUNK)]
+        return tuple(np.concatenate([p[j] for p in parts]) for j in range(4))
+    n_steps = int(round(search_nm / PROCESS_STEP_NM))
+    delta = PROCESS_STEP_NM * np.arange(n_steps + 1)  # (K,), delta[0] = 0
+    Lab0 = cm.Lab(cm.XYZ(_geometry_R(coating, d, g)))  # (N, 3)
+    out = []
+    for sign in (-1.0, +1.0):
+        dd = d[:, None] + sign * delta[None, :]  # (N, K)
+        valid = (dd >= 0.0) & (dd <= MAX_THICKNESS_NM)
+        Lab = cm.Lab(cm.XYZ(_geometry_R(coating, np.clip(dd, 0.0, MAX_THICKNESS_NM), g)))  # (N, K, 3)
+        dE = delta_E_00(Lab, np.broadcast_to(Lab0[:, None, :], Lab.shape))  # (N, K)
+        dE = np.where(valid, dE, np.inf)  # leaving the physical range ends the window
+        over = dE > bound
+        has = over.any(axis=1)
+        k = np.where(has, over.argmax(axis=1), n_steps)  # first index outside
+        kk = np.maximum(k, 1)
+        rows = np.arange(d.size)
+        e0 = dE[rows, kk - 1]
+        e1 = dE[rows, kk]
+        finite = np.isfinite(e1)
+        frac = np.where(finite & (e1 > e0), (bound - e0) / np.where(e1 > e0, e1 - e0, 1.0), 0.0)
+        edge = delta[kk - 1] + np.clip(frac, 0.0, 1.0) * PROCESS_STEP_NM
+        edge = np.where(has, edge, delta[-1])
+        capped = ~has | ~finite  # no crossing in the search, or stopped by zero thickness
+        if sign < 0:
+            edge = np.where(~finite, np.minimum(delta[kk - 1], d), edge)
+            edge = np.minimum(edge, d)
+        out += [edge, capped]
+    return out[0], out[2], out[1], out[3]
+
+
+def compute(spec: CatalogSpec) -> CatalogData:
+    """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
+    from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, srgb_hex
+    from swatch.model import get_coating, thickness_to_voltage_V
+    from swatch.tolerance import grade_bound
+
+    wl = wavelengths(spec)
+    coating = get_coating(spec.film, spec.substrate, wl)
+    cm = _colorimeter(spec, wl)
+    d = np.asarray(spec.thickness_nm, dtype=np.float64)
+    n = d.size
+    volts = (np.asarray(spec.voltage_V, dtype=np.float64) if spec.voltage_V is not None
+             else thickness_to_voltage_V(d, spec.growth_nm_per_V))
+
+    R = _geometry_R(coating, d, spec.reference)
+    XYZ = cm.XYZ(R)
+    Lab = cm.Lab(XYZ)
+    LCh = Lab_to_LCh(Lab)
+    enc, gamut = cm.display(XYZ, "srgb")
+    hexes = [str(h) for h in np.atleast_1d(srgb_hex(enc))]
+
+    G = len(spec.multi_angle)
+    multi_R = np.stack([_geometry_R(coating, d, g) for g in spec.multi_angle]) if G else np.zeros((0, n, wl.size))
+    multi_XYZ = cm.XYZ(multi_R)
+    multi_Lab = cm.Lab(multi_XYZ) if G else np.zeros((0, n, 3))
+    multi_LCh = Lab_to_LCh(multi_Lab) if G else np.zeros((0, n, 3))
+    multi_hex = np.atleast_2d(srgb_hex(cm.display(multi_XYZ, "srgb")[0])) if G else np.zeros((0, n), dtype=object)
+
+    dab = np.full((n, 2), np.nan)  # previous, next
+    d00 = np.full((n, 2), np.nan)
+    if n > 1:
+        e_ab = np.atleast_1d(delta_E_ab(Lab[1:], Lab[:-1]))
+        e_00 = np.atleast_1d(delta_E_00(Lab[1:], Lab[:-1]))
+        dab[1:, 0], dab[:-1, 1] = e_ab, e_ab
+        d00[1:, 0], d00[:-1, 1] = e_00, e_00
+
+    bound = grade_bound(spec.grade, spec.scheme)
+    minus, plus, minus_cap, plus_cap = process_window(coating, cm, d, spec.reference, bound, spec.search_nm)
+
+    def r(x, nd=4):
+        return None if x is None or not np.isfinite(x) else round(float(x), nd)
+
+    per_sheet = spec.per_sheet
+    records = []
+    for i in range(n):
+        sheet = i // per_sheet + 1
+        slot = i % per_sheet
+        records.append({
+            "id": f"S{i + 1:03d}",
+            "index": i + 1,
+            "thickness_nm": r(d[i]),
+            "voltage_V": r(volts[i]),
+            "Lab": [r(v) for v in Lab[i]],
+            "LCh": [r(v) for v in LCh[i]],
+            "XYZ": [r(v) for v in XYZ[i]],
+            "srgb_hex": hexes[i],
+            "in_srgb_gamut": bool(gamut[i]),
+            "hue_family": hue_family(float(LCh[i, 1]), float(LCh[i, 2])),
+            "multi_angle": {g.name: [r(v) for v in multi_Lab[j, i]] for j, g in enumerate(spec.multi_angle)},
+            "multi_angle_LCh": {g.name: [r(v) for v in multi_LCh[j, i]] for j, g in enumerate(spec.multi_angle)},
+            "multi_angle_srgb_hex": {g.name: str(multi_hex[j, i]) for j, g in enumerate(spec.multi_angle)},
+            "delta_E_ab_to_neighbours": {"previous": r(dab[i, 0]), "next": r(dab[i, 1])},
+            "delta_E_00_to_neighbours": {"previous": r(d00[i, 0]), "next": r(d00[i, 1])},
+            "process_window": {
+                "grade": spec.grade,
+                "scheme": spec.scheme,
+                "max_delta_E_00": bound,
+                "thickness_minus_nm": r(minus[i], 3),
+                "thickness_plus_nm": r(plus[i], 3),
+                "voltage_minus_V": r(minus[i] / spec.growth_nm_per_V, 3),
+                "voltage_plus_V": r(plus[i] / spec.growth_nm_per_V, 3),
+                "minus_capped": bool(minus_cap[i]),
+                "plus_capped": bool(plus_cap[i]),
+            },
+            "sheet": sheet,
+            "sheet_png": f"sheet_{sheet:02d}.png",
+            "sheet_exr": f"sheet_{sheet:02d}.exr",
+            "tile": [slot // spec.columns + 1, slot % spec.columns + 1],
+        })
+    return CatalogData(
+        thickness_nm=d, voltage_V=volts, wavelength_nm=wl, reflectance=R, multi_reflectance=multi_R,
+        Lab=Lab, LCh=LCh, srgb_hex=hexes, records=records, illuminant=cm.illuminant, observer=cm.observer,
+    )

@@ -1,0 +1,361 @@
+"""Catalog sheets: tiles of rendered swatches with their numbers, as a linear EXR and a display PNG.
+
+A tile holds the swatch rendered flat and curved (``swatch.render.render_swatch``, the spec's
+shapes, model and roughness, light 45°), a small angular map (``swatch.render.angular_map``,
+paper model: the colour over light × view angle, 0–85°, light up the side, view along the
+bottom) and the labels: thickness and voltage, L*a*b* and L*C*h at the reference geometry, the
+sRGB hex with a flat chip of that colour, ΔE2000 to the neighbours and the process window.
+
+The PNG is the display image (8-bit sRGB; renders with their display exposure and shoulder).
+The EXR (half float, linear sRGB primaries) is the same page in linear light: renders and map
+in linear RGB with the same exposure applied (so the two files look alike; the exposure of each
+render is in the metadata to recover scene-referred values), everything else (background,
+chips, text) the sRGB-decoded display page. Both carry the catalog header, the sheet layout and
+every swatch's record as JSON strings (EXR string attributes / PNG tEXt chunks ``swatch:...``).
+
+Tile renders are cached per swatch (``.npz`` keyed by :func:`tile_key`) and computed in
+parallel processes (``--jobs``); every job is a pure function of its inputs, so the result does
+not depend on the number of jobs.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from swatch.catalog.spec import CatalogSpec
+
+__all__ = ["tile_key", "render_missing", "make_pool", "compose_sheet", "Layout", "AMAP_ANGLES_DEG"]
+
+TILE_VERSION = 1
+#: Angular-map grid (light × view polar angles, degrees); 60 × 60 cells drawn at 2 px each.
+AMAP_ANGLES_DEG = np.linspace(0.0, 85.0, 60)
+AMAP_CELL_PX = 2
+LIGHT_DEG = 45.0
+
+# page colours (display sRGB)
+PAGE = (238, 238, 240)
+CARD = (255, 255, 255)
+INK = (20, 20, 24)
+MUTED = (88, 88, 96)
+RULE = (200, 200, 206)
+
+
+def _engine_code_hash() -> str:
+    """Hash of the engine modules (swatch/*.py) and this file: a tile depends on all of them."""
+    import swatch
+
+    pkg = Path(swatch.__file__).resolve().parent
+    h = hashlib.sha256()
+    for f in sorted(pkg.glob("*.py")) + [Path(__file__).resolve()]:
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()
+
+
+def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
+    """Content hash of everything a swatch's renders depend on."""
+    if not hasattr(tile_key, "_code"):
+        tile_key._code = _engine_code_hash()
+    doc = {
+        "v": TILE_VERSION, "code": tile_key._code, "tables": fp["tables"], "versions": fp["versions"],
+        "film": spec.film, "substrate": spec.substrate, "wl_step": spec.wavelength_step_nm,
+        "illuminant": spec.illuminant, "observer": spec.observer, "d": float(thickness_nm),
+        "shapes": list(spec.shapes), "size": spec.size_px, "model": spec.model, "roughness": spec.roughness,
+        "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
+    }
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
+
+
+# -- rendering (worker side) -----------------------------------------------------------------
+
+def _render_job(args):
+    """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
+    (d, film, substrate, wl_step, illuminant, observer, shapes, size, model, roughness, amap) = args
+    from swatch.colorimetry import get_colorimeter
+    from swatch.materials import wavelength_grid
+    from swatch.model import get_coating
+    from swatch.render import angular_map, render_swatch
+
+    wl = wavelength_grid(380.0, 780.0, wl_step)
+    coating = get_coating(film, substrate, wl)
+    cm = get_colorimeter(wl, illuminant, observer)
+    out = {}
+    for i, shape in enumerate(shapes):
+        im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness=roughness, model=model,
+                           coating=coating, colorimeter=cm, space="srgb", workers=1)
+        # half floats: the sheet EXR is half anyway, and the cache stays small
+        out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
+        out[f"r{i}_alpha"] = np.asarray(im.alpha, dtype=np.float16)
+        out[f"r{i}_display"] = np.asarray(im.display_rgb, dtype=np.uint8)
+        out[f"r{i}_exposure"] = np.float64(im.exposure)
+    if amap:
+        am = angular_map(d, AMAP_ANGLES_DEG, AMAP_ANGLES_DEG, coating=coating, colorimeter=cm, model="paper")
+        # rows = light angle: flip so light 0° is at the bottom (as swatch.render.angular_figure)
+        lin = np.asarray(am.linear_rgb, dtype=np.float32)[::-1] * np.float32(am.exposure)
+        disp = np.asarray(am.display_rgb, dtype=np.uint8)[::-1]
+        c = AMAP_CELL_PX
+        out["amap_linear"] = np.repeat(np.repeat(lin, c, 0), c, 1).astype(np.float16)
+        out["amap_display"] = np.repeat(np.repeat(disp, c, 0), c, 1)
+    return out
+
+
+def _job_args(spec: CatalogSpec, d: float):
+    return (float(d), spec.film, spec.substrate, spec.wavelength_step_nm, spec.illuminant, spec.observer,
+            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map)
+
+
+def _save_npz(path: Path, arrays: dict) -> None:
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+    try:
+        np.savez(tmp, **arrays)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: list[str], cache: Path,
+                   pool, progress_factory) -> int:
+    """Render the swatches ``missing`` (indices) into ``cache`` (``<key>.npz``); returns how many.
+
+    ``pool``: a process pool (see :func:`make_pool`) or None to render in this process.
+    """
+    if not missing:
+        return 0
+    args = [_job_args(spec, thickness_nm[i]) for i in missing]
+    with progress_factory(len(missing)) as bar:
+        results = map(_render_job, args) if pool is None else pool.map(_render_job, args, chunksize=1)
+        for i, arrays in zip(missing, results):
+            _save_npz(cache / f"{keys[i]}.npz", arrays)
+            bar.update(1)
+    return len(missing)
+
+
+def make_pool(spec: CatalogSpec, jobs: int):
+    """A process pool of ``jobs`` workers (forked after the shared tables are loaded), or None."""
+    if jobs <= 1:
+        return None
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    # Not "fork": a process that has used OpenImageIO (or any library with threads) may hold a
+    # lock at the fork and the child would deadlock. The fork server is a fresh process that
+    # imports the renderer once and forks the workers from there (cheap, and thread-free).
+    if "forkserver" in mp.get_all_start_methods():
+        ctx = mp.get_context("forkserver")
+        ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render", "swatch.colorimetry",
+                                    "swatch.imageio", "OpenImageIO"])
+    else:
+        ctx = mp.get_context("spawn")
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(spec,))
+
+
+def _warm(spec: CatalogSpec) -> None:
+    from swatch.colorimetry import get_colorimeter
+    from swatch.materials import wavelength_grid
+    from swatch.model import get_coating
+    import swatch.render  # noqa: F401
+
+    wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
+    get_coating(spec.film, spec.substrate, wl)
+    get_colorimeter(wl, spec.illuminant, spec.observer)
+
+
+# -- layout ----------------------------------------------------------------------------------
+
+class Layout:
+    """Pixel geometry of a sheet for a spec."""
+
+    PAD = 14
+    GAP = 10
+    GUTTER = 14
+    MARGIN = 28
+    HEADER = 112
+    FOOTER = 44
+    LINE = 20
+    LABEL_LINES = 7
+    TEXT_W = 250  # room for the longest label line (26 characters of 15 px DroidSansMono)
+
+    def __init__(self, spec: CatalogSpec):
+        s = spec.size_px
+        n = len(spec.shapes)
+        self.size = s
+        self.amap = (AMAP_ANGLES_DEG.size * AMAP_CELL_PX) if spec.angular_map else 0
+        self.renders_w = n * s + (n - 1) * self.GAP
+        self.label_h = self.LABEL_LINES * self.LINE + 6
+        text_and_map = self.TEXT_W + (self.amap + self.GAP if self.amap else 0)
+        self.tile_w = max(self.renders_w, text_and_map) + 2 * self.PAD
+        self.tile_h = self.PAD + s + self.GAP + max(self.label_h, self.amap) + self.PAD
+        self.cols, self.rows = spec.columns, spec.rows
+        self.width = 2 * self.MARGIN + self.cols * self.tile_w + (self.cols - 1) * self.GUTTER
+        self.height = self.HEADER + self.rows * self.tile_h + (self.rows - 1) * self.GUTTER + self.FOOTER + self.MARGIN
+        self.width = max(self.width, 900)
+
+    def tile_origin(self, slot: int) -> tuple[int, int]:
+        r, c = divmod(slot, self.cols)
+        return (self.MARGIN + c * (self.tile_w + self.GUTTER), self.HEADER + r * (self.tile_h + self.GUTTER))
+
+
+# -- text helpers ----------------------------------------------------------------------------
+
+def _strip(w: int, h: int, color) -> np.ndarray:
+    img = np.empty((h, w, 3), dtype=np.uint8)
+    img[:] = color
+    return img
+
+
+def _fmt(x, nd: int) -> str:
+    return "–" if x is None else f"{x:.{nd}f}".replace("-", "−")
+
+
+def _fit(text: str, size: int, max_w: int, font: str) -> str:
+    from swatch.imageio import text_width
+
+    if text_width(text, size, font) <= max_w:
+        return text
+    while text and text_width(text + "…", size, font) > max_w:
+        text = text[:-1]
+    return text + "…"
+
+
+def _num(x, width: int, nd: int) -> str:
+    return ("–" if x is None else f"{x:.{nd}f}").replace("-", "−").rjust(width)
+
+
+def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
+    """The label block of a tile (uint8): numbers in DroidSansMono (it has Δ and the minus sign)."""
+    from swatch.imageio import draw_rect, draw_text
+
+    w = lay.tile_w - 2 * lay.PAD - (lay.amap + lay.GAP if lay.amap else 0)
+    h = max(lay.label_h, lay.amap)
+    img = _strip(w, h, CARD)
+    L, a, b = rec["Lab"]
+    _, C, hue = rec["LCh"]
+    pw = rec["process_window"]
+    n = rec["delta_E_00_to_neighbours"]
+    mono, size, step = "DroidSansMono", 15, lay.LINE
+    y = 17
+    img = draw_text(img, _fit(f"{rec['thickness_nm']:g} nm  ·  {rec['voltage_V']:.1f} V", 18, w, "DroidSans-Bold"),
+                    0, y, 18, INK, font="DroidSans-Bold")
+    lines = [
+        f"L*a*b* {_num(L, 5, 1)}{_num(a, 7, 1)}{_num(b, 7, 1)}",
+        f"L*C*h  {_num(L, 5, 1)}{_num(C, 7, 1)}{_num(hue, 6, 0)}°",
+        None,  # chip + hex
+        f"ΔE00 prev{_num(n['previous'], 5, 1)} next{_num(n['next'], 5, 1)}",
+        f"window {pw['grade']:<2}{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm",
+        f"         {_num(-pw['voltage_minus_V'], 5, 1)}/+{pw['voltage_plus_V']:.1f} V",
+    ]
+    y += 3
+    for line in lines:
+        y += step
+        if line is None:
+            rgb = tuple(int(rec["srgb_hex"][i:i + 2], 16) for i in (1, 3, 5))
+            img = draw_rect(img, 0, y - 13, 40, y + 4, rgb)
+            img = draw_rect(img, 0, y - 13, 40, y + 4, RULE, fill=False)
+            img = draw_text(img, f"{rec['srgb_hex']}  {rec['hue_family']}", 48, y, size, INK, font=mono)
+            continue
+        img = draw_text(img, line, 0, y, size, INK, font=mono)
+    return img
+
+
+def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) -> np.ndarray:
+    from swatch.imageio import draw_rect, draw_text
+
+    w = lay.width - 2 * lay.MARGIN
+    img = _strip(w, lay.HEADER - 14, PAGE)
+    ref = header["reference_geometry"]
+    tol = header["tolerance"]
+    img = draw_text(img, _fit(spec.name, 28, w - 220, "DroidSans-Bold"), 0, 40, 28, INK, font="DroidSans-Bold")
+    img = draw_text(img, f"sheet {number} of {of}", w, 40, 18, MUTED, align="right")
+    line2 = (f"{spec.film} on {spec.substrate}  ·  illuminant {header['illuminant']}, CIE {header['observer_name']} "
+             f"observer  ·  model: half-vector thin film (Fujii et al. 2019)  ·  growth {spec.growth_nm_per_V:g} nm/V")
+    img = draw_text(img, _fit(line2, 16, w, "DroidSans"), 0, 66, 16, INK)
+    line3 = (f"L*a*b* at {ref['name']} (light {ref['light_deg']:g}°, view {ref['view_deg']:g}° from the normal)  ·  "
+             f"window: the thickness and voltage deviations that keep CIEDE2000 to the nominal colour "
+             f"at most {tol['max_delta_E_00']:g} ({tol['scheme']} grade {tol['grade']})")
+    img = draw_text(img, _fit(line3, 16, w, "DroidSans"), 0, 90, 16, INK)
+    img = draw_rect(img, 0, img.shape[0] - 1, w, img.shape[0], RULE)
+    return img
+
+
+def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
+    from swatch.imageio import draw_text
+
+    w = lay.width - 2 * lay.MARGIN
+    img = _strip(w, lay.FOOTER - 8, PAGE)
+    shapes = " and ".join({"flat": "flat plate", "cylinder": "half cylinder", "sphere": "sphere"}[s] for s in spec.shapes)
+    model = (f"microfacet GGX, roughness {spec.roughness:g}" if spec.model == "microfacet" else "paper model")
+    text = (f"Renders: {shapes}, light {LIGHT_DEG:g}°, {model}; display exposure per render."
+            + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else "")
+            + "  prev / next: CIEDE2000 to the neighbouring swatches."
+            + f"  swatch {header['swatch_version']}")
+    return draw_text(img, _fit(text, 14, w, "DroidSans"), 0, 24, 14, MUTED)
+
+
+# -- composition -----------------------------------------------------------------------------
+
+def _srgb_decode(u8: np.ndarray) -> np.ndarray:
+    x = u8.astype(np.float32) / np.float32(255.0)
+    return np.where(x <= 0.04045, x / np.float32(12.92), ((x + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4))
+
+
+def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: list[str], cache: Path,
+                  number: int, of: int, png_path: Path, exr_path: Path) -> None:
+    """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata)."""
+    from swatch.imageio import draw_rect, write_exr, write_png
+    from swatch.render import BACKGROUND_LINEAR
+
+    lay = Layout(spec)
+    disp = _strip(lay.width, lay.height, PAGE)
+    lin_patches = []  # (y, x, linear array) pasted over the decoded page
+    disp[lay.MARGIN // 2:lay.MARGIN // 2 + lay.HEADER - 14, lay.MARGIN:lay.width - lay.MARGIN] = \
+        _header(spec, header, lay, number, of)
+    fy = lay.height - lay.FOOTER - lay.MARGIN // 2 + 8
+    disp[fy:fy + lay.FOOTER - 8, lay.MARGIN:lay.width - lay.MARGIN] = _footer(spec, header, lay)
+    tiles = []
+    bg = np.float32(BACKGROUND_LINEAR)
+    for slot, (rec, key) in enumerate(zip(records, keys)):
+        with np.load(cache / f"{key}.npz") as z:
+            arrays = {k: z[k] for k in z.files}
+        x0, y0 = lay.tile_origin(slot)
+        disp = draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, CARD)
+        disp = draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, RULE, fill=False)
+        rx = x0 + lay.PAD + (lay.tile_w - 2 * lay.PAD - lay.renders_w) // 2
+        ry = y0 + lay.PAD
+        renders = []
+        for i, shape in enumerate(spec.shapes):
+            s = lay.size
+            xx = rx + i * (s + lay.GAP)
+            disp[ry:ry + s, xx:xx + s] = arrays[f"r{i}_display"]
+            a = arrays[f"r{i}_alpha"][..., None].astype(np.float32)
+            lin_patches.append((ry, xx, arrays[f"r{i}_linear"].astype(np.float32) + (np.float32(1.0) - a) * bg))
+            renders.append({"shape": shape, "rect_px": [xx, ry, s, s], "exposure": float(arrays[f"r{i}_exposure"])})
+        ly = ry + lay.size + lay.GAP
+        labels = _tile_labels(rec, spec, lay)
+        lx = x0 + lay.PAD
+        disp[ly:ly + labels.shape[0], lx:lx + labels.shape[1]] = labels
+        entry = {"id": rec["id"], "tile_rect_px": [x0, y0, lay.tile_w, lay.tile_h], "renders": renders}
+        if lay.amap:
+            ax = x0 + lay.tile_w - lay.PAD - lay.amap
+            disp[ly:ly + lay.amap, ax:ax + lay.amap] = arrays["amap_display"]
+            lin_patches.append((ly, ax, arrays["amap_linear"].astype(np.float32)))
+            entry["angular_map"] = {"rect_px": [ax, ly, lay.amap, lay.amap], "light_deg": "0-85 bottom to top",
+                                    "view_deg": "0-85 left to right", "model": "paper", "exposure": 1.0}
+        tiles.append(entry)
+    lin = _srgb_decode(disp)
+    for y, x, patch in lin_patches:
+        lin[y:y + patch.shape[0], x:x + patch.shape[1]] = patch
+    meta = {
+        "catalog": header,
+        "sheet": {"number": number, "of": of, "swatches": [r["id"] for r in records], "tiles": tiles,
+                  "size_px": [lay.width, lay.height],
+                  "exr_note": ("linear sRGB primaries; renders and maps with their display exposure applied "
+                               "(divide by 'exposure' for scene-referred values, 1.0 = white diffuser); "
+                               "elsewhere the decoded display page")},
+    }
+    for rec in records:
+        meta[rec["id"]] = rec
+    write_png(png_path, disp, meta)
+    write_exr(exr_path, lin, meta, space="srgb", half=True)

@@ -1,0 +1,359 @@
+"""Catalog specs: TOML files describing one catalog, parsed and validated strictly.
+
+A spec names the catalog, the film and substrate, the thicknesses (or anodising voltages), the
+colorimetry, the geometries, the render options, the tolerance grade and the sheet layout.
+Every key is checked: an unknown key, a wrong type or an impossible value raises
+:class:`~swatch.errors.SwatchError` naming the file, the key and what is allowed, e.g.
+``catalog/x.toml: key thickness.step_nm: must be a number > 0 (got 'a')``.
+
+This module is light (no colour-science import) so that a no-op rebuild starts quickly.
+See ``docs/catalog.md`` for the format.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from swatch.errors import SwatchError
+
+__all__ = ["CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
+
+#: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
+RENDER_SHAPES = ("flat", "cylinder", "sphere")
+RENDER_MODELS = ("microfacet", "paper")
+MAX_SWATCHES = 400
+MAX_THICKNESS_NM = 1000.0  # = swatch.model.MAX_THICKNESS_NM (kept here to avoid importing numpy)
+MAX_VOLTAGE_V = 300.0
+#: Default multi-angle set: illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° (ASTM E2194 / E2539).
+DEFAULT_ASPECULAR_DEG = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """One in-plane light/view geometry.
+
+    ``view_deg`` is the view's polar angle from the normal; ``view_side`` is ``"opposite"`` (the
+    usual side, across the normal from the light) or ``"light"`` (the same side as the light).
+    """
+
+    name: str
+    light_deg: float
+    view_deg: float
+    view_side: str = "opposite"
+    aspecular_deg: float | None = None
+
+    @property
+    def view_azimuth_deg(self) -> float | None:
+        """For swatch.geometry: None = opposite side (azimuth + 180), 0 = the light's side."""
+        return None if self.view_side == "opposite" else 0.0
+
+    @property
+    def theta_d_deg(self) -> float:
+        """Incidence angle on the half-vector facet (in plane): half the angle between l and v."""
+        if self.view_side == "opposite":
+            return 0.5 * (self.light_deg + self.view_deg)
+        return 0.5 * abs(self.light_deg - self.view_deg)
+
+    def to_json(self) -> dict:
+        out = {"name": self.name, "light_deg": self.light_deg, "view_deg": self.view_deg,
+               "view_side": self.view_side}
+        if self.aspecular_deg is not None:
+            out["aspecular_deg"] = self.aspecular_deg
+        out["theta_d_deg"] = self.theta_d_deg
+        return out
+
+
+@dataclass(frozen=True)
+class CatalogSpec:
+    source: str  # file name, for messages
+    name: str
+    description: str
+    film: str
+    substrate: str
+    growth_nm_per_V: float
+    thickness_nm: tuple[float, ...]
+    voltage_V: tuple[float, ...] | None  # given voltages (None when thicknesses were given)
+    illuminant: str
+    observer: str
+    wavelength_step_nm: float
+    reference: Geometry
+    multi_angle: tuple[Geometry, ...]
+    shapes: tuple[str, ...]
+    size_px: int
+    model: str
+    roughness: float
+    angular_map: bool
+    scheme: str
+    grade: str
+    search_nm: float
+    columns: int
+    rows: int
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def per_sheet(self) -> int:
+        return self.columns * self.rows
+
+    def canonical(self) -> dict:
+        """Everything that affects the outputs, JSON-ready (used for content hashes)."""
+        d = asdict(self)
+        d.pop("source")
+        return d
+
+
+# -- validation helpers --------------------------------------------------------------------
+
+class _Checker:
+    def __init__(self, source: str):
+        self.source = source
+
+    def fail(self, key: str, what: str, got=None, show_got: bool = True):
+        msg = f"{self.source}: key {key}: {what}"
+        if show_got:
+            msg += f" (got {_show(got)})"
+        raise SwatchError(msg)
+
+    def table(self, data, key: str, allowed: tuple[str, ...]) -> dict:
+        if not isinstance(data, dict):
+            self.fail(key, "must be a table", data)
+        for k in data:
+            if k not in allowed:
+                where = f"{key}.{k}" if key else k
+                scope = f" in [{key}]" if key else ""
+                raise SwatchError(f"{self.source}: unknown key {where}; allowed{scope}: {', '.join(allowed)}")
+        return data
+
+    def number(self, value, key: str, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        if ok:
+            v = float(value)
+            ok = (lo is None or (v > lo if lo_open else v >= lo)) and (hi is None or (v < hi if hi_open else v <= hi))
+        if not ok:
+            self.fail(key, f"must be a number {_bounds(lo, hi, lo_open, hi_open)}", value)
+        return float(value)
+
+    def integer(self, value, key: str, lo: int, hi: int) -> int:
+        if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
+            self.fail(key, f"must be a whole number from {lo} to {hi}", value)
+        return int(value)
+
+    def string(self, value, key: str, max_len: int = 200, choices=None) -> str:
+        if not isinstance(value, str) or not value.strip() or len(value) > max_len:
+            self.fail(key, f"must be a non-empty text of at most {max_len} characters", value)
+        if choices is not None:
+            for c in choices:
+                if c.lower() == value.strip().lower():
+                    return c
+            self.fail(key, f"must be one of {', '.join(choices)}", value)
+        return value.strip()
+
+    def boolean(self, value, key: str) -> bool:
+        if not isinstance(value, bool):
+            self.fail(key, "must be true or false", value)
+        return value
+
+    def numbers(self, value, key: str, lo, hi, max_len: int = MAX_SWATCHES) -> list[float]:
+        if not isinstance(value, list) or not value:
+            self.fail(key, "must be a non-empty list of numbers", value)
+        if len(value) > max_len:
+            self.fail(key, f"must have at most {max_len} entries", f"{len(value)} entries", True)
+        return [self.number(v, f"{key}[{i}]", lo, hi) for i, v in enumerate(value)]
+
+
+def _show(v) -> str:
+    if isinstance(v, str):
+        return repr(v if len(v) <= 60 else v[:57] + "...")
+    if isinstance(v, dict):
+        return "a table"
+    if isinstance(v, list):
+        return "a list"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return repr(v)
+
+
+def _bounds(lo, hi, lo_open, hi_open) -> str:
+    if lo is not None and hi is not None:
+        return f"{'>' if lo_open else '>='} {lo:g} and {'<' if hi_open else '<='} {hi:g}"
+    if lo is not None:
+        return f"{'>' if lo_open else '>='} {lo:g}"
+    if hi is not None:
+        return f"{'<' if hi_open else '<='} {hi:g}"
+    return ""
+
+
+def _range(c: _Checker, tbl: dict, key: str, unit: str, hi: float) -> list[float]:
+    """start_/stop_/step_ or list_ (unit nm or V) -> sorted values."""
+    suffix = "nm" if unit == "nm" else "V"
+    names = (f"start_{suffix}", f"stop_{suffix}", f"step_{suffix}", f"list_{suffix}")
+    c.table(tbl, key, names)
+    has_list = f"list_{suffix}" in tbl
+    has_range = any(n in tbl for n in names[:3])
+    if has_list == has_range:
+        raise SwatchError(
+            f"{c.source}: [{key}]: give either start_{suffix}, stop_{suffix}, step_{suffix} or list_{suffix}")
+    if has_list:
+        vals = c.numbers(tbl[f"list_{suffix}"], f"{key}.list_{suffix}", 0.0, hi)
+        if len(set(vals)) != len(vals):
+            c.fail(f"{key}.list_{suffix}", "must not repeat a value", tbl[f"list_{suffix}"])
+        return sorted(vals)
+    for n in names[:3]:
+        if n not in tbl:
+            raise SwatchError(f"{c.source}: [{key}]: missing key {key}.{n} (a number in {unit})")
+    start = c.number(tbl[names[0]], f"{key}.{names[0]}", 0.0, hi)
+    stop = c.number(tbl[names[1]], f"{key}.{names[1]}", 0.0, hi)
+    step = c.number(tbl[names[2]], f"{key}.{names[2]}", 0.0, None, lo_open=True)
+    if stop < start:
+        c.fail(f"{key}.{names[1]}", f"must be >= {names[0]} ({start:g})", tbl[names[1]])
+    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+    if count > MAX_SWATCHES:
+        c.fail(f"{key}.{names[2]}", f"gives {count} swatches; at most {MAX_SWATCHES} per catalog",
+               tbl[names[2]])
+    # start + i*step, rounded to 1e-9 to keep decimal steps exact in the outputs
+    return [round(start + i * step, 9) for i in range(count)]
+
+
+def _material(c: _Checker, value, key: str, role: str) -> str:
+    from swatch.materials import list_materials, load_material
+
+    name = c.string(value, key)
+    try:
+        mat = load_material(name)
+    except SwatchError:
+        names = [m.name for m in list_materials(role)]
+        c.fail(key, f"unknown {role} table; use one of {', '.join(names)}", value)
+    if mat.role != role:
+        names = [m.name for m in list_materials(role)]
+        c.fail(key, f"{mat.name} is a {mat.role} table, not a {role}; use one of {', '.join(names)}", value)
+    if mat.wavelength_range_nm[0] > 380 or mat.wavelength_range_nm[1] < 780:
+        c.fail(key, f"{mat.name} does not cover 380–780 nm", value)
+    return mat.name
+
+
+def _geometry_name(light: float, aspecular: float) -> str:
+    return f"{light:g}as{aspecular:g}"
+
+
+def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
+    """Validate a decoded TOML document (``source`` names it in error messages)."""
+    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
+    from swatch.model import DEFAULT_NM_PER_V
+
+    c = _Checker(source)
+    top = ("name", "description", "film", "substrate", "growth_nm_per_V", "thickness", "voltage",
+           "colour", "geometry", "render", "tolerance", "sheet")
+    c.table(data, "", top)
+    if "name" not in data:
+        raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
+    name = c.string(data["name"], "name", 120)
+    description = c.string(data["description"], "description", 1000) if "description" in data else ""
+    film = _material(c, data.get("film", DEFAULT_FILM), "film", "film")
+    substrate = _material(c, data.get("substrate", DEFAULT_SUBSTRATE), "substrate", "substrate")
+    rate = c.number(data.get("growth_nm_per_V", DEFAULT_NM_PER_V), "growth_nm_per_V", 0.1, 10.0)
+
+    if ("thickness" in data) == ("voltage" in data):
+        raise SwatchError(f"{source}: give exactly one of the tables [thickness] (nm) or [voltage] (V)")
+    if "thickness" in data:
+        d = _range(c, data["thickness"], "thickness", "nm", MAX_THICKNESS_NM)
+        volts = None
+    else:
+        volts = _range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
+        d = [v * rate for v in volts]
+        for v, t in zip(volts, d):
+            if t > MAX_THICKNESS_NM:
+                c.fail("voltage", f"{v:g} V gives {t:g} nm at {rate:g} nm/V; at most {MAX_THICKNESS_NM:g} nm",
+                       v)
+
+    col = c.table(data.get("colour", {}), "colour", ("illuminant", "observer", "wavelength_step_nm"))
+    illuminant = c.string(col.get("illuminant", "D65"), "colour.illuminant", 40)
+    observer = col.get("observer", "10")
+    if isinstance(observer, int) and not isinstance(observer, bool):
+        observer = str(observer)
+    observer = c.string(observer, "colour.observer", 10, choices=("10", "2"))
+    wl_step = c.number(col.get("wavelength_step_nm", 5), "colour.wavelength_step_nm")
+    if wl_step not in (1.0, 5.0, 10.0):
+        c.fail("colour.wavelength_step_nm", "must be 1, 5 or 10 (ASTM E308 intervals)", col["wavelength_step_nm"])
+
+    geo = c.table(data.get("geometry", {}), "geometry", ("reference", "multi_angle"))
+    ref = c.table(geo.get("reference", {}), "geometry.reference", ("light_deg", "view_deg"))
+    ref_light = c.number(ref.get("light_deg", 45.0), "geometry.reference.light_deg", 0, 90, hi_open=True)
+    ref_view = c.number(ref.get("view_deg", 0.0), "geometry.reference.view_deg", 0, 90, hi_open=True)
+    reference = Geometry(f"{ref_light:g}:{ref_view:g}", ref_light, ref_view, "opposite")
+    ma = c.table(geo.get("multi_angle", {}), "geometry.multi_angle", ("light_deg", "aspecular_deg"))
+    ma_light = c.number(ma.get("light_deg", 45.0), "geometry.multi_angle.light_deg", 0, 90, hi_open=True)
+    asp = ma.get("aspecular_deg", list(DEFAULT_ASPECULAR_DEG))
+    if isinstance(asp, list) and not asp:
+        asp_vals = []
+    else:
+        asp_vals = c.numbers(asp, "geometry.multi_angle.aspecular_deg", -180, 180, max_len=24)
+    multi = []
+    for i, g in enumerate(asp_vals):
+        v = ma_light - g  # swatch.geometry.aspecular_view_deg: signed, negative = light's side
+        if not abs(v) < 90:
+            c.fail(f"geometry.multi_angle.aspecular_deg[{i}]",
+                   f"puts the view at {abs(v):g}° from the normal with light at {ma_light:g}°; "
+                   f"aspecular angles must lie in ({ma_light - 90:g}, {ma_light + 90:g})", g)
+        multi.append(Geometry(_geometry_name(ma_light, g), ma_light, abs(v),
+                              "opposite" if v >= 0 else "light", g))
+    if len({g.name for g in multi}) != len(multi):
+        c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)
+
+    ren = c.table(data.get("render", {}), "render",
+                  ("shapes", "size_px", "model", "roughness", "angular_map"))
+    shapes = ren.get("shapes", ["flat", "cylinder"])
+    if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
+        c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
+    shapes = tuple(c.string(s, f"render.shapes[{i}]", 20, RENDER_SHAPES) for i, s in enumerate(shapes))
+    if len(set(shapes)) != len(shapes):
+        c.fail("render.shapes", "must not repeat a shape", ren["shapes"])
+    size = c.integer(ren.get("size_px", 192), "render.size_px", 64, 512)
+    model = c.string(ren.get("model", "microfacet"), "render.model", 20, RENDER_MODELS)
+    rough = c.number(ren.get("roughness", 0.3), "render.roughness", 0.01, 1.0)
+    amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
+
+    tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "search_nm"))
+    from swatch import tolerance
+
+    scheme = c.string(tol.get("scheme", "csaj"), "tolerance.scheme", 20, tuple(tolerance.schemes()))
+    grade_names = tuple(g.name for g in tolerance.grades(scheme))
+    grade = c.string(tol.get("grade", "C"), "tolerance.grade", 20, grade_names)
+    search = c.number(tol.get("search_nm", 50.0), "tolerance.search_nm", 1.0, 200.0)
+
+    sh = c.table(data.get("sheet", {}), "sheet", ("columns", "rows"))
+    columns = c.integer(sh.get("columns", 4), "sheet.columns", 1, 8)
+    rows = c.integer(sh.get("rows", 3), "sheet.rows", 1, 8)
+
+    return CatalogSpec(
+        source=source, name=name, description=description, film=film, substrate=substrate,
+        growth_nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
+        voltage_V=None if volts is None else tuple(float(v) for v in volts),
+        illuminant=illuminant, observer=observer, wavelength_step_nm=wl_step,
+        reference=reference, multi_angle=tuple(multi), shapes=shapes, size_px=size, model=model,
+        roughness=rough, angular_map=amap, scheme=scheme, grade=grade, search_nm=search,
+        columns=columns, rows=rows,
+    )
+
+
+def load_spec(path) -> tuple[CatalogSpec, bytes]:
+    """Read and validate a spec file; returns the spec and the file's bytes."""
+    p = Path(path)
+    source = str(path)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise SwatchError(f"catalog spec {source} does not exist") from None
+    except IsADirectoryError:
+        raise SwatchError(f"catalog spec {source} is a folder; give a .toml file") from None
+    except OSError as exc:
+        raise SwatchError(f"cannot read catalog spec {source}: {exc.strerror}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise SwatchError(f"{source}: not UTF-8 text; a catalog spec is a TOML file") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SwatchError(f"{source}: not valid TOML: {exc}") from None
+    return parse_spec(data, source), raw

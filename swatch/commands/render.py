@@ -1,0 +1,185 @@
+"""Render commands: ``swatch angular`` (colour over light × view angles) and ``swatch render`` (swatches)."""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import sys
+
+import click
+import numpy as np
+
+from swatch.commands.common import (
+    colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_thickness,
+    thickness_options,
+)
+from swatch.errors import SwatchError
+
+SPACES = ("srgb", "acescg")
+
+
+def _iterate(items, label: str):
+    """Items with a progress bar on stderr when it is a terminal and there is more than one."""
+    if len(items) > 1 and is_terminal():
+        return click.progressbar(items, label=label, file=sys.stderr, show_pos=True)
+    return _Plain(items)
+
+
+class _Plain:
+    def __init__(self, items):
+        self.items = items
+
+    def __enter__(self):
+        return iter(self.items)
+
+    def __exit__(self, *exc):
+        return False
+
+
+def _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths):
+    from swatch.colorimetry import get_colorimeter
+    from swatch.model import get_coating, thickness_to_voltage_V
+
+    d, v = resolve_thickness(thickness, voltage, nm_per_volt, multiple=True)
+    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
+    volts = v if v is not None else thickness_to_voltage_V(d, nm_per_volt)
+    note = (f"given; thickness from it at {nm_per_volt:g} nm/V" if v is not None
+            else f"estimated from the thickness at {nm_per_volt:g} nm/V")
+    return d, np.asarray(volts, dtype=float), note, coating, cm
+
+
+def _voltage_meta(meta: dict, volts: float, note: str, nm_per_volt: float) -> dict:
+    meta = dict(meta)
+    meta["voltage_V"] = round(float(volts), 6)
+    meta["voltage_note"] = note
+    meta["nm_per_V"] = round(float(nm_per_volt), 9)
+    return meta
+
+
+def _check_common(roughness: float, space: str):
+    from swatch.microfacet import check_alpha
+
+    check_alpha(roughness)
+    if space not in SPACES:
+        raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(SPACES)}")
+
+
+def _lab_csv(amap) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["light_deg", "view_deg", "theta_d_deg", "X", "Y", "Z", "L", "a", "b"])
+    L, V = np.meshgrid(amap.light_deg, amap.view_deg, indexing="ij")
+    rows = np.column_stack([L.ravel(), V.ravel(), amap.theta_d_deg.ravel(), amap.XYZ.reshape(-1, 3),
+                            amap.Lab.reshape(-1, 3)])
+    for r in rows:
+        w.writerow([f"{r[0]:g}", f"{r[1]:g}", f"{r[2]:.4f}"] + [f"{x:.4f}" for x in r[3:]])
+    return buf.getvalue()
+
+
+def _lab_json(amap) -> str:
+    out = {
+        "metadata": amap.metadata,
+        "light_deg": amap.light_deg.tolist(),
+        "view_deg": amap.view_deg.tolist(),
+        "Lab": np.round(amap.Lab, 4).tolist(),
+    }
+    return json.dumps(out, indent=1, ensure_ascii=False, allow_nan=False, sort_keys=True) + "\n"
+
+
+@click.command()
+@thickness_options(multiple=True)
+@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
+@click.option("--light-range", default="0:85:1", show_default=True, help="light polar angles A:B:STEP or N,N,... (deg)")
+@click.option("--view-range", default="0:85:1", show_default=True, help="view polar angles A:B:STEP or N,N,... (deg)")
+@click.option("--model", type=click.Choice(["paper", "microfacet"]), default="paper", show_default=True,
+              help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)")
+@click.option("--roughness", type=float, default=0.3, show_default=True, help="microfacet roughness alpha in (0, 1]")
+@click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
+@click.option("--space", type=click.Choice(SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
+@click.option("--force", is_flag=True, help="overwrite existing files")
+@material_options
+@colour_options
+@grid_option
+def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, model, roughness, distribution,
+            space, force, film, substrate, illuminant, observer, wavelengths):
+    """Colour over light × view angle (in plane, opposite sides) for each thickness.
+
+    Writes per thickness: angular_<d>nm.exr (linear RGB), .png (labelled display figure),
+    _spectral.exr (reflectance per wavelength, Fichet et al. 2021 channels), .csv and .json (Lab per cell).
+    """
+    from swatch import geometry, imageio
+    from swatch.fileio import atomic_write_text, check_new, check_writable_dir
+    from swatch.render import angular_figure, angular_map, file_stem
+
+    _check_common(roughness, space)
+    lights = geometry.check_polar_deg(parse_range(light_range, "light angle", "deg"), "light")
+    views = geometry.check_polar_deg(parse_range(view_range, "view angle", "deg"), "view")
+    if lights.size * views.size > 4_000_000:
+        raise SwatchError("angular map too large; at most 4,000,000 cells (light × view)")
+    d, volts, note, coating, cm = _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths)
+    out = check_writable_dir(out_dir)
+    stems = [file_stem("angular", x) for x in d]
+    if len(set(stems)) != len(stems):
+        raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
+    suffixes = (".exr", ".png", "_spectral.exr", ".csv", ".json")
+    check_new([out / (st + suf) for st in stems for suf in suffixes], force)
+    written = []
+    with _iterate(list(range(d.size)), "angular maps") as it:
+        for i in it:
+            amap = angular_map(d[i], lights, views, coating, cm, model, roughness, distribution, space=space)
+            meta = _voltage_meta(amap.metadata, volts[i], note, nm_per_volt)
+            amap.metadata = meta
+            path = {suf: out / (stems[i] + suf) for suf in suffixes}  # (not with_suffix: "050.8nm")
+            imageio.write_exr(path[".exr"], amap.linear_rgb, meta, space=space)
+            imageio.write_png(path[".png"], angular_figure(amap), meta)
+            imageio.write_spectral_exr(path["_spectral.exr"], amap.spectral, amap.wavelength_nm, meta)
+            atomic_write_text(path[".csv"], _lab_csv(amap))
+            atomic_write_text(path[".json"], _lab_json(amap))
+            written += [str(path[suf]) for suf in suffixes]
+    for p in written:
+        click.echo(p)
+
+
+@click.command()
+@thickness_options(multiple=True)
+@click.option("--shape", type=click.Choice(["flat", "cylinder", "sphere"]), default="flat", show_default=True,
+              help="flat plate, half cylinder (bent sheet) or sphere")
+@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
+@click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
+@click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
+@click.option("--roughness", type=float, default=0.3, show_default=True, help="microfacet roughness alpha in (0, 1]")
+@click.option("--model", type=click.Choice(["paper", "microfacet"]), default="microfacet", show_default=True)
+@click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
+@click.option("--space", type=click.Choice(SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
+@click.option("--force", is_flag=True, help="overwrite existing files")
+@material_options
+@colour_options
+@grid_option
+def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, roughness, model, distribution,
+           space, force, film, substrate, illuminant, observer, wavelengths):
+    """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
+    from swatch import geometry, imageio
+    from swatch.fileio import check_new, check_writable_dir
+    from swatch.render import check_size_px, file_stem, render_swatch
+
+    _check_common(roughness, space)
+    size = check_size_px(size_px)
+    geometry.check_polar_deg(light_deg, "light")
+    d, volts, note, coating, cm = _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths)
+    out = check_writable_dir(out_dir)
+    stems = [file_stem(shape, x) for x in d]
+    if len(set(stems)) != len(stems):
+        raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
+    check_new([out / (st + suf) for st in stems for suf in (".exr", ".png")], force)
+    written = []
+    with _iterate(list(range(d.size)), f"{shape} swatches") as it:
+        for i in it:
+            img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution)
+            meta = _voltage_meta(img.metadata, volts[i], note, nm_per_volt)
+            exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
+            imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
+            imageio.write_png(png, img.display_rgb, meta)
+            written += [str(exr), str(png)]
+    for p in written:
+        click.echo(p)

@@ -1,0 +1,150 @@
+"""index.html in a real headless browser (Debian's /usr/bin/chromium through Playwright).
+
+Skipped when Chromium is absent, unless SWATCH_REQUIRE_BROWSER=1 (then it fails): CI sets it.
+"""
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+import swatch  # noqa: F401
+import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
+from swatch.catalog.build import build_catalog
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking"]
+EVIL = 'Ti <script>alert(1)</script> & "co" </script><img src=x onerror=alert(2)>'
+
+pytestmark = pytest.mark.browser
+
+SPEC = """
+name = {name}
+description = "escaping test <b>bold</b>"
+[voltage]
+list_V = [10, 20, 25, 40, 60, 80, 100]
+[render]
+size_px = 64
+angular_map = false
+[sheet]
+columns = 4
+rows = 1
+"""
+
+
+@pytest.fixture(scope="module")
+def page_url(tmp_path_factory):
+    if not Path(CHROMIUM).exists():
+        if os.environ.get("SWATCH_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"{CHROMIUM} is missing and SWATCH_REQUIRE_BROWSER=1")
+        pytest.skip(f"{CHROMIUM} not installed")
+    pytest.importorskip("playwright")
+    root = tmp_path_factory.mktemp("page")
+    spec = root / "evil.toml"
+    spec.write_text(SPEC.format(name=json.dumps(EVIL)), encoding="utf-8")
+    out = root / "out"
+    build_catalog(spec, out, jobs=1)
+    return out, (out / "index.html").resolve().as_uri()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def page(browser, page_url):
+    out, url = page_url
+    pg = browser.new_page(viewport={"width": 1280, "height": 900})
+    events = {"dialogs": [], "errors": [], "requests": []}
+    pg.on("dialog", lambda d: (events["dialogs"].append(d.message), d.dismiss()))
+    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
+    pg.on("console", lambda m: events["errors"].append(m.text) if m.type == "error" else None)
+    pg.on("request", lambda r: events["requests"].append(r.url))
+    pg.goto(url)
+    pg.wait_for_selector("article.card")
+    yield pg, events, out
+    pg.close()
+
+
+def shown(pg) -> list[str]:
+    return pg.eval_on_selector_all("article.card .title", "els => els.map(e => e.firstChild.textContent)")
+
+
+def test_page_loads_and_shows_every_swatch(page):
+    pg, events, out = page
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    n = len(doc["swatches"])
+    assert pg.locator("article.card").count() == n == 7
+    assert pg.locator("#count").text_content() == f"showing {n} of {n}"
+    titles = shown(pg)
+    for rec, title in zip(doc["swatches"], titles):
+        assert f"{rec['voltage_V']:.1f} V" in title and f"{rec['thickness_nm']:.1f} nm" in title
+    # the chip shows the record's colour
+    hexes = pg.eval_on_selector_all("article.card .chip", "els => els.map(e => getComputedStyle(e).backgroundColor)")
+    r, g, b = (int(doc["swatches"][0]["srgb_hex"][i:i + 2], 16) for i in (1, 3, 5))
+    assert hexes[0] == f"rgb({r}, {g}, {b})"
+    # links to the sheets resolve to files next to the page
+    hrefs = pg.eval_on_selector_all("article.card .links a", "els => els.map(e => e.href)")
+    assert any(h.endswith("/sheet_02.png") for h in hrefs)
+    for h in hrefs:
+        assert Path(h.replace("file://", "")).exists()
+    assert events["errors"] == []
+    assert all(u.startswith("file://") for u in events["requests"])
+
+
+def test_spec_text_is_escaped(page):
+    pg, events, _ = page
+    assert events["dialogs"] == []
+    assert pg.locator("#catalog-name").text_content() == EVIL
+    assert EVIL in pg.title()
+    assert pg.locator("img").count() == 0  # the <img onerror> in the name is text, not an element
+    assert pg.locator("script").count() == 2  # the data block and the page's own script only
+    assert pg.locator("b").count() == 0
+
+
+def test_filter_and_sort(page):
+    pg, _, out = page
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    recs = doc["swatches"]
+    pg.fill("#vmin", "20")
+    pg.fill("#vmax", "60")
+    want = [r for r in recs if 20 <= r["voltage_V"] <= 60]
+    assert len(shown(pg)) == len(want) == 4
+    assert pg.locator("#count").text_content() == f"showing 4 of {len(recs)}"
+    pg.click("button[type=reset]")
+    pg.wait_for_function(f"document.querySelectorAll('article.card').length === {len(recs)}")
+    pg.fill("#tmin", "100")
+    assert len(shown(pg)) == len([r for r in recs if r["thickness_nm"] >= 100])
+    pg.fill("#tmin", "")
+    # hue family
+    fam = recs[3]["hue_family"]
+    pg.select_option("#family", fam)
+    assert len(shown(pg)) == len([r for r in recs if r["hue_family"] == fam])
+    pg.select_option("#family", "")
+    # hue range wrapping through 0°
+    pg.fill("#hmin", "300")
+    pg.fill("#hmax", "60")
+    assert len(shown(pg)) == len([r for r in recs if r["LCh"][2] >= 300 or r["LCh"][2] <= 60])
+    pg.fill("#hmin", "")
+    pg.fill("#hmax", "")
+    # sort by hue, descending
+    pg.select_option("#sort", "hue")
+    pg.select_option("#order", "desc")
+    ids = pg.eval_on_selector_all("article.card", "els => els.map(e => e.dataset.id)")
+    assert ids == [r["id"] for r in sorted(recs, key=lambda r: -r["LCh"][2])]
+    pg.select_option("#sort", "voltage")
+    pg.select_option("#order", "asc")
+    ids = pg.eval_on_selector_all("article.card", "els => els.map(e => e.dataset.id)")
+    assert ids == [r["id"] for r in sorted(recs, key=lambda r: r["voltage_V"])]
+    # nothing matches
+    pg.fill("#tmin", "5000")
+    assert pg.locator("article.card").count() == 0
+    assert "No swatch" in pg.locator("main").text_content()

@@ -1,0 +1,261 @@
+"""``swatch catalog build``: outputs, metadata, determinism, incremental and atomic behaviour."""
+from __future__ import annotations
+
+import csv
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import swatch  # noqa: F401  (silences colour-science's plotting notice)
+import colour  # noqa: F401  (imported here, after swatch, so the notice stays silenced)
+from swatch.catalog import build as buildmod
+from swatch.catalog import sheets as sheetmod
+from swatch.catalog.build import META_DIR, build_catalog
+from swatch.errors import SwatchError
+
+SPEC = """
+name = "Test catalog"
+film = "TiO2-Siefke"
+substrate = "Ti-Johnson"
+[thickness]
+list_nm = [{thicknesses}]
+[render]
+size_px = 64
+[tolerance]
+grade = "{grade}"
+[sheet]
+columns = 2
+rows = 2
+"""
+THICKNESSES = [30, 50.8, 87.5, 121.4, 160.6, 200]
+
+
+def write_spec(path: Path, thicknesses=THICKNESSES, grade="C") -> Path:
+    path.write_text(SPEC.format(thicknesses=", ".join(f"{t:g}" for t in thicknesses), grade=grade), encoding="utf-8")
+    return path
+
+
+def digest(folder: Path) -> dict[str, str]:
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    root = tmp_path_factory.mktemp("cat")
+    spec = write_spec(root / "test.toml")
+    out = root / "out"
+    res = build_catalog(spec, out, jobs=2)
+    return spec, out, res
+
+
+EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf", "test-catalog.ase",
+                  "sheet_01.png", "sheet_01.exr", "sheet_02.png", "sheet_02.exr"}
+
+
+def test_outputs_and_records(built):
+    _, out, res = built
+    assert not res.noop and res.rendered == len(THICKNESSES) and res.sheets == 2
+    assert set(digest(out)) == EXPECTED_FILES
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    assert doc["catalog"]["name"] == "Test catalog"
+    assert doc["catalog"]["reference_geometry"]["name"] == "45:0"
+    recs = doc["swatches"]
+    assert [r["thickness_nm"] for r in recs] == THICKNESSES
+    for r in recs:
+        for key in ("thickness_nm", "voltage_V", "Lab", "LCh", "srgb_hex", "multi_angle",
+                    "delta_E_00_to_neighbours", "process_window"):
+            assert key in r
+        assert set(r["process_window"]) >= {"grade", "thickness_minus_nm", "thickness_plus_nm",
+                                            "voltage_minus_V", "voltage_plus_V"}
+        assert len(r["multi_angle"]) == 6 and all(len(v) == 3 for v in r["multi_angle"].values())
+    rows = list(csv.DictReader((out / "catalog.csv").open(encoding="utf-8")))
+    assert [float(r["thickness_nm"]) for r in rows] == THICKNESSES
+    assert [r["srgb_hex"] for r in rows] == [r["srgb_hex"] for r in recs]
+    assert float(rows[2]["L_45as110"]) == pytest.approx(recs[2]["multi_angle"]["45as110"][0])
+
+
+def test_sheet_metadata_and_pixels(built):
+    import OpenImageIO as oiio
+
+    from swatch.imageio import read_metadata
+
+    _, out, _ = built
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    by_id = {r["id"]: r for r in doc["swatches"]}
+    for name in ("sheet_01", "sheet_02"):
+        for ext in ("png", "exr"):
+            meta = read_metadata(out / f"{name}.{ext}")
+            assert meta["catalog"]["name"] == "Test catalog"
+            assert meta["catalog"]["illuminant"] == "D65"
+            ids = meta["sheet"]["swatches"]
+            assert ids == [r["id"] for r in doc["swatches"] if r["sheet_png"] == f"{name}.png"]
+            for i in ids:
+                assert meta[i] == by_id[i]  # the full record, identical to catalog.json
+        png = oiio.ImageBuf(str(out / f"{name}.png"))
+        exr = oiio.ImageBuf(str(out / f"{name}.exr"))
+        assert png.spec().format == oiio.UINT8 and exr.spec().format == oiio.HALF
+        assert (png.spec().width, png.spec().height) == (exr.spec().width, exr.spec().height)
+        # the flat chip in a tile shows the record's sRGB colour (PNG) and its linear value (EXR)
+        tiles = read_metadata(out / f"{name}.png")["sheet"]["tiles"]
+        assert len(tiles) == len(ids)
+    # The EXR is the PNG in linear light (outside the renders): compare the page background.
+    p = oiio.ImageBuf(str(out / "sheet_01.png")).get_pixels(oiio.FLOAT)[5, 5]
+    e = oiio.ImageBuf(str(out / "sheet_01.exr")).get_pixels(oiio.FLOAT)[5, 5]
+    import colour
+
+    assert np.allclose(colour.models.eotf_sRGB(p), e, atol=2e-3)
+
+
+def test_deterministic_and_independent_of_jobs(built, tmp_path):
+    spec, out, _ = built
+    other = tmp_path / "again"
+    res = build_catalog(spec, other, jobs=1)
+    assert not res.noop
+    assert digest(other) == digest(out)
+
+
+def test_noop_rebuild_is_fast_and_touches_nothing(built):
+    spec, out, _ = built
+    before = {p.name: p.stat().st_mtime_ns for p in out.iterdir() if p.is_file()}
+    res = build_catalog(spec, out)
+    assert res.noop
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(spec), "--out", str(out)],
+                          capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    assert proc.returncode == 0, proc.stderr
+    assert "up to date" in proc.stdout
+    assert wall <= 2.0, wall
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir() if p.is_file()} == before
+
+
+def test_incremental_rebuilds_only_what_changed(tmp_path):
+    spec = write_spec(tmp_path / "s.toml")
+    out = tmp_path / "out"
+    build_catalog(spec, out, jobs=1)
+    first = digest(out)
+    # a tolerance change: no render, both sheets recomposed (their labels changed)
+    write_spec(spec, grade="B")
+    res = build_catalog(spec, out, jobs=1)
+    assert (res.noop, res.rendered, res.composed) == (False, 0, 2)
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    assert all(r["process_window"]["grade"] == "B" for r in doc["swatches"])
+    # one thickness on the second sheet changed: one render, one sheet; sheet 1 untouched
+    inode = (out / "sheet_01.png").stat().st_ino
+    write_spec(spec, THICKNESSES[:-1] + [210], grade="B")
+    res = build_catalog(spec, out, jobs=1)
+    assert (res.rendered, res.composed) == (1, 1)
+    assert (out / "sheet_01.png").stat().st_ino == inode
+    # back to the first spec: the outputs are the first build's, byte for byte
+    write_spec(spec)
+    build_catalog(spec, out, jobs=1)
+    assert digest(out) == first
+    # a deleted output is noticed and restored
+    (out / "sheet_02.png").unlink()
+    res = build_catalog(spec, out, jobs=1)
+    assert not res.noop and res.rendered == 0
+    assert digest(out) == first
+
+
+def test_fewer_sheets_removes_old_ones(tmp_path):
+    spec = write_spec(tmp_path / "s.toml")
+    out = tmp_path / "out"
+    build_catalog(spec, out, jobs=1)
+    write_spec(spec, THICKNESSES[:3])
+    build_catalog(spec, out, jobs=1)
+    assert not (out / "sheet_02.png").exists() and not (out / "sheet_02.exr").exists()
+    assert (out / "sheet_01.png").exists()
+
+
+def test_failed_build_leaves_previous_catalog(tmp_path, monkeypatch):
+    spec = write_spec(tmp_path / "s.toml")
+    out = tmp_path / "out"
+    build_catalog(spec, out, jobs=1)
+    before = digest(out)
+    manifest = (out / META_DIR / "manifest.json").read_bytes()
+
+    def boom(*args, **kwargs):
+        raise SwatchError("simulated failure while writing a sheet")
+
+    monkeypatch.setattr(sheetmod, "compose_sheet", boom)
+    write_spec(spec, grade="A")
+    with pytest.raises(SwatchError, match="simulated"):
+        build_catalog(spec, out, jobs=1)
+    assert digest(out) == before
+    assert (out / META_DIR / "manifest.json").read_bytes() == manifest
+    assert not list((out / META_DIR).glob("staging-*"))
+
+
+def test_interrupted_commit_is_completed_by_the_next_build(tmp_path, monkeypatch):
+    spec = write_spec(tmp_path / "s.toml")
+    out = tmp_path / "out"
+    build_catalog(spec, out, jobs=1)
+    write_spec(spec, grade="A")
+    real_replace = os.replace
+    calls = {"n": 0}
+
+    def flaky_replace(src, dst):
+        if Path(dst).parent == out and Path(src).parent.name.startswith("staging-"):
+            calls["n"] += 1
+            if calls["n"] == 3:
+                raise KeyboardInterrupt  # killed in the middle of moving files into place
+        return real_replace(src, dst)
+
+    monkeypatch.setattr(buildmod.os, "replace", flaky_replace)
+    with pytest.raises(KeyboardInterrupt):
+        build_catalog(spec, out, jobs=1)
+    monkeypatch.setattr(buildmod.os, "replace", real_replace)
+    assert (out / META_DIR / "journal.json").exists()
+    res = build_catalog(spec, out, jobs=1)  # replays the journal; then everything is up to date
+    assert res.noop
+    manifest = json.loads((out / META_DIR / "manifest.json").read_text())
+    assert {k: v["sha256"] for k, v in manifest["files"].items()} == digest(out)
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    assert doc["swatches"][0]["process_window"]["grade"] == "A"
+    assert not (out / META_DIR / "journal.json").exists()
+
+
+def test_never_writes_outside_the_output_folder(tmp_path):
+    spec = write_spec(tmp_path / "s.toml")
+    parent = tmp_path / "p"
+    parent.mkdir()
+    build_catalog(spec, parent / "out", jobs=2)
+    assert sorted(p.name for p in parent.iterdir()) == ["out"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p", "s.toml"]
+
+
+def test_refuses_foreign_folders(tmp_path):
+    spec = write_spec(tmp_path / "s.toml")
+    foreign = tmp_path / "photos"
+    foreign.mkdir()
+    (foreign / "holiday.jpg").write_bytes(b"x")
+    with pytest.raises(SwatchError, match="not a swatch catalog"):
+        build_catalog(spec, foreign)
+    assert sorted(p.name for p in foreign.iterdir()) == ["holiday.jpg"]
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(SwatchError, match="is a file"):
+        build_catalog(spec, tmp_path / "file")
+
+
+def test_cli_reports_bad_specs_in_one_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\n[thickness]\nstart_nm = 20\nstop_nm = 30\nstep_nm = "a"\n', encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(bad), "--out",
+                           str(tmp_path / "o")], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.strip() == f"error: {bad}: key thickness.step_nm: must be a number > 0 (got 'a')"
+    assert not (tmp_path / "o").exists()
+    ill = write_spec(tmp_path / "ill.toml").read_text().replace("[render]", '[colour]\nilluminant = "D99"\n[render]')
+    (tmp_path / "ill.toml").write_text(ill)
+    proc = subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(tmp_path / "ill.toml"),
+                           "--out", str(tmp_path / "o2")], capture_output=True, text=True)
+    assert proc.returncode == 2 and "key colour.illuminant" in proc.stderr and "D65" in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "o2").exists()  # a failed first build leaves no folder behind

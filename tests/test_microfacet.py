@@ -1,0 +1,136 @@
+"""Microfacet distributions and Smith shadowing: normalisation, furnace tests, closed forms.
+
+References are properties, not outputs of the code: ∫ D cos θh dω = 1 (Walter et al. 2007),
+the weak white furnace ∫ G1(v) D(h) max(0, v·h) dω_h = cos θ_v (Heitz 2014, eq. 18) and energy
+conservation (directional albedo ≤ 1 with F = 1), each integrated by independent quadrature.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import integrate
+
+from swatch import microfacet as mf
+from swatch.errors import SwatchError
+
+DISTS = ["ggx", "beckmann"]
+
+
+def _hemisphere_grid(n_theta=600, n_phi=256):
+    """Gauss–Legendre nodes/weights over (θ, φ) on the upper hemisphere (dω = sin θ dθ dφ)."""
+    x, w = np.polynomial.legendre.leggauss(n_theta)
+    theta = 0.25 * np.pi * (x + 1.0)
+    wt = 0.25 * np.pi * w
+    phi = (np.arange(n_phi) + 0.5) * 2 * np.pi / n_phi
+    wp = np.full(n_phi, 2 * np.pi / n_phi)
+    T, P = np.meshgrid(theta, phi, indexing="ij")
+    W = np.outer(wt, wp) * np.sin(T)
+    dirs = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1)
+    return dirs, W
+
+
+@pytest.mark.parametrize("dist", DISTS)
+@pytest.mark.parametrize("alpha", [0.05, 0.1, 0.3, 0.6, 1.0])
+def test_D_is_normalised(dist, alpha):
+    # ∫ D(θh) cos θh sin θh dθh dφ over the hemisphere = 1, by adaptive quadrature (scipy.quad).
+    f = lambda t: float(mf.D(np.cos(t), alpha, dist)) * np.cos(t) * np.sin(t) * 2 * np.pi
+    val, err = integrate.quad(f, 0.0, np.pi / 2, points=[alpha / 4, alpha, 2 * alpha], limit=400)
+    assert val == pytest.approx(1.0, abs=2e-5)
+
+
+def test_ggx_matches_the_tan_form():
+    # D = α² / (π cos⁴θ (α² + tan²θ)²): the published form, written out independently here.
+    t = np.linspace(0.0, 1.5, 50)
+    for a in (0.1, 0.3, 0.9):
+        ref = a**2 / (np.pi * np.cos(t) ** 4 * (a**2 + np.tan(t) ** 2) ** 2)
+        np.testing.assert_allclose(mf.D_ggx(np.cos(t), a), ref, rtol=1e-10)
+        ref_b = np.exp(-np.tan(t) ** 2 / a**2) / (np.pi * a**2 * np.cos(t) ** 4)
+        np.testing.assert_allclose(mf.D_beckmann(np.cos(t), a), ref_b, rtol=1e-10, atol=1e-300)
+
+
+@pytest.mark.parametrize("dist", DISTS)
+@pytest.mark.parametrize("alpha", [0.1, 0.3, 0.7, 1.0])
+@pytest.mark.parametrize("theta_v", [0.0, 30.0, 60.0, 80.0])
+def test_weak_white_furnace(dist, alpha, theta_v):
+    # Heitz 2014: ∫ G1(v, h) D(h) max(0, v·h) dω_h = cos θ_v — the G1 matches its D.
+    h, W = _hemisphere_grid()
+    tv = np.radians(theta_v)
+    v = np.array([np.sin(tv), 0.0, np.cos(tv)])
+    vh = h @ v
+    g1 = mf.G1(np.cos(tv), vh, alpha, dist)
+    integrand = g1 * mf.D(h[..., 2], alpha, dist) * np.maximum(vh, 0.0)
+    assert float((integrand * W).sum()) == pytest.approx(np.cos(tv), rel=2e-3, abs=1e-4)
+
+
+def _albedo(theta_v, alpha, dist, correlated):
+    """∫ f cos θ_l dω_l with F = 1, integrated over the half vector: dω_l = 4 (v·h) dω_h."""
+    h, W = _hemisphere_grid()
+    tv = np.radians(theta_v)
+    v = np.array([np.sin(tv), 0.0, np.cos(tv)])
+    vh = h @ v
+    l = 2.0 * vh[..., None] * h - v
+    cl = l[..., 2]
+    cv = np.cos(tv)
+    g = mf.G(cl, cv, vh, vh, alpha, dist, correlated)
+    integrand = np.where((cl > 0) & (vh > 0), mf.D(h[..., 2], alpha, dist) * g * vh / cv, 0.0)
+    return float((integrand * W).sum())
+
+
+@pytest.mark.parametrize("correlated", [True, False])
+@pytest.mark.parametrize("dist", DISTS)
+@pytest.mark.parametrize("alpha", [0.05, 0.2, 0.5, 1.0])
+def test_furnace_albedo_at_most_one(dist, alpha, correlated):
+    for theta_v in (0.0, 20.0, 45.0, 70.0, 85.0, 89.0):
+        a = _albedo(theta_v, alpha, dist, correlated)
+        assert 0.0 < a <= 1.0 + 2e-3, (theta_v, a)
+    # Smooth surfaces lose almost nothing at normal incidence.
+    if alpha <= 0.05:
+        assert _albedo(0.0, alpha, dist, correlated) > 0.98
+
+
+def test_albedo_by_direct_light_integration():
+    # The same albedo integrated over light directions directly (no change of variables).
+    l, W = _hemisphere_grid(800, 512)
+    for theta_v in (10.0, 60.0):
+        tv = np.radians(theta_v)
+        v = np.array([np.sin(tv), 0.0, np.cos(tv)])
+        hv = l + v
+        hv /= np.linalg.norm(hv, axis=-1, keepdims=True)
+        f = mf.brdf_scale(l[..., 2], v[2], hv[..., 2], (l * hv).sum(-1), 0.5, "ggx")
+        direct = float((f * l[..., 2] * W).sum())
+        assert direct == pytest.approx(_albedo(theta_v, 0.5, "ggx", True), rel=3e-3)
+        assert direct <= 1.0
+
+
+@settings(max_examples=40, deadline=None)
+@given(alpha=st.floats(0.02, 1.0), cl=st.floats(0.01, 1.0), cv=st.floats(0.01, 1.0), ch=st.floats(0.05, 1.0))
+def test_fast_forms_equal_the_definition(alpha, cl, cv, ch):
+    ref = mf.D(ch, alpha, "ggx") * mf.G(cl, cv, 0.5, 0.5, alpha, "ggx") / (4 * cl * cv)
+    assert float(mf.brdf_scale(cl, cv, ch, 0.5, alpha, "ggx")) == pytest.approx(float(ref), rel=1e-9)
+    lam = lambda c: 0.5 * (np.sqrt(1 + alpha**2 * (1 - c * c) / (c * c)) - 1)  # GGX Λ, written out
+    assert float(mf.G(cl, cv, 0.5, 0.5, alpha)) == pytest.approx(1 / (1 + lam(cl) + lam(cv)), rel=1e-9)
+    fast = mf.ggx_reflectance_factor_cos(np.float32(cl), np.float32(cv), np.float32(ch), alpha)
+    assert float(fast) == pytest.approx(np.pi * float(ref) * cl, rel=2e-5)
+
+
+def test_masking_and_dtype():
+    assert float(mf.brdf_scale(-0.1, 0.5, 0.7, 0.5, 0.3)) == 0.0
+    assert float(mf.brdf_scale(0.5, -0.1, 0.7, 0.5, 0.3, "beckmann")) == 0.0
+    x = np.linspace(0.1, 1, 5, dtype=np.float32)
+    assert mf.brdf_scale(x, x, x, x, 0.3).dtype == np.float32
+    # 1/(1 + Λl + Λv) >= 1/((1 + Λl)(1 + Λv)): the correlated G is never below the separable one.
+    c = np.linspace(0.05, 1, 20)
+    assert np.all(mf.G(c[:, None], c[None, :], 1, 1, 0.4) >= mf.G(c[:, None], c[None, :], 1, 1, 0.4, correlated=False) - 1e-12)
+
+
+@pytest.mark.parametrize("bad", [0, -0.1, 1.0001, float("nan"), "x"])
+def test_bad_roughness(bad):
+    with pytest.raises(SwatchError):
+        mf.check_alpha(bad)
+
+
+def test_bad_distribution():
+    with pytest.raises(SwatchError):
+        mf.D(0.5, 0.3, "phong")
