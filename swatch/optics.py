@@ -243,11 +243,11 @@ def _pole_form(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return K, z
 
 
-def _abs2_shift(E_r: np.ndarray, E_i: np.ndarray, z: np.ndarray, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
-    """``out = |E - z|^2`` for E given by its real and imaginary parts (z broadcasts)."""
-    np.subtract(E_r, z.real, out=out)
+def _abs2_shift(E_r, E_i, z_r, z_i, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+    """``out = |E - z|^2`` for E and z given by their real and imaginary parts (z broadcasts)."""
+    np.subtract(E_r, z_r, out=out)
     out *= out
-    np.subtract(E_i, z.imag, out=tmp)
+    np.subtract(E_i, z_i, out=tmp)
     tmp *= tmp
     out += tmp
     return out
@@ -324,19 +324,24 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
     R_s = np.empty(shape)
     R_p = np.empty(shape)
 
+    # Contiguous real and imaginary parts of the poles (broadcast against every row).
+    poles = [(K, np.ascontiguousarray(zn.real), np.ascontiguousarray(zn.imag),
+              np.ascontiguousarray(zd.real), np.ascontiguousarray(zd.imag)) for K, zn, zd in poles]
+
     def run_blocks(blocks: range) -> None:
         E_r, E_i, den, tmp = (np.empty((B,) + k4.shape) for _ in range(4))
         for k in blocks:  # blocks of B thicknesses (not a per-sample loop)
             lo, hi = k * B, min(count, (k + 1) * B)
             n = hi - lo
+            i_r, i_i, o_r, o_i = I_r[:n], I_i[:n], O_r[k], O_i[k]
             e_r, e_i, d, t = E_r[:n], E_i[:n], den[:n], tmp[:n]
-            np.multiply(I_r[:n], O_r[k], out=e_r)  # E = I_i O_k
-            e_r -= np.multiply(I_i[:n], O_i[k], out=t)
-            np.multiply(I_r[:n], O_i[k], out=e_i)
-            e_i += np.multiply(I_i[:n], O_r[k], out=t)
-            for (K, z_num, z_den), out in zip(poles, (R_s[lo:hi], R_p[lo:hi])):
-                _abs2_shift(e_r, e_i, z_num, out, t)
-                _abs2_shift(e_r, e_i, z_den, d, t)
+            np.multiply(i_r, o_r, out=e_r)  # E = I_i O_k
+            e_r -= np.multiply(i_i, o_i, out=t)
+            np.multiply(i_r, o_i, out=e_i)
+            e_i += np.multiply(i_i, o_r, out=t)
+            for (K, zn_r, zn_i, zd_r, zd_i), out in zip(poles, (R_s[lo:hi], R_p[lo:hi])):
+                _abs2_shift(e_r, e_i, zn_r, zn_i, out, t)
+                _abs2_shift(e_r, e_i, zd_r, zd_i, d, t)
                 out /= d
                 out *= K
 

@@ -599,6 +599,28 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness: float
     return rgb, alpha, display, float(k), rule, (c0, c1)
 
 
+def _common_metadata(d: float, coating, colorimeter, model: str, distribution: str, alpha_r: float) -> dict:
+    """Metadata shared by renders and angular maps (the CLI replaces the voltage entries with
+    the user's own voltage and growth rate)."""
+    from swatch.model import thickness_to_voltage_V
+
+    return {
+        "thickness_nm": round(d, 6),
+        "voltage_V": round(float(thickness_to_voltage_V(d)), 6),
+        "voltage_note": "from the thickness at the default growth rate (50.8 nm at 25 V)",
+        "film": coating.film,
+        "substrate": coating.substrate,
+        "illuminant": colorimeter.illuminant,
+        "observer": f"CIE {'1964 10' if colorimeter.observer == '10' else '1931 2'} deg",
+        "model": model,
+        "distribution": distribution if model == "microfacet" else "none (facet probability constant)",
+        "roughness": alpha_r,
+        "reference_geometry": "45:0 (light 45 deg, view along the normal), paper model",
+        "Lab_reference": [round(float(x), 4) for x in reference_Lab(d, coating, colorimeter)],
+        "software": f"swatch {__version__}",
+    }
+
+
 def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg: float = 45.0,
                   roughness: float = 0.3, model: str = "microfacet", coating=None, colorimeter=None,
                   space: str = "srgb", distribution: str = "ggx", workers: int | None = None) -> SwatchImage:
@@ -609,7 +631,7 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     (H, W, 3) uint8 sRGB, exposure applied and composited on neutral grey; ``metadata``.
     """
     from swatch.colorimetry import RGB_SPACES
-    from swatch.model import check_thickness_nm, thickness_to_voltage_V
+    from swatch.model import check_thickness_nm
 
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = check_shape(shape)
@@ -630,19 +652,9 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     rgb, alpha, display, k, rule, crange = render_scene(scene, table, size, model, alpha_r, distribution,
                                                         display_table, workers)
 
-    lab = reference_Lab(d, coating, colorimeter)
-    meta = {
-        "thickness_nm": round(d, 6),
-        "voltage_V": round(float(thickness_to_voltage_V(d)), 6),
-        "voltage_note": "from the thickness at the default growth rate (50.8 nm at 25 V)",
-        "film": coating.film,
-        "substrate": coating.substrate,
-        "illuminant": colorimeter.illuminant,
-        "observer": f"CIE {'1964 10' if colorimeter.observer == '10' else '1931 2'} deg",
-        "model": model,
-        "distribution": distribution if model == "microfacet" else "none (facet probability constant)",
+    meta = _common_metadata(d, coating, colorimeter, model, distribution, alpha_r)
+    meta.update({
         "shadowing": "Smith height-correlated" if model == "microfacet" else "none",
-        "roughness": alpha_r,
         "shape": shape,
         "geometry": scene.description,
         "light_deg": float(light_deg),
@@ -654,11 +666,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         "exposure_rule": rule,
         "cos_theta_d_range": [round(crange[0], 6), round(crange[1], 6)],
         "display": "sRGB-encoded PNG: linear x exposure, composited on grey 0.18, shoulder above 0.8",
-        "reference_geometry": "45:0 (light 45 deg, view along the normal), paper model",
-        "Lab_reference": [round(float(x), 4) for x in lab],
         "wavelength_grid_nm": f"{coating.wavelength_nm[0]:g}:{coating.wavelength_nm[-1]:g}:{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
-        "software": f"swatch {__version__}",
-    }
+    })
     return SwatchImage(rgb, alpha, display, meta, float(k))
 
 
@@ -694,7 +703,7 @@ def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.ara
     paper's model; for the microfacet model chosen as in :mod:`swatch.render`'s doc).
     """
     from swatch.colorimetry import RGB_SPACES
-    from swatch.model import check_thickness_nm, thickness_to_voltage_V
+    from swatch.model import check_thickness_nm
 
     d = float(check_thickness_nm(float(thickness_nm)))
     model = shading.check_model(model)
@@ -726,18 +735,8 @@ def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.ara
     rgb = np.asarray(colorimeter.rgb_linear(XYZ, space), dtype=np.float32)
     srgb = rgb if space == "srgb" else np.asarray(colorimeter.rgb_linear(XYZ, "srgb"), dtype=np.float32)
     display = display_encode(srgb * np.float32(k))
-    lab_ref = reference_Lab(d, coating, colorimeter)
-    meta = {
-        "thickness_nm": round(d, 6),
-        "voltage_V": round(float(thickness_to_voltage_V(d)), 6),
-        "voltage_note": "from the thickness at the default growth rate (50.8 nm at 25 V)",
-        "film": coating.film,
-        "substrate": coating.substrate,
-        "illuminant": colorimeter.illuminant,
-        "observer": f"CIE {'1964 10' if colorimeter.observer == '10' else '1931 2'} deg",
-        "model": model,
-        "distribution": distribution if model == "microfacet" else "none (facet probability constant)",
-        "roughness": alpha_r,
+    meta = _common_metadata(d, coating, colorimeter, model, distribution, alpha_r)
+    meta.update({
         "geometry": "angular map: rows = light polar angle, columns = view polar angle, in one plane on "
                     "opposite sides of the normal (light = view is the mirror direction)",
         "light_deg": f"{lt[0]:g}:{lt[-1]:g} ({lt.size} rows)",
@@ -746,10 +745,7 @@ def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.ara
         "units": "reflectance factor (1.0 = perfect white diffuser); XYZ with Y = 100 for it",
         "exposure": round(float(k), 9),
         "exposure_rule": rule,
-        "reference_geometry": "45:0 (light 45 deg, view along the normal), paper model",
-        "Lab_reference": [round(float(x), 4) for x in lab_ref],
-        "software": f"swatch {__version__}",
-    }
+    })
     return AngularMap(d, lt, vw, theta_d, XYZ, Lab, rgb, display, float(k), spectral,
                       np.asarray(coating.wavelength_nm, dtype=np.float64), meta)
 
