@@ -107,8 +107,14 @@ class FilmAtAngles:
 
     The Fresnel coefficients depend on (angle, wavelength) only and are computed once here;
     the thickness enters only through the round-trip phase factor
-    ``E = exp(2 i delta) = rho e^{i phi}`` (``2 delta = 4 pi d q1 / lambda``). Used by
-    :func:`film_reflectance_cos`, :func:`film_reflectance_sweep` and the thickness fitter.
+    ``E = exp(2 i delta) = rho e^{i phi}`` (``2 delta = 4 pi d q1 / lambda``), and
+
+    ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2 = K |E - z_num|^2 / |E - z_den|^2``
+
+    (:func:`_pole_form`). The differences ``E - z`` are formed before taking moduli, so the
+    cancellation near total reflection (grazing incidence, ``|r01 r12| -> 1``) keeps its
+    relative precision. Used by :func:`film_reflectance_cos`, :func:`film_reflectance_sweep`
+    and the thickness fitter.
 
     ``cos_incidence`` has any shape A; the coefficient arrays have shape ``A + (W,)``.
     """
@@ -129,24 +135,44 @@ class FilmAtAngles:
         self.r12 = fresnel_r(n1, q1, n2, q2)
         #: ``4 pi q1 / lambda``: the round-trip phase per nm of film, complex (A..., W).
         self.k4 = (4.0 * np.pi / wl) * q1
+        #: per polarisation (s, p): ``(K, z_num, z_den)``.
+        self.poles = []
+        for r01, r12 in zip(self.r01, self.r12):
+            K_num, z_num = _pole_form(r01, r12)
+            K_den, z_den = _pole_form(1.0 + 0j, r01 * r12)
+            self.poles.append((K_num / K_den, z_num, z_den))
 
-    def phase_factor(self, thickness_nm) -> tuple[np.ndarray, np.ndarray]:
-        """Real and imaginary parts of ``E`` for thicknesses broadcast against the angles."""
+    def phase_factor(self, thickness_nm) -> np.ndarray:
+        """``E`` (complex) for thicknesses broadcast against the angles: shape S + (W,)."""
         d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
         phi = d * self.k4.real
-        rho = np.exp(-d * self.k4.imag)
-        return rho * np.cos(phi), rho * np.sin(phi)
+        return np.exp(-d * self.k4.imag) * (np.cos(phi) + 1j * np.sin(phi))
+
+    def reflectance_from_phase(self, E: np.ndarray, out_s=None, out_p=None, work=None):
+        """R_s, R_p for phase factors ``E``; optional output and work arrays of E's shape."""
+        if work is None:
+            work = (np.empty(E.shape, dtype=np.complex128), np.empty(E.shape))
+        w, den = work
+        result = []
+        for (K, z_num, z_den), out in zip(self.poles, (out_s, out_p)):
+            out = np.empty(E.shape) if out is None else out
+            np.abs(np.subtract(E, z_num, out=w), out=out)
+            np.abs(np.subtract(E, z_den, out=w), out=den)
+            out /= den
+            out *= out
+            out *= K
+            result.append(out)
+        return result[0], result[1]
 
     def reflectance(self, thickness_nm, amplitudes: bool = False) -> Reflectance:
         """R_s, R_p (and r_s, r_p) for thicknesses broadcast with the angles: shape S + (W,)."""
-        E_r, E_i = self.phase_factor(thickness_nm)
-        (r01s, r01p), (r12s, r12p) = self.r01, self.r12
-        R_s, R_p = _airy_R(E_r, E_i, _airy_coefficients(r01s, r12s, r01p, r12p))
+        E = self.phase_factor(thickness_nm)
+        R_s, R_p = self.reflectance_from_phase(E)
         if not amplitudes:
             return Reflectance(R_s=R_s, R_p=R_p)
-        e = E_r + 1j * E_i
-        r_s = (r01s + r12s * e) / (1.0 + r01s * r12s * e)
-        r_p = (r01p + r12p * e) / (1.0 + r01p * r12p * e)
+        (r01s, r01p), (r12s, r12p) = self.r01, self.r12
+        r_s = (r01s + r12s * E) / (1.0 + r01s * r12s * E)
+        r_p = (r01p + r12p * E) / (1.0 + r01p * r12p * E)
         return Reflectance(R_s=R_s, R_p=R_p, r_s=r_s, r_p=r_p)
 
     def sweep(self, thickness_start_nm: float, thickness_step_nm: float, count: int) -> Reflectance:
@@ -165,53 +191,10 @@ def film_reflectance_cos(
 ) -> Reflectance:
     """Airy reflectance of one film, with the incidence angle given by its cosine.
 
-    ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2`` (see :class:`FilmAtAngles`), evaluated in
-    real arithmetic. With ``amplitudes=True`` the complex r_s and r_p are also returned.
+    See :class:`FilmAtAngles`. With ``amplitudes=True`` the complex r_s and r_p are also returned.
     """
     film = FilmAtAngles(cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient)
     return film.reflectance(thickness_nm, amplitudes)
-
-
-def _airy_coefficients(r01s, r12s, r01p, r12p) -> tuple:
-    """Real and imaginary parts of r01, r12 and r01 r12 per polarisation (for :func:`_airy_R`)."""
-    out = []
-    for r01, r12 in ((r01s, r12s), (r01p, r12p)):
-        g = r01 * r12
-        out.append((r01.real, r01.imag, r12.real, r12.imag, g.real, g.imag))
-    return tuple(out)
-
-
-def _airy_R(E_r: np.ndarray, E_i: np.ndarray, coeffs: tuple, out_s=None, out_p=None, work=None):
-    """R_s, R_p = |r01 + r12 E|^2 / |1 + r01 r12 E|^2 from the phase factor ``E = E_r + i E_i``.
-
-    Real arithmetic on preallocatable buffers: ``out_s``/``out_p`` receive the results and
-    ``work`` (three arrays of E's shape) holds the temporaries. Numerator and denominator are
-    formed as complex numbers before squaring their moduli, so near-total internal cancellation
-    (grazing incidence, |r01 r12| -> 1) keeps full relative precision.
-    """
-    if work is None:
-        work = (np.empty_like(E_r), np.empty_like(E_r), np.empty_like(E_r))
-    im, den, tmp = work
-    result = []
-    for (a_r, a_i, b_r, b_i, g_r, g_i), out in zip(coeffs, (out_s, out_p)):
-        num = np.multiply(b_r, E_r, out=out) if out is not None else b_r * E_r
-        num -= np.multiply(b_i, E_i, out=tmp)
-        num += a_r
-        np.multiply(b_r, E_i, out=im)
-        im += np.multiply(b_i, E_r, out=tmp)
-        im += a_i
-        num *= num
-        num += np.multiply(im, im, out=tmp)  # |r01 + r12 E|^2
-        np.multiply(g_r, E_r, out=den)
-        den -= np.multiply(g_i, E_i, out=tmp)
-        den += 1.0
-        np.multiply(g_r, E_i, out=im)
-        im += np.multiply(g_i, E_r, out=tmp)
-        den *= den
-        den += np.multiply(im, im, out=tmp)  # |1 + r01 r12 E|^2
-        num /= den
-        result.append(num)
-    return result[0], result[1]
 
 
 _FAR = 1e100
@@ -243,16 +226,6 @@ def _pole_form(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return K, z
 
 
-def _abs2_shift(E_r, E_i, z_r, z_i, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
-    """``out = |E - z|^2`` for E and z given by their real and imaginary parts (z broadcasts)."""
-    np.subtract(E_r, z_r, out=out)
-    out *= out
-    np.subtract(E_i, z_i, out=tmp)
-    tmp *= tmp
-    out += tmp
-    return out
-
-
 def film_reflectance_sweep(
     thickness_start_nm: float,
     thickness_step_nm: float,
@@ -273,9 +246,7 @@ def film_reflectance_sweep(
       factors ``I_i = E_step**i`` and the block factors ``O_k = E_start E_{B step}**k`` come
       from cumulative products (rounding grows as ``sqrt(count) * eps``), so only three rows
       need transcendental functions and each sample costs one complex multiplication;
-    * numerator and denominator are written as ``K |E - z|^2`` (see :func:`_pole_form`), five
-      real operations each per sample, formed as differences before squaring so cancellation
-      near total reflection keeps its precision;
+    * then ``R = K |E - z_num|^2 / |E - z_den|^2`` per polarisation (see :class:`FilmAtAngles`);
     * blocks of B thicknesses keep the temporaries in cache, and a large sweep shares its blocks
       among threads, one per core (numpy releases the GIL; results are identical).
     """
@@ -291,62 +262,31 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
         raise SwatchError("a thickness sweep needs at least one thickness")
     start = float(thickness_start_nm)
     step = float(thickness_step_nm)
-    last = start + step * (count - 1)
-    _check_geometry(np.array([start, last]), np.zeros(1))
-    k4 = film.k4
-    (r01s, r01p), (r12s, r12p) = film.r01, film.r12
-
-    def phase(d: float) -> np.ndarray:
-        E_r, E_i = film.phase_factor(d)
-        return E_r + 1j * E_i
+    _check_geometry(np.array([start, start + step * (count - 1)]), np.zeros(1))
+    rows = film.k4.shape
 
     B = max(1, int(np.ceil(np.sqrt(count))))
-    # Inner factors E_i = E_1**i (i < B) by a cumulative product (rounding grows as i * eps).
-    inner = np.empty((B,) + k4.shape, dtype=np.complex128)
-    inner[0] = 1.0
-    inner[1:] = phase(step)
-    np.cumprod(inner, axis=0, out=inner)
-    I_r, I_i = np.ascontiguousarray(inner.real), np.ascontiguousarray(inner.imag)
     nblocks = -(-count // B)
-    outer = np.empty((nblocks,) + k4.shape, dtype=np.complex128)  # O_k = E_start * E_B**k
-    outer[0] = phase(start)
-    outer[1:] = phase(step * B)
-    np.cumprod(outer, axis=0, out=outer)
-    O_r, O_i = np.ascontiguousarray(outer.real), np.ascontiguousarray(outer.imag)
+    # I_i = E_step**i (i < B) and O_k = E_start E_{B step}**k by cumulative products.
+    inner = np.cumprod(np.broadcast_to(film.phase_factor(step), (B,) + rows), axis=0)
+    inner /= inner[0]  # rows E_step**0 ... E_step**(B-1)
+    outer = np.cumprod(np.broadcast_to(film.phase_factor(step * B), (nblocks,) + rows), axis=0)
+    outer *= film.phase_factor(start) / outer[0]
 
-    # |r01 + r12 E|^2 = K_num |E - z_num|^2 and |1 + r01 r12 E|^2 = K_den |E - z_den|^2.
-    poles = []
-    for r01, r12 in ((r01s, r12s), (r01p, r12p)):
-        K_num, z_num = _pole_form(r01, r12)
-        K_den, z_den = _pole_form(1.0 + 0j, r01 * r12)
-        poles.append((K_num / K_den, z_num, z_den))
-    shape = (count,) + k4.shape
-    R_s = np.empty(shape)
-    R_p = np.empty(shape)
-
-    # Contiguous real and imaginary parts of the poles (broadcast against every row).
-    poles = [(K, np.ascontiguousarray(zn.real), np.ascontiguousarray(zn.imag),
-              np.ascontiguousarray(zd.real), np.ascontiguousarray(zd.imag)) for K, zn, zd in poles]
+    R_s = np.empty((count,) + rows)
+    R_p = np.empty((count,) + rows)
 
     def run_blocks(blocks: range) -> None:
-        E_r, E_i, den, tmp = (np.empty((B,) + k4.shape) for _ in range(4))
+        E = np.empty((B,) + rows, dtype=np.complex128)
+        work = (np.empty((B,) + rows, dtype=np.complex128), np.empty((B,) + rows))
         for k in blocks:  # blocks of B thicknesses (not a per-sample loop)
             lo, hi = k * B, min(count, (k + 1) * B)
             n = hi - lo
-            i_r, i_i, o_r, o_i = I_r[:n], I_i[:n], O_r[k], O_i[k]
-            e_r, e_i, d, t = E_r[:n], E_i[:n], den[:n], tmp[:n]
-            np.multiply(i_r, o_r, out=e_r)  # E = I_i O_k
-            e_r -= np.multiply(i_i, o_i, out=t)
-            np.multiply(i_r, o_i, out=e_i)
-            e_i += np.multiply(i_i, o_r, out=t)
-            for (K, zn_r, zn_i, zd_r, zd_i), out in zip(poles, (R_s[lo:hi], R_p[lo:hi])):
-                _abs2_shift(e_r, e_i, zn_r, zn_i, out, t)
-                _abs2_shift(e_r, e_i, zd_r, zd_i, d, t)
-                out /= d
-                out *= K
+            e = np.multiply(inner[:n], outer[k], out=E[:n])
+            film.reflectance_from_phase(e, R_s[lo:hi], R_p[lo:hi], (work[0][:n], work[1][:n]))
 
     # numpy releases the GIL in ufuncs: large sweeps split their blocks over the cores.
-    workers = _workers(count * int(np.prod(k4.shape)), nblocks)
+    workers = _workers(count * int(np.prod(rows)), nblocks)
     if workers == 1:
         run_blocks(range(nblocks))
     else:

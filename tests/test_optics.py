@@ -191,3 +191,19 @@ def test_threaded_sweep_equals_general_path():
     direct = c.reflectance(d[:, None], angles[None, :])
     assert np.max(np.abs(sweep.R_s - direct.R_s)) <= 1e-12
     assert np.max(np.abs(sweep.R_p - direct.R_p)) <= 1e-12
+
+
+def test_threaded_sweep_points_equal_coh_tmm():
+    """Random points of the benchmark-sized grid against tmm directly."""
+    from swatch.model import get_coating
+
+    c = get_coating()
+    wl = c.wavelength_nm
+    angles = np.arange(0.0, 90.0)
+    sweep = optics.film_reflectance_sweep(0.0, 1.0, 301, angles, wl, c.n_film, c.n_substrate)
+    rng = np.random.default_rng(11)
+    for _ in range(40):
+        t, a, w = rng.integers(301), rng.integers(90), rng.integers(wl.size)
+        for pol, R in (("s", sweep.R_s), ("p", sweep.R_p)):
+            ref = reference(pol, [1.0, c.n_film[w], c.n_substrate[w]], [np.inf, float(t), np.inf], angles[a], wl[w])
+            assert abs(R[t, a, w] - ref["R"]) <= TOL
