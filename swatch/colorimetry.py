@@ -72,8 +72,8 @@ class Colorimeter:
 
     def __init__(self, wavelength_nm, illuminant: str = "D65", observer="10"):
         wl = np.asarray(wavelength_nm, dtype=np.float64)
-        if wl.ndim != 1 or wl.size < 3:
-            raise SwatchError("colorimetry needs a wavelength grid of at least 3 samples")
+        if wl.ndim != 1 or wl.size < 6:
+            raise SwatchError("colorimetry needs a wavelength grid of at least 6 samples")
         steps = np.diff(wl)
         step = float(steps[0])
         if not np.allclose(steps, step) or not any(np.isclose(step, s) for s in ASTM_E308_STEPS_NM):

@@ -13,6 +13,8 @@ __all__ = ["check_writable_dir", "check_new", "atomic_write_bytes", "atomic_writ
 
 def check_writable_dir(path, create: bool = True) -> Path:
     """The folder as a Path, created if needed; SwatchError if it cannot be written."""
+    if not str(path).strip():
+        raise SwatchError("output folder is an empty string; give a folder path")
     p = Path(path)
     if p.exists() and not p.is_dir():
         raise SwatchError(f"output folder {p} is a file; give a folder")

@@ -20,7 +20,8 @@ squared error between simulated and measured spectra (Table 2):
   grid (default 0–400 nm, 1 nm) × every geometry × wavelengths (subsampled to >= 10 nm spacing for
   this stage) is evaluated in one vectorised sweep; the lowest local minima are refined with bounded
   scalar minimisation (scipy) on the full data. The best is the estimate, the next distinct local
-  minimum (more than two grid steps away; it may lie on a bound of the range) is ``second_best``.
+  minimum (more than two grid steps away; a bound of the range only when it beats every interior
+  minimum) is ``second_best``.
   The model depends on the geometry only through theta_d, so repeated facet angles (in-plane grids)
   are evaluated once; up to 8 coarse minima are re-scored on the full data and the best 3 refined;
 * uncertainty: one standard deviation of the thickness by Gauss–Newton linearisation at the
@@ -106,9 +107,9 @@ def mirror_angle_deg(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_de
 def _check_range(thickness_range, step_nm) -> tuple[float, float, float, int]:
     lo, hi = (float(x) for x in thickness_range)
     step = float(step_nm)
-    if not (np.isfinite([lo, hi, step]).all() and 0 <= lo < hi <= MAX_THICKNESS_NM):
+    if not (np.isfinite([lo, hi]).all() and 0 <= lo < hi <= MAX_THICKNESS_NM):
         raise SwatchError(f"thickness range must satisfy 0 <= A < B <= {MAX_THICKNESS_NM:g} nm (got {lo:g}:{hi:g})")
-    if not (0 < step <= (hi - lo) / 4):
+    if not (np.isfinite(step) and 0 < step <= (hi - lo) / 4):
         raise SwatchError(f"search step must be > 0 and at most a quarter of the range (got {step:g} nm)")
     count = int(np.floor((hi - lo) / step + 1e-9)) + 1
     if count > 200_000:
@@ -187,13 +188,24 @@ def _scales_and_ssr(S: np.ndarray, M: np.ndarray, scale: str) -> tuple[np.ndarra
 
 
 def _local_minima(f: np.ndarray) -> np.ndarray:
-    """Indices of local minima of a sampled curve (end points included), lowest first."""
+    """Indices of local minima of a sampled curve, lowest first.
+
+    An end point of the range counts only when it is lower than every interior minimum (the
+    best match lies at, or beyond, the end of the search range); otherwise a curve that merely
+    falls towards the end of the range would add a minimum that is only an artefact of where
+    the range stops.
+    """
     n = f.size
     left = np.ones(n, dtype=bool)
     right = np.ones(n, dtype=bool)
     left[1:] = f[1:] < f[:-1]
     right[:-1] = f[:-1] <= f[1:]
     idx = np.flatnonzero(left & right)
+    interior = idx[(idx > 0) & (idx < n - 1)]
+    if interior.size:
+        best_inside = f[interior].min()
+        ends = idx[((idx == 0) | (idx == n - 1)) & (f[idx] < best_inside)]
+        idx = np.concatenate([interior, ends])
     return idx[np.argsort(f[idx], kind="stable")]
 
 
@@ -365,11 +377,15 @@ class FitResult:
         return out
 
 
+#: colour-science's spectral interpolation (used by ASTM E308) needs six samples.
+MIN_COLOUR_SAMPLES = 6
+
+
 def colour_grid(wavelength_nm) -> tuple[np.ndarray, bool]:
     """The grid used for colorimetry and whether the measurement must be interpolated onto it."""
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     lo_cmf, hi_cmf = _CMF_RANGE_NM
-    if wl.size >= 3:
+    if wl.size >= MIN_COLOUR_SAMPLES:
         steps = np.diff(wl)
         step = float(steps[0])
         even = np.allclose(steps, step, rtol=0, atol=1e-6)
@@ -380,10 +396,10 @@ def colour_grid(wavelength_nm) -> tuple[np.ndarray, bool]:
     s = _COLOUR_GRID_STEP_NM
     a = np.ceil(max(wl[0], lo_cmf) / s - 1e-9) * s
     b = np.floor(min(wl[-1], hi_cmf) / s + 1e-9) * s
-    if b - a < 2 * s:
+    if b - a < (MIN_COLOUR_SAMPLES - 1) * s:
         raise SwatchError(
             f"the measured range {wl[0]:g}–{wl[-1]:g} nm is too narrow for colorimetry; "
-            f"it needs at least {2 * s:g} nm inside {lo_cmf:g}–{hi_cmf:g} nm"
+            f"it needs at least {(MIN_COLOUR_SAMPLES - 1) * s:g} nm inside {lo_cmf:g}–{hi_cmf:g} nm"
         )
     return wavelength_grid(a, b, s), True
 

@@ -18,6 +18,7 @@ from swatch.errors import SwatchError
 __all__ = [
     "direction",
     "check_polar_deg",
+    "check_azimuth_deg",
     "cos_light_view",
     "cos_theta_d",
     "theta_d_deg",
@@ -34,10 +35,18 @@ def check_polar_deg(angle_deg, what: str) -> np.ndarray:
     return a
 
 
+def check_azimuth_deg(azimuth_deg, what: str) -> np.ndarray:
+    """Return the azimuth as float64, or raise: azimuths must be finite (any value, in degrees)."""
+    a = np.asarray(azimuth_deg, dtype=np.float64)
+    if not np.all(np.isfinite(a)):
+        raise SwatchError(f"{what} azimuth must be a finite angle in degrees")
+    return a
+
+
 def direction(polar_deg, azimuth_deg) -> np.ndarray:
     """Unit vectors (..., 3) for polar angles from +z and azimuths from +x."""
     t = np.radians(np.asarray(polar_deg, dtype=np.float64))
-    p = np.radians(np.asarray(azimuth_deg, dtype=np.float64))
+    p = np.radians(check_azimuth_deg(azimuth_deg, "the"))
     t, p = np.broadcast_arrays(t, p)
     s = np.sin(t)
     return np.stack([s * np.cos(p), s * np.sin(p), np.cos(t)], axis=-1)
@@ -47,8 +56,8 @@ def cos_light_view(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=
     """``l . v`` (opposite sides of the normal in one plane when ``view_azimuth_deg`` is None)."""
     tl = np.radians(np.asarray(light_deg, dtype=np.float64))
     tv = np.radians(np.asarray(view_deg, dtype=np.float64))
-    pl = np.radians(np.asarray(light_azimuth_deg, dtype=np.float64))
-    pv = pl + np.pi if view_azimuth_deg is None else np.radians(np.asarray(view_azimuth_deg, dtype=np.float64))
+    pl = np.radians(check_azimuth_deg(light_azimuth_deg, "light"))
+    pv = pl + np.pi if view_azimuth_deg is None else np.radians(check_azimuth_deg(view_azimuth_deg, "view"))
     return np.cos(tl) * np.cos(tv) + np.sin(tl) * np.sin(tv) * np.cos(pl - pv)
 
 

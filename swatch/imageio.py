@@ -47,6 +47,7 @@ __all__ = [
     "font_path",
     "draw_text",
     "text_width",
+    "drawable_text",
     "draw_rect",
     "draw_line",
 ]
@@ -338,10 +339,25 @@ def _color_tuple(color, nch: int) -> tuple:
     return tuple(float(v) for v in vals[:nch])
 
 
+@functools.lru_cache(maxsize=4096)
+def _has_glyph(char: str, font: str) -> bool:
+    """Whether ``font`` draws ``char`` (a missing glyph has an advance but leaves no ink)."""
+    if char.isspace():
+        return True
+    roi = _oiio().ImageBufAlgo.text_size(char, 32, font_path(font))
+    return bool(roi.defined and roi.width > 1)
+
+
+def drawable_text(text: str, font: str = "DroidSans") -> str:
+    """``text`` with the characters the font cannot draw (CJK, many symbols) replaced by ``?``,
+    so that text is never silently invisible; the metadata keeps the original."""
+    return "".join(ch if _has_glyph(ch, font) else "?" for ch in str(text))
+
+
 def text_width(text: str, size_px: int, font: str = "DroidSans") -> int:
     """Width in pixels of ``text`` rendered at ``size_px``."""
     oiio = _oiio()
-    roi = oiio.ImageBufAlgo.text_size(str(text), int(size_px), font_path(font))
+    roi = oiio.ImageBufAlgo.text_size(drawable_text(text, font), int(size_px), font_path(font))
     return int(roi.width) if roi.defined else 0
 
 
@@ -359,7 +375,7 @@ def draw_text(image_uint8, text: str, x: int, y: int, size_px: int = 16, color=(
     h, w, c = img.shape
     buf = oiio.ImageBuf(oiio.ImageSpec(w, h, c, "float"))
     buf.set_pixels(oiio.ROI(0, w, 0, h), img.astype(np.float32) / 255.0)
-    ok = oiio.ImageBufAlgo.render_text(buf, int(x), int(y), str(text), int(size_px), font_path(font),
+    ok = oiio.ImageBufAlgo.render_text(buf, int(x), int(y), drawable_text(text, font), int(size_px), font_path(font),
                                        _color_tuple(color, c), align, valign)
     if not ok:
         raise SwatchError(f"cannot draw text: {buf.geterror()}")

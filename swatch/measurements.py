@@ -48,6 +48,10 @@ __all__ = [
 PERCENT_THRESHOLD = 1.5
 #: Most negative reflectance (as a fraction) accepted as measurement noise.
 MIN_REFLECTANCE = -0.05
+#: Largest reflectance factor accepted (fraction). Near the mirror direction a glossy sample's
+#: reflectance factor (relative to a white diffuser) can reach the hundreds; beyond this a
+#: value is an error in the file.
+MAX_REFLECTANCE = 1e5
 _KEY_DIGITS = 9
 
 
@@ -300,6 +304,12 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
         unit = "%" if is_percent else ""
         raise rows.error(lines[low[0]], f"reflectance {refl[low[0]]:g}{unit} is negative; reflectance must be >= 0 "
                          f"(noise down to {MIN_REFLECTANCE * (100 if is_percent else 1):g}{unit} is accepted)")
+    high = np.flatnonzero((refl / (100.0 if is_percent else 1.0)) > MAX_REFLECTANCE)
+    if high.size:
+        raise rows.error(lines[high[0]], f"reflectance {refl[high[0]]:g} is implausibly large; a reflectance "
+                         f"factor must be at most {MAX_REFLECTANCE:g} (as a fraction)")
+    if not np.any(R > 0):
+        raise rows.error(lines[0], "every reflectance value is zero: there is nothing to fit")
 
     first_rows = g_first[order]
     return SpectralMeasurement(

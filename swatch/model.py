@@ -14,7 +14,7 @@ import numpy as np
 
 from swatch import geometry, optics
 from swatch.errors import SwatchError
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, DEFAULT_WAVELENGTHS_NM, load_material
+from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, DEFAULT_WAVELENGTHS_NM, list_materials, load_material
 
 __all__ = [
     "MAX_THICKNESS_NM",
@@ -118,6 +118,10 @@ def _coating(film: str, substrate: str, grid: tuple) -> Coating:
     wl = np.array(grid, dtype=np.float64)
     f = load_material(film)
     s = load_material(substrate)
+    for mat, role, option in ((f, "film", "--film"), (s, "substrate", "--substrate")):
+        if mat.role != role:
+            choices = ", ".join(m.name for m in list_materials(role))
+            raise SwatchError(f"{option} {mat.name} is a {mat.role} table, not a {role}; use one of {choices}")
     return Coating(f.name, s.name, wl, f.nk(wl), s.nk(wl))
 
 

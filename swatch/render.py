@@ -765,6 +765,16 @@ def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | No
     img[top:top + mh, left:left + mw] = block
     ink = (40, 40, 40)
     img = imageio.draw_rect(img, left - 1, top - 1, left + mw + 1, top + mh + 1, ink, fill=False)
+    # The mirror direction (light = view), dotted over the map so it is visible whatever the model.
+    lo_m = max(float(amap.light_deg[0]), float(amap.view_deg[0]))
+    hi_m = min(float(amap.light_deg[-1]), float(amap.view_deg[-1]))
+    if hi_m > lo_m:
+        t = np.linspace(lo_m, hi_m, max(2, int(max(mw, mh))))
+        xs = (left + (np.interp(t, amap.view_deg, np.arange(nv)) + 0.5) * cell).astype(int)
+        ys = (top + mh - (np.interp(t, amap.light_deg, np.arange(nl)) + 0.5) * cell).astype(int)
+        on = (np.arange(t.size) % 10) < 6  # dashes of ~6 px, gaps of ~4 px
+        for dy, dx, shade in ((1, 1, 60), (0, 0, 255), (0, 1, 255), (1, 0, 255)):  # 2-px stroke, dark edge
+            img[np.clip(ys[on] + dy, 0, H - 1), np.clip(xs[on] + dx, 0, W - 1)] = shade
 
     def ticks(values):
         lo, hi = float(values[0]), float(values[-1])
@@ -782,8 +792,8 @@ def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | No
         y = int(top + mh - (i + 0.5) * cell)
         img = imageio.draw_line(img, left - 7, y, left - 1, y, ink)
         img = imageio.draw_text(img, f"{t:g}", left - 11, y + 5, 15, ink, align="right")
-    img = imageio.draw_text(img, "view angle (deg from normal, opposite side)", left + mw // 2, H - 14, 16, ink,
-                            align="center")
+    img = imageio.draw_text(img, "view angle (deg from normal, opposite side); dashed: mirror", left + mw // 2,
+                            H - 14, 16, ink, align="center")
     # Vertical axis label: draw horizontally into a strip, rotate it, paste it.
     label = "light angle (deg)"
     lw = imageio.text_width(label, 16) + 8

@@ -79,6 +79,10 @@ def test_outputs_and_records(built):
     assert [float(r["thickness_nm"]) for r in rows] == THICKNESSES
     assert [r["srgb_hex"] for r in rows] == [r["srgb_hex"] for r in recs]
     assert float(rows[2]["L_45as110"]) == pytest.approx(recs[2]["multi_angle"]["45as110"][0])
+    # LCh at each multi-angle geometry too, consistent with that geometry's Lab
+    a, b = float(rows[2]["a_45as-15"]), float(rows[2]["b_45as-15"])
+    assert float(rows[2]["C_45as-15"]) == pytest.approx(np.hypot(a, b), abs=1e-3)
+    assert float(rows[2]["h_45as-15"]) == pytest.approx(np.degrees(np.arctan2(b, a)) % 360, abs=1e-2)
 
 
 def test_sheet_metadata_and_pixels(built):

@@ -103,6 +103,11 @@ def test_help_lists_every_command():
         (["roughness", "--ra", "-1"], ["--ra"]),
         (["color", "--bogus"], ["no such option"]),
         (["colr"], ["no such command"]),
+        (["color", "--thickness", "50", "--light-azimuth", "nan"], ["--light-azimuth", "finite"]),
+        (["spectrum", "--thickness", "50", "--view-azimuth", "inf", "--json"], ["--view-azimuth", "finite"]),
+        (["color", "--thickness", "50", "--film", "Ti-Johnson"], ["substrate table"]),
+        (["color", "--thickness", "50", "--substrate", "TiO2-Siefke"], ["film table"]),
+        (["render", "--thickness", "50", "--out", ""], ["empty"]),
     ],
 )
 def test_bad_input_is_one_line_error(args, fragments):

@@ -72,6 +72,17 @@ def test_facet_model_matches_engine_and_tmm():
     assert fast[2, 2, wi] == pytest.approx(ref, rel=1e-10)
 
 
+def test_range_end_is_a_minimum_only_when_it_is_the_best():
+    from swatch.fitting import _local_minima
+
+    falling = np.array([3.0, 1.0, 2.0, 1.5, 1.2, 1.1])  # interior minimum at 1, falls towards the end
+    assert list(_local_minima(falling)) == [1]
+    best_at_end = np.array([3.0, 1.0, 2.0, 0.5])
+    assert list(_local_minima(best_at_end)) == [3, 1]
+    monotone = np.array([3.0, 2.0, 1.0])
+    assert list(_local_minima(monotone)) == [2]
+
+
 def test_mirror_angle_independent():
     light, view = grid_geometries()
     np.testing.assert_allclose(mirror_angle_deg(light, view), np.abs(light - view), atol=1e-6)
@@ -92,6 +103,8 @@ def test_recovers_paper_thicknesses(index):
     assert res.second_best_thickness_nm is not None
     assert abs(res.second_best_thickness_nm - res.thickness_nm) > 5.0
     assert res.second_best_residual > res.residual
+    # ... and a real minimum, not the end of the search range (0–400 nm)
+    assert 0.0 < res.second_best_thickness_nm < 400.0
     # mirror region left out: |light - view| <= 10 in plane
     light, view = m.light_deg, m.view_deg
     np.testing.assert_array_equal(res.used, np.abs(light - view) > 10 + 1e-9)

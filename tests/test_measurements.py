@@ -113,6 +113,8 @@ BAD = [
     ("light_deg,view_deg,L,a,b\n45,0,50,1,2\n45,0,51,1,2\n", 3, "appears twice"),
     ("light_deg,view_deg,L,a,b\n45,0,150,1,2\n", 2, "outside [0, 100]"),
     ("wavelength_nm,reflectance\n", 1, "no data rows"),
+    ("wavelength_nm,reflectance\n400,0.1\n500,1e308\n", 3, "implausibly large"),
+    ("wavelength_nm,reflectance\n400,0\n500,0\n", 2, "every reflectance value is zero"),
 ]
 
 
@@ -150,6 +152,17 @@ def test_cli_outside_tables_and_missing_file(tmp_path, capsys):
     assert err.count("\n") == 1 and "line 3:" in err and "outside the table" in err
     assert main(["fit", str(tmp_path / "nope.csv")]) == 2
     assert "no such file" in capsys.readouterr().err
+
+
+def test_cli_too_few_wavelengths_for_colorimetry(tmp_path, capsys):
+    """Two wavelengths parse, but colorimetry needs a wider range: a clear error, not a crash."""
+    path = tmp_path / "two.csv"
+    path.write_text("wavelength_nm,reflectance\n380,0.1\n390,0.2\n")
+    from swatch.cli import main
+
+    assert main(["fit", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:") and "too narrow for colorimetry" in err[0]
 
 
 def test_read_measurement_utf8_bom(tmp_path):

@@ -223,7 +223,7 @@ def test_acescg_chromaticities(tmp_path, capsys):
 
 def test_angular_files(tmp_path, capsys):
     rc, stdout, err = _run(["angular", "--thickness", "50.8", "--light-range", "0:85:5", "--view-range", "0:85:5",
-                            "--out", str(tmp_path)], capsys)
+                            "--model", "paper", "--out", str(tmp_path)], capsys)
     assert rc == 0, err
     names = sorted(p.name for p in tmp_path.iterdir())
     assert names == sorted(["angular_050.8nm" + s for s in (".exr", ".png", "_spectral.exr", ".csv", ".json")])
@@ -246,6 +246,20 @@ def test_angular_files(tmp_path, capsys):
     meta = imageio.read_metadata(tmp_path / "angular_050.8nm.exr")
     np.testing.assert_allclose([float(x) for x in row[6:9]], meta["Lab_reference"], atol=2e-3)
     assert "exposure_rule" in meta and meta["model"] == "paper"
+
+
+def test_angular_default_shows_the_mirror_diagonal(tmp_path, capsys):
+    """By default the map carries the microfacet intensity: the mirror diagonal (light = view) is
+    far brighter than the off-mirror cells, and the metadata says how it was exposed."""
+    rc, _, err = _run(["angular", "--thickness", "50.8", "--light-range", "0:80:10", "--view-range", "0:80:10",
+                       "--out", str(tmp_path)], capsys)
+    assert rc == 0, err
+    meta = imageio.read_metadata(tmp_path / "angular_050.8nm.exr")
+    assert meta["model"] == "microfacet" and "exposure_rule" in meta
+    rows = [r.split(",") for r in (tmp_path / "angular_050.8nm.csv").read_text().splitlines()[1:]]
+    Y = {(float(r[0]), float(r[1])): float(r[4]) for r in rows}
+    for a in (30.0, 40.0, 50.0):
+        assert Y[(a, a)] > 2.0 * Y[(a, a - 30.0)]  # toward the normal the lobe falls off fast
 
 
 BAD = [

@@ -277,7 +277,7 @@ def _csv_bytes(spec: CatalogSpec, records: list[dict]) -> bytes:
             "thickness_minus_nm", "thickness_plus_nm", "voltage_minus_V", "voltage_plus_V",
             "minus_capped", "plus_capped"]
     for g in geo:
-        head += [f"L_{g}", f"a_{g}", f"b_{g}"]
+        head += [f"L_{g}", f"a_{g}", f"b_{g}", f"C_{g}", f"h_{g}"]
     head += ["sheet_png", "sheet_exr", "tile_row", "tile_col"]
     w.writerow(head)
 
@@ -293,7 +293,7 @@ def _csv_bytes(spec: CatalogSpec, records: list[dict]) -> bytes:
                f"{pw['scheme']} {pw['grade']}", pw["max_delta_E_00"], pw["thickness_minus_nm"], pw["thickness_plus_nm"],
                pw["voltage_minus_V"], pw["voltage_plus_V"], pw["minus_capped"], pw["plus_capped"]]
         for g in geo:
-            row += r["multi_angle"][g]
+            row += r["multi_angle"][g] + r["multi_angle_LCh"][g][1:]
         row += [r["sheet_png"], r["sheet_exr"], *r["tile"]]
         w.writerow([f(x) for x in row])
     return buf.getvalue().encode("utf-8")

@@ -101,12 +101,21 @@ def resolve_grid(text: str) -> np.ndarray:
     return wavelength_grid(a, b, s)
 
 
+def _finite(ctx, param, value):
+    if value is not None and not math.isfinite(value):
+        raise SwatchError(f"--{param.name.replace('_', '-')} must be a finite number of degrees")
+    return value
+
+
 def geometry_options(f):
-    f = click.option("--view-azimuth", "view_azimuth", type=float, default=None,
+    f = click.option("--view-azimuth", "view_azimuth", type=float, default=None, callback=_finite,
                      help="view azimuth in degrees (default: light azimuth + 180, the plane of incidence)")(f)
-    f = click.option("--light-azimuth", "light_azimuth", type=float, default=0.0, show_default=True, help="light azimuth in degrees")(f)
-    f = click.option("--view", "view", type=float, default=0.0, show_default=True, help="view polar angle from the normal, degrees [0, 90)")(f)
-    f = click.option("--light", "light", type=float, default=45.0, show_default=True, help="light polar angle from the normal, degrees [0, 90)")(f)
+    f = click.option("--light-azimuth", "light_azimuth", type=float, default=0.0, show_default=True, callback=_finite,
+                     help="light azimuth in degrees")(f)
+    f = click.option("--view", "view", type=float, default=0.0, show_default=True,
+                     help="view polar angle from the normal, degrees [0, 90)")(f)
+    f = click.option("--light", "light", type=float, default=45.0, show_default=True,
+                     help="light polar angle from the normal, degrees [0, 90)")(f)
     return f
 
 

@@ -88,11 +88,12 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
 
     rng = _parse_pair(thickness_range, "--range")
     geom = dict(light_deg=light, view_deg=view, light_azimuth_deg=light_azimuth, view_azimuth_deg=view_azimuth)
-    paths = _report_paths(report_dir, measurements) if report_dir else None
+    paths = _report_paths(report_dir, measurements) if report_dir is not None else None
     if paths:
-        from swatch.fileio import check_new, check_writable_dir
+        from swatch.fileio import check_new
 
-        check_writable_dir(report_dir)
+        if not str(report_dir).strip():
+            raise SwatchError("--report is an empty string; give a folder path")
         check_new([p for pair in paths["maps"] for p in pair]
                   + [paths[k] for k in ("summary_csv", "summary_md", "geometries_csv")], force)
     results = []
@@ -107,6 +108,9 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
         results.append(res)
     dicts = [r.to_dict(nm_per_volt) for r in results]
     if paths:
+        from swatch.fileio import check_writable_dir
+
+        check_writable_dir(report_dir)  # created only once every measurement has been read and fitted
         _write_report(results, dicts, paths)
     if as_json:
         echo_json(dicts[0] if len(dicts) == 1 else _multi_summary(dicts, scheme))
@@ -218,7 +222,7 @@ def render_delta_e_map(result, title: str) -> tuple[np.ndarray, dict]:
     import OpenImageIO as oiio
 
     from swatch.fitting import delta_e_grid
-    from swatch.imageio import font_path
+    from swatch.imageio import drawable_text, font_path
 
     lv, vv, grid, excluded, signed = delta_e_grid(result, "delta_E_ab")
     nL, nV = grid.shape
@@ -287,7 +291,8 @@ def render_delta_e_map(result, title: str) -> tuple[np.ndarray, dict]:
     buf.set_pixels(oiio.ROI(0, W, 0, H), img.astype(np.float32) / 255.0)
     font = font_path("DroidSans")
     for x, y, text, size, col, align, valign in texts:
-        if not oiio.ImageBufAlgo.render_text(buf, int(x), int(y), text, int(size), font, col, align, valign):
+        if not oiio.ImageBufAlgo.render_text(buf, int(x), int(y), drawable_text(text), int(size), font, col, align,
+                                             valign):
             raise SwatchError(f"cannot draw text on the ΔE map: {buf.geterror()}")
     out = np.clip(np.round(buf.get_pixels(oiio.FLOAT).reshape(H, W, 3) * 255.0), 0, 255).astype(np.uint8)
     data = {"light_deg": lv, "view_deg": vv, "grid": grid, "excluded": excluded, "signed": signed, "vmax": vmax}

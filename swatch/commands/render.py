@@ -6,6 +6,8 @@ import io
 import json
 import sys
 
+from pathlib import Path
+
 import click
 import numpy as np
 
@@ -92,7 +94,7 @@ def _lab_json(amap) -> str:
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--light-range", default="0:85:1", show_default=True, help="light polar angles A:B:STEP or N,N,... (deg)")
 @click.option("--view-range", default="0:85:1", show_default=True, help="view polar angles A:B:STEP or N,N,... (deg)")
-@click.option("--model", type=click.Choice(["paper", "microfacet"]), default="paper", show_default=True,
+@click.option("--model", type=click.Choice(["paper", "microfacet"]), default="microfacet", show_default=True,
               help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)")
 @click.option("--roughness", type=float, default=0.3, show_default=True, help="microfacet roughness alpha in (0, 1]")
 @click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
@@ -118,12 +120,12 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
     if lights.size * views.size > 4_000_000:
         raise SwatchError("angular map too large; at most 4,000,000 cells (light × view)")
     d, volts, note, coating, cm = _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths)
-    out = check_writable_dir(out_dir)
     stems = [file_stem("angular", x) for x in d]
     if len(set(stems)) != len(stems):
         raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
     suffixes = (".exr", ".png", "_spectral.exr", ".csv", ".json")
-    check_new([out / (st + suf) for st in stems for suf in suffixes], force)
+    check_new([Path(out_dir) / (st + suf) for st in stems for suf in suffixes], force)
+    out = check_writable_dir(out_dir)  # created only once every input has been checked
     written = []
     with _iterate(list(range(d.size)), "angular maps") as it:
         for i in it:
@@ -167,11 +169,11 @@ def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, 
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
     d, volts, note, coating, cm = _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths)
-    out = check_writable_dir(out_dir)
     stems = [file_stem(shape, x) for x in d]
     if len(set(stems)) != len(stems):
         raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
-    check_new([out / (st + suf) for st in stems for suf in (".exr", ".png")], force)
+    check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
+    out = check_writable_dir(out_dir)  # created only once every input has been checked
     written = []
     with _iterate(list(range(d.size)), f"{shape} swatches") as it:
         for i in it:
