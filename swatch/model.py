@@ -20,6 +20,9 @@ __all__ = [
     "MAX_THICKNESS_NM",
     "DEFAULT_NM_PER_V",
     "Coating",
+    "Overcoat",
+    "OvercoatedCoating",
+    "overcoat",
     "get_coating",
     "check_thickness_nm",
     "voltage_to_thickness_nm",
@@ -77,8 +80,23 @@ def intensity_correction(simulated, measured) -> np.ndarray:
     return sim * scale
 
 
+class _HalfVector:
+    """The half-vector model on top of a ``reflectance_cos`` method."""
+
+    def half_vector(
+        self, thickness_nm, light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None,
+        amplitudes: bool = False,
+    ) -> tuple[optics.Reflectance, np.ndarray]:
+        """The half-vector model: reflectance at ``theta_d`` (eq. 5) and ``theta_d`` in degrees."""
+        geometry.check_polar_deg(light_deg, "light")
+        geometry.check_polar_deg(view_deg, "view")
+        cos_d = geometry.cos_theta_d(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+        theta_d = geometry.theta_d_deg(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+        return self.reflectance_cos(thickness_nm, cos_d, amplitudes), theta_d
+
+
 @dataclass(frozen=True)
-class Coating:
+class Coating(_HalfVector):
     """Ambient (air) / film / substrate with tabulated complex indices on a wavelength grid."""
 
     film: str
@@ -101,16 +119,70 @@ class Coating:
             self.n_film, self.n_substrate, amplitudes=amplitudes,
         )
 
-    def half_vector(
-        self, thickness_nm, light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None,
-        amplitudes: bool = False,
-    ) -> tuple[optics.Reflectance, np.ndarray]:
-        """The half-vector model: reflectance at ``theta_d`` (eq. 5) and ``theta_d`` in degrees."""
-        geometry.check_polar_deg(light_deg, "light")
-        geometry.check_polar_deg(view_deg, "view")
-        cos_d = geometry.cos_theta_d(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
-        theta_d = geometry.theta_d_deg(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
-        return self.reflectance_cos(thickness_nm, cos_d, amplitudes), theta_d
+
+@dataclass(frozen=True)
+class Overcoat:
+    """A clear layer over the oxide (e.g. a thin lacquer or sol-gel topcoat), treated coherently."""
+
+    label: str  # a table name, or "n=1.5" for a constant index
+    n: np.ndarray  # complex index on the coating's wavelength grid
+    thickness_nm: float
+
+
+@dataclass(frozen=True)
+class OvercoatedCoating(_HalfVector):
+    """Ambient / overcoats / oxide film / substrate: the oxide's thickness varies, the overcoats are
+    fixed. Reflectance by the transfer-matrix product (:func:`swatch.optics.stack_reflectance`)."""
+
+    base: Coating
+    overcoats: tuple[Overcoat, ...]
+
+    @property
+    def film(self) -> str:
+        return self.base.film
+
+    @property
+    def substrate(self) -> str:
+        return self.base.substrate
+
+    @property
+    def wavelength_nm(self) -> np.ndarray:
+        return self.base.wavelength_nm
+
+    def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
+        return optics.stack_reflectance(
+            [o.thickness_nm for o in self.overcoats] + [check_thickness_nm(thickness_nm)],
+            [o.n for o in self.overcoats] + [self.base.n_film],
+            self.base.n_substrate, incidence_deg, self.base.wavelength_nm,
+        )
+
+    def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
+        theta = np.degrees(np.arccos(np.clip(np.asarray(cos_incidence, dtype=np.float64), 0.0, 1.0)))
+        return self.reflectance(thickness_nm, theta, amplitudes)
+
+
+def overcoat(spec: str, wavelength_nm) -> Overcoat:
+    """Parse ``N_OR_TABLE:THICKNESS_NM`` (``1.5:200`` or ``TiO2-Siefke:20``) into an :class:`Overcoat`."""
+    text = str(spec).strip()
+    what, sep, thick = text.rpartition(":")
+    if not sep or not what:
+        raise SwatchError(f"overcoat {text!r} must be INDEX:THICKNESS_NM or TABLE:THICKNESS_NM, e.g. 1.5:200")
+    try:
+        d = float(thick)
+    except ValueError:
+        raise SwatchError(f"overcoat thickness {thick!r} is not a number of nm") from None
+    if not (math.isfinite(d) and 0 < d <= MAX_THICKNESS_NM):
+        raise SwatchError(f"overcoat thickness must be more than 0 and at most {MAX_THICKNESS_NM:g} nm "
+                          "(a thicker layer is not coherent: its fringes are finer than the wavelength grid)")
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    try:
+        n_real = float(what)
+    except ValueError:
+        mat = load_material(what)
+        return Overcoat(mat.name, mat.nk(wl), d)
+    if not (math.isfinite(n_real) and 1.0 <= n_real <= 5.0):
+        raise SwatchError(f"overcoat index must be from 1 to 5 (got {what})")
+    return Overcoat(f"n={n_real:g}", np.full(wl.shape, n_real, dtype=np.complex128), d)
 
 
 @functools.lru_cache(maxsize=64)

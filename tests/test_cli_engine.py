@@ -56,6 +56,13 @@ def test_spectrum_azimuths_change_theta_d():
     assert out["theta_d_deg"] == pytest.approx(0.5 * np.degrees(np.arccos(np.cos(np.radians(40)) ** 2)))
 
 
+def test_color_with_overcoat_reports_it_and_changes_the_colour():
+    bare = run_json("color", "--thickness", "50.8")["rows"][0]["Lab"]
+    out = run_json("color", "--thickness", "50.8", "--overcoat", "1.5:200")
+    assert out["overcoat"] == [{"layer": "n=1.5", "thickness_nm": 200.0}]
+    assert np.linalg.norm(np.subtract(out["rows"][0]["Lab"], bare)) > 1.0
+
+
 def test_materials_list_and_show():
     mats = run_json("materials", "list")
     names = {m["name"] for m in mats}

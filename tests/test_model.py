@@ -59,3 +59,28 @@ def test_voltage_conversion_round_trip():
 def test_thickness_checked(bad):
     with pytest.raises(SwatchError, match="thickness"):
         model.check_thickness_nm(bad)
+
+
+def test_overcoated_coating_equals_tmm_stack():
+    """A clear overcoat over the oxide: the transfer-matrix path against tmm on the 4-medium stack."""
+    c = model.get_coating()
+    oc = model.OvercoatedCoating(c, (model.overcoat("1.5:200", c.wavelength_nm),
+                                     model.overcoat("TiO2-Jolivet-amorphous:15", c.wavelength_nm)))
+    refl, theta_d = oc.half_vector(np.array([0.0, 50.8, 173.9]), 10.0, 45.0)
+    assert theta_d == pytest.approx(27.5)
+    jolivet = oc.overcoats[1].n
+    for i, d in enumerate((0.0, 50.8, 173.9)):
+        for w in (0, 37, 80):
+            for pol, R in (("s", refl.R_s), ("p", refl.R_p)):
+                ref = tmm.coh_tmm(pol, [1.0, 1.5, jolivet[w], c.n_film[w], c.n_substrate[w]],
+                                  [np.inf, 200.0, 15.0, d, np.inf], np.radians(27.5), c.wavelength_nm[w])["R"]
+                assert abs(R[i, w] - ref) <= 1e-10
+
+
+@pytest.mark.parametrize("text, message", [
+    ("1.5", "INDEX:THICKNESS_NM"), ("0.5:100", "index"), ("1.5:0", "thickness"), ("1.5:5000", "thickness"),
+    ("1.5:abc", "not a number"), ("nope:10", "unknown material"),
+])
+def test_overcoat_parsing_errors(text, message):
+    with pytest.raises(SwatchError, match=message):
+        model.overcoat(text, model.get_coating().wavelength_nm)

@@ -85,6 +85,23 @@ def material_options(f):
     return f
 
 
+def overcoat_option(f):
+    return click.option("--overcoat", "overcoats", multiple=True, metavar="INDEX:NM|TABLE:NM",
+                         help="a thin clear layer over the oxide, e.g. 1.5:200 (index 1.5, 200 nm) or "
+                              "TiO2-Siefke:20; repeat for several, listed from the air side; coherent, so "
+                              "at most 1000 nm")(f)
+
+
+def resolve_coating(film: str, substrate: str, wavelengths: str, overcoats=()):
+    """The coating for the material options, with any ``--overcoat`` layers on top."""
+    from swatch.model import OvercoatedCoating, get_coating, overcoat
+
+    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    if not overcoats:
+        return coating
+    return OvercoatedCoating(coating, tuple(overcoat(o, coating.wavelength_nm) for o in overcoats))
+
+
 def grid_option(f):
     return click.option("--wavelengths", "wavelengths", default="380:780:5", show_default=True,
                         help="wavelength grid START:STOP:STEP in nm (colorimetry: 1, 5, 10 or 20 nm steps)")(f)

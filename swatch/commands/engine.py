@@ -5,8 +5,8 @@ import click
 import numpy as np
 
 from swatch.commands.common import (
-    colour_options, echo_json, geometry_options, grid_option, material_options, resolve_grid,
-    resolve_thickness, thickness_options,
+    colour_options, echo_json, geometry_options, grid_option, material_options, overcoat_option, resolve_coating,
+    resolve_grid, resolve_thickness, thickness_options,
 )
 from swatch.errors import SwatchError
 
@@ -15,14 +15,14 @@ from swatch.errors import SwatchError
 @thickness_options(multiple=False)
 @geometry_options
 @material_options
+@overcoat_option
 @grid_option
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
-def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate, wavelengths, as_json):
+def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate, overcoats,
+             wavelengths, as_json):
     """Spectral reflectance of one thickness on the half-vector facet (R, R_s, R_p)."""
-    from swatch.model import get_coating
-
     d, _ = resolve_thickness(thickness, voltage, nm_per_volt, multiple=False)
-    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    coating = resolve_coating(film, substrate, wavelengths, overcoats)
     refl, theta_d = coating.half_vector(d[0], light, view, light_azimuth, view_azimuth)
     out = {
         "thickness_nm": float(d[0]),
@@ -34,10 +34,12 @@ def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_a
         "reflectance_s": refl.R_s.tolist(),
         "reflectance_p": refl.R_p.tolist(),
     }
+    out.update(_overcoat_json(coating))
     if as_json:
         echo_json(out)
         return
-    click.echo(f"# {coating.film} on {coating.substrate}, d = {d[0]:g} nm, theta_d = {theta_d:.3f} deg")
+    click.echo(f"# {coating.film} on {coating.substrate}{_overcoat_text(coating)}, d = {d[0]:g} nm, "
+               f"theta_d = {theta_d:.3f} deg")
     click.echo(f"{'wavelength_nm':>13} {'R':>10} {'R_s':>10} {'R_p':>10}")
     for row in zip(out["wavelength_nm"], out["reflectance"], out["reflectance_s"], out["reflectance_p"]):
         click.echo(f"{row[0]:13.1f} {row[1]:10.6f} {row[2]:10.6f} {row[3]:10.6f}")
@@ -47,18 +49,18 @@ def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_a
 @thickness_options(multiple=True)
 @geometry_options
 @material_options
+@overcoat_option
 @colour_options
 @grid_option
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
-def color(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
+def color(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate, overcoats,
           illuminant, observer, wavelengths, as_json):
     """Colour of each thickness at one geometry: XYZ, CIELAB, LCh, sRGB and ΔE*ab to the previous row."""
     from swatch.appearance import color_table
     from swatch.colorimetry import get_colorimeter
-    from swatch.model import get_coating
 
     d, v = resolve_thickness(thickness, voltage, nm_per_volt, multiple=True)
-    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    coating = resolve_coating(film, substrate, wavelengths, overcoats)
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     table = color_table(d, light, view, coating, cm, light_azimuth, view_azimuth)
     rows = table.rows()
@@ -69,10 +71,10 @@ def color(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azim
         echo_json({
             "illuminant": cm.illuminant, "observer": cm.observer, "film": coating.film,
             "substrate": coating.substrate, "light_deg": light, "view_deg": view,
-            "theta_d_deg": table.theta_d_deg, "rows": rows,
+            "theta_d_deg": table.theta_d_deg, **_overcoat_json(coating), "rows": rows,
         })
         return
-    click.echo(f"# {coating.film} on {coating.substrate}; light {light:g}°, view {view:g}° "
+    click.echo(f"# {coating.film} on {coating.substrate}{_overcoat_text(coating)}; light {light:g}°, view {view:g}° "
                f"(theta_d {table.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer")
     click.echo(f"{'d_nm':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'C*':>7} {'h':>6}  {'sRGB':7} {'gamut':5} {'dE_ab':>6}")
     for r in rows:
@@ -81,6 +83,18 @@ def color(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azim
         dE = "" if r["delta_E_ab_to_previous"] is None else f"{r['delta_E_ab_to_previous']:6.2f}"
         click.echo(f"{r['thickness_nm']:7.1f} {L:7.2f} {a:7.2f} {b:7.2f} {C:7.2f} {h:6.1f}  "
                    f"{r['srgb_hex']:7} {'yes' if r['in_srgb_gamut'] else 'no':5} {dE:>6}")
+
+
+def _overcoat_json(coating) -> dict:
+    overcoats = getattr(coating, "overcoats", ())
+    if not overcoats:
+        return {}
+    return {"overcoat": [{"layer": o.label, "thickness_nm": o.thickness_nm} for o in overcoats]}
+
+
+def _overcoat_text(coating) -> str:
+    layers = [f"{o.label} {o.thickness_nm:g} nm" for o in getattr(coating, "overcoats", ())]
+    return f" under {' / '.join(layers)}" if layers else ""
 
 
 @click.group()
