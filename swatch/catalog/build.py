@@ -41,6 +41,7 @@ from pathlib import Path
 
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.errors import SwatchError
+from swatch.fileio import check_writable_dir
 
 __all__ = ["build_catalog", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
@@ -120,12 +121,8 @@ def _prepare_out_dir(out: Path) -> Path:
             raise SwatchError(
                 f"output folder {out} is not empty and is not a swatch catalog (no {META_DIR}/{MANIFEST}); "
                 "give an empty or new folder, or a folder a previous catalog build wrote")
-    try:
-        meta.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise SwatchError(f"cannot create output folder {out}: {exc.strerror}") from None
-    if not os.access(out, os.W_OK | os.X_OK):
-        raise SwatchError(f"output folder {out} is not writable")
+    check_writable_dir(out)
+    meta.mkdir(exist_ok=True)
     return meta
 
 
