@@ -267,11 +267,12 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
 
     B = max(1, int(np.ceil(np.sqrt(count))))
     nblocks = -(-count // B)
-    # I_i = E_step**i (i < B) and O_k = E_start E_{B step}**k by cumulative products.
-    inner = np.cumprod(np.broadcast_to(film.phase_factor(step), (B,) + rows), axis=0)
-    inner /= inner[0]  # rows E_step**0 ... E_step**(B-1)
-    outer = np.cumprod(np.broadcast_to(film.phase_factor(step * B), (nblocks,) + rows), axis=0)
-    outer *= film.phase_factor(start) / outer[0]
+    # E_{kB+i} = E_start E_B**k E_step**i = O_k I_i with I_i = E_step**(i+1) and
+    # O_k = E_start E_B**(k+1) / (E_B E_step), both by cumulative products.
+    e_step, e_block = film.phase_factor(step), film.phase_factor(step * B)
+    inner = np.cumprod(np.broadcast_to(e_step, (B,) + rows), axis=0)
+    outer = np.cumprod(np.broadcast_to(e_block, (nblocks,) + rows), axis=0)
+    outer *= film.phase_factor(start) / (e_block * e_step)
 
     R_s = np.empty((count,) + rows)
     R_p = np.empty((count,) + rows)
