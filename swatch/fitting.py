@@ -444,6 +444,24 @@ def _summary(Lab_m, Lab_s, used, scheme):
     return dEab, dE00, mean_ab, mean_00, grade_for(mean_ab, scheme)
 
 
+def _search_fields(kept: list[tuple[float, float]], norm: float) -> dict:
+    """FitResult fields from the search's minima (lowest first), residuals normalised by ``norm``."""
+    d_best, f_best = kept[0]
+    second = kept[1] if len(kept) > 1 else (None, None)
+    return dict(
+        residual=f_best * norm, second_best_thickness_nm=second[0],
+        second_best_residual=None if second[1] is None else second[1] * norm,
+        minima=[(d, f * norm) for d, f in kept],
+    )
+
+
+def _geometry_fields(measurement) -> dict:
+    return dict(
+        light_deg=measurement.light_deg, view_deg=measurement.view_deg,
+        light_azimuth_deg=measurement.light_azimuth_deg, view_azimuth_deg=measurement.view_azimuth_deg,
+    )
+
+
 # -- spectral fit -----------------------------------------------------------------------------------
 def fit_spectra(
     measurement: SpectralMeasurement,
@@ -488,7 +506,6 @@ def fit_spectra(
     d_best, f_best = kept[0]
     n = M.size
     sigma = _spectral_uncertainty(facets, inv, M, scale, d_best, lo, hi)
-    second = kept[1] if len(kept) > 1 else (None, None)
 
     # Scales for every geometry (excluded ones too) at the estimate.
     S_all = _model(coating, d_best, cos_d)
@@ -512,12 +529,8 @@ def fit_spectra(
     norm = 1.0 / n
     return FitResult(
         kind="spectral", source=measurement.source, thickness_nm=d_best, uncertainty_nm=sigma,
-        residual=f_best * norm, second_best_thickness_nm=second[0],
-        second_best_residual=None if second[1] is None else second[1] * norm,
-        minima=[(d, f * norm) for d, f in kept], scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
-        light_deg=measurement.light_deg, view_deg=measurement.view_deg,
-        light_azimuth_deg=measurement.light_azimuth_deg, view_azimuth_deg=measurement.view_azimuth_deg,
-        theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=a_all,
+        **_search_fields(kept, norm), scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
+        **_geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=a_all,
         Lab_measured=Lab_m, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
         mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
         film=coating.film, substrate=coating.substrate, illuminant=cm.illuminant, observer=cm.observer,
@@ -586,7 +599,6 @@ def fit_lab(
     G = int(used.sum())
     p = 1 + {"energy": G, "lsq": G, "global": 1, "none": 0}[scale]
     sigma = _uncertainty(fine, d_best, f_best, lo, hi, 3 * G, p)
-    second = kept[1] if len(kept) > 1 else (None, None)
 
     XYZ_all = cm.XYZ(_model(coating, d_best, cos_d))
     Y_all = cm.Lab_to_XYZ(Lab_m_all)[..., 1]
@@ -600,12 +612,8 @@ def fit_lab(
     norm = 1.0 / G
     return FitResult(
         kind="lab", source=measurement.source, thickness_nm=d_best, uncertainty_nm=sigma,
-        residual=f_best * norm, second_best_thickness_nm=second[0],
-        second_best_residual=None if second[1] is None else second[1] * norm,
-        minima=[(d, f * norm) for d, f in kept], scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
-        light_deg=measurement.light_deg, view_deg=measurement.view_deg,
-        light_azimuth_deg=measurement.light_azimuth_deg, view_azimuth_deg=measurement.view_azimuth_deg,
-        theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=np.asarray(a_all, dtype=np.float64),
+        **_search_fields(kept, norm), scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
+        **_geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=np.asarray(a_all, dtype=np.float64),
         Lab_measured=Lab_m_all, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
         mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
         film=coating.film, substrate=coating.substrate, illuminant=cm.illuminant, observer=cm.observer,
