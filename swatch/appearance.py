@@ -62,8 +62,9 @@ def color_table(
     R = refl.R
     XYZ = colorimeter.XYZ(R)
     Lab = colorimeter.Lab(XYZ)
-    srgb, gamut = colorimeter.display(XYZ, "srgb")
-    _, gamut_p3 = colorimeter.display(XYZ, "display-p3")
+    XYZ_2 = colorimeter.display_XYZ(R)  # display RGB is defined on CIE 1931 2° colorimetry
+    srgb, gamut = colorimeter.display(XYZ_2, "srgb")
+    _, gamut_p3 = colorimeter.display(XYZ_2, "display-p3")
     dE = np.full(d.shape, np.nan)
     if d.size > 1:
         dE[1:] = delta_E_ab(Lab[1:], Lab[:-1])

@@ -8,6 +8,13 @@ spectrum R on the grid, and many spectra convert in one matrix product.
 
 Scale: XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's convention);
 CIELAB uses the illuminant's own white under the chosen observer.
+
+Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1),
+whatever observer the Lab numbers use: every RGB value comes from the spectrum through the
+colorimeter's :attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer;
+the colorimeter itself when it is already 2°). :meth:`Colorimeter.display_XYZ` gives those
+tristimulus values, :meth:`Colorimeter.rgb_linear` / :meth:`Colorimeter.display` take them, and
+:meth:`Colorimeter.reflectance_rgb` / :meth:`Colorimeter.reflectance_display` go from spectra.
 """
 from __future__ import annotations
 
@@ -21,6 +28,7 @@ from swatch.errors import SwatchError
 
 __all__ = [
     "OBSERVERS",
+    "DISPLAY_OBSERVER",
     "RGB_SPACES",
     "Colorimeter",
     "get_colorimeter",
@@ -37,6 +45,8 @@ OBSERVERS = {
     "2": "CIE 1931 2 Degree Standard Observer",
 }
 RGB_SPACES = {"srgb": "sRGB", "display-p3": "Display P3", "acescg": "ACEScg"}
+#: The observer display RGB is defined on (sRGB: IEC 61966-2-1 uses CIE 1931 2° colorimetry).
+DISPLAY_OBSERVER = "2"
 #: Wavelength steps the ASTM E308 practice (colour.sd_to_XYZ's default) accepts.
 ASTM_E308_STEPS_NM = (1.0, 5.0, 10.0, 20.0)
 
@@ -118,24 +128,38 @@ class Colorimeter:
     def spectrum_Lab(self, reflectance) -> np.ndarray:
         return self.Lab(self.XYZ(reflectance))
 
-    def rgb_linear(self, XYZ, space: str = "srgb") -> np.ndarray:
+    # -- display RGB (always from CIE 1931 2° colorimetry) ----------------------------------
+    @property
+    def display_colorimeter(self) -> "Colorimeter":
+        """The colorimeter display RGB is computed with: same grid and illuminant, CIE 1931 2°."""
+        if self.observer == DISPLAY_OBSERVER:
+            return self
+        return get_colorimeter(self.wavelength_nm, self.illuminant, DISPLAY_OBSERVER)
+
+    def display_XYZ(self, reflectance) -> np.ndarray:
+        """CIE 1931 2° tristimulus values (..., 3) of reflectance spectra (Y = 100 for R = 1)."""
+        return self.display_colorimeter.XYZ(reflectance)
+
+    def rgb_linear(self, XYZ_2, space: str = "srgb") -> np.ndarray:
         """Linear RGB (1.0 = the white's Y) in ``space`` (srgb, display-p3, acescg).
 
-        The illuminant's white is adapted to the space's white with the Bradford transform.
+        ``XYZ_2``: CIE 1931 2° tristimulus values (:meth:`display_XYZ`), Y = 100 for the white.
+        The illuminant's 2° white is adapted to the space's white with the Bradford transform.
         """
         name = RGB_SPACES.get(str(space).lower())
         if name is None:
             raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(RGB_SPACES)}")
         return colour.XYZ_to_RGB(
-            np.asarray(XYZ) / 100.0,
+            np.asarray(XYZ_2) / 100.0,
             name,
-            illuminant=self.white_xy,
+            illuminant=self.display_colorimeter.white_xy,
             chromatic_adaptation_transform="Bradford",
         )
 
-    def display(self, XYZ, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
-        """Display-encoded RGB in [0, 1] (clipped) and an in-gamut flag per colour."""
-        rgb = self.rgb_linear(XYZ, space)
+    def display(self, XYZ_2, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
+        """Display-encoded RGB in [0, 1] (clipped) and an in-gamut flag per colour, from
+        CIE 1931 2° tristimulus values (:meth:`display_XYZ`)."""
+        rgb = self.rgb_linear(XYZ_2, space)
         # The spaces' whitepoints are given to 4 digits, so the adapted perfect white lands
         # within 2e-4 of (1, 1, 1): allow 1e-3 (a quarter of one 8-bit code value).
         tol = 1e-3
@@ -143,6 +167,14 @@ class Colorimeter:
         name = RGB_SPACES[str(space).lower()]
         encoded = colour.RGB_COLOURSPACES[name].cctf_encoding(np.clip(rgb, 0.0, 1.0))
         return np.clip(encoded, 0.0, 1.0), in_gamut
+
+    def reflectance_rgb(self, reflectance, space: str = "srgb") -> np.ndarray:
+        """Linear RGB of reflectance spectra (..., W), by CIE 1931 2° colorimetry."""
+        return self.rgb_linear(self.display_XYZ(reflectance), space)
+
+    def reflectance_display(self, reflectance, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
+        """Display-encoded RGB and in-gamut flags of reflectance spectra (CIE 1931 2°)."""
+        return self.display(self.display_XYZ(reflectance), space)
 
 
 @functools.lru_cache(maxsize=32)
@@ -180,11 +212,14 @@ def srgb_hex(encoded_rgb) -> np.ndarray | str:
 
 
 def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
-    """CIELAB (under the colorimeter's illuminant/observer) of an sRGB hex colour ``RRGGBB``."""
+    """CIELAB of an sRGB hex colour ``RRGGBB`` under the colorimeter's illuminant and the CIE
+    1931 2° observer (the observer sRGB is defined on; a hex code carries no spectrum, so its
+    10° Lab is not defined)."""
     h = hex_code.strip().lstrip("#")
     if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
         raise SwatchError(f"bad hex colour {hex_code!r}; give six hex digits like 1f4e9a")
     encoded = np.array([int(h[i : i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
     rgb = colour.RGB_COLOURSPACES["sRGB"].cctf_decoding(encoded)
-    XYZ = colour.RGB_to_XYZ(rgb, "sRGB", illuminant=colorimeter.white_xy, chromatic_adaptation_transform="Bradford")
-    return colorimeter.Lab(XYZ * 100.0)
+    cm2 = colorimeter.display_colorimeter
+    XYZ = colour.RGB_to_XYZ(rgb, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")
+    return cm2.Lab(XYZ * 100.0)

@@ -612,6 +612,7 @@ def _common_metadata(d: float, coating, colorimeter, model: str, distribution: s
         "substrate": coating.substrate,
         "illuminant": colorimeter.illuminant,
         "observer": f"CIE {'1964 10' if colorimeter.observer == '10' else '1931 2'} deg",
+        "rgb_observer": "CIE 1931 2 deg (display RGB is defined on it; Lab uses the observer above)",
         "model": model,
         "distribution": distribution if model == "microfacet" else "none (facet probability constant)",
         "roughness": alpha_r,
@@ -732,8 +733,9 @@ def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.ara
         k, rule = 1.0, "paper model: reflectance shown as is (k = 1); display shoulder above 0.8"
     XYZ = colorimeter.XYZ(spectral)
     Lab = colorimeter.Lab(XYZ)
-    rgb = np.asarray(colorimeter.rgb_linear(XYZ, space), dtype=np.float32)
-    srgb = rgb if space == "srgb" else np.asarray(colorimeter.rgb_linear(XYZ, "srgb"), dtype=np.float32)
+    XYZ_2 = colorimeter.display_XYZ(spectral)  # RGB from CIE 1931 2° colorimetry
+    rgb = np.asarray(colorimeter.rgb_linear(XYZ_2, space), dtype=np.float32)
+    srgb = rgb if space == "srgb" else np.asarray(colorimeter.rgb_linear(XYZ_2, "srgb"), dtype=np.float32)
     display = display_encode(srgb * np.float32(k))
     meta = _common_metadata(d, coating, colorimeter, model, distribution, alpha_r)
     meta.update({

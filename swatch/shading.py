@@ -61,7 +61,9 @@ class ColourTable:
     """Colour of the facet reflectance ``F(·; d, θ_d)`` on a uniform grid of ``cos θ_d``.
 
     ``cos_d`` (N,) is uniform on ``[c0, c1]`` (default [0, 1]); ``values`` (N, C) are XYZ (Y = 100
-    for R = 1) or, after :meth:`to_rgb`, linear RGB (1 = white). Lookups clamp to the grid's range.
+    for R = 1) under the colorimeter's observer or, after :meth:`to_rgb`, linear RGB (1 = white).
+    ``display_XYZ`` (N, 3): the CIE 1931 2° XYZ of the same nodes, from which :meth:`to_rgb`
+    derives RGB (display RGB is defined on 2° colorimetry). Lookups clamp to the grid's range.
     """
 
     thickness_nm: float
@@ -69,6 +71,7 @@ class ColourTable:
     values: np.ndarray
     kind: str = "XYZ"
     _delta: np.ndarray = field(default=None, repr=False, compare=False)
+    display_XYZ: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
         v = np.ascontiguousarray(self.values)
@@ -111,16 +114,27 @@ class ColourTable:
         """The table linearly interpolated onto a ``factor`` times finer grid (same range)."""
         n = (self.nodes - 1) * int(factor) + 1
         grid = np.linspace(self.c0, self.c1, n)
-        vals = np.stack([np.interp(grid, self.cos_d, self.values[:, k]) for k in range(self.values.shape[1])], -1)
-        return ColourTable(self.thickness_nm, grid, vals.astype(self.values.dtype), kind=self.kind)
+
+        def interp(v):
+            return None if v is None else np.stack([np.interp(grid, self.cos_d, v[:, k]) for k in range(v.shape[1])], -1)
+
+        return ColourTable(self.thickness_nm, grid, interp(self.values).astype(self.values.dtype), kind=self.kind,
+                           display_XYZ=interp(self.display_XYZ))
 
     def to_rgb(self, colorimeter, space: str = "srgb", dtype=np.float32) -> "ColourTable":
-        """The same table in linear RGB of ``space`` (1.0 = white), as ``dtype``."""
-        rgb = colorimeter.rgb_linear(self.values, space) if self.kind == "XYZ" else self.values
+        """The same table in linear RGB of ``space`` (1.0 = white), as ``dtype``, from the nodes'
+        CIE 1931 2° XYZ (``display_XYZ``; the values themselves when the table is 2°)."""
+        if self.kind != "XYZ":
+            rgb = self.values
+        else:
+            if self.display_XYZ is None and colorimeter.observer != "2":
+                raise SwatchError("this XYZ table has no CIE 1931 2° values to derive display RGB from")
+            rgb = colorimeter.rgb_linear(self.values if self.display_XYZ is None else self.display_XYZ, space)
         return ColourTable(self.thickness_nm, self.cos_d, np.asarray(rgb, dtype=dtype), kind=f"RGB:{space}")
 
     def astype(self, dtype) -> "ColourTable":
-        return ColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind)
+        return ColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind,
+                           display_XYZ=self.display_XYZ)
 
 
 def colour_table(thickness_nm: float, coating, colorimeter, nodes: int = TABLE_NODES,
@@ -137,7 +151,9 @@ def colour_table(thickness_nm: float, coating, colorimeter, nodes: int = TABLE_N
         raise SwatchError("cos θ_d range must satisfy 0 <= c0 <= c1 <= 1")
     cos_d = np.linspace(c0, c1, int(nodes))
     R = coating.reflectance_cos(float(thickness_nm), cos_d).R  # (N, W)
-    return ColourTable(float(thickness_nm), cos_d, colorimeter.XYZ(R), kind="XYZ")
+    XYZ = colorimeter.XYZ(R)
+    XYZ_2 = XYZ if colorimeter.observer == "2" else colorimeter.display_XYZ(R)
+    return ColourTable(float(thickness_nm), cos_d, XYZ, kind="XYZ", display_XYZ=XYZ_2)
 
 
 def _dot(a, b) -> np.ndarray:

@@ -59,9 +59,9 @@ def test_perfect_white_is_L100_and_white_hex():
     XYZ = cm.XYZ(np.ones(81))
     assert np.allclose(XYZ[1], 100.0)
     assert np.allclose(cm.Lab(XYZ), [100.0, 0.0, 0.0], atol=1e-9)
-    enc, ok = cm.display(XYZ)
+    enc, ok = cm.reflectance_display(np.ones(81))
     assert colorimetry.srgb_hex(enc) == "#ffffff" and bool(ok)
-    enc, ok = cm.display(cm.XYZ(np.zeros(81)))
+    enc, ok = cm.reflectance_display(np.zeros(81))
     assert colorimetry.srgb_hex(enc) == "#000000"
 
 
@@ -78,9 +78,9 @@ def test_out_of_gamut_flag():
     cm = colorimetry.get_colorimeter(wavelength_grid())
     wl = cm.wavelength_nm
     narrow = np.exp(-0.5 * ((wl - 520.0) / 8.0) ** 2)  # a saturated green, outside sRGB
-    _, ok = cm.display(cm.XYZ(narrow))
+    _, ok = cm.reflectance_display(narrow)
     assert not bool(ok)
-    _, ok_p3 = cm.display(cm.XYZ(0.5 * np.ones(81)), "display-p3")
+    _, ok_p3 = cm.reflectance_display(0.5 * np.ones(81), "display-p3")
     assert bool(ok_p3)
 
 
@@ -92,9 +92,32 @@ def test_delta_E_wrappers_match_colour():
 
 def test_hex_round_trip():
     cm = colorimetry.get_colorimeter(wavelength_grid())
-    Lab = colorimetry.hex_to_Lab("#3366cc", cm)
-    enc, _ = cm.display(cm.Lab_to_XYZ(Lab))
+    Lab = colorimetry.hex_to_Lab("#3366cc", cm)  # Lab under D65 and the 2° observer
+    enc, _ = cm.display(cm.display_colorimeter.Lab_to_XYZ(Lab))
     assert colorimetry.srgb_hex(enc) == "#3366cc"
+    # an independent path: colour-science's sRGB -> XYZ -> Lab (D65 white, 2° observer)
+    rgb = colour.cctf_decoding(np.array([0x33, 0x66, 0xCC]) / 255.0, "sRGB")
+    ref = colour.XYZ_to_Lab(colour.sRGB_to_XYZ(rgb, apply_cctf_decoding=False), cm.display_colorimeter.white_xy)
+    assert float(delta_E_00(Lab, ref)) < 0.01
+
+
+@pytest.mark.parametrize("illuminant", ["D65", "D50", "A"])
+def test_display_rgb_comes_from_the_2_degree_observer(illuminant):
+    """A 10° colorimeter's sRGB equals colour-science's sRGB of the spectrum's CIE 1931 2° XYZ."""
+    wl = wavelength_grid()
+    cm = colorimetry.get_colorimeter(wl, illuminant, "10")
+    assert cm.display_colorimeter.observer == "2" and cm.display_colorimeter.illuminant == cm.illuminant
+    rng = np.random.default_rng(7)
+    spectra = rng.random((8, wl.size)) * 0.6
+    XYZ_2 = np.array([reference_XYZ(R, wl, illuminant, "2") for R in spectra]) / 100.0
+    white_2 = reference_XYZ(np.ones(wl.size), wl, illuminant, "2") / 100.0
+    ref = colour.XYZ_to_RGB(XYZ_2, "sRGB", illuminant=colour.XYZ_to_xy(white_2),
+                            chromatic_adaptation_transform="Bradford")
+    assert np.allclose(cm.reflectance_rgb(spectra, "srgb"), ref, atol=1e-7)
+    # ... and differs from what the 10° tristimulus values would give (the test can fail)
+    wrong = colour.XYZ_to_RGB(cm.XYZ(spectra) / 100.0, "sRGB", illuminant=cm.white_xy,
+                              chromatic_adaptation_transform="Bradford")
+    assert np.max(np.abs(wrong - ref)) > 1e-3
 
 
 @pytest.mark.parametrize(

@@ -153,7 +153,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
     XYZ = cm.XYZ(R)
     Lab = cm.Lab(XYZ)
     LCh = Lab_to_LCh(Lab)
-    enc, gamut = cm.display(XYZ, "srgb")
+    enc, gamut = cm.reflectance_display(R, "srgb")  # sRGB from CIE 1931 2° colorimetry
     hexes = [str(h) for h in np.atleast_1d(srgb_hex(enc))]
 
     G = len(spec.multi_angle)
@@ -161,7 +161,8 @@ def compute(spec: CatalogSpec) -> CatalogData:
     multi_XYZ = cm.XYZ(multi_R)
     multi_Lab = cm.Lab(multi_XYZ) if G else np.zeros((0, n, 3))
     multi_LCh = Lab_to_LCh(multi_Lab) if G else np.zeros((0, n, 3))
-    multi_hex = np.atleast_2d(srgb_hex(cm.display(multi_XYZ, "srgb")[0])) if G else np.zeros((0, n), dtype=object)
+    multi_hex = (np.atleast_2d(srgb_hex(cm.reflectance_display(multi_R, "srgb")[0])) if G
+                 else np.zeros((0, n), dtype=object))
 
     dab = np.full((n, 2), np.nan)  # previous, next
     d00 = np.full((n, 2), np.nan)

@@ -413,6 +413,8 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
         raise SwatchError("give exactly one of --lab L,a,b or --hex RRGGBB")
     coating = get_coating(film, substrate, resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
+    if hex_code is not None:  # sRGB is defined on CIE 1931 2° colorimetry: match in it
+        cm = cm.display_colorimeter
     target = _parse_lab(lab) if lab is not None else hex_to_Lab(hex_code, cm)
     res = match_colour(target, coating, cm, light, view, light_azimuth, view_azimuth,
                        thickness_range=_parse_pair(thickness_range, "--range"), step_nm=step, top=top,
