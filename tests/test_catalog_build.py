@@ -56,6 +56,7 @@ def built(tmp_path_factory):
 
 
 EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf", "test-catalog.ase",
+                  "test-catalog-srgb.ase",
                   "sheet_01.png", "sheet_01.exr", "sheet_02.png", "sheet_02.exr"}
 
 
@@ -78,11 +79,14 @@ def test_outputs_and_records(built):
     rows = list(csv.DictReader((out / "catalog.csv").open(encoding="utf-8")))
     assert [float(r["thickness_nm"]) for r in rows] == THICKNESSES
     assert [r["srgb_hex"] for r in rows] == [r["srgb_hex"] for r in recs]
-    assert float(rows[2]["L_45as110"]) == pytest.approx(recs[2]["multi_angle"]["45as110"][0])
+    assert float(rows[2]["L_D65_10_45as110"]) == pytest.approx(recs[2]["multi_angle"]["45as110"][0])
+    assert [float(rows[2][k]) for k in ("L_D65_10", "a_D65_10", "b_D65_10")] == pytest.approx(recs[2]["Lab"])
+    assert float(rows[2]["h_D65_10_deg"]) == pytest.approx(recs[2]["LCh"][2])
+    assert [float(rows[2][k]) for k in ("L_D50_2", "a_D50_2", "b_D50_2")] == pytest.approx(recs[2]["Lab_D50_2"])
     # LCh at each multi-angle geometry too, consistent with that geometry's Lab
-    a, b = float(rows[2]["a_45as-15"]), float(rows[2]["b_45as-15"])
-    assert float(rows[2]["C_45as-15"]) == pytest.approx(np.hypot(a, b), abs=1e-3)
-    assert float(rows[2]["h_45as-15"]) == pytest.approx(np.degrees(np.arctan2(b, a)) % 360, abs=1e-2)
+    a, b = float(rows[2]["a_D65_10_45as-15"]), float(rows[2]["b_D65_10_45as-15"])
+    assert float(rows[2]["C_D65_10_45as-15"]) == pytest.approx(np.hypot(a, b), abs=1e-3)
+    assert float(rows[2]["h_D65_10_deg_45as-15"]) == pytest.approx(np.degrees(np.arctan2(b, a)) % 360, abs=1e-2)
 
 
 def test_sheet_metadata_and_pixels(built):

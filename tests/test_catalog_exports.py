@@ -58,9 +58,9 @@ def test_ase_round_trip(data):
     assert len(colours) == 3
     for blk, rec in zip(colours, data.records):
         L, a, b = blk["values"]
-        assert [L * 100, a, b] == pytest.approx(rec["Lab"], abs=1e-3)
+        assert [L * 100, a, b] == pytest.approx(rec["Lab_D50_2"], abs=1e-3)  # D50/2°: as Adobe reads ASE
         assert blk["type"] == 0  # global
-        assert f"{rec['thickness_nm']:g} nm" in blk["name"]
+        assert blk["name"].startswith(f"{rec['id']} Ti {rec['thickness_nm']:g} nm")
 
 
 def test_cxf3_content(data):
@@ -98,5 +98,5 @@ def test_cxf3_reads_with_colour_cxf_and_is_deterministic(data):
     blob = cxf_bytes(SPEC, data)
     doc = colour_cxf.read_cxf(blob)
     names = [o.name for o in doc.resources.object_collection.object_value]
-    assert len(names) == 3 and names[1].startswith("Ti 75.5 nm")
+    assert len(names) == 3 and names[1].startswith("S002 Ti 75.5 nm")
     assert cxf_bytes(SPEC, data) == blob

@@ -254,7 +254,8 @@ def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
                       "note": ("the grade's bound (defined on ΔE*ab) applied to ΔE2000 between the colour "
                                "at d±δ and at d, at the reference geometry"),
                       "search_nm": spec.search_nm, "search_step_nm": PROCESS_STEP_NM},
-        "exports": {"cxf": f"{slug(spec.name)}.cxf", "ase": f"{slug(spec.name)}.ase"},
+        "exports": {"cxf": f"{slug(spec.name)}.cxf", "ase": f"{slug(spec.name)}.ase",
+                    "ase_srgb": f"{slug(spec.name)}-srgb.ase"},
         "swatch_version": _swatch_version(),
     }
 
@@ -265,26 +266,38 @@ def _swatch_version() -> str:
     return swatch.__version__
 
 
-def _csv_bytes(spec: CatalogSpec, records: list[dict]) -> bytes:
+def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
+    """catalog.csv's header: colorimetry and units in the names (``L_D65_10``, ``h_D65_10_deg``).
+
+    Lab/LCh at the reference geometry under the catalog's illuminant and observer, then the
+    same under D50 / CIE 1931 2° (``L_D50_2`` ..., what ICC and Adobe tools assume), the sRGB hex
+    (CIE 1931 2° colorimetry), and Lab/LCh per multi-angle geometry (``L_D65_10_45as-15`` ...).
+    """
+    cs = f"{illuminant}_{observer}"
+    lab = [f"L_{cs}", f"a_{cs}", f"b_{cs}", f"C_{cs}", f"h_{cs}_deg"]
+    head = ["id", "thickness_nm", "voltage_V", *lab, "L_D50_2", "a_D50_2", "b_D50_2", "srgb_hex",
+            "in_srgb_gamut", "hue_family", "dE00_previous", "dE00_next", "dEab_previous", "dEab_next",
+            "window_grade", "max_dE00", "thickness_minus_nm", "thickness_plus_nm", "voltage_minus_V",
+            "voltage_plus_V", "minus_capped", "plus_capped"]
+    for g in spec.multi_angle:
+        head += [f"L_{cs}_{g.name}", f"a_{cs}_{g.name}", f"b_{cs}_{g.name}", f"C_{cs}_{g.name}",
+                 f"h_{cs}_deg_{g.name}"]
+    return head + ["sheet_png", "sheet_exr", "tile_row", "tile_col"]
+
+
+def _csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer: str) -> bytes:
     buf = io.StringIO(newline="")
     w = csv.writer(buf, lineterminator="\n")
     geo = [g.name for g in spec.multi_angle]
-    head = ["id", "thickness_nm", "voltage_V", "L", "a", "b", "C", "h", "srgb_hex", "in_srgb_gamut", "hue_family",
-            "dE00_previous", "dE00_next", "dEab_previous", "dEab_next", "window_grade", "max_dE00",
-            "thickness_minus_nm", "thickness_plus_nm", "voltage_minus_V", "voltage_plus_V",
-            "minus_capped", "plus_capped"]
-    for g in geo:
-        head += [f"L_{g}", f"a_{g}", f"b_{g}", f"C_{g}", f"h_{g}"]
-    head += ["sheet_png", "sheet_exr", "tile_row", "tile_col"]
-    w.writerow(head)
+    w.writerow(csv_columns(spec, illuminant, observer))
 
     def f(x):
         return "" if x is None else repr(x) if isinstance(x, float) else str(x)
 
     for r in records:
         pw = r["process_window"]
-        row = [r["id"], r["thickness_nm"], r["voltage_V"], *r["Lab"], r["LCh"][1], r["LCh"][2], r["srgb_hex"],
-               r["in_srgb_gamut"], r["hue_family"],
+        row = [r["id"], r["thickness_nm"], r["voltage_V"], *r["Lab"], r["LCh"][1], r["LCh"][2], *r["Lab_D50_2"],
+               r["srgb_hex"], r["in_srgb_gamut"], r["hue_family"],
                r["delta_E_00_to_neighbours"]["previous"], r["delta_E_00_to_neighbours"]["next"],
                r["delta_E_ab_to_neighbours"]["previous"], r["delta_E_ab_to_neighbours"]["next"],
                f"{pw['scheme']} {pw['grade']}", pw["max_delta_E_00"], pw["thickness_minus_nm"], pw["thickness_plus_nm"],
@@ -404,9 +417,10 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                        "swatches": records}
         outputs = {
             "catalog.json": (json.dumps(catalog_doc, indent=1, ensure_ascii=False, allow_nan=False) + "\n").encode(),
-            "catalog.csv": _csv_bytes(spec, records),
+            "catalog.csv": _csv_bytes(spec, records, data.illuminant, data.observer),
             header["exports"]["cxf"]: cxf_bytes(spec, data),
-            header["exports"]["ase"]: ase_bytes(spec, records),
+            header["exports"]["ase"]: ase_bytes(spec, records, "lab"),
+            header["exports"]["ase_srgb"]: ase_bytes(spec, records, "srgb"),
         }
         page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
         outputs["index.html"] = index_html(page_doc).encode("utf-8")

@@ -8,9 +8,12 @@
   at every geometry, and sRGB at the reference. The schema requires a creation date: a fixed
   date (1970-01-01T00:00:00Z) keeps builds byte-identical (no clock).
 * ASE (Adobe Swatch Exchange, binary, big-endian): ``ASEF``, version 1.0, a group named after
-  the catalog holding one global colour per swatch in the ``LAB`` model (L as 0–1, a, b as
-  floats). Adobe applications interpret ASE Lab under D50; our Lab is relative to the spec's
-  illuminant (D65 by default) — the numbers are written as computed, and the name says so.
+  the catalog holding one global colour per swatch, named ``S001 Ti 20 nm (9.8 V)``. Adobe
+  applications and GIMP read ASE Lab as D50 with the 2° observer (the ICC connection space,
+  ISO 13655), so the ``LAB`` file holds the spectrum at the reference geometry under D50 and the
+  CIE 1931 2° observer (L as 0–1, a, b as floats), not the catalog's own Lab; the ``RGB``
+  variant (``<slug>-srgb.ase``, for importers without Lab) holds the sRGB hex code as 0–1
+  floats (from 2° colorimetry under the catalog's illuminant, like every hex code).
 """
 from __future__ import annotations
 
@@ -18,7 +21,7 @@ import struct
 
 from swatch.catalog.spec import CatalogSpec
 
-__all__ = ["ase_bytes", "cxf_bytes", "ase_name", "FIXED_DATE"]
+__all__ = ["ase_bytes", "cxf_bytes", "ase_name", "metal_symbol", "FIXED_DATE", "ASE_MODELS"]
 
 FIXED_DATE = "1970-01-01T00:00:00Z"
 
@@ -29,8 +32,18 @@ _CXF_ILLUMINANTS = {
 }
 
 
-def ase_name(rec: dict) -> str:
-    return f"Ti {rec['thickness_nm']:g} nm ({rec['voltage_V']:.1f} V)"
+#: ASE colour models we write: the file's model tag and what its values are.
+ASE_MODELS = {"lab": b"LAB ", "srgb": b"RGB "}
+
+
+def metal_symbol(spec: CatalogSpec) -> str:
+    """The substrate's element (``Ti`` for ``Ti-Johnson``), for swatch names."""
+    return spec.substrate.split("-")[0]
+
+
+def ase_name(rec: dict, metal: str = "Ti") -> str:
+    """``S001 Ti 20 nm (9.8 V)``: the swatch ID, metal, thickness and voltage."""
+    return f"{rec['id']} {metal} {rec['thickness_nm']:g} nm ({rec['voltage_V']:.1f} V)"
 
 
 # -- Adobe Swatch Exchange -------------------------------------------------------------------
@@ -40,13 +53,25 @@ def _utf16_name(name: str) -> bytes:
     return struct.pack(">H", len(raw) // 2) + raw
 
 
-def ase_bytes(spec: CatalogSpec, records: list[dict]) -> bytes:
-    """The ASE file: one group (the catalog's name) of global Lab colours."""
+def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> bytes:
+    """The ASE file: one group (the catalog's name) of global colours.
+
+    ``model="lab"``: CIELAB under D50 and the CIE 1931 2° observer at the reference geometry
+    (``Lab_D50_2`` of the records); ``"srgb"``: the records' sRGB hex codes as 0–1 floats.
+    """
+    if model not in ASE_MODELS:
+        raise ValueError(f"ASE model {model!r}; use one of {', '.join(ASE_MODELS)}")
+    metal = metal_symbol(spec)
     blocks = []
     blocks.append((0xC001, _utf16_name(spec.name)))
     for rec in records:
-        L, a, b = rec["Lab"]
-        body = _utf16_name(ase_name(rec)) + b"LAB " + struct.pack(">fff", L / 100.0, a, b) + struct.pack(">H", 0)
+        if model == "lab":
+            L, a, b = rec["Lab_D50_2"]
+            values = (L / 100.0, a, b)
+        else:
+            values = tuple(int(rec["srgb_hex"][i:i + 2], 16) / 255.0 for i in (1, 3, 5))
+        body = (_utf16_name(ase_name(rec, metal)) + ASE_MODELS[model] + struct.pack(">fff", *values)
+                + struct.pack(">H", 0))
         blocks.append((0x0001, body))
     blocks.append((0xC002, b""))
     out = [b"ASEF", struct.pack(">HHI", 1, 0, len(blocks))]
@@ -130,7 +155,7 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
             ("voltage_minus_V", pw["voltage_minus_V"]), ("voltage_plus_V", pw["voltage_plus_V"]),
         ]
         objects.append(cxf3.Object(
-            object_type="Standard", name=ase_name(rec), id=rec["id"],
+            object_type="Standard", name=ase_name(rec, metal_symbol(spec)), id=rec["id"],
             creation_date=cxf3.CreationDate(value=date),
             color_values=cxf3.ColorValues(choice=values),
             tag_collection=[cxf3.TagCollection(name="swatch", tag=[cxf3.Tag(name=k, value=str(v)) for k, v in tags])],

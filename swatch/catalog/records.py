@@ -65,6 +65,7 @@ class CatalogData:
     multi_reflectance: np.ndarray  # (G, N, W)
     Lab: np.ndarray
     LCh: np.ndarray
+    Lab_D50_2: np.ndarray  # (N, 3) at the reference geometry, D50 and CIE 1931 2° (ICC / ISO 13655)
     srgb_hex: list[str]
     records: list[dict]
     illuminant: str  # colour-science's name
@@ -137,7 +138,7 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
 
 def compute(spec: CatalogSpec) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
-    from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, srgb_hex
+    from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
     from swatch.model import get_coating, thickness_to_voltage_V
     from swatch.tolerance import grade_bound
 
@@ -154,6 +155,9 @@ def compute(spec: CatalogSpec) -> CatalogData:
     Lab = cm.Lab(XYZ)
     LCh = Lab_to_LCh(Lab)
     enc, gamut = cm.reflectance_display(R, "srgb")  # sRGB from CIE 1931 2° colorimetry
+    # What print workflows and Adobe applications assume Lab to be (ICC PCS, ISO 13655): D50, 2°.
+    cm_d50 = get_colorimeter(wl, "D50", "2")
+    Lab_D50_2 = cm_d50.Lab(cm_d50.XYZ(R))
     hexes = [str(h) for h in np.atleast_1d(srgb_hex(enc))]
 
     G = len(spec.multi_angle)
@@ -191,6 +195,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
             "Lab": [r(v) for v in Lab[i]],
             "LCh": [r(v) for v in LCh[i]],
             "XYZ": [r(v) for v in XYZ[i]],
+            "Lab_D50_2": [r(v) for v in Lab_D50_2[i]],
             "srgb_hex": hexes[i],
             "in_srgb_gamut": bool(gamut[i]),
             "hue_family": hue_family(float(LCh[i, 1]), float(LCh[i, 2])),
@@ -217,5 +222,5 @@ def compute(spec: CatalogSpec) -> CatalogData:
         })
     return CatalogData(
         thickness_nm=d, voltage_V=volts, wavelength_nm=wl, reflectance=R, multi_reflectance=multi_R,
-        Lab=Lab, LCh=LCh, srgb_hex=hexes, records=records, illuminant=cm.illuminant, observer=cm.observer,
+        Lab=Lab, LCh=LCh, Lab_D50_2=Lab_D50_2, srgb_hex=hexes, records=records, illuminant=cm.illuminant, observer=cm.observer,
     )
