@@ -1,0 +1,25 @@
+"""3-D material presets: each swatch as a glTF, Blender (Cycles) and OpenPBR/MaterialX material.
+
+Renderers describe an anodised finish with their own thin-film models: a film of one real
+IOR over a metal whose reflectance is given as a colour. Those models are ported here from
+their specifications and sources (numpy, one module per model), their parameters are fitted
+per swatch to the exact Airy colour of the catalog (``fit``), and the fitted materials are
+written as files (``write``):
+
+- :mod:`swatch.presets.gltf` — glTF 2.0 ``KHR_materials_iridescence`` on a metal base;
+- :mod:`swatch.presets.cycles` — Blender Cycles' Principled BSDF thin film on a metallic base;
+- :mod:`swatch.presets.openpbr` — OpenPBR Surface thin film (Belcour–Barla, Gulbrandsen metal);
+- :mod:`swatch.presets.spectral` — the Fourier-space colour-matching sensitivities they share.
+
+Every model maps (cos of the incidence angle on the microfacet, material parameters) to the
+Fresnel factor in linear Rec.709 RGB; :func:`swatch.presets.spectral.rgb_to_Lab` turns that into
+CIELAB (D65, CIE 1931 2°) for comparison with the exact colour.
+"""
+from __future__ import annotations
+
+#: The preset formats, one name per target renderer model.
+PRESET_FORMATS = ("gltf", "blender", "materialx")
+#: Which ported model each format is judged with.
+FORMAT_MODEL = {"gltf": "gltf", "blender": "cycles", "materialx": "openpbr"}
+
+__all__ = ["PRESET_FORMATS", "FORMAT_MODEL"]
