@@ -26,6 +26,7 @@ COMMANDS = {
     "catalog": "swatch.commands.catalog:catalog",
     "fit": "swatch.commands.fit:fit",
     "match": "swatch.commands.fit:match",
+    "preset": "swatch.commands.preset:preset",
 }
 
 

@@ -90,6 +90,7 @@ def code_fingerprint() -> dict:
 
     pkg = Path(swatch.__file__).resolve().parent
     files = [pkg / f"{m}.py" for m in _CODE_MODULES] + sorted((pkg / "catalog").glob("*.py"))
+    files += sorted((pkg / "presets").glob("*.py"))  # 3-D material presets (fits, writers)
     code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}
     tdir = tables_dir()
     tables = {p.relative_to(tdir).as_posix(): _sha256_file(p)
@@ -383,6 +384,9 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     try:
         cache = meta / "cache"
         cache.mkdir(exist_ok=True)
+        from swatch.presets.catalog import catalog_presets
+
+        preset_files = catalog_presets(spec, records, cache)  # adds each record's "presets"; fits cached
         # 1. tiles (renders), from the cache or rendered in parallel
         tile_keys = [sheetmod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
@@ -422,6 +426,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             header["exports"]["ase"]: ase_bytes(spec, records, "lab"),
             header["exports"]["ase_srgb"]: ase_bytes(spec, records, "srgb"),
         }
+        outputs.update(preset_files)
         page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
         outputs["index.html"] = index_html(page_doc).encode("utf-8")
         for name, blob in outputs.items():

@@ -119,6 +119,14 @@ _JS = r"""
     link(links, s.sheet_png, "sheet " + s.sheet + " (PNG)");
     link(links, s.sheet_exr, "EXR");
     body.appendChild(links);
+    if (s.presets) {  // 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°)
+      const pr = el("div", "links presets"), p = s.presets;
+      pr.title = p.conditions;
+      link(pr, p.gltf, "glTF ΔE00 " + fmt(p.gltf_max_delta_E_00, 1));
+      link(pr, p.blender, "Blender ΔE00 " + fmt(p.blender_max_delta_E_00, 1));
+      link(pr, p.materialx, "OpenPBR ΔE00 " + fmt(p.openpbr_max_delta_E_00, 1));
+      body.appendChild(pr);
+    }
     c.appendChild(body);
     return c;
   }

@@ -1,0 +1,130 @@
+"""Presets of a catalog's swatches: fitted once per content (cached), written next to the catalog.
+
+:func:`catalog_presets` fits the three models for all the catalog's thicknesses (or reads the fit
+from the build cache, keyed by the hash of what it depends on), adds a ``presets`` entry to every
+record and returns the files to write:
+
+``preset_S001.gltf``, ``preset_S001_blender.py``, ``preset_S001.mtlx`` (flat names in the catalog
+folder), and in each record::
+
+    "presets": {"gltf": "preset_S001.gltf", "gltf_max_delta_E_00": 1.9,
+                "blender": "preset_S001_blender.py", "blender_max_delta_E_00": 1.4,
+                "materialx": "preset_S001.mtlx", "openpbr_max_delta_E_00": 2.2, ...}
+
+The errors are ΔE2000 between the model evaluated with the parameters *as written* (rounded) and
+the exact colour, CIE 1931 2° observer under D65, maximum over the facet angles 0–60°
+(``*_max_delta_E_00``; ``*_max_delta_E_00_45`` over 0–45°).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+
+from swatch.presets import FORMAT_MODEL, PRESET_FORMATS
+
+__all__ = ["catalog_presets", "preset_file_name", "round_params", "roughness_factor", "ERROR_KEYS"]
+
+#: catalog.json key of each format's error (max ΔE2000 over 0–60°).
+ERROR_KEYS = {"gltf": "gltf_max_delta_E_00", "blender": "blender_max_delta_E_00",
+              "materialx": "openpbr_max_delta_E_00"}
+_DIGITS = (3, 4, 4, 4, 4)  # thickness nm, IOR, base R G B, as written
+
+
+def preset_file_name(ident: str, fmt: str) -> str:
+    return {"gltf": f"preset_{ident}.gltf", "blender": f"preset_{ident}_blender.py",
+            "materialx": f"preset_{ident}.mtlx"}[fmt]
+
+
+def round_params(params) -> np.ndarray:
+    """The parameters as the files carry them (the errors are computed from these)."""
+    p = np.asarray(params, dtype=np.float64)
+    return np.stack([np.round(p[..., i], nd) for i, nd in enumerate(_DIGITS)], axis=-1)
+
+
+def roughness_factor(alpha: float) -> float:
+    """glTF/Blender/OpenPBR roughness (α = roughness²) for a GGX α."""
+    return round(float(np.sqrt(alpha)), 4)
+
+
+def fit_key(spec, extra_angles) -> str:
+    import swatch
+    from importlib import metadata
+
+    pkg = Path(swatch.__file__).resolve().parent
+    code = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted((pkg / "presets").glob("*.py"))}
+    for m in ("optics", "model", "materials", "colorimetry"):
+        code[m] = hashlib.sha256((pkg / f"{m}.py").read_bytes()).hexdigest()
+    blob = {"d": [float(x) for x in spec.thickness_nm], "film": spec.film, "substrate": spec.substrate,
+            "angles": [float(a) for a in extra_angles], "code": code,
+            "versions": [metadata.version(x) for x in ("numpy", "scipy", "colour-science")]}
+    return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
+
+
+def _fits(spec, cache: Path | None) -> dict:
+    from swatch.presets.fit import fit_presets
+
+    extra = sorted({g.theta_d_deg for g in (spec.reference, *spec.multi_angle) if g.theta_d_deg <= 60.0})
+    key = fit_key(spec, extra)
+    path = cache / f"presets-{key}.json" if cache is not None else None
+    if path is not None and path.is_file():
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            return {m: (np.asarray(v["params"]), np.asarray(v["dE60"]), np.asarray(v["dE45"]))
+                    for m, v in data.items()}
+        except (OSError, ValueError, KeyError):
+            pass
+    out = {}
+    for fmt in PRESET_FORMATS:
+        model = FORMAT_MODEL[fmt]
+        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate)
+        written = round_params(fit.params)
+        from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
+
+        dE = errors_delta_E_00(model, written, fit.thickness_nm, FIT_ANGLES_DEG, spec.film, spec.substrate)
+        out[model] = (written, dE.max(axis=1), dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1))
+    if path is not None:
+        from swatch.fileio import atomic_write_text
+
+        for stale in cache.glob("presets-*.json"):
+            stale.unlink(missing_ok=True)
+        atomic_write_text(path, json.dumps({m: {"params": v[0].tolist(), "dE60": v[1].tolist(),
+                                                "dE45": v[2].tolist()} for m, v in out.items()}))
+    return out
+
+
+def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE: float, thickness_nm: float) -> bytes:
+    from swatch.presets import write
+
+    rough = roughness_factor(alpha)
+    note = (f"oxide {thickness_nm:g} nm; max ΔE2000 {max_dE:.2f} over facet angles 0–60° "
+            "(D65, CIE 1931 2°)")
+    if fmt == "gltf":
+        return write.gltf_bytes(title, params, rough, extras={"swatch": {"thickness_nm": thickness_nm,
+                                                                       "max_delta_E_00": round(max_dE, 2),
+                                                                       "illuminant": "D65", "observer": "2",
+                                                                       "facet_angles_deg": [0, 60]}})
+    if fmt == "blender":
+        return write.blender_bytes(title, params, rough, preset_file_name(ident, fmt), note)
+    return write.materialx_bytes(title, params, rough)
+
+
+def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, bytes]:
+    """Add ``presets`` to each record; return {file name: bytes} of the preset files."""
+    fits = _fits(spec, cache)
+    files: dict[str, bytes] = {}
+    for i, rec in enumerate(records):
+        entry: dict = {}
+        for fmt in PRESET_FORMATS:
+            params, dE60, dE45 = (a[i] for a in fits[FORMAT_MODEL[fmt]])
+            name = preset_file_name(rec["id"], fmt)
+            title = f"{rec['id']} anodised {rec['thickness_nm']:g} nm"
+            files[name] = preset_bytes(fmt, rec["id"], title, params, spec.roughness, float(dE60), rec["thickness_nm"])
+            entry[fmt] = name
+            entry[ERROR_KEYS[fmt]] = round(float(dE60), 2)
+            entry[ERROR_KEYS[fmt] + "_45"] = round(float(dE45), 2)
+        entry["conditions"] = "ΔE2000 vs exact colour, D65, CIE 1931 2°, facet angles 0–60° (_45: 0–45°)"
+        rec["presets"] = entry
+    return files

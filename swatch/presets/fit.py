@@ -1,0 +1,237 @@
+"""Fit each renderer's thin-film parameters to the exact colour of every swatch, vectorised.
+
+For N swatch thicknesses the target is the exact half-vector colour (Airy reflectance of the
+film on the substrate at facet angle θ_d, CIELAB under D65 and the CIE 1931 2° observer) at the
+facet angles :data:`FIT_ANGLES_DEG` (0–60° in 5° steps) plus the catalog's own geometries
+(weighted double). The parameters of a model are ``(thickness_nm, film_ior, base R, G, B)``; the
+model's Fresnel factor at cos θ_d (linear Rec.709) is converted to CIELAB the same way
+(:func:`swatch.presets.spectral.rgb_to_Lab`) and the residuals are the per-angle ΔE2000.
+
+Search, all swatches at once: a grid over (thickness offset, film IOR) with the base colour of
+bare metal, then a bounded Levenberg–Marquardt refinement of all five parameters (finite-difference
+Jacobian, one batched model call per parameter). Continuity: each swatch is re-fitted from its
+neighbours' solutions (shifted by the thickness step) and takes that solution when it is at
+least as good (cost within :data:`CONTINUITY_SLACK`), so neighbouring presets vary smoothly.
+Bounds keep the parameters plausible: film IOR :data:`FILM_IOR_RANGE`, base colour
+:data:`BASE_RANGE`, thickness within :data:`THICKNESS_WINDOW_NM` of the swatch's.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["MODELS", "FIT_ANGLES_DEG", "FILM_IOR_RANGE", "BASE_RANGE", "THICKNESS_WINDOW_NM", "PresetFit",
+           "fit_presets", "model_Lab", "exact_Lab", "errors_delta_E_00"]
+
+FIT_ANGLES_DEG = np.arange(0.0, 60.0 + 1e-9, 5.0)
+#: The angles the search evaluates (the errors are then reported on FIT_ANGLES_DEG).
+SEARCH_ANGLES_DEG = np.arange(0.0, 60.0 + 1e-9, 10.0)
+#: Film IOR bounds (TiO2 is 2.2–2.9 in the visible; renderers accept 1–3).
+FILM_IOR_RANGE = (1.5, 3.0)
+#: Base colour (linear F0) bounds.
+BASE_RANGE = (0.02, 0.98)
+#: The model's thickness stays within this distance of the swatch's (nm).
+THICKNESS_WINDOW_NM = 120.0
+CONTINUITY_SLACK = 1.15
+#: A neighbour's solution may not raise a swatch's largest error at 0–45° above this (ΔE2000).
+CONTINUITY_MAX_45 = 2.5
+NEAR_BEST = 1.3
+_STARTS = 4
+_GRID_OFFSETS_NM = np.arange(-100.0, 100.0, 4.0)  # 50 offsets = 10 bands of 5
+_BAND = 5
+_GRID_IOR = np.array([1.8, 2.1, 2.4, 2.7])
+_LM_ITERATIONS = 16
+_CONTINUITY_ROUNDS = 1
+
+
+def _model(name: str):
+    from swatch.presets import cycles, gltf, openpbr
+
+    return {"gltf": gltf.iridescent_fresnel, "cycles": cycles.principled_metal_fresnel,
+            "openpbr": openpbr.thin_film_metal_fresnel}[name]
+
+
+#: Model names (swatch.presets.FORMAT_MODEL maps formats to them).
+MODELS = ("gltf", "cycles", "openpbr")
+
+
+def model_Lab(model: str, params, angles_deg) -> np.ndarray:
+    """CIELAB (D65, 2°) of ``model`` with ``params`` (..., 5) at facet angles (A,): (..., A, 3)."""
+    from swatch.presets.spectral import rgb_to_Lab
+
+    p = np.asarray(params, dtype=np.float64)
+    c = np.cos(np.radians(np.asarray(angles_deg, dtype=np.float64)))
+    F = _model(model)(c, p[..., 0:1], p[..., 1:2], p[..., None, 2:5])
+    return rgb_to_Lab(F)
+
+
+def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str | None = None) -> np.ndarray:
+    """The exact colour (N, A, 3): Airy reflectance at facet angle θ_d, CIELAB under D65, 2°."""
+    from swatch.colorimetry import get_colorimeter
+    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+    from swatch.model import get_coating
+
+    wl = wavelength_grid(380.0, 780.0, 5.0)
+    coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl)
+    cm = get_colorimeter(wl, "D65", "2")
+    d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
+    R = coating.reflectance(d[:, None], np.asarray(angles_deg, dtype=np.float64)[None, :]).R
+    return cm.Lab(cm.XYZ(R))
+
+
+def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DEG, film=None,
+                      substrate=None) -> np.ndarray:
+    """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour."""
+    from swatch.colorimetry import delta_E_00
+
+    return delta_E_00(model_Lab(model, params, angles_deg), exact_Lab(thickness_nm, angles_deg, film, substrate))
+
+
+@dataclass
+class PresetFit:
+    """Fitted parameters of one model for N swatches, and their errors against the exact colour."""
+
+    model: str
+    thickness_nm: np.ndarray  # (N,) the swatches'
+    params: np.ndarray  # (N, 5): model thickness (nm), film IOR, base colour linear RGB
+    angles_deg: np.ndarray  # (A,)
+    delta_E_00: np.ndarray  # (N, A)
+
+    def max_delta_E_00(self, up_to_deg: float = 60.0) -> np.ndarray:
+        return self.delta_E_00[:, self.angles_deg <= up_to_deg + 1e-9].max(axis=1)
+
+
+def _bounds(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    n = d.size
+    lo = np.column_stack([np.maximum(d - THICKNESS_WINDOW_NM, 0.0), np.full(n, FILM_IOR_RANGE[0]),
+                          np.full((n, 3), BASE_RANGE[0])])
+    hi = np.column_stack([d + THICKNESS_WINDOW_NM, np.full(n, FILM_IOR_RANGE[1]), np.full((n, 3), BASE_RANGE[1])])
+    return lo, hi
+
+
+def _bare_metal_rgb(substrate: str | None) -> np.ndarray:
+    """Linear Rec.709 F0 of the bare substrate (D65, 2°): the starting base colour."""
+    from swatch.presets.spectral import _rgb_to_xyz_matrix
+
+    from swatch.colorimetry import get_colorimeter
+    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+    from swatch.model import get_coating
+
+    wl = wavelength_grid(380.0, 780.0, 5.0)
+    coating = get_coating(DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl)
+    cm = get_colorimeter(wl, "D65", "2")
+    XYZ = cm.XYZ(coating.reflectance(np.array([0.0]), np.array([0.0])).R)[0] / 100.0
+    return np.clip(np.linalg.solve(_rgb_to_xyz_matrix()[0], XYZ), *BASE_RANGE)
+
+
+class _Problem:
+    def __init__(self, model, target_Lab, weights, angles_deg, power: float = 1.0):
+        from swatch.colorimetry import delta_E_00
+
+        self.model, self.target, self.w, self.angles = model, target_Lab, np.sqrt(weights), angles_deg
+        self.power = power
+        self._dE = delta_E_00
+
+    def max_45(self, residuals) -> np.ndarray:
+        """Largest ΔE2000 at the angles up to 45° from residuals of :meth:`residuals`."""
+        dE = (residuals / self.w) ** (1.0 / self.power)
+        return dE[:, self.angles <= 45.0].max(axis=1)
+
+    def residuals(self, p, rows):
+        """Weighted ΔE2000**power (len(rows), A) for parameter rows p matched to swatch ``rows``."""
+        return self._dE(model_Lab(self.model, p, self.angles), self.target[rows]) ** self.power * self.w
+
+
+def _levenberg_marquardt(prob: _Problem, p0, rows, lo, hi, iterations: int = _LM_ITERATIONS):
+    """Bounded LM on many independent problems at once; returns (params, cost, residuals)."""
+    n, k = p0.shape
+    p = np.clip(p0, lo, hi)
+    r = prob.residuals(p, rows)
+    cost = (r ** 2).sum(axis=1)
+    lam = np.full(n, 1e-2)
+    step = np.array([0.5, 0.005, 0.002, 0.002, 0.002])
+    eye = np.eye(k)
+    for _ in range(iterations):  # iterations of the solver, each vectorised over all swatches
+        pp = (p[:, None, :] + step[None, :, None] * eye[None]).reshape(n * k, k)
+        rj = prob.residuals(pp, np.repeat(rows, k)).reshape(n, k, -1)
+        J = (rj - r[:, None, :]) / step[None, :, None]
+        JtJ = np.einsum("npm,nqm->npq", J, J)
+        g = np.einsum("npm,nm->np", J, r)
+        diag = np.einsum("npp->np", JtJ) + 1e-9
+        A = JtJ + lam[:, None, None] * (diag[:, :, None] * eye[None])
+        delta = -np.linalg.solve(A, g[..., None])[..., 0]
+        pn = np.clip(p + delta, lo, hi)
+        rn = prob.residuals(pn, rows)
+        cn = (rn ** 2).sum(axis=1)
+        better = cn < cost
+        p = np.where(better[:, None], pn, p)
+        r = np.where(better[:, None], rn, r)
+        cost = np.where(better, cn, cost)
+        lam = np.clip(np.where(better, lam * 0.3, lam * 8.0), 1e-7, 1e7)
+    return p, cost, r
+
+
+def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
+                substrate: str | None = None) -> PresetFit:
+    """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring."""
+    d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
+    extra = np.unique(np.asarray([a for a in extra_angles_deg if 0.0 <= a <= 60.0], dtype=np.float64))
+    angles = np.concatenate([SEARCH_ANGLES_DEG, extra])
+    weights = np.concatenate([np.where(SEARCH_ANGLES_DEG <= 45.0, 1.0, 0.5), np.full(extra.size, 2.0)])
+    target = exact_Lab(d, angles, film, substrate)
+    prob = _Problem(model, target, weights, angles)
+    n = d.size
+    rows = np.arange(n)
+    lo, hi = _bounds(d)
+    # 1. grid over (thickness offset, film IOR), base colour = bare metal; the best point of each
+    #    thickness band starts a refinement (multi-start: the cost has many local minima)
+    base = _bare_metal_rgb(substrate)
+    off, eta = np.meshgrid(_GRID_OFFSETS_NM, _GRID_IOR, indexing="ij")
+    g = off.size
+    cand = np.empty((n, g, 5))
+    cand[..., 0] = d[:, None] + off.ravel()[None, :]
+    cand[..., 1] = eta.ravel()[None, :]
+    cand[..., 2:] = base
+    cand = np.clip(cand, lo[:, None, :], hi[:, None, :])
+    cost = (prob.residuals(cand.reshape(n * g, 5), np.repeat(rows, g)).reshape(n, g, -1) ** 2).sum(axis=2)
+    bands = cost.reshape(n, -1, _BAND * _GRID_IOR.size)  # (n, bands, candidates in a band)
+    best_in_band = bands.argmin(axis=2) + np.arange(bands.shape[1])[None, :] * bands.shape[2]
+    band_cost = np.take_along_axis(cost, best_in_band, axis=1)
+    top = np.take_along_axis(best_in_band, np.argsort(band_cost, axis=1)[:, :_STARTS], axis=1)
+    starts = cand[rows[:, None], top].reshape(-1, 5)  # (n * _STARTS, 5)
+    srows = np.repeat(rows, _STARTS)
+    # 2. refine everything from every start, keep the best per swatch
+    ps, cs, rs = _levenberg_marquardt(prob, starts, srows, lo[srows], hi[srows])
+    cs = cs.reshape(n, -1)
+    ps = ps.reshape(n, -1, 5)
+    #    among the near-best solutions take the one whose thickness offset is closest to the
+    #    model's typical offset (plausible, and smooth across swatches)
+    offset = ps[..., 0] - d[:, None]
+    typical = np.median(offset[rows, cs.argmin(axis=1)])
+    near = cs <= cs.min(axis=1, keepdims=True) * NEAR_BEST
+    pick = np.where(near, np.abs(offset - typical), np.inf).argmin(axis=1)
+    p = ps[rows, pick]
+    cost = cs[rows, pick]
+    worst = prob.max_45(rs.reshape(n, -1, rs.shape[-1])[rows, pick])
+    # 3. continuity: re-fit from the neighbours' solutions, keep when as good
+    order = np.argsort(d)
+    for _ in range(_CONTINUITY_ROUNDS):
+        for shift in (1, -1):
+            src = np.roll(order, shift)
+            valid = np.ones(n, dtype=bool)
+            valid[order[0] if shift == 1 else order[-1]] = False
+            i = order[valid[order]]
+            j = src[valid[order]]
+            if i.size == 0:
+                continue
+            warm = p[j].copy()
+            warm[:, 0] += d[i] - d[j]
+            pw, cw, rw = _levenberg_marquardt(prob, warm, i, lo[i], hi[i], iterations=_LM_ITERATIONS // 2)
+            ww = prob.max_45(rw)
+            take = (cw <= cost[i] * CONTINUITY_SLACK) & (ww <= np.maximum(worst[i], CONTINUITY_MAX_45))
+            p[i[take]] = pw[take]
+            cost[i[take]] = cw[take]
+            worst[i[take]] = ww[take]
+    report = np.unique(np.concatenate([FIT_ANGLES_DEG, extra]))
+    return PresetFit(model, d, p, report, errors_delta_E_00(model, p, d, report, film, substrate))
