@@ -58,6 +58,8 @@ def built(tmp_path_factory):
 EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf", "test-catalog.ase",
                   "test-catalog-srgb.ase",
                   "sheet_01.png", "sheet_01.exr", "sheet_02.png", "sheet_02.exr"}
+EXPECTED_FILES |= {f"preset_S{i + 1:03d}{end}" for i in range(len(THICKNESSES))
+                   for end in (".gltf", "_blender.py", ".mtlx")}  # 3-D material presets
 
 
 def test_outputs_and_records(built):
