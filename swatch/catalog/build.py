@@ -21,7 +21,8 @@ with ``os.replace`` (SIGINT/SIGTERM held off for those few milliseconds), remove
 build's files that are no longer produced, writes the manifest and deletes the journal. A
 build that fails or is interrupted before the commit leaves the previous catalog untouched (its
 staging folder is removed on the next run); one killed during the commit is completed from the
-journal by the next run. Nothing is written outside ``DIR``. A non-empty ``DIR`` that has no
+journal by the next run, and one whose commit fails is rolled back (``swatch.catalog.folder``).
+Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. A non-empty ``DIR`` that has no
 manifest is not a swatch catalog and is refused.
 """
 from __future__ import annotations
@@ -31,14 +32,15 @@ import hashlib
 import io
 import json
 import os
-import shutil
-import signal
 import sys
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from swatch.catalog.folder import (JOURNAL, MANIFEST, META_DIR, cache_folder, check_targets, commit, file_matches,
+                                   fsync_dir, intact, load_manifest, locked, meta_folder, recover, remove_tree,
+                                   rollback, sha256_file, signals_held, write_journal)
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.errors import SwatchError
 from swatch.fileio import check_writable_dir
@@ -46,9 +48,6 @@ from swatch.fileio import check_writable_dir
 __all__ = ["build_catalog", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
 FORMAT_VERSION = 1
-META_DIR = ".swatch-catalog"
-MANIFEST = "manifest.json"
-JOURNAL = "journal.json"
 
 #: Modules whose code shapes the outputs (their source is hashed into the fingerprint).
 _CODE_MODULES = ("optics", "model", "geometry", "colorimetry", "materials", "appearance", "tolerance",
@@ -69,12 +68,7 @@ class BuildResult:
 
 # -- hashing ---------------------------------------------------------------------------------
 
-def _sha256_file(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
+_sha256_file = sha256_file
 
 
 def _hash_json(obj) -> str:
@@ -110,15 +104,15 @@ def slug(name: str) -> str:
     return out[:60] or "catalog"
 
 
-# -- output folder, lock, journal ------------------------------------------------------------
+# -- output folder ---------------------------------------------------------------------------
 
 def _prepare_out_dir(out: Path) -> Path:
     if out.exists() and not out.is_dir():
         raise SwatchError(f"output folder {out} is a file; give a folder")
-    meta = out / META_DIR
+    meta = meta_folder(out)
     if out.exists():
         entries = [p for p in out.iterdir() if p.name != META_DIR]
-        if entries and not (meta / MANIFEST).is_file() and not (meta / JOURNAL).is_file():
+        if entries and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
             raise SwatchError(
                 f"output folder {out} is not empty and is not a swatch catalog (no {META_DIR}/{MANIFEST}); "
                 "give an empty or new folder, or a folder a previous catalog build wrote")
@@ -127,99 +121,13 @@ def _prepare_out_dir(out: Path) -> Path:
     return meta
 
 
-@contextmanager
-def _locked(meta: Path):
-    import fcntl
-
-    fh = open(meta / "lock", "a+")
+def _remove_first_build(out: Path, meta: Path) -> None:
+    """A first build that failed leaves nothing: its metadata folder, and the folder if now empty."""
+    remove_tree(meta)
     try:
-        try:
-            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise SwatchError(f"another catalog build is writing {meta.parent}; wait for it to finish") from None
-        yield
-    finally:
-        fh.close()
-
-
-@contextmanager
-def _signals_held():
-    """Defer SIGINT/SIGTERM/SIGHUP while the staged files are moved into place."""
-    sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
-    try:
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
-    except (AttributeError, ValueError, OSError):  # not the main thread or no support
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
-def _read_json(path: Path):
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-
-
-def _write_json_atomic(path: Path, obj) -> None:
-    from swatch.fileio import atomic_write_text
-
-    atomic_write_text(path, json.dumps(obj, indent=1, sort_keys=True) + "\n")
-
-
-def _fsync_dir(path: Path) -> None:
-    try:
-        fd = os.open(path, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
+        out.rmdir()
     except OSError:
         pass
-    finally:
-        os.close(fd)
-
-
-def _apply_journal(out: Path, meta: Path, journal: dict) -> None:
-    """Move a complete staging folder into place (idempotent: safe to replay after a crash)."""
-    staging = meta / journal["staging"]
-    for name in journal["files"]:
-        src = staging / name
-        if src.exists():
-            os.replace(src, out / name)
-    for name in journal["remove"]:
-        (out / name).unlink(missing_ok=True)
-    _write_json_atomic(meta / MANIFEST, journal["manifest"])
-    _fsync_dir(out)
-    (meta / JOURNAL).unlink(missing_ok=True)
-    shutil.rmtree(staging, ignore_errors=True)
-
-
-def _recover(out: Path, meta: Path) -> None:
-    journal = _read_json(meta / JOURNAL)
-    if journal is not None:
-        _apply_journal(out, meta, journal)
-    else:
-        (meta / JOURNAL).unlink(missing_ok=True)
-    for stale in meta.glob("staging-*"):
-        shutil.rmtree(stale, ignore_errors=True)
-
-
-def _intact(out: Path, manifest: dict) -> bool:
-    files = manifest.get("files") or {}
-    for name, info in files.items():
-        p = out / name
-        try:
-            if p.stat().st_size != info["size"]:
-                return False
-        except OSError:
-            return False
-        if _sha256_file(p) != info["sha256"]:
-            return False
-    return bool(files)
 
 
 # -- the build -------------------------------------------------------------------------------
@@ -335,25 +243,25 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
     jobs = _check_jobs(jobs)
     created = not out.exists()
     meta = _prepare_out_dir(out)
-    try:
-        return _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0)
-    except BaseException:
-        if created and not (meta / MANIFEST).exists() and not (meta / JOURNAL).exists():
-            shutil.rmtree(out, ignore_errors=True)  # a first build that failed leaves nothing behind
-        raise
+    with locked(meta):  # only the lock holder creates, changes or removes anything
+        try:
+            return _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0)
+        except BaseException:
+            if created and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
+                _remove_first_build(out, meta)  # a first build that failed leaves nothing behind
+            raise
 
 
 def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildResult:
-    with _locked(meta):
-        _recover(out, meta)
-        fp = code_fingerprint()
-        fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
-        old = _read_json(meta / MANIFEST) or {}
-        if old.get("fingerprint") == fingerprint and _intact(out, old):
-            n_sheets = len([k for k in old.get("files", {}) if k.endswith(".png")])
-            return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
-                               files=sorted(old["files"]))
-        return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
+    recover(out, meta)
+    fp = code_fingerprint()
+    fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
+    old = load_manifest(meta)
+    if old.get("fingerprint") == fingerprint and intact(out, old):
+        n_sheets = len([k for k in old.get("files", {}) if k.endswith(".png")])
+        return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
+                           files=sorted(old["files"]))
+    return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
 
 
 def _check_jobs(jobs) -> int:
@@ -382,8 +290,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     staging = Path(tempfile.mkdtemp(prefix="staging-", dir=meta))
     pool = None
     try:
-        cache = meta / "cache"
-        cache.mkdir(exist_ok=True)
+        cache = cache_folder(meta)
         from swatch.presets.catalog import catalog_presets
 
         preset_files = catalog_presets(spec, records, cache)  # adds each record's "presets"; fits cached
@@ -407,7 +314,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             sheet_list.append({"number": s + 1, "png": png, "exr": exr, "swatches": [r["id"] for r in recs],
                                "key": key})
             reuse = (old_sheet_keys.get(png) == key and old_sheet_keys.get(exr) == key
-                     and all(_file_matches(out / f, old_files.get(f)) for f in (png, exr)))
+                     and all(file_matches(out / f, old_files.get(f)) for f in (png, exr)))
             if reuse:  # unchanged and intact: left in place, not staged
                 for f in (png, exr):
                     files[f] = old_files[f]
@@ -446,11 +353,21 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                     "fingerprint": fingerprint, "spec_file": spec_name, "name": spec.name,
                     "files": files, "sheet_keys": {f: sh["key"] for sh in sheet_list for f in (sh["png"], sh["exr"])}}
         removed = sorted(set(old_files) - set(files))
-        journal = {"staging": staging.name, "files": sorted(files), "remove": removed, "manifest": manifest}
-        with _signals_held():
-            _fsync_dir(staging)
-            _write_json_atomic(meta / JOURNAL, journal)
-            _apply_journal(out, meta, journal)
+        staged = sorted(p.name for p in staging.iterdir())
+        check_targets(out, staged)
+        journal = {"phase": "commit", "staging": staging.name, "files": staged, "remove": removed,
+                   "manifest": manifest}
+        with signals_held():
+            fsync_dir(staging)
+            write_journal(meta, journal)
+            try:
+                commit(out, meta, journal)
+            except (OSError, SwatchError) as exc:
+                rollback(out, meta, journal)  # the previous catalog comes back as it was
+                why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+                where = f" ({exc.filename})" if isinstance(exc, OSError) and exc.filename else ""
+                raise SwatchError(f"could not move the new catalog into {out}: {why}{where}; "
+                                  "the previous catalog was restored") from None
         # 5. prune the cache to the tiles in use
         keep = {f"{k}.npz" for k in tile_keys}
         for p in cache.glob("*.npz"):
@@ -462,7 +379,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             pool = None
         if (meta / JOURNAL).exists():
             raise  # the commit started: the next run completes it from the journal
-        shutil.rmtree(staging, ignore_errors=True)
+        remove_tree(staging)
         raise
     finally:
         if pool is not None:
@@ -470,11 +387,3 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     return BuildResult(out, False, n, n_sheets, rendered=rendered, composed=composed,
                        seconds=time.perf_counter() - t0, files=sorted(files))
 
-
-def _file_matches(path: Path, info) -> bool:
-    if not info:
-        return False
-    try:
-        return path.stat().st_size == info["size"] and _sha256_file(path) == info["sha256"]
-    except OSError:
-        return False

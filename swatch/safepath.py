@@ -1,0 +1,68 @@
+"""Paths read from files are untrusted: they must name something inside the folder they belong to.
+
+A catalog folder (its ``.swatch-catalog`` metadata: manifest, journal, cache) may come from
+someone else, so every name read back from it is checked before anything is opened, moved or
+deleted: :func:`plain_name` for entries that can only be file names, :func:`inside` for paths
+that must resolve inside a given folder, :func:`real_folder` for a folder that must not be a
+symbolic link (which would redirect writes elsewhere). Failures raise
+:class:`~swatch.errors.SwatchError` (one line, exit 2), before anything is touched.
+"""
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+from swatch.errors import SwatchError
+
+__all__ = ["plain_name", "inside", "real_folder", "is_regular_file", "MAX_NAME_CHARS"]
+
+#: Longest file name accepted from metadata (the usual file-system limit).
+MAX_NAME_CHARS = 255
+
+
+def plain_name(name, what: str) -> str:
+    """``name`` if it is one plain file name (no folder part, not ``.``/``..``, no control characters)."""
+    if not isinstance(name, str):
+        raise SwatchError(f"{what}: a file name must be a text (got {type(name).__name__})")
+    bad = (not name or name in (".", "..") or "/" in name or "\\" in name or len(name) > MAX_NAME_CHARS
+           or any(ord(ch) < 32 or ord(ch) == 127 for ch in name))
+    if bad:
+        raise SwatchError(f"{what}: {name[:80]!r} is not a plain file name; only names of files directly inside "
+                          f"the folder are allowed (no '/', '..' or control characters, at most "
+                          f"{MAX_NAME_CHARS} characters)")
+    return name
+
+
+def inside(root, relative, what: str) -> Path:
+    """``root / relative``, refused unless it resolves (symbolic links followed) inside ``root``."""
+    if not isinstance(relative, str) or not relative or "\0" in relative:
+        raise SwatchError(f"{what}: {relative!r} is not a relative path inside {root}")
+    base = Path(root).resolve()
+    target = (base / relative).resolve()
+    if Path(relative).is_absolute() or target == base or not target.is_relative_to(base):
+        raise SwatchError(f"{what}: {relative[:80]!r} points outside {root}; only paths inside it are allowed")
+    return base / relative
+
+
+def real_folder(path, what: str) -> Path:
+    """``path`` if it is absent or a real folder (not a symbolic link, not a file)."""
+    p = Path(path)
+    try:
+        st = os.lstat(p)
+    except FileNotFoundError:
+        return p
+    if stat.S_ISLNK(st.st_mode):
+        raise SwatchError(f"{what} {p} is a symbolic link; it must be a real folder inside the catalog folder "
+                          "(a link would send the build's writes elsewhere)")
+    if not stat.S_ISDIR(st.st_mode):
+        raise SwatchError(f"{what} {p} is not a folder")
+    return p
+
+
+def is_regular_file(path) -> bool:
+    """True for a regular file that is not a symbolic link (False for links, folders, devices, FIFOs)."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
