@@ -70,7 +70,8 @@ def test_cxf3_content(data):
     objs = root.findall(".//cc:Object", NS)
     assert len(objs) == 3
     specs = {cs.get("Id"): cs for cs in root.findall(".//cc:ColorSpecification", NS)}
-    assert len(specs) == 1 + len(SPEC.multi_angle)
+    # reference (D65/10°), reference under D50/2° and under D65/2° (sRGB), the multi-angle geometries
+    assert len(specs) == 3 + len(SPEC.multi_angle)
     ref_id = "CS-45-0"
     sa = specs[ref_id].find(".//cc:SingleAngle", NS)
     assert float(sa.find("cc:IlluminationAngle", NS).text) == 45 and float(sa.find("cc:MeasurementAngle", NS).text) == 0

@@ -140,3 +140,66 @@ def test_catalog_hex_is_2deg_srgb(illuminant, observer):
     ref = swatch_color_json("--thickness", ",".join(f"{t:g}" for t in THICKNESSES),
                             "--illuminant", illuminant, "--observer", observer)
     assert [r["srgb_hex"] for r in ref["rows"]] == [r["srgb_hex"] for r in data.records]
+
+
+# -- CxF3 -----------------------------------------------------------------------------------------
+CXF_XSD = Path(__file__).parent / "data" / "cxf3" / "CxF3_Core.xsd"
+NS = {"cc": "http://colorexchangeformat.com/CxF3-core"}
+
+
+def cxf_schema():
+    from lxml import etree
+
+    return etree.XMLSchema(etree.parse(str(CXF_XSD)))
+
+
+@pytest.mark.parametrize("illuminant, observer", [("D65", "10"), ("D50", "2"), ("A", "10")])
+def test_cxf3_is_valid_against_the_official_schema(illuminant, observer):
+    from lxml import etree
+
+    from swatch.catalog.exports import cxf_bytes
+
+    spec = parse_spec({"name": "schema", "thickness": {"list_nm": [40.0, 130.0]},
+                       "colour": {"illuminant": illuminant, "observer": observer}})
+    doc = etree.fromstring(cxf_bytes(spec, compute(spec)))
+    schema = cxf_schema()
+    assert schema.validate(doc), schema.error_log
+    # The schema can fail: an unknown method is refused
+    bad = etree.fromstring(cxf_bytes(spec, compute(spec)))
+    bad.find(".//cc:Method", NS).text = "E308_Table7"
+    assert not schema.validate(bad)
+
+
+def test_cxf3_method_white_points_srgb_and_d50(data):
+    import xml.etree.ElementTree as ET
+
+    from swatch.catalog.exports import cxf_bytes
+
+    root = ET.fromstring(cxf_bytes(SPEC, data))
+    specs = {cs.get("Id"): cs for cs in root.findall(".//cc:ColorSpecification", NS)}
+    for cs in specs.values():
+        assert cs.find(".//cc:Method", NS).text == "E308_1nm"  # 5 nm data, ASTM E308 (colour.sd_to_XYZ)
+        ill = cs.find(".//cc:Illuminant", NS)
+        obs = cs.find(".//cc:Observer", NS).text
+        cmfs = colour.MSDS_CMFS[{"2_Degree": "CIE 1931 2 Degree Standard Observer",
+                                 "10_Degree": "CIE 1964 10 Degree Standard Observer"}[obs]]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            white = colour.sd_to_XYZ(colour.SpectralDistribution(np.ones(81), data.wavelength_nm), cmfs,
+                                     colour.SDS_ILLUMINANTS[ill.text])
+        assert [float(ill.get(k)) for k in "XYZ"] == pytest.approx(white, abs=1e-3)
+    obj = root.findall(".//cc:Object", NS)[2]
+    rec = data.records[2]
+    srgb = obj.find("cc:ColorValues/cc:ColorSRGB", NS)
+    cs_srgb = specs[srgb.get("ColorSpecification")]
+    assert cs_srgb.find(".//cc:Observer", NS).text == "2_Degree"
+    assert cs_srgb.find(".//cc:Illuminant", NS).text == "D65"
+    assert "#" + "".join(f"{int(srgb.find(f'cc:{k}', NS).text):02x}" for k in "RGB") == rec["srgb_hex"]
+    labs = {specs[e.get("ColorSpecification")].find(".//cc:Illuminant", NS).text
+            + "/" + specs[e.get("ColorSpecification")].find(".//cc:Observer", NS).text: e
+            for e in obj.findall("cc:ColorValues/cc:ColorCIELab", NS)
+            if specs[e.get("ColorSpecification")].find(".//cc:SingleAngle", NS) is not None}
+    assert set(labs) == {"D65/10_Degree", "D50/2_Degree"}
+    d50 = [float(labs["D50/2_Degree"].find(f"cc:{k}", NS).text) for k in ("L", "A", "B")]
+    ref = swatch_color_json("--thickness", "75.5", "--illuminant", "D50", "--observer", "2")["rows"][0]["Lab"]
+    assert float(colour.delta_E(d50, ref, method="CIE 2000")) <= 0.05

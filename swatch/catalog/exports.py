@@ -90,23 +90,34 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
     from xsdata.formats.dataclass.serializers.config import SerializerConfig
     from xsdata.models.datatype import XmlDateTime
 
+    from swatch.colorimetry import Lab_to_LCh, get_colorimeter
+
     date = XmlDateTime.from_string(FIXED_DATE)
     wl = data.wavelength_nm
     start, inc = int(round(wl[0])), int(round(wl[1] - wl[0]))
-    ill_name = _CXF_ILLUMINANTS.get(data.illuminant)
-    if ill_name is not None:
-        illuminant = cxf3.Illuminant(value=cxf3.EilluminantType(ill_name))
-    else:
-        illuminant = cxf3.Illuminant(value=cxf3.EilluminantType.CUSTOM, name=data.illuminant)
-    observer = cxf3.Observer(value=cxf3.EobserverType("10_Degree" if data.observer == "10" else "2_Degree"))
+    # colour.sd_to_XYZ's ASTM E308 practice: 1 and 5 nm data are weighted by the 1 nm tables at the
+    # data's wavelengths; 10 and 20 nm data by weights for bandpass-corrected data (Table 6).
+    method = cxf3.EastmTableType.E308_1NM if inc in (1, 5) else cxf3.EastmTableType.E308_TABLE6
 
-    def colour_spec(cs_id: str, geometry_choice) -> cxf3.ColorSpecification:
+    def tristimulus(illuminant_name: str, observer: str) -> cxf3.TristimulusSpec:
+        white = get_colorimeter(wl, illuminant_name, observer).white_XYZ  # Y = 100
+        xyz = dict(x=round(float(white[0]), 4), y=round(float(white[1]), 4), z=round(float(white[2]), 4))
+        ill_name = _CXF_ILLUMINANTS.get(illuminant_name)
+        if ill_name is not None:
+            illuminant = cxf3.Illuminant(value=cxf3.EilluminantType(ill_name), **xyz)
+        else:
+            illuminant = cxf3.Illuminant(value=cxf3.EilluminantType.CUSTOM, name=illuminant_name, **xyz)
+        return cxf3.TristimulusSpec(
+            illuminant_or_custom_illuminant=illuminant,
+            observer=cxf3.Observer(value=cxf3.EobserverType("10_Degree" if observer == "10" else "2_Degree")),
+            method=cxf3.Method(value=method),
+        )
+
+    def colour_spec(cs_id: str, geometry_choice, illuminant_name=data.illuminant,
+                    observer=data.observer) -> cxf3.ColorSpecification:
         return cxf3.ColorSpecification(
             id=cs_id,
-            tristimulus_spec=cxf3.TristimulusSpec(
-                illuminant_or_custom_illuminant=illuminant, observer=observer,
-                method=cxf3.Method(value=cxf3.EastmTableType.UNKNOWN),
-            ),
+            tristimulus_spec=tristimulus(illuminant_name, observer),
             measurement_spec=cxf3.MeasurementSpec(
                 measurement_type=cxf3.MeasurementType(value=cxf3.EspectrumType.SPECTRUM_REFLECTANCE),
                 geometry_choice=geometry_choice,
@@ -115,10 +126,27 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
         )
 
     ref = spec.reference
-    specs = [colour_spec("CS-" + ref.name.replace(":", "-"), cxf3.GeometryChoice(choice=[cxf3.SingleAngleType(
-        single_angle_configuration=cxf3.SingleAngleConfiguration(
-            value=cxf3.EsingleAngleConfigurationType.UNIPLANAR),
-        illumination_angle=ref.light_deg, measurement_angle=ref.view_deg)]))]
+
+    def ref_geometry():
+        return cxf3.GeometryChoice(choice=[cxf3.SingleAngleType(
+            single_angle_configuration=cxf3.SingleAngleConfiguration(
+                value=cxf3.EsingleAngleConfigurationType.UNIPLANAR),
+            illumination_angle=ref.light_deg, measurement_angle=ref.view_deg)])
+
+    ref_id = "CS-" + ref.name.replace(":", "-")
+    specs = [colour_spec(ref_id, ref_geometry())]
+    # The same reference spectrum under D50 / CIE 1931 2° (what print workflows and ICC assume),
+    # and the 2° specification sRGB is defined on (the catalog's illuminant, 2° observer).
+    extra = {}
+    for ill, obs in (("D50", "2"), (data.illuminant, "2")):
+        cs_id = f"{ref_id}-{ill}-{obs}deg"
+        if (ill, obs) == (data.illuminant, data.observer):
+            extra[(ill, obs)] = ref_id
+        elif (ill, obs) not in extra:
+            extra[(ill, obs)] = cs_id
+            specs.append(colour_spec(cs_id, ref_geometry(), ill, obs))
+    d50_id, srgb_id = extra[("D50", "2")], extra[(data.illuminant, "2")]
+    n_ref = len(specs)
     for g in spec.multi_angle:
         specs.append(colour_spec("CS-" + g.name, cxf3.GeometryChoice(choice=[cxf3.MultiAngleType(
             brdfangle=[cxf3.Brdfangle(illumination_angle=g.light_deg, aspecular=g.aspecular_deg, notation=g.name)])])))
@@ -128,17 +156,21 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
 
     objects = []
     for i, rec in enumerate(data.records):
-        cs_ref = specs[0].id
         values = [
-            cxf3.ColorCielab(l=rec["Lab"][0], a=rec["Lab"][1], b=rec["Lab"][2], color_specification=cs_ref),
-            cxf3.ColorCielch(l=rec["LCh"][0], c=rec["LCh"][1], h=rec["LCh"][2], color_specification=cs_ref),
-            cxf3.ColorSrgb(r=int(rec["srgb_hex"][1:3], 16), g=int(rec["srgb_hex"][3:5], 16),
-                           b=int(rec["srgb_hex"][5:7], 16), color_specification=cs_ref),
+            cxf3.ColorCielab(l=rec["Lab"][0], a=rec["Lab"][1], b=rec["Lab"][2], color_specification=ref_id),
+            cxf3.ColorCielch(l=rec["LCh"][0], c=rec["LCh"][1], h=rec["LCh"][2], color_specification=ref_id),
             cxf3.ReflectanceSpectrum(value=[rnd(v) for v in data.reflectance[i]], start_wl=start,
-                                     color_specification=cs_ref),
+                                     color_specification=ref_id),
         ]
+        if d50_id != ref_id:
+            L, a, b = rec["Lab_D50_2"]
+            LCh = Lab_to_LCh(rec["Lab_D50_2"])
+            values += [cxf3.ColorCielab(l=L, a=a, b=b, color_specification=d50_id),
+                       cxf3.ColorCielch(l=L, c=rnd(LCh[1], 4), h=rnd(LCh[2], 4), color_specification=d50_id)]
+        values.append(cxf3.ColorSrgb(r=int(rec["srgb_hex"][1:3], 16), g=int(rec["srgb_hex"][3:5], 16),
+                                     b=int(rec["srgb_hex"][5:7], 16), color_specification=srgb_id))
         for j, g in enumerate(spec.multi_angle):
-            cs = specs[j + 1].id
+            cs = specs[j + n_ref].id
             Lab = rec["multi_angle"][g.name]
             LCh = rec["multi_angle_LCh"][g.name]
             values += [
@@ -167,7 +199,9 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
             comment=(f"{spec.film} on {spec.substrate}; half-vector thin-film model "
                      f"(Fujii et al. 2019); reflectance factor on the half-vector facet; "
                      f"CIELAB under {data.illuminant}, CIE {'1964 10°' if data.observer == '10' else '1931 2°'} "
-                     f"observer (colour-science, ASTM E308 weighting on a {inc} nm grid)"),
+                     f"observer (colour-science, ASTM E308 weighting on a {inc} nm grid); the reference "
+                     f"geometry also under D50 and the CIE 1931 2° observer; sRGB from CIE 1931 2° "
+                     f"colorimetry under {data.illuminant} (Bradford-adapted to D65)"),
         ),
         resources=cxf3.Resources(
             object_collection=cxf3.ObjectCollection(object_value=objects),
