@@ -11,7 +11,7 @@ Every writer is
 Metadata: a ``dict`` of name -> value. Names without a ``:`` get the ``swatch:`` prefix. In EXR
 files floats are (32-bit) float attributes, ints int attributes, strings string attributes, and anything
 else (bools, lists, tuples, dicts, numpy arrays) a JSON string. PNG files carry every value as a
-``tEXt`` chunk (floats written with ``repr``, so they read back exactly). :func:`read_metadata`
+UTF-8 ``iTXt`` chunk (floats written with ``repr``, so they read back exactly). :func:`read_metadata`
 returns the ``swatch:`` attributes of either kind of file (prefix removed, types restored where
 the file keeps them).
 
@@ -154,7 +154,9 @@ def _as_hwc(pixels, what: str) -> np.ndarray:
     return arr
 
 
-def _write(path, spec, pixels: np.ndarray, fmt: str) -> Path:
+def _write(path, spec, pixels: np.ndarray, fmt: str, finish=None) -> Path:
+    """Write through OpenImageIO into a temporary file; ``finish(bytes) -> bytes`` may rewrite it
+    (e.g. PNG metadata chunks) before it is renamed onto ``path``."""
     oiio = _oiio()
     path = Path(path)
     with atomic_path(path) as tmp:
@@ -168,6 +170,8 @@ def _write(path, spec, pixels: np.ndarray, fmt: str) -> Path:
         out.close()
         if not ok:
             raise SwatchError(f"cannot write {path}: {err}")
+        if finish is not None:
+            Path(tmp).write_bytes(finish(Path(tmp).read_bytes()))
     return path
 
 
@@ -226,33 +230,53 @@ def parse_spectral_channel(name: str):
     return (m.group("stokes") or "T"), nm
 
 
-def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None = None, half: bool = True) -> Path:
-    """A spectral EXR of reflectance (H, W, Wl) on ``wavelength_nm`` (Fichet et al. 2021 layout)."""
+def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None = None, rgb=None,
+                       space: str = "srgb", half: bool = False) -> Path:
+    """A spectral EXR of reflectance (H, W, Wl) on ``wavelength_nm`` (Fichet et al. 2021 layout).
+
+    ``rgb`` (H, W, 3): linear RGB in ``space`` written as ``R``, ``G``, ``B`` channels beside the
+    spectral ones (the layout's reference writer always adds them, and ordinary viewers show
+    them); the ``chromaticities`` attribute then names ``space``. 32-bit floats by default, as the
+    reference writer; ``half`` for 16-bit.
+    """
     arr = _as_hwc(reflectance, "spectral reflectance")
     wl = np.asarray(wavelength_nm, dtype=np.float64).reshape(-1)
     if wl.size != arr.shape[2]:
         raise SwatchError(f"spectral EXR has {arr.shape[2]} bands but {wl.size} wavelengths")
     names = [reflective_channel_name(x) for x in wl]
-    return write_exr(path, arr, metadata, channel_names=names, space=None, half=half,
+    if rgb is not None:
+        rgb = _as_hwc(rgb, "preview RGB")
+        if rgb.shape != arr.shape[:2] + (3,):
+            raise SwatchError("the spectral EXR's RGB preview must be (H, W, 3) like the spectra")
+        arr = np.concatenate([np.asarray(rgb, dtype=np.float32), arr.astype(np.float32)], axis=2)
+        names = ["R", "G", "B", *names]
+    return write_exr(path, arr, metadata, channel_names=names, space=space if rgb is not None else None, half=half,
                      raw_attributes={"spectralLayoutVersion": "1.0"})
 
 
-def write_png(path, rgb_uint8, metadata: dict | None = None) -> Path:
-    """An 8-bit sRGB PNG (gray, gray+alpha, RGB or RGBA) with metadata as ``tEXt`` chunks."""
+def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, dpi: float | None = None) -> Path:
+    """An sRGB PNG (gray, gray+alpha, RGB or RGBA; uint8, or uint16 for 16-bit) with metadata.
+
+    Metadata values are UTF-8 ``iTXt`` chunks; ``xmp`` (see :func:`swatch.pngmeta.xmp_packet`)
+    is embedded as the file's XMP packet; ``dpi`` sets the ``pHYs`` resolution. The ``sRGB``
+    chunk carries the perceptual rendering intent (:mod:`swatch.pngmeta`).
+    """
+    from swatch.pngmeta import finish_png
+
     oiio = _oiio()
-    arr = _as_hwc(rgb_uint8, "PNG pixels")
-    if arr.dtype != np.uint8:
-        raise SwatchError("PNG pixels must be uint8 (display-encoded sRGB)")
+    arr = _as_hwc(rgb, "PNG pixels")
+    if arr.dtype not in (np.uint8, np.uint16):
+        raise SwatchError("PNG pixels must be uint8 or uint16 (display-encoded sRGB)")
     if arr.shape[2] not in (1, 2, 3, 4):
         raise SwatchError("PNG pixels need 1–4 channels")
     h, w, c = arr.shape
-    spec = oiio.ImageSpec(w, h, c, "uint8")
+    spec = oiio.ImageSpec(w, h, c, "uint8" if arr.dtype == np.uint8 else "uint16")
     if c in (2, 4):
         spec.alpha_channel = c - 1
     spec.attribute("oiio:ColorSpace", "sRGB")
     spec.attribute("png:compressionLevel", 6)
     _apply_metadata(spec, metadata, text_only=True)
-    return _write(path, spec, arr, "png")
+    return _write(path, spec, arr, "png", finish=lambda blob: finish_png(blob, xmp, dpi))
 
 
 # -- readers -----------------------------------------------------------------------------------

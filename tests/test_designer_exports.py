@@ -203,3 +203,131 @@ def test_cxf3_method_white_points_srgb_and_d50(data):
     d50 = [float(labs["D50/2_Degree"].find(f"cc:{k}", NS).text) for k in ("L", "A", "B")]
     ref = swatch_color_json("--thickness", "75.5", "--illuminant", "D50", "--observer", "2")["rows"][0]["Lab"]
     assert float(colour.delta_E(d50, ref, method="CIE 2000")) <= 0.05
+
+
+# -- PNG text, XMP, intent and DPI (read with Pillow) ---------------------------------------------
+TINY_SPEC = """
+name = "Tiny – 10° catalog"
+[thickness]
+list_nm = [40, 75.5, 130]
+[render]
+size_px = 64
+[sheet]
+columns = 2
+rows = 2
+"""
+
+
+@pytest.fixture(scope="module")
+def tiny_catalog(tmp_path_factory):
+    from swatch.catalog.build import build_catalog
+
+    root = tmp_path_factory.mktemp("tiny")
+    spec = root / "tiny.toml"
+    spec.write_text(TINY_SPEC, encoding="utf-8")
+    build_catalog(spec, root / "out", jobs=1)
+    return root / "out"
+
+
+def png_chunk_types(path: Path) -> list[bytes]:
+    blob = path.read_bytes()
+    pos, kinds = 8, []
+    while pos < len(blob):
+        (n,) = struct.unpack_from(">I", blob, pos)
+        kinds.append(blob[pos + 4:pos + 8])
+        pos += 12 + n
+    return kinds
+
+
+def xmp_fields(xmp: str) -> dict:
+    import xml.etree.ElementTree as ET
+
+    root = ET.fromstring(xmp[xmp.index("<x:xmpmeta"):xmp.index("</x:xmpmeta>") + len("</x:xmpmeta>")])
+    rdf, dc = "{http://www.w3.org/1999/02/22-rdf-syntax-ns#}", "{http://purl.org/dc/elements/1.1/}"
+    desc = root.find(f"{rdf}RDF/{rdf}Description")
+    out = {k: desc.find(f"{dc}{k}/{rdf}Alt/{rdf}li").text for k in ("title", "description")}
+    for el in desc:
+        if el.tag.startswith("{urn:anodic-swatch:xmp:1.0}"):
+            out[el.tag.split("}")[1]] = el.text
+    return out
+
+
+def test_sheet_png_text_is_utf8_itxt_with_xmp_intent_and_dpi(tiny_catalog):
+    from PIL import Image
+
+    doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
+    png = tiny_catalog / "sheet_01.png"
+    kinds = png_chunk_types(png)
+    assert b"tEXt" not in kinds and b"iTXt" in kinds
+    assert kinds.index(b"pHYs") < kinds.index(b"IDAT")
+    with Image.open(png) as im:
+        text = dict(im.text)
+        info = dict(im.info)
+    # exact text: the UTF-8 characters survive (no "10Â°", no "â€“")
+    assert json.loads(text["swatch:catalog"]) == doc["catalog"]
+    assert "CIE 1964 10°" not in text["swatch:catalog"] and "1964 10°" in text["swatch:catalog"]
+    assert json.loads(text["swatch:catalog"])["name"] == "Tiny – 10° catalog"
+    assert json.loads(text["swatch:S002"]) == doc["swatches"][1]
+    assert info["srgb"] in (0, 1)  # perceptual or relative colorimetric, not absolute (3)
+    assert info["dpi"] == pytest.approx((150, 150), abs=0.05)  # pHYs holds whole pixels per metre
+    xmp = xmp_fields(info["XML:com.adobe.xmp"])
+    assert xmp["title"] == "Tiny – 10° catalog — sheet 1 of 1"
+    assert "D65" in xmp["description"] and "1931 2°" in xmp["description"]
+    rec = doc["swatches"][1]
+    assert f"S002 Ti 75.5 nm ({rec['voltage_V']:.1f} V): L*a*b* (D65/10°) " + " ".join(
+        f"{x:.2f}" for x in rec["Lab"]) in xmp["swatches"]
+    assert xmp["thickness_nm"] == "40 75.5 130"
+
+
+def test_render_png_xmp_and_text(tmp_path):
+    from PIL import Image
+
+    run = subprocess.run([SWATCH, "render", "--thickness", "50.8", "--size", "32", "--out", str(tmp_path)],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    with Image.open(tmp_path / "flat_050.8nm.png") as im:
+        info = dict(im.info)
+        text = dict(im.text)
+    assert text["swatch:observer"] == "CIE 1964 10 deg" and float(text["swatch:thickness_nm"]) == 50.8
+    xmp = xmp_fields(info["XML:com.adobe.xmp"])
+    assert xmp["title"] == "flat swatch, 50.8 nm" and xmp["thickness_nm"] == "50.8"
+    lab = [float(x) for x in xmp["Lab_reference"].split()]
+    ref = swatch_color_json("--thickness", "50.8")["rows"][0]["Lab"]
+    assert lab == pytest.approx(ref, abs=0.006)
+    assert info["srgb"] == 0
+
+
+# -- spectral EXR (read with the OpenEXR library) and one orientation -----------------------------
+def test_spectral_exr_has_an_rgb_preview_and_float32_and_the_png_orientation(tmp_path):
+    import OpenEXR
+
+    run = subprocess.run([SWATCH, "angular", "--thickness", "50.8", "--light-range", "0:80:10", "--view-range",
+                          "0:60:20", "--model", "paper", "--out", str(tmp_path)], capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 0, run.stderr
+    with OpenEXR.File(str(tmp_path / "angular_050.8nm_spectral.exr"), separate_channels=True) as f:
+        ch = {k: v.pixels for k, v in f.channels().items()}
+    assert {"R", "G", "B"} <= set(ch)
+    spectral = sorted((k for k in ch if k.startswith("T.")), key=lambda k: float(k[2:-2].replace(",", ".")))
+    assert len(spectral) == 81 and all(ch[k].dtype == np.float32 for k in spectral + ["R", "G", "B"])
+    cube = np.stack([ch[k] for k in spectral], -1).astype(np.float64)  # (rows, cols, W)
+    assert cube.shape[:2] == (9, 4)
+    wl = np.arange(380.0, 781.0, 5.0)
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for r, c in ((0, 0), (8, 0), (3, 2)):
+            XYZ = colour.sd_to_XYZ(colour.SpectralDistribution(cube[r, c], wl), cmfs, colour.SDS_ILLUMINANTS["D65"])
+            want = colour.XYZ_to_RGB(XYZ / 100.0, "sRGB", illuminant=colour.CCS_ILLUMINANTS[
+                "CIE 1931 2 Degree Standard Observer"]["D65"], chromatic_adaptation_transform="Bradford")
+            got = [ch[k][r, c] for k in "RGB"]
+            assert got == pytest.approx(want, abs=2e-3)
+    # Orientation: the bottom row is light 0° (θd = view/2), the top row light 80°, as in the PNG.
+    from swatch.model import get_coating
+
+    coating = get_coating()
+    assert cube[-1, 2] == pytest.approx(coating.reflectance(50.8, 20.0).R, abs=1e-6)  # light 0, view 40
+    assert cube[0, 0] == pytest.approx(coating.reflectance(50.8, 40.0).R, abs=1e-6)  # light 80, view 0
+    with OpenEXR.File(str(tmp_path / "angular_050.8nm.exr"), separate_channels=True) as f:
+        rgb = np.stack([f.channels()[k].pixels for k in "RGB"], -1).astype(np.float64)
+    assert np.allclose(rgb, np.stack([ch[k] for k in "RGB"], -1), atol=2e-3)  # same rows, same order

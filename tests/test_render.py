@@ -231,16 +231,19 @@ def test_angular_files(tmp_path, capsys):
     assert names == sorted(["angular_050.8nm" + s for s in (".exr", ".png", "_spectral.exr", ".csv", ".json")])
     # Spectral EXR: channel names (Fichet et al. 2021) parse back to the wavelength grid.
     chans = imageio.read_channel_names(tmp_path / "angular_050.8nm_spectral.exr")
+    assert chans[:3] == ["R", "G", "B"]  # the preview ordinary viewers show
+    chans = chans[3:]
     assert all(c.startswith("T.") and c.endswith("nm") and "," in c for c in chans)
     parsed = sorted(imageio.parse_spectral_channel(c)[1] for c in chans)
     np.testing.assert_allclose(parsed, COATING.wavelength_nm)
     assert _attrs(tmp_path / "angular_050.8nm_spectral.exr")["spectralLayoutVersion"] == "1.0"
     buf = oiio.ImageBuf(str(tmp_path / "angular_050.8nm_spectral.exr"))
-    px = buf.get_pixels(oiio.FLOAT)  # (V rows = light, columns = view, channels)
-    wl_order = [imageio.parse_spectral_channel(c)[1] for c in buf.spec().channelnames]
-    i550 = wl_order.index(550.0)
+    px = buf.get_pixels(oiio.FLOAT)  # (rows = light, growing upwards; columns = view, channels)
+    assert buf.spec().format == oiio.FLOAT
+    wl_order = [imageio.parse_spectral_channel(c)[1] for c in buf.spec().channelnames[3:]]
+    i550 = 3 + wl_order.index(550.0)
     ref = COATING.reflectance(50.8, 22.5).R[list(COATING.wavelength_nm).index(550.0)]
-    assert px[9, 0, i550] == pytest.approx(ref, rel=2e-3)  # light 45°, view 0°: θ_d = 22.5°
+    assert px[17 - 9, 0, i550] == pytest.approx(ref, rel=1e-6)  # light 45°, view 0°: θ_d = 22.5°
     # CSV: one row per cell, Lab of 45:0 equals the reference Lab in the metadata.
     rows = (tmp_path / "angular_050.8nm.csv").read_text().splitlines()
     assert len(rows) == 1 + 18 * 18

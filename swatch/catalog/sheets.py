@@ -11,7 +11,7 @@ The EXR (half float, linear sRGB primaries) is the same page in linear light: re
 in linear RGB with the same exposure applied (so the two files look alike; the exposure of each
 render is in the metadata to recover scene-referred values), everything else (background,
 chips, text) the sRGB-decoded display page. Both carry the catalog header, the sheet layout and
-every swatch's record as JSON strings (EXR string attributes / PNG tEXt chunks ``swatch:...``).
+every swatch's record as JSON strings (EXR string attributes / PNG iTXt (UTF-8) chunks ``swatch:...``).
 
 Tile renders are cached per swatch (``.npz`` keyed by :func:`tile_key`) and computed in
 parallel processes (``--jobs``); every job is a pure function of its inputs, so the result does
@@ -35,6 +35,8 @@ TILE_VERSION = 1
 AMAP_ANGLES_DEG = np.linspace(0.0, 85.0, 60)
 AMAP_CELL_PX = 2
 LIGHT_DEG = 45.0
+#: Resolution written into sheet PNGs (pHYs): the page prints about 30 × 23 cm.
+SHEET_DPI = 150
 
 # page colours (display sRGB)
 PAGE = (238, 238, 240)
@@ -301,6 +303,23 @@ def _srgb_decode(u8: np.ndarray) -> np.ndarray:
     return np.where(x <= 0.04045, x / np.float32(12.92), ((x + np.float32(0.055)) / np.float32(1.055)) ** np.float32(2.4))
 
 
+def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
+    """XMP for a sheet: title, description and each swatch's thickness and Lab."""
+    from swatch.catalog.exports import ase_name
+    from swatch.pngmeta import xmp_packet
+
+    cs = f"{header['illuminant']}/{header['observer']}°"
+    metal = header["substrate"].split("-")[0]
+    swatches = "; ".join(f"{ase_name(r, metal)}: L*a*b* ({cs}) " + " ".join(f"{x:.2f}" for x in r["Lab"])
+                         for r in records)
+    description = (f"{header['film']} on {header['substrate']}. L*a*b* at {header['reference_geometry']['name']} "
+                   f"under {header['illuminant']}, CIE {header['observer_name']} observer; hex and pixels: sRGB from "
+                   f"CIE 1931 2° colorimetry. {swatches}")
+    props = {"thickness_nm": " ".join(f"{r['thickness_nm']:g}" for r in records), "swatches": swatches,
+             "illuminant": header["illuminant"], "observer": header["observer"]}
+    return xmp_packet(f"{header['name']} — sheet {number} of {of}", description, props)
+
+
 def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: list[str], cache: Path,
                   number: int, of: int, png_path: Path, exr_path: Path) -> None:
     """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata)."""
@@ -357,5 +376,5 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
     }
     for rec in records:
         meta[rec["id"]] = rec
-    write_png(png_path, disp, meta)
+    write_png(png_path, disp, meta, xmp=_sheet_xmp(header, records, number, of), dpi=SHEET_DPI)
     write_exr(exr_path, lin, meta, space="srgb", half=True)

@@ -18,6 +18,8 @@ from swatch.commands.common import (
 from swatch.errors import SwatchError
 
 SPACES = ("srgb", "acescg")
+ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view angle, first value at the "
+               "left (as the PNG figure and the catalog sheets)")
 
 
 def _iterate(items, label: str):
@@ -108,10 +110,12 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
     """Colour over light × view angle (in plane, opposite sides) for each thickness.
 
     Writes per thickness: angular_<d>nm.exr (linear RGB), .png (labelled display figure),
-    _spectral.exr (reflectance per wavelength, Fichet et al. 2021 channels), .csv and .json (Lab per cell).
+    _spectral.exr (R, G, B preview and reflectance per wavelength, Fichet et al. 2021 channels, 32-bit),
+    .csv and .json (Lab per cell). Images: light angle up, view angle to the right.
     """
     from swatch import geometry, imageio
     from swatch.fileio import atomic_write_text, check_new, check_writable_dir
+    from swatch.pngmeta import image_xmp
     from swatch.render import angular_figure, angular_map, file_stem
 
     _check_common(roughness, space)
@@ -133,9 +137,13 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
             meta = _voltage_meta(amap.metadata, volts[i], note, nm_per_volt)
             amap.metadata = meta
             path = {suf: out / (stems[i] + suf) for suf in suffixes}  # (not with_suffix: "050.8nm")
-            imageio.write_exr(path[".exr"], amap.linear_rgb, meta, space=space)
-            imageio.write_png(path[".png"], angular_figure(amap), meta)
-            imageio.write_spectral_exr(path["_spectral.exr"], amap.spectral, amap.wavelength_nm, meta)
+            meta["orientation"] = ORIENTATION
+            # Rows flipped: light angle grows upwards, as in the PNG figure and the catalog sheets.
+            imageio.write_exr(path[".exr"], amap.linear_rgb[::-1], meta, space=space)
+            imageio.write_png(path[".png"], angular_figure(amap), meta,
+                              xmp=image_xmp(f"Angular colour map, {d[i]:g} nm", meta))
+            imageio.write_spectral_exr(path["_spectral.exr"], amap.spectral[::-1], amap.wavelength_nm, meta,
+                                       rgb=amap.linear_rgb[::-1], space=space)
             atomic_write_text(path[".csv"], _lab_csv(amap))
             atomic_write_text(path[".json"], _lab_json(amap))
             written += [str(path[suf]) for suf in suffixes]
@@ -163,6 +171,7 @@ def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, 
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
     from swatch import geometry, imageio
     from swatch.fileio import check_new, check_writable_dir
+    from swatch.pngmeta import image_xmp
     from swatch.render import check_size_px, file_stem, render_swatch
 
     _check_common(roughness, space)
@@ -181,7 +190,7 @@ def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, 
             meta = _voltage_meta(img.metadata, volts[i], note, nm_per_volt)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
-            imageio.write_png(png, img.display_rgb, meta)
+            imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm", meta))
             written += [str(exr), str(png)]
     for p in written:
         click.echo(p)
