@@ -39,6 +39,7 @@ __all__ = [
     "write_exr",
     "write_spectral_exr",
     "write_png",
+    "write_tiff",
     "read_metadata",
     "read_channel_names",
     "reflective_channel_name",
@@ -254,12 +255,14 @@ def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None =
                      raw_attributes={"spectralLayoutVersion": "1.0"})
 
 
-def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, dpi: float | None = None) -> Path:
+def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, dpi: float | None = None,
+              flat: bool = False) -> Path:
     """An sRGB PNG (gray, gray+alpha, RGB or RGBA; uint8, or uint16 for 16-bit) with metadata.
 
     Metadata values are UTF-8 ``iTXt`` chunks; ``xmp`` (see :func:`swatch.pngmeta.xmp_packet`)
     is embedded as the file's XMP packet; ``dpi`` sets the ``pHYs`` resolution. The ``sRGB``
-    chunk carries the perceptual rendering intent (:mod:`swatch.pngmeta`).
+    chunk carries the perceptual rendering intent (:mod:`swatch.pngmeta`). ``flat``: the image is
+    flat colour, so PNG's row filters are skipped (no gain there, 2× faster).
     """
     from swatch.pngmeta import finish_png
 
@@ -275,8 +278,36 @@ def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, d
         spec.alpha_channel = c - 1
     spec.attribute("oiio:ColorSpace", "sRGB")
     spec.attribute("png:compressionLevel", 6)
+    if flat:
+        spec.attribute("png:filter", 8)  # PNG_FILTER_NONE
     _apply_metadata(spec, metadata, text_only=True)
-    return _write(path, spec, arr, "png", finish=lambda blob: finish_png(blob, xmp, dpi))
+    return _write(path, spec, np.ascontiguousarray(arr), "png", finish=lambda blob: finish_png(blob, xmp, dpi))
+
+
+def write_tiff(path, rgb, dpi: float | None = None, icc_profile: bytes | None = None, title: str | None = None,
+               description: str | None = None) -> Path:
+    """A deflate-compressed TIFF (uint8 or uint16, display-encoded) with resolution in dots per
+    inch, an embedded ICC profile and ``DocumentName`` / ``ImageDescription`` text."""
+    oiio = _oiio()
+    arr = _as_hwc(rgb, "TIFF pixels")
+    if arr.dtype not in (np.uint8, np.uint16):
+        raise SwatchError("TIFF pixels must be uint8 or uint16")
+    h, w, c = arr.shape
+    spec = oiio.ImageSpec(w, h, c, "uint8" if arr.dtype == np.uint8 else "uint16")
+    spec.attribute("compression", "zip")
+    spec.attribute("DateTime", "")  # no time stamp: deterministic files
+    if dpi is not None:
+        spec.attribute("ResolutionUnit", "inch")
+        spec.attribute("XResolution", float(dpi))
+        spec.attribute("YResolution", float(dpi))
+    if icc_profile is not None:
+        spec.attribute("ICCProfile", oiio.TypeDesc(f"uint8[{len(icc_profile)}]"),
+                       np.frombuffer(icc_profile, dtype=np.uint8))
+    if title is not None:
+        spec.attribute("DocumentName", title)
+    if description is not None:
+        spec.attribute("ImageDescription", description)
+    return _write(path, spec, arr, "tif")
 
 
 # -- readers -----------------------------------------------------------------------------------

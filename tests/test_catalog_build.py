@@ -60,6 +60,7 @@ EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf
                   "sheet_01.png", "sheet_01.exr", "sheet_02.png", "sheet_02.exr"}
 EXPECTED_FILES |= {f"preset_S{i + 1:03d}{end}" for i in range(len(THICKNESSES))
                    for end in (".gltf", "_blender.py", ".mtlx")}  # 3-D material presets
+EXPECTED_FILES |= {f"chip_S{i:03d}.{ext}" for i in range(1, len(THICKNESSES) + 1) for ext in ("png", "tif")}
 
 
 def test_outputs_and_records(built):

@@ -331,3 +331,51 @@ def test_spectral_exr_has_an_rgb_preview_and_float32_and_the_png_orientation(tmp
     with OpenEXR.File(str(tmp_path / "angular_050.8nm.exr"), separate_channels=True) as f:
         rgb = np.stack([f.channels()[k].pixels for k in "RGB"], -1).astype(np.float64)
     assert np.allclose(rgb, np.stack([ch[k] for k in "RGB"], -1), atol=2e-3)  # same rows, same order
+
+
+# -- print chips (read with Pillow and tifffile) ----------------------------------------------------
+def test_print_chips_png_and_tiff(tiny_catalog):
+    import tifffile
+    from PIL import Image, ImageCms
+
+    doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
+    rec = doc["swatches"][1]
+    assert rec["print_chip"] == {"png": "chip_S002.png", "tiff": "chip_S002.tif", "size_mm": 50.0, "dpi": 300}
+    side = round(50 / 25.4 * 300)  # 591 px
+    want8 = np.array([int(rec["srgb_hex"][i:i + 2], 16) for i in (1, 3, 5)])
+    # PNG: 16-bit RGB (IHDR bit depth), tagged sRGB, 300 dpi, the record in UTF-8 text, XMP
+    png = tiny_catalog / "chip_S002.png"
+    ihdr = png.read_bytes()[16:29]
+    width, height, depth, ctype = struct.unpack(">IIBB", ihdr[:10])
+    assert (width, height, depth, ctype) == (side, side, 16, 2)
+    with Image.open(png) as im:
+        assert im.info["srgb"] == 0 and im.info["dpi"] == pytest.approx((300, 300), abs=0.05)
+        assert json.loads(im.text["swatch:record"]) == {k: v for k, v in rec.items()}
+        xmp = xmp_fields(im.info["XML:com.adobe.xmp"])
+    assert xmp["title"].startswith("S002 Ti 75.5 nm") and xmp["Lab_D50_2"] == " ".join(
+        f"{x:.2f}" for x in rec["Lab_D50_2"])
+    # TIFF: 16-bit, flat, the same colour, 300 dpi, an embedded sRGB ICC profile LittleCMS reads
+    with tifffile.TiffFile(tiny_catalog / "chip_S002.tif") as tf:
+        page = tf.pages[0]
+        px = page.asarray()
+        assert px.dtype == np.uint16 and px.shape == (side, side, 3)
+        assert page.tags["XResolution"].value == (300, 1) and page.tags["ResolutionUnit"].value == 2
+        icc = page.iccprofile
+        assert "S002 Ti 75.5 nm" in page.tags["ImageDescription"].value
+    assert (px == px[0, 0]).all()
+    assert np.max(np.abs(np.round(px[0, 0] / 257.0) - want8)) <= 1  # the hex code's colour, in 16 bits
+    profile = ImageCms.ImageCmsProfile(__import__("io").BytesIO(icc))
+    assert "sRGB" in ImageCms.getProfileDescription(profile)
+    assert (tiny_catalog / "chip_S002.png").stat().st_size < 64_000  # flat: small files
+
+
+def test_chip_spec_limits():
+    from swatch.errors import SwatchError
+
+    base = {"name": "x", "thickness": {"list_nm": [50.0]}}
+    assert parse_spec(dict(base, chips={"size_mm": 25, "dpi": 600})).chip_size_mm == 25
+    assert not parse_spec(dict(base, chips={"enabled": False})).chips
+    with pytest.raises(SwatchError, match="at most 4096 pixels"):
+        parse_spec(dict(base, chips={"size_mm": 300, "dpi": 1200}))
+    with pytest.raises(SwatchError, match="chips.dpi"):
+        parse_spec(dict(base, chips={"dpi": 10}))

@@ -90,7 +90,7 @@ def code_fingerprint() -> dict:
     tables = {p.relative_to(tdir).as_posix(): _sha256_file(p)
               for p in sorted(tdir.glob("optical/*.csv")) + [tdir / "tolerance_grades.csv"]}
     versions = {}
-    for dist in ("colour-science", "numpy", "OpenImageIO", "OpenEXR", "colour-cxf"):
+    for dist in ("colour-science", "numpy", "OpenImageIO", "OpenEXR", "colour-cxf", "pillow"):
         try:
             versions[dist] = metadata.version(dist)
         except metadata.PackageNotFoundError:
@@ -283,6 +283,12 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     data = compute(spec)
     header = _catalog_header(spec, data, spec_name)
     records = data.records
+    if spec.chips:
+        from swatch.catalog.chips import chip_names
+
+        for rec in records:
+            png, tif = chip_names(rec)
+            rec["print_chip"] = {"png": png, "tiff": tif, "size_mm": spec.chip_size_mm, "dpi": spec.chip_dpi}
     n = len(records)
     per = spec.per_sheet
     n_sheets = (n + per - 1) // per
@@ -322,6 +328,15 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                 args = (spec, header, recs, [tile_keys[r["index"] - 1] for r in recs], cache, s + 1, n_sheets,
                         staging / png, staging / exr)
                 todo.append(pool.submit(sheetmod.compose_sheet, *args) if pool is not None else args)
+        # print chips, in the pool beside the sheets
+        chip_jobs = []
+        if spec.chips:
+            from swatch.catalog import chips as chipmod
+            from swatch.catalog.exports import metal_symbol
+
+            for args in chipmod.chip_batches(staging, header, data, metal_symbol(spec), spec.chip_size_mm,
+                                             spec.chip_dpi, jobs):
+                chip_jobs.append(pool.submit(chipmod.write_chips, *args) if pool is not None else args)
         # 3. data files, page and exports (meanwhile the pool composes the sheets)
         catalog_doc = {"format": "swatch-catalog", "format_version": FORMAT_VERSION, "catalog": header,
                        "sheets": [{k: v for k, v in sh.items() if k != "key"} for sh in sheet_list],
@@ -343,7 +358,10 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                 job.result() if pool is not None else sheetmod.compose_sheet(*job)
                 bar.update(1)
         composed = len(todo)
-        for name in list(outputs) + [f for sh in sheet_list for f in (sh["png"], sh["exr"]) if f not in files]:
+        chip_files = [f for job in chip_jobs
+                      for f in (job.result() if pool is not None else chipmod.write_chips(*job))]
+        for name in list(outputs) + chip_files + [f for sh in sheet_list for f in (sh["png"], sh["exr"])
+                                                  if f not in files]:
             p = staging / name
             files[name] = {"sha256": _sha256_file(p), "size": p.stat().st_size}
         for p in staging.iterdir():

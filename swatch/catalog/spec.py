@@ -91,6 +91,9 @@ class CatalogSpec:
     columns: int
     rows: int
     extra: dict = field(default_factory=dict)
+    chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
+    chip_size_mm: float = 50.0
+    chip_dpi: int = 300
 
     @property
     def per_sheet(self) -> int:
@@ -243,7 +246,7 @@ def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
 
     c = _Checker(source)
     top = ("name", "description", "film", "substrate", "growth_nm_per_V", "thickness", "voltage",
-           "colour", "geometry", "render", "tolerance", "sheet")
+           "colour", "geometry", "render", "tolerance", "sheet", "chips")
     c.table(data, "", top)
     if "name" not in data:
         raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
@@ -325,6 +328,16 @@ def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
     columns = c.integer(sh.get("columns", 4), "sheet.columns", 1, 8)
     rows = c.integer(sh.get("rows", 3), "sheet.rows", 1, 8)
 
+    from swatch.catalog.chips import CHIP_DPI, CHIP_SIZE_MM, MAX_CHIP_PX, chip_px
+
+    ch = c.table(data.get("chips", {}), "chips", ("enabled", "size_mm", "dpi"))
+    chips = c.boolean(ch.get("enabled", True), "chips.enabled")
+    chip_size = c.number(ch.get("size_mm", CHIP_SIZE_MM), "chips.size_mm", 5.0, 300.0)
+    chip_dpi = c.integer(ch.get("dpi", CHIP_DPI), "chips.dpi", 72, 1200)
+    if chip_px(chip_size, chip_dpi) > MAX_CHIP_PX:
+        c.fail("chips", f"size_mm × dpi must give at most {MAX_CHIP_PX} pixels per side "
+               f"({chip_size:g} mm at {chip_dpi} dpi is {chip_px(chip_size, chip_dpi)})", show_got=False)
+
     return CatalogSpec(
         source=source, name=name, description=description, film=film, substrate=substrate,
         growth_nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
@@ -332,7 +345,7 @@ def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
         illuminant=illuminant, observer=observer, wavelength_step_nm=wl_step,
         reference=reference, multi_angle=tuple(multi), shapes=shapes, size_px=size, model=model,
         roughness=rough, angular_map=amap, scheme=scheme, grade=grade, search_nm=search,
-        columns=columns, rows=rows,
+        columns=columns, rows=rows, chips=chips, chip_size_mm=chip_size, chip_dpi=chip_dpi,
     )
 
 

@@ -1,0 +1,111 @@
+"""Per-swatch print chips: a flat patch of each swatch's colour at print size (PNG and TIFF).
+
+A chip is the swatch's colour at the reference geometry as sRGB from CIE 1931 2° colorimetry
+(the hex code's colour, unquantised: 16 bits per channel), ``size_mm`` square at ``dpi``
+(default 50 mm at 300 dpi: 591 × 591 pixels). Both files say how to print them:
+
+* PNG: 16-bit RGB, ``sRGB`` chunk (perceptual intent; tagged sRGB), ``pHYs`` resolution, the
+  swatch's numbers as UTF-8 ``iTXt`` text and an XMP packet (:mod:`swatch.pngmeta`);
+* TIFF: 16-bit RGB, deflate-compressed, X/Y resolution in dots per inch, the sRGB ICC profile
+  embedded (LittleCMS's sRGB profile through Pillow's ImageCms, its creation date fixed so the
+  bytes are deterministic), a description with the swatch's numbers.
+
+A flat chip costs little: one broadcast array and two compressed writes per swatch.
+"""
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+__all__ = ["CHIP_SIZE_MM", "CHIP_DPI", "MAX_CHIP_PX", "chip_px", "chip_names", "srgb_icc_profile", "encoded_16bit",
+           "chip_batches", "write_chips"]
+
+CHIP_SIZE_MM = 50.0
+CHIP_DPI = 300
+#: Largest chip side in pixels (a 16-bit RGB chip of 4096² is 100 MB in memory).
+MAX_CHIP_PX = 4096
+_MM_PER_INCH = 25.4
+#: The ICC header's creation date, fixed (bytes 24–35: year, month, day, hour, minute, second).
+_ICC_DATE = (2000, 1, 1, 0, 0, 0)
+
+
+def chip_px(size_mm: float, dpi: float) -> int:
+    """Pixels per side of a ``size_mm`` chip at ``dpi``."""
+    return int(round(float(size_mm) / _MM_PER_INCH * float(dpi)))
+
+
+def chip_names(rec: dict) -> tuple[str, str]:
+    """(PNG, TIFF) file names of a swatch's chip in the catalog folder."""
+    return f"chip_{rec['id']}.png", f"chip_{rec['id']}.tif"
+
+
+@functools.lru_cache(maxsize=1)
+def srgb_icc_profile() -> bytes:
+    """The sRGB ICC profile (LittleCMS, via Pillow) with a fixed creation date."""
+    import struct
+
+    from PIL import ImageCms
+
+    raw = bytearray(ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes())
+    raw[24:36] = struct.pack(">6H", *_ICC_DATE)
+    return bytes(raw)
+
+
+def encoded_16bit(data) -> np.ndarray:
+    """(N, 3) uint16 display-encoded sRGB of the reference spectra (CIE 1931 2°)."""
+    from swatch.colorimetry import get_colorimeter
+
+    cm = get_colorimeter(data.wavelength_nm, data.illuminant, data.observer)
+    enc, _ = cm.reflectance_display(data.reflectance, "srgb")
+    return np.round(np.clip(enc, 0.0, 1.0) * 65535.0).astype(np.uint16)
+
+
+def _texts(rec: dict, metal: str, header: dict, size_mm: float, dpi: float) -> tuple[str, str, dict]:
+    from swatch.catalog.exports import ase_name
+
+    cs = f"{header['illuminant']}, CIE {header['observer_name']}"
+    title = ase_name(rec, metal)
+    L, a, b = rec["Lab"]
+    L50, a50, b50 = rec["Lab_D50_2"]
+    description = (f"{title}: {header['film']} on {header['substrate']}. Print chip {size_mm:g} mm at {dpi:g} dpi, "
+                   f"sRGB {rec['srgb_hex']} (CIE 1931 2° colorimetry). L*a*b* at {header['reference_geometry']['name']}:"
+                   f" {L:.2f} {a:.2f} {b:.2f} ({cs}); {L50:.2f} {a50:.2f} {b50:.2f} (D50, CIE 1931 2°).")
+    props = {"id": rec["id"], "thickness_nm": f"{rec['thickness_nm']:g}", "voltage_V": f"{rec['voltage_V']:g}",
+             "Lab": f"{L:.2f} {a:.2f} {b:.2f}", "Lab_D50_2": f"{L50:.2f} {a50:.2f} {b50:.2f}",
+             "illuminant": header["illuminant"], "observer": header["observer"], "srgb_hex": rec["srgb_hex"]}
+    return title, description, props
+
+
+def chip_batches(folder, header: dict, data, metal: str, size_mm: float, dpi: float, batches: int) -> list[tuple]:
+    """Arguments of :func:`write_chips` for ``batches`` groups of swatches (for a process pool)."""
+    values = encoded_16bit(data)
+    n = len(data.records)
+    step = max(1, -(-n // max(1, batches)))
+    return [(folder, header, data.records[i:i + step], values[i:i + step], metal, size_mm, dpi)
+            for i in range(0, n, step)]
+
+
+def write_chips(folder, header: dict, records: list[dict], values, metal: str, size_mm: float = CHIP_SIZE_MM,
+                dpi: float = CHIP_DPI) -> list[str]:
+    """Write the chips (PNG and TIFF) of ``records`` with colours ``values`` (N, 3) uint16 into
+    ``folder``; returns the file names."""
+    from pathlib import Path
+
+    from swatch.imageio import write_png, write_tiff
+    from swatch.pngmeta import xmp_packet
+
+    folder = Path(folder)
+    n = chip_px(size_mm, dpi)
+    names = []
+    for rec, rgb in zip(records, values):
+        png, tif = chip_names(rec)
+        title, description, props = _texts(rec, metal, header, size_mm, dpi)
+        pixels = np.broadcast_to(np.asarray(rgb, dtype=np.uint16), (n, n, 3))
+        meta = {"id": rec["id"], "record": rec,
+                "chip": f"{size_mm:g} mm at {dpi:g} dpi; sRGB from CIE 1931 2° colorimetry"}
+        write_png(folder / png, pixels, meta, xmp=xmp_packet(title, description, props), dpi=dpi, flat=True)
+        write_tiff(folder / tif, pixels, dpi=dpi, icc_profile=srgb_icc_profile(), title=title,
+                   description=description)
+        names += [png, tif]
+    return names
