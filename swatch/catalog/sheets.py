@@ -292,6 +292,7 @@ def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
     text = (f"Renders: {shapes}, light {LIGHT_DEG:g}°, {model}; display exposure per render."
             + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else "")
             + "  prev / next: CIEDE2000 to the neighbouring swatches."
+            + "  Hex, chips and pictures: sRGB from CIE 1931 2° colorimetry."
             + f"  swatch {header['swatch_version']}")
     return draw_text(img, _fit(text, 14, w, "DroidSans"), 0, 24, 14, MUTED)
 
