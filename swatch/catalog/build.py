@@ -258,7 +258,7 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
     fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
-        n_sheets = len([k for k in old.get("files", {}) if k.endswith(".png")])
+        n_sheets = len([k for k in old.get("files", {}) if k.startswith("sheet_") and k.endswith(".png")])
         return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
     return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
