@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 
-SECTIONS = ["render", "catalog", "fit", "presets", "engine"]
+SECTIONS = ["render", "catalog", "explorer", "fit", "presets", "engine"]
 
 
 def machine() -> str:

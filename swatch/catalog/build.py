@@ -85,6 +85,7 @@ def code_fingerprint() -> dict:
     pkg = Path(swatch.__file__).resolve().parent
     files = [pkg / f"{m}.py" for m in _CODE_MODULES] + sorted((pkg / "catalog").glob("*.py"))
     files += sorted((pkg / "presets").glob("*.py"))  # 3-D material presets (fits, writers)
+    files += sorted((pkg / "catalog" / "web").glob("*.*"))  # the page's script and style
     code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}
     tdir = tables_dir()
     tables = {p.relative_to(tdir).as_posix(): _sha256_file(p)
@@ -277,7 +278,6 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
 
     from swatch.catalog import sheets as sheetmod
     from swatch.catalog.exports import ase_bytes, cxf_bytes
-    from swatch.catalog.html import index_html
     from swatch.catalog.records import HUE_FAMILIES, compute
 
     data = compute(spec)
@@ -350,7 +350,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         }
         outputs.update(preset_files)
         page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
-        outputs["index.html"] = index_html(page_doc).encode("utf-8")
+        outputs["index.html"] = _page(spec, data, page_doc).encode("utf-8")
         for name, blob in outputs.items():
             (staging / name).write_bytes(blob)
         with _progress("composing sheets", len(todo), progress) as bar:
@@ -404,4 +404,13 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             pool.shutdown(wait=True)
     return BuildResult(out, False, n, n_sheets, rendered=rendered, composed=composed,
                        seconds=time.perf_counter() - t0, files=sorted(files))
+
+
+def _page(spec, data, page_doc: dict) -> str:
+    """index.html with the explorer's colour table, the tiles' places in the sheets and P3 chips."""
+    from swatch.catalog.explorer import explorer_data, records_p3, tile_rects
+    from swatch.catalog.html import index_html
+
+    return index_html(page_doc, explorer_data(spec, data.wavelength_nm), tile_rects(spec, page_doc["swatches"]),
+                      records_p3(spec, data))
 

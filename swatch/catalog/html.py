@@ -1,10 +1,14 @@
-"""``index.html``: a static, self-contained page to browse a catalog from the file system.
+"""``index.html``: the catalog page — a grid of cards that works without JavaScript, and an
+explorer on top of it (live WebGL view, compare, find by colour, ``window.swatchCatalog``).
 
-No server and no network: inline CSS and JavaScript, the catalog embedded as JSON in a
-``<script type="application/json">`` block (``<``, ``>`` and ``&`` written as ``\\u003c`` ... so
-no text from a spec can close the block). Every datum reaches the page through ``textContent``
-or a validated colour, never ``innerHTML``; a Content-Security-Policy allows only this page's
-own script (by hash) and no network fetches.
+No server and no network: the page's CSS and JavaScript (``swatch/catalog/web/*.css|js``)
+are inlined; the catalog and the colour table (:mod:`swatch.catalog.explorer`) are embedded as
+JSON in ``<script type="application/json">`` blocks (``<``, ``>`` and ``&`` written as
+``\\u003c`` ... so no text from a spec can close a block). The cards are written here, every
+datum escaped; the script fills in the rest through ``textContent`` or validated colours, never
+``innerHTML``. The Content-Security-Policy allows only this page's own script (by hash), inline
+styles (chip colours), the catalog's own images (the sheet PNGs next to the page, from which
+the cards cut their renders and angular maps) and nothing from the network.
 """
 from __future__ import annotations
 
@@ -12,8 +16,14 @@ import base64
 import hashlib
 import html
 import json
+from importlib import resources
 
-__all__ = ["index_html", "embed_json"]
+__all__ = ["index_html", "embed_json", "page_script", "page_style"]
+
+#: The page's script files, concatenated in this order inside one strict-mode function.
+SCRIPTS = ("colour.js", "view.js", "page.js")
+#: Width (CSS px) of a render and of the angular map in a card.
+CARD_IMAGE_PX = 96
 
 
 def embed_json(obj) -> str:
@@ -23,148 +33,185 @@ def embed_json(obj) -> str:
             .replace("\u2028", "\\u2028").replace("\u2029", "\\u2029"))
 
 
-_CSS = """
-:root { color-scheme: light; --ink:#1d1d1f; --muted:#5b5b60; --line:#d9d9de; --bg:#f4f4f6; }
-* { box-sizing: border-box; }
-body { margin: 0; font: 15px/1.45 system-ui, -apple-system, "Segoe UI", "DejaVu Sans", sans-serif;
-       color: var(--ink); background: var(--bg); }
-header { padding: 18px 24px 10px; background: #fff; border-bottom: 1px solid var(--line); }
-h1 { margin: 0 0 4px; font-size: 22px; }
-.sub { color: var(--muted); margin: 2px 0; }
-.files a { margin-right: 12px; }
-form { display: flex; flex-wrap: wrap; gap: 10px 18px; align-items: end; padding: 12px 24px;
-       background: #fff; border-bottom: 1px solid var(--line); position: sticky; top: 0; z-index: 1; }
-fieldset { border: 0; margin: 0; padding: 0; display: flex; gap: 6px; align-items: end; }
-label { display: flex; flex-direction: column; font-size: 12px; color: var(--muted); }
-input, select, button { font: inherit; font-size: 14px; padding: 3px 6px; }
-input[type=number] { width: 6.5em; }
-#count { color: var(--muted); margin-left: auto; }
-main { display: grid; grid-template-columns: repeat(auto-fill, minmax(290px, 1fr)); gap: 14px; padding: 18px 24px; }
-.card { background: #fff; border: 1px solid var(--line); border-radius: 8px; overflow: hidden; }
-.chip { height: 84px; }
-.flop { display: flex; height: 18px; border-top: 1px solid #fff; }
-.flop span + span { border-left: 1px solid rgba(255,255,255,.6); }
-details { margin-top: 4px; font-size: 13px; }
-summary { cursor: pointer; color: var(--muted); }
-.flop span { flex: 1; }
-.body { padding: 8px 12px 10px; }
-.title { font-weight: 600; font-size: 16px; }
-.hex { font-family: ui-monospace, "DejaVu Sans Mono", monospace; color: var(--muted); float: right; }
-table { border-collapse: collapse; width: 100%; margin-top: 4px; font-size: 13px; }
-td { padding: 1px 0; vertical-align: top; }
-td:first-child { color: var(--muted); width: 42%; }
-.num { font-variant-numeric: tabular-nums; }
-.links a { margin-right: 10px; font-size: 13px; }
-.empty { padding: 24px; color: var(--muted); }
-"""
-
-_JS = r"""
-"use strict";
-(function () {
-  const cat = JSON.parse(document.getElementById("catalog-data").textContent);
-  const swatches = cat.swatches;
-  const main = document.getElementById("swatches");
-  const $ = (id) => document.getElementById(id);
-  const HEX = /^#[0-9a-f]{6}$/i;
-  const fmt = (x, n) => (x === null || x === undefined) ? "–" : Number(x).toFixed(n);
-  function el(tag, cls, text) {
-    const e = document.createElement(tag);
-    if (cls) e.className = cls;
-    if (text !== undefined) e.textContent = text;
-    return e;
-  }
-  function row(tbody, k, v) {
-    const tr = el("tr"); tr.appendChild(el("td", "", k)); tr.appendChild(el("td", "num", v)); tbody.appendChild(tr);
-  }
-  function link(parent, href, text) {
-    const a = el("a", "", text); a.href = encodeURI(href); parent.appendChild(a);
-  }
-  function card(s) {
-    const c = el("article", "card");
-    c.dataset.id = s.id;
-    const chip = el("div", "chip");
-    if (HEX.test(s.srgb_hex)) chip.style.backgroundColor = s.srgb_hex;
-    chip.title = "sRGB " + s.srgb_hex + " at " + cat.catalog.reference_geometry.name;
-    c.appendChild(chip);
-    const flop = el("div", "flop");
-    for (const g of cat.catalog.multi_angle_geometries) {
-      const hx = s.multi_angle_srgb_hex[g.name];
-      const sp = el("span"); if (HEX.test(hx)) sp.style.backgroundColor = hx;
-      sp.title = g.name + ": L*a*b* " + s.multi_angle[g.name].map((v) => fmt(v, 1)).join(" ");
-      flop.appendChild(sp);
-    }
-    c.appendChild(flop);
-    const body = el("div", "body");
-    const t = el("div", "title", fmt(s.thickness_nm, 1) + " nm · " + fmt(s.voltage_V, 1) + " V");
-    t.appendChild(el("span", "hex", s.srgb_hex));
-    body.appendChild(t);
-    const tb = el("tbody");
-    row(tb, "L*a*b* (" + cat.catalog.reference_geometry.name + ")", s.Lab.map((v) => fmt(v, 2)).join("  "));
-    row(tb, "L*C*h", fmt(s.LCh[0], 2) + "  " + fmt(s.LCh[1], 2) + "  " + fmt(s.LCh[2], 1) + "°");
-    row(tb, "hue", s.hue_family);
-    const pw = s.process_window;
-    row(tb, "window (" + pw.grade + ")", "−" + fmt(pw.thickness_minus_nm, 1) + " / +" + fmt(pw.thickness_plus_nm, 1) + " nm");
-    row(tb, "", "−" + fmt(pw.voltage_minus_V, 2) + " / +" + fmt(pw.voltage_plus_V, 2) + " V");
-    row(tb, "ΔE00 prev / next", fmt(s.delta_E_00_to_neighbours.previous, 2) + " / " + fmt(s.delta_E_00_to_neighbours.next, 2));
-    const table = el("table"); table.appendChild(tb); body.appendChild(table);
-    if (cat.catalog.multi_angle_geometries.length) {
-      const det = el("details"); det.appendChild(el("summary", "", "multi-angle L*a*b*"));
-      const mt = el("tbody");
-      for (const g of cat.catalog.multi_angle_geometries) {
-        row(mt, g.name + " (θd " + fmt(g.theta_d_deg, 1) + "°)", s.multi_angle[g.name].map((v) => fmt(v, 2)).join("  "));
-      }
-      const t2 = el("table"); t2.appendChild(mt); det.appendChild(t2); body.appendChild(det);
-    }
-    const links = el("div", "links");
-    link(links, s.sheet_png, "sheet " + s.sheet + " (PNG)");
-    link(links, s.sheet_exr, "EXR");
-    body.appendChild(links);
-    if (s.presets) {  // 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°)
-      const pr = el("div", "links presets"), p = s.presets;
-      pr.title = p.conditions;
-      link(pr, p.gltf, "glTF ΔE00 " + fmt(p.gltf_max_delta_E_00, 1));
-      link(pr, p.blender, "Blender ΔE00 " + fmt(p.blender_max_delta_E_00, 1));
-      link(pr, p.materialx, "OpenPBR ΔE00 " + fmt(p.openpbr_max_delta_E_00, 1));
-      body.appendChild(pr);
-    }
-    c.appendChild(body);
-    return c;
-  }
-  const cards = new Map(swatches.map((s) => [s.id, card(s)]));
-  function num(id) { const v = $(id).value.trim(); return v === "" ? null : Number(v); }
-  function inHue(h, lo, hi) { return lo <= hi ? (h >= lo && h <= hi) : (h >= lo || h <= hi); }
-  function update() {
-    const tmin = num("tmin"), tmax = num("tmax"), vmin = num("vmin"), vmax = num("vmax");
-    const hmin = num("hmin"), hmax = num("hmax"), fam = $("family").value;
-    const key = $("sort").value, dir = $("order").value === "desc" ? -1 : 1;
-    const shown = swatches.filter((s) =>
-      (tmin === null || s.thickness_nm >= tmin) && (tmax === null || s.thickness_nm <= tmax) &&
-      (vmin === null || s.voltage_V >= vmin) && (vmax === null || s.voltage_V <= vmax) &&
-      (fam === "" || s.hue_family === fam) &&
-      ((hmin === null && hmax === null) || inHue(s.LCh[2], hmin === null ? 0 : hmin, hmax === null ? 360 : hmax)));
-    const val = (s) => key === "hue" ? s.LCh[2] : key === "voltage" ? s.voltage_V : s.thickness_nm;
-    shown.sort((a, b) => dir * (val(a) - val(b)) || (a.index - b.index));
-    main.replaceChildren(...shown.map((s) => cards.get(s.id)));
-    if (!shown.length) main.appendChild(el("p", "empty", "No swatch matches the filters."));
-    $("count").textContent = "showing " + shown.length + " of " + swatches.length;
-  }
-  const fams = $("family");
-  for (const f of cat.hue_families) { const o = el("option", "", f); o.value = f; fams.appendChild(o); }
-  $("controls").addEventListener("input", update);
-  $("controls").addEventListener("reset", () => setTimeout(update, 0));
-  $("controls").addEventListener("submit", (e) => e.preventDefault());
-  update();
-})();
-"""
+def _asset(name: str) -> str:
+    return resources.files("swatch.catalog").joinpath("web", name).read_text(encoding="utf-8")
 
 
-def index_html(catalog: dict) -> str:
-    """The page for a catalog document (the content of catalog.json plus ``hue_families``)."""
+def page_script() -> str:
+    body = "\n".join(_asset(n) for n in SCRIPTS)
+    return f'\n"use strict";\n(function () {{\n{body}\n}})();\n'
+
+
+def page_style() -> str:
+    return _asset("page.css")
+
+
+def _fmt(x, n: int) -> str:
+    return "–" if x is None else f"{x:.{n}f}"
+
+
+def _chip_style(hex_code: str, p3=None) -> str:
+    style = f"background-color:{hex_code}"
+    if p3 is not None:  # browsers without color() drop this declaration and keep the hex
+        style += ";background-color:color(display-p3 " + " ".join(f"{v:.4f}" for v in p3) + ")"
+    return style
+
+
+def _sprite(sheet: str, rect, origin, sheet_px, px: int, cls: str, label: str) -> str:
+    x, y, w, h = rect
+    k = px / w
+    style = (f"width:{px}px;height:{round(h * k)}px;background-image:url({html.escape(sheet)});"
+             f"background-size:{sheet_px[0] * k:.2f}px {sheet_px[1] * k:.2f}px;"
+             f"background-position:{-(origin[0] + x) * k:.2f}px {-(origin[1] + y) * k:.2f}px")
+    return f'<div class="{cls}" role="img" aria-label="{html.escape(label)}" style="{style}"></div>'
+
+
+def _card(s: dict, c: dict, tiles: dict | None, p3) -> str:
+    e = html.escape
+    ref = c["reference_geometry"]["name"]
+    gam = "" if s["in_srgb_gamut"] else '<span class="gamut">outside sRGB</span>'
+    out = [f'<article class="card" id="card-{e(s["id"])}" data-id="{e(s["id"])}">',
+           f'<div class="chip" style="{_chip_style(s["srgb_hex"], p3)}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
+           f'{gam}</div>']
+    if c["multi_angle_geometries"]:
+        out.append('<div class="flop">')
+        for g in c["multi_angle_geometries"]:
+            lab = " ".join(_fmt(v, 1) for v in s["multi_angle"][g["name"]])
+            out.append(f'<span style="background-color:{e(s["multi_angle_srgb_hex"][g["name"]])}" '
+                       f'title="{e(g["name"])}: L*a*b* {lab}"></span>')
+        out.append("</div>")
+    if tiles is not None:
+        origin = tiles["origins"][s["id"]]
+        out.append('<div class="imgs">')
+        for shape, rect in zip(c["render"]["shapes"], tiles["renders"]):
+            out.append(_sprite(s["sheet_png"], rect, origin, tiles["sheet_px"], CARD_IMAGE_PX, "render",
+                               f"{shape} render, light 45°"))
+        if tiles["amap"] is not None:
+            lo, hi = tiles["amap_deg"]
+            out.append(f'<figure class="map"><span class="ylab">light {lo:g}–{hi:g}° →</span>'
+                       + _sprite(s["sheet_png"], tiles["amap"], origin, tiles["sheet_px"], CARD_IMAGE_PX, "amap",
+                                 "angular map: colour over light (up) and view (across) polar angle")
+                       + f'<span></span><span class="xlab">view {lo:g}–{hi:g}° →</span></figure>')
+        out.append("</div>")
+    pw = s["process_window"]
+    rows = [
+        (f"L*a*b* ({ref})", "  ".join(_fmt(v, 2) for v in s["Lab"])),
+        ("L*C*h", f'{_fmt(s["LCh"][0], 2)}  {_fmt(s["LCh"][1], 2)}  {_fmt(s["LCh"][2], 1)}°'),
+        ("hue family", s["hue_family"]),
+        (f'window ({pw["grade"]})', f'−{_fmt(pw["thickness_minus_nm"], 1)} / +{_fmt(pw["thickness_plus_nm"], 1)} nm'),
+        ("", f'−{_fmt(pw["voltage_minus_V"], 2)} / +{_fmt(pw["voltage_plus_V"], 2)} V'),
+        ("ΔE00 prev / next", f'{_fmt(s["delta_E_00_to_neighbours"]["previous"], 2)} / '
+                             f'{_fmt(s["delta_E_00_to_neighbours"]["next"], 2)}'),
+    ]
+    out.append('<div class="body">')
+    out.append(f'<div class="title">{_fmt(s["thickness_nm"], 1)} nm · {_fmt(s["voltage_V"], 1)} V'
+               f'<span class="hex">{e(s["srgb_hex"])}</span></div>')
+    out.append(f'<div class="name">{e(s.get("colour_name", ""))}</div>')
+    out.append("<table><tbody>" + "".join(f'<tr><td>{e(k)}</td><td class="num">{e(v)}</td></tr>' for k, v in rows)
+               + "</tbody></table>")
+    if c["multi_angle_geometries"]:
+        out.append("<details><summary>multi-angle L*a*b*</summary><table><tbody>")
+        for g in c["multi_angle_geometries"]:
+            lab = "  ".join(_fmt(v, 2) for v in s["multi_angle"][g["name"]])
+            out.append(f'<tr><td>{e(g["name"])} (θd {_fmt(g["theta_d_deg"], 1)}°)</td><td class="num">{lab}</td></tr>')
+        out.append("</tbody></table></details>")
+    out.append(f'<div class="links"><a href="{e(s["sheet_png"])}">sheet {s["sheet"]} (PNG)</a>'
+               f'<a href="{e(s["sheet_exr"])}">EXR</a></div>')
+    p = s.get("presets")
+    if p:  # 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°)
+        out.append(f'<div class="links presets" title="{e(str(p.get("conditions", "")))}">'
+                   + "".join(f'<a href="{e(str(p[k]))}">{label} ΔE00 {_fmt(p.get(dk), 1)}</a>'
+                             for k, label, dk in (("gltf", "glTF", "gltf_max_delta_E_00"),
+                                                  ("blender", "Blender", "blender_max_delta_E_00"),
+                                                  ("materialx", "OpenPBR", "openpbr_max_delta_E_00")) if p.get(k))
+                   + "</div>")
+    out.append("</div></article>")
+    return "".join(out)
+
+
+def _explain(c: dict) -> str:
+    e = html.escape
+    ref = c["reference_geometry"]
+    pw = c["tolerance"]
+    names = ", ".join(e(g["name"]) for g in c["multi_angle_geometries"]) or "none"
+    return f"""<div class="explain">
+<details><summary>What is {e(ref["name"])}?</summary><p>The colour numbers are measured as a
+colour instrument does: light from {ref["light_deg"]:g}° off the surface's normal, viewed at
+{ref["view_deg"]:g}° (straight on for 0°). The film's colour is that of the tiny facets tilted to
+reflect the light into your eye; at {e(ref["name"])} they meet the light at θd = {ref["theta_d_deg"]:g}°.
+Anodised titanium changes colour with angle, so every number says its geometry.</p></details>
+<details><summary>Multi-angle codes</summary><p>Under each chip, left to right: {names}. The light
+stays at 45°; “as15” means the viewer is 15° away from the gloss (the mirror direction), “as−15” 15°
+past it on the light's side, “as110” far from it. Near the gloss the colour is the brightest and
+shifts most; far from it you see the colour at grazing facets.</p></details>
+<details><summary>Process window and grade</summary><p>How far the oxide may drift (thinner / thicker,
+and the anodising voltage that makes that drift) before the colour moves more than
+ΔE2000 {pw["max_delta_E_00"]:g} from the nominal swatch: grade {e(pw["grade"])} of the
+{e(pw["scheme"])} scheme ({e(pw.get("grade_description", ""))}). A wide window means a forgiving
+colour; a narrow one needs tight voltage control.</p></details>
+<details><summary>sRGB, Display P3 and dashed chips</summary><p>Chips are CIE 1931 2° colorimetry
+shown in sRGB, or in Display P3 on wide-gamut screens. Some interference colours lie outside sRGB:
+those chips are clipped and marked “outside sRGB” (with a dashed outline in the explorer).</p></details>
+</div>"""
+
+
+def _tools(c: dict) -> str:
+    ref = c["reference_geometry"]
+    return f"""<section id="explorer" class="tool" hidden aria-label="live view">
+<div class="stage"><canvas id="view" width="800" height="600"></canvas>
+<p class="hint" id="view-note">Drag the picture to turn the view; the light stays fixed. Colours are the
+thin-film physics of this catalog (embedded table), shaded with the microfacet model.</p></div>
+<div class="panel">
+<h2>Live view</h2>
+<form id="live-form" autocomplete="off">
+<label><span>thickness <strong id="t-out"></strong> · voltage <strong id="v-out"></strong></span>
+<input id="thickness" type="range" step="0.1"></label>
+<div class="pair"><label>voltage V<input id="voltage" type="number" step="0.1"></label>
+<label>shape<select id="shape"><option value="plate">plate</option><option value="bent sheet">bent sheet</option>
+<option value="sphere">sphere</option></select></label>
+<label>shading<select id="model"><option value="microfacet">microfacet (D·G)</option>
+<option value="paper">paper (facet colour only)</option></select></label></div>
+<label><span>light angle <strong id="l-out"></strong></span><input id="light" type="range" min="0" max="85" step="0.5"></label>
+<label><span>view angle <strong id="w-out"></strong></span><input id="view-deg" type="range" min="0" max="85" step="0.5"></label>
+</form>
+<div class="readout">
+<div class="chip" id="state-chip"></div><div><strong>this light and view</strong> <span id="state-gamut" class="gamut-note">(outside sRGB)</span><br><span id="state-text" class="num"></span></div>
+<div class="chip" id="ref-chip"></div><div><strong>reference {html.escape(ref["name"])}</strong><br><span id="ref-text" class="num"></span></div>
+</div>
+<div><button type="button" id="pin">pin for comparison</button></div>
+</div>
+</section>
+<section id="find" class="tool" hidden aria-label="find by colour">
+<h2>Find by colour</h2>
+<form id="find-form" class="pair" autocomplete="off">
+<label>hex<input id="find-hex" type="text" size="9" placeholder="#2275b5"></label>
+<label>or L*a*b*<input id="find-lab" type="text" size="16" placeholder="47.5, -1.5, -40.8"></label>
+<label>picker<input id="find-picker" type="color" value="#2275b5"></label>
+<button type="submit">find</button>
+</form>
+<p class="hint" id="find-target"></p>
+<ol id="find-results"></ol>
+</section>
+<section id="compare" class="tool" hidden aria-label="compare">
+<h2>Compare</h2>
+<div id="compare-list"></div>
+<table id="compare-delta"></table>
+</section>"""
+
+
+def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = None, p3=None) -> str:
+    """The page for a catalog document (catalog.json plus ``hue_families``).
+
+    ``table``: :func:`swatch.catalog.explorer.explorer_data` (without it the page is the grid
+    only); ``tiles``: :func:`swatch.catalog.explorer.tile_rects`; ``p3``: Display P3 encoded RGB
+    per swatch (chips on wide-gamut screens).
+    """
     c = catalog["catalog"]
     e = html.escape
-    script_hash = base64.b64encode(hashlib.sha256(_JS.encode("utf-8")).digest()).decode("ascii")
+    script = page_script() if table is not None else ""
+    script_hash = base64.b64encode(hashlib.sha256(script.encode("utf-8")).digest()).decode("ascii")
     csp = (f"default-src 'none'; style-src 'unsafe-inline'; script-src 'sha256-{script_hash}'; "
-           "img-src 'none'; base-uri 'none'; form-action 'none'")
+           "img-src 'self'; base-uri 'none'; form-action 'none'")
     ref = c["reference_geometry"]
     multi = ", ".join(g["name"] for g in c["multi_angle_geometries"]) or "none"
     files = [("catalog.json", "catalog.json"), ("catalog.csv", "catalog.csv"), (c["exports"]["cxf"], "CxF3"),
@@ -172,6 +219,16 @@ def index_html(catalog: dict) -> str:
     files += [(s["png"], f"sheet {s['number']}") for s in catalog["sheets"]]
     links = " ".join(f'<a href="{e(href)}">{e(text)}</a>' for href, text in files)
     pw = c["tolerance"]
+    swatches = catalog["swatches"]
+    cards = "\n".join(_card(s, c, tiles, None if p3 is None else p3[i]) for i, s in enumerate(swatches))
+    families = "".join(f'<option value="{e(f)}">{e(f)}</option>' for f in catalog.get("hue_families", []))
+    names = sorted({s.get("colour_name") for s in swatches if s.get("colour_name")})
+    families += "".join(f'<option value="{e(n)}">{e(n)} (name)</option>' for n in names)
+    tools = _tools(c) if table is not None else ""
+    blocks = f'<script type="application/json" id="catalog-data">{embed_json(catalog)}</script>\n'
+    if table is not None:
+        blocks += f'<script type="application/json" id="explorer-table">{embed_json(table)}</script>\n'
+        blocks += f"<script>{script}</script>\n"
     return f"""<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -179,18 +236,20 @@ def index_html(catalog: dict) -> str:
 <meta http-equiv="Content-Security-Policy" content="{e(csp)}">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{e(c["name"])} · swatch catalog</title>
-<style>{_CSS}</style>
+<style>{page_style()}</style>
 </head>
 <body>
 <header>
 <h1 id="catalog-name">{e(c["name"])}</h1>
-<p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(catalog["swatches"])} swatches ·
+<p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
 growth {c["growth_nm_per_V"]:g} nm/V · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
 L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}</p>
 <p class="sub">Multi-angle (flop strip under each chip, left to right): {e(multi)}. Process window: thickness and
 voltage deviations that keep ΔE2000 to the nominal colour ≤ {pw["max_delta_E_00"]:g} (grade {e(pw["grade"])}, {e(pw["scheme"])}).</p>
+{_explain(c)}
 <p class="sub files">{links}</p>
 </header>
+{tools}
 <form id="controls" autocomplete="off">
 <fieldset><label>sort by<select id="sort"><option value="thickness">thickness</option>
 <option value="voltage">voltage</option><option value="hue">hue angle</option></select></label>
@@ -199,15 +258,16 @@ voltage deviations that keep ΔE2000 to the nominal colour ≤ {pw["max_delta_E_
 <label>≤ nm<input id="tmax" type="number" step="any"></label></fieldset>
 <fieldset><label>voltage ≥ V<input id="vmin" type="number" step="any"></label>
 <label>≤ V<input id="vmax" type="number" step="any"></label></fieldset>
-<fieldset><label>hue family<select id="family"><option value="">any</option></select></label>
+<fieldset><label>hue family<select id="family"><option value="">any</option>{families}</select></label>
 <label>hue from °<input id="hmin" type="number" min="0" max="360" step="any"></label>
 <label>to °<input id="hmax" type="number" min="0" max="360" step="any"></label></fieldset>
 <fieldset><button type="reset">reset</button></fieldset>
 <span id="count"></span>
 </form>
-<main id="swatches"><noscript>This page needs JavaScript to list the swatches; the same data is in catalog.csv.</noscript></main>
-<script type="application/json" id="catalog-data">{embed_json(catalog)}</script>
-<script>{_JS}</script>
-</body>
+<main id="swatches">
+{cards}
+</main>
+<noscript><p class="empty">JavaScript is off: the live view, compare and find by colour need it; the grid above is complete.</p></noscript>
+{blocks}</body>
 </html>
 """

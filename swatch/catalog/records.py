@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from swatch.catalog.names import NEUTRAL_CHROMA, colour_name
 from swatch.catalog.spec import CatalogSpec, Geometry
 from swatch.errors import SwatchError
 
@@ -30,7 +31,9 @@ __all__ = ["CatalogData", "compute", "hue_family", "PROCESS_STEP_NM", "HUE_FAMIL
 #: Grid step of the process-window search (the crossing is then interpolated linearly).
 PROCESS_STEP_NM = 0.05
 
-#: CIELAB hue-angle families (degrees, [start, end)); chroma below NEUTRAL_CHROMA is "neutral".
+#: CIELAB hue-angle families (degrees, [start, end)); chroma below NEUTRAL_CHROMA is "neutral"
+#: (80 nm of TiO2, C* 7.6, is a near-grey, not "cyan"), and pale yellow-greens (C* below
+#: PALE_STRAW_CHROMA from 105° to 135°, the 85–100 nm straws) are "yellow", not "green".
 HUE_FAMILIES = (
     ("red", 345.0, 35.0),
     ("orange", 35.0, 70.0),
@@ -40,7 +43,7 @@ HUE_FAMILIES = (
     ("blue", 225.0, 290.0),
     ("purple", 290.0, 345.0),
 )
-NEUTRAL_CHROMA = 6.0
+PALE_STRAW_CHROMA = 35.0
 _CHUNK = 8
 
 
@@ -48,6 +51,8 @@ def hue_family(chroma: float, hue_deg: float) -> str:
     if chroma < NEUTRAL_CHROMA:
         return "neutral"
     h = hue_deg % 360.0
+    if 105.0 <= h < 135.0 and chroma < PALE_STRAW_CHROMA:
+        return "yellow"
     for name, lo, hi in HUE_FAMILIES:
         if (lo <= h < hi) if lo < hi else (h >= lo or h < hi):
             return name
@@ -199,6 +204,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
             "srgb_hex": hexes[i],
             "in_srgb_gamut": bool(gamut[i]),
             "hue_family": hue_family(float(LCh[i, 1]), float(LCh[i, 2])),
+            "colour_name": colour_name(*(float(v) for v in LCh[i])),
             "multi_angle": {g.name: [r(v) for v in multi_Lab[j, i]] for j, g in enumerate(spec.multi_angle)},
             "multi_angle_LCh": {g.name: [r(v) for v in multi_LCh[j, i]] for j, g in enumerate(spec.multi_angle)},
             "multi_angle_srgb_hex": {g.name: str(multi_hex[j, i]) for j, g in enumerate(spec.multi_angle)},

@@ -1,0 +1,49 @@
+"""Words designers use for anodised colours: a plain name from CIELAB lightness, chroma and hue.
+
+The names are the trade's (bronze, gold, straw, purple, blue, silver blue, magenta, pink, teal,
+green, silver ...) given to regions of L*C*h (the catalog's illuminant and observer, reference
+geometry). They are labels for people, not measurements: the numbers stay beside them.
+
+:data:`NAME_RULES` is the one definition: rows ``(name, h_from, h_to, C_min, C_max, L_min, L_max)``
+tried in order, the first whose bounds all hold wins (hue in ``[h_from, h_to)`` degrees, wrapping
+through 0 when ``h_from > h_to``; ``C_min <= C* < C_max``; ``L_min <= L* < L_max``; None = no bound).
+The page embeds the same rows for its live readout.
+"""
+from __future__ import annotations
+
+__all__ = ["colour_name", "NAME_RULES", "NEUTRAL_CHROMA"]
+
+#: Below this chroma a colour is "silver" (and its hue family "neutral").
+NEUTRAL_CHROMA = 10.0
+
+NAME_RULES: tuple[tuple, ...] = (
+    ("silver blue", 180.0, 290.0, 5.0, NEUTRAL_CHROMA, None, None),  # a grey with a cool tint
+    ("silver", 0.0, 360.0, None, NEUTRAL_CHROMA, None, None),
+    ("silver blue", 235.0, 290.0, None, 25.0, 65.0, None),  # pale light blue
+    ("blue", 235.0, 290.0, None, None, None, None),
+    ("teal", 185.0, 235.0, 20.0, None, None, None),
+    ("silver blue", 185.0, 235.0, None, None, None, None),
+    ("green", 135.0, 185.0, None, None, None, None),
+    ("straw", 105.0, 135.0, None, 35.0, None, None),  # pale yellow-green reads as straw
+    ("lime", 105.0, 135.0, None, None, None, None),
+    ("gold", 75.0, 105.0, 45.0, None, None, None),
+    ("straw", 75.0, 105.0, None, None, None, None),
+    ("bronze", 35.0, 75.0, None, None, None, 55.0),
+    ("gold", 35.0, 75.0, 35.0, None, None, None),
+    ("champagne", 35.0, 75.0, None, None, None, None),
+    ("plum", 350.0, 35.0, None, None, None, 45.0),
+    ("pink", 350.0, 35.0, None, None, None, None),
+    ("magenta", 325.0, 350.0, None, None, None, None),
+    ("purple", 290.0, 325.0, None, None, None, None),
+)
+
+
+def colour_name(L: float, C: float, h: float) -> str:
+    """The plain name of a colour given as CIE L*, C*ab and hue angle h (degrees)."""
+    h = float(h) % 360.0
+    for name, h0, h1, c0, c1, l0, l1 in NAME_RULES:
+        in_hue = (h0 <= h < h1) if h0 <= h1 else (h >= h0 or h < h1)
+        if (in_hue and (c0 is None or C >= c0) and (c1 is None or C < c1)
+                and (l0 is None or L >= l0) and (l1 is None or L < l1)):
+            return name
+    raise AssertionError("unreachable: every hue has a row without bounds")

@@ -1,0 +1,251 @@
+// page.js — the catalog page: filters over the cards the build wrote (the page works without
+// JavaScript as a plain grid), the live view, compare, find by colour, and window.swatchCatalog.
+
+const cat = JSON.parse(document.getElementById("catalog-data").textContent);
+const T = JSON.parse(document.getElementById("explorer-table").textContent);
+const C = makeColour(T);
+const swatches = cat.swatches;
+const $ = (id) => document.getElementById(id);
+const fmt = (x, n) => (x === null || x === undefined || !Number.isFinite(Number(x))) ? "–" : Number(x).toFixed(n);
+const HEX = /^#[0-9a-f]{6}$/i;
+const ref = cat.catalog.reference_geometry;
+const geoms = cat.catalog.multi_angle_geometries;
+const growth = cat.catalog.growth_nm_per_V;
+const bound = cat.catalog.tolerance.max_delta_E_00;
+function el(tag, cls, text) {
+  const e = document.createElement(tag);
+  if (cls) e.className = cls;
+  if (text !== undefined) e.textContent = text;
+  return e;
+}
+function paint(node, c) { // sRGB hex, then Display P3 where the browser has it
+  node.style.backgroundColor = c.hex;
+  if (CSS.supports("color", "color(display-p3 1 1 1)")) {
+    node.style.backgroundColor = "color(display-p3 " + c.display_p3.map((v) => v.toFixed(4)).join(" ") + ")";
+  }
+  node.classList.toggle("out-of-gamut", !c.in_srgb_gamut);
+  node.title = c.hex + (c.in_srgb_gamut ? "" : " (outside sRGB: clipped)");
+}
+function chip(c, cls, label) {
+  const d = el("div", "chip " + (cls || ""));
+  paint(d, c);
+  if (!c.in_srgb_gamut) d.appendChild(el("span", "gamut", "outside sRGB"));
+  if (label) d.appendChild(el("span", "chip-label", label));
+  return d;
+}
+function geoArgs(g) { // a catalog geometry as colorAt arguments (in plane; view side)
+  return {light_deg: g.light_deg, view_deg: g.view_deg, light_azimuth_deg: 0,
+          view_azimuth_deg: g.view_side === "light" ? 0 : 180};
+}
+
+// -- filters (over the static cards) ---------------------------------------------------------
+const main = $("swatches");
+const cards = new Map([...main.querySelectorAll("article.card")].map((c) => [c.dataset.id, c]));
+const empty = el("p", "empty", "No swatch matches the filters.");
+function num(id) { const v = $(id).value.trim(); return v === "" ? null : Number(v); }
+function inHue(h, lo, hi) { return lo <= hi ? (h >= lo && h <= hi) : (h >= lo || h <= hi); }
+function update() {
+  const tmin = num("tmin"), tmax = num("tmax"), vmin = num("vmin"), vmax = num("vmax");
+  const hmin = num("hmin"), hmax = num("hmax"), fam = $("family").value;
+  const key = $("sort").value, dir = $("order").value === "desc" ? -1 : 1;
+  const shown = swatches.filter((s) =>
+    (tmin === null || s.thickness_nm >= tmin) && (tmax === null || s.thickness_nm <= tmax) &&
+    (vmin === null || s.voltage_V >= vmin) && (vmax === null || s.voltage_V <= vmax) &&
+    (fam === "" || s.hue_family === fam || s.colour_name === fam) &&
+    ((hmin === null && hmax === null) || inHue(s.LCh[2], hmin === null ? 0 : hmin, hmax === null ? 360 : hmax)));
+  const val = (s) => key === "hue" ? s.LCh[2] : key === "voltage" ? s.voltage_V : s.thickness_nm;
+  shown.sort((a, b) => dir * (val(a) - val(b)) || (a.index - b.index));
+  main.replaceChildren(...shown.map((s) => cards.get(s.id)));
+  if (!shown.length) main.appendChild(empty);
+  $("count").textContent = "showing " + shown.length + " of " + swatches.length;
+}
+$("controls").addEventListener("input", update);
+$("controls").addEventListener("reset", () => setTimeout(update, 0));
+$("controls").addEventListener("submit", (e) => e.preventDefault());
+
+// -- live view -------------------------------------------------------------------------------
+const state = {thickness_nm: swatches.length ? swatches[0].thickness_nm : C.range[0], light_deg: ref.light_deg,
+  view_deg: ref.view_deg, light_azimuth_deg: 0, view_azimuth_deg: ref.view_side === "light" ? 0 : 180,
+  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet"};
+const canvas = $("view");
+let view = null;
+try { view = makeView(canvas, C, {roughness: T.render.roughness}); } catch (e) { view = null; console.warn(String(e)); }
+if (!view) $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
+const clampT = (d) => Math.min(Math.max(d, C.range[0]), C.range[1]);
+function readout() {
+  const c = C.colorAt(state);
+  paint($("state-chip"), c);
+  $("state-gamut").hidden = c.in_srgb_gamut;
+  const lch = C.LCh(c.Lab);
+  $("state-text").textContent = "L*a*b* " + c.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + c.hex +
+    " · θd " + fmt(c.theta_d_deg, 1) + "° · " + nameOf(lch);
+  const r = C.refColour(state.thickness_nm);
+  paint($("ref-chip"), r);
+  $("ref-text").textContent = ref.name + ": L*a*b* " + r.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + r.hex;
+  $("t-out").textContent = fmt(state.thickness_nm, 1) + " nm";
+  $("v-out").textContent = fmt(state.thickness_nm / growth, 1) + " V";
+  $("l-out").textContent = fmt(state.light_deg, 1) + "°";
+  $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
+}
+function draw() {
+  if (view) state.exposure = view.draw(state);
+  readout();
+}
+function syncInputs() {
+  $("thickness").value = state.thickness_nm; $("voltage").value = fmt(state.thickness_nm / growth, 2);
+  $("light").value = state.light_deg; $("view-deg").value = state.view_deg;
+  $("shape").value = state.shape; $("model").value = state.model;
+}
+function show(q) {
+  q = q || {};
+  const n = (v, lo, hi) => { const x = Number(v); if (!Number.isFinite(x)) throw new Error("show: numbers expected"); return Math.min(Math.max(x, lo), hi); };
+  if (q.thickness_nm !== undefined) state.thickness_nm = clampT(n(q.thickness_nm, -1e9, 1e9));
+  if (q.voltage_V !== undefined) state.thickness_nm = clampT(n(q.voltage_V, -1e9, 1e9) * growth);
+  if (q.light_deg !== undefined) state.light_deg = n(q.light_deg, 0, 89);
+  if (q.view_deg !== undefined) state.view_deg = n(q.view_deg, 0, 89);
+  if (q.light_azimuth_deg !== undefined) state.light_azimuth_deg = n(q.light_azimuth_deg, -720, 720);
+  if (q.view_azimuth_deg !== undefined) state.view_azimuth_deg = n(q.view_azimuth_deg, -720, 720);
+  if (q.shape !== undefined && view && view.SHAPES.includes(q.shape)) state.shape = q.shape;
+  if (q.model === "paper" || q.model === "microfacet") state.model = q.model;
+  syncInputs();
+  draw();
+  return Object.assign({}, state);
+}
+$("thickness").min = C.range[0]; $("thickness").max = C.range[1];
+$("live-form").addEventListener("input", (e) => {
+  const id = e.target.id;
+  if (id === "thickness") show({thickness_nm: e.target.value});
+  else if (id === "voltage") { if (e.target.value !== "") { state.thickness_nm = clampT(Number(e.target.value) * growth); $("thickness").value = state.thickness_nm; draw(); } }
+  else if (id === "light") show({light_deg: e.target.value});
+  else if (id === "view-deg") show({view_deg: e.target.value});
+  else if (id === "shape") show({shape: e.target.value});
+  else if (id === "model") show({model: e.target.value});
+});
+$("live-form").addEventListener("submit", (e) => e.preventDefault());
+let drag = null;
+canvas.addEventListener("pointerdown", (e) => { drag = [e.clientX, e.clientY, state.view_azimuth_deg, state.view_deg]; canvas.setPointerCapture(e.pointerId); });
+canvas.addEventListener("pointermove", (e) => {
+  if (!drag) return;
+  show({view_azimuth_deg: drag[2] - (e.clientX - drag[0]) * 0.5, view_deg: drag[3] + (e.clientY - drag[1]) * 0.3});
+});
+canvas.addEventListener("pointerup", () => { drag = null; });
+
+// -- names (swatch.catalog.names.NAME_RULES, embedded) -----------------------------------------
+function nameOf(lch) {
+  const [L, Ch, h0] = lch, h = ((h0 % 360) + 360) % 360;
+  for (const [name, ha, hb, c0, c1, l0, l1] of T.name_rules) {
+    const inHue = ha <= hb ? (h >= ha && h < hb) : (h >= ha || h < hb);
+    if (inHue && (c0 === null || Ch >= c0) && (c1 === null || Ch < c1) && (l0 === null || L >= l0) && (l1 === null || L < l1)) return name;
+  }
+  return "";
+}
+
+// -- compare ---------------------------------------------------------------------------------
+const pinned = [];
+const MAX_PINS = 4;
+function pin(item) {
+  if (pinned.length >= MAX_PINS) pinned.shift();
+  pinned.push(item);
+  renderCompare();
+}
+function windowOf(item) {
+  const r = item.record;
+  if (r) return {minus: r.process_window.thickness_minus_nm, plus: r.process_window.thickness_plus_nm};
+  const w = C.windowAt(item.thickness_nm, bound, cat.catalog.tolerance.search_nm);
+  return {minus: w.minus.nm, plus: w.plus.nm};
+}
+function renderCompare() {
+  const list = $("compare-list");
+  list.replaceChildren();
+  $("compare").hidden = pinned.length === 0;
+  pinned.forEach((item, k) => {
+    const box = el("div", "pin");
+    const d = item.thickness_nm;
+    const r = C.refColour(d);
+    box.appendChild(el("div", "pin-title", item.label));
+    box.appendChild(chip(r, "big", ref.name));
+    box.appendChild(el("div", "pin-sub", fmt(d, 1) + " nm · " + fmt(d / growth, 1) + " V · " + r.hex + " · " + nameOf(C.LCh(r.Lab))));
+    const strip = el("div", "strip");
+    for (const g of geoms) strip.appendChild(chip(C.colorAt(Object.assign({thickness_nm: d}, geoArgs(g))), "", g.name));
+    box.appendChild(strip);
+    const w = windowOf(item);
+    const ends = el("div", "ends");
+    ends.appendChild(chip(C.refColour(d - w.minus), "", "thin end " + fmt(d - w.minus, 1) + " nm"));
+    ends.appendChild(chip(C.refColour(d + w.plus), "", "thick end " + fmt(d + w.plus, 1) + " nm"));
+    box.appendChild(el("div", "pin-sub", "process window (ΔE00 ≤ " + bound + "): −" + fmt(w.minus, 1) + " / +" + fmt(w.plus, 1) + " nm"));
+    box.appendChild(ends);
+    const rm = el("button", "unpin", "remove");
+    rm.type = "button";
+    rm.addEventListener("click", () => { pinned.splice(k, 1); renderCompare(); });
+    box.appendChild(rm);
+    list.appendChild(box);
+  });
+  const tb = $("compare-delta");
+  tb.replaceChildren();
+  if (pinned.length > 1) {
+    const head = el("tr"); head.appendChild(el("th", "", "ΔE00 / ΔE*ab at " + ref.name));
+    pinned.forEach((p) => head.appendChild(el("th", "", p.label)));
+    tb.appendChild(head);
+    pinned.forEach((a) => {
+      const tr = el("tr"); tr.appendChild(el("th", "", a.label));
+      const La = C.refColour(a.thickness_nm).Lab;
+      pinned.forEach((b) => {
+        const Lb = C.refColour(b.thickness_nm).Lab;
+        tr.appendChild(el("td", "num", a === b ? "–" : fmt(C.dE00(La, Lb), 2) + " / " + fmt(C.dEab(La, Lb), 2)));
+      });
+      tb.appendChild(tr);
+    });
+  }
+}
+$("pin").addEventListener("click", () => pin({thickness_nm: state.thickness_nm, label: fmt(state.thickness_nm, 1) + " nm (slider)"}));
+for (const s of swatches) {
+  const card = cards.get(s.id);
+  if (!card) continue;
+  const tools = el("div", "tools");
+  const bp = el("button", "", "compare"); bp.type = "button";
+  bp.addEventListener("click", () => pin({thickness_nm: s.thickness_nm, label: s.id + " · " + fmt(s.thickness_nm, 1) + " nm", record: s}));
+  const bs = el("button", "", "live view"); bs.type = "button";
+  bs.addEventListener("click", () => { show({thickness_nm: s.thickness_nm}); $("explorer").scrollIntoView(); });
+  tools.append(bp, bs);
+  card.querySelector(".body").appendChild(tools);
+}
+
+// -- find by colour --------------------------------------------------------------------------
+function find(target) {
+  const res = $("find-results");
+  res.replaceChildren();
+  let hits;
+  try { hits = C.match(target, 5); } catch (e) { res.appendChild(el("li", "error", String(e.message))); return; }
+  const tLab = target.Lab || C.hexToLab(target.hex);
+  $("find-target").textContent = "target L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " + T.observer + "°)";
+  for (const h of hits) {
+    const li = el("li");
+    li.appendChild(chip(C.refColour(h.thickness_nm), "small"));
+    li.appendChild(el("span", "num", fmt(h.thickness_nm, 2) + " nm · " + fmt(h.voltage_V, 1) + " V · ΔE00 " + fmt(h.delta_E_00, 2) + " · ΔE*ab " + fmt(h.delta_E_ab, 2)));
+    const b = el("button", "", "live view"); b.type = "button";
+    b.addEventListener("click", () => show({thickness_nm: h.thickness_nm}));
+    const p = el("button", "", "compare"); p.type = "button";
+    p.addEventListener("click", () => pin({thickness_nm: h.thickness_nm, label: fmt(h.thickness_nm, 1) + " nm (match)"}));
+    li.append(b, p);
+    res.appendChild(li);
+  }
+}
+$("find-form").addEventListener("submit", (e) => {
+  e.preventDefault();
+  const lab = $("find-lab").value.trim();
+  if (lab) find({Lab: lab.split(/[\s,;]+/).map(Number)});
+  else find({hex: $("find-hex").value});
+});
+$("find-picker").addEventListener("input", (e) => { $("find-hex").value = e.target.value; $("find-lab").value = ""; find({hex: e.target.value}); });
+
+// -- start -----------------------------------------------------------------------------------
+for (const id of ["explorer", "find"]) $(id).hidden = false;
+document.documentElement.classList.add("js");
+update();
+show({});
+window.swatchCatalog = Object.freeze({
+  colorAt: (q) => { const c = C.colorAt(q); return {Lab: c.Lab, hex: c.hex, in_srgb_gamut: c.in_srgb_gamut, theta_d_deg: c.theta_d_deg}; },
+  match: (target, n) => C.match(target, n).map((h) => ({thickness_nm: h.thickness_nm, voltage_V: h.voltage_V, delta_E_00: h.delta_E_00})),
+  show,
+  swatches: Object.freeze(swatches.map((s) => Object.freeze(s))),
+});

@@ -1,0 +1,208 @@
+// view.js — the live WebGL2 view: a plate, a bent sheet or a sphere under one directional light.
+// Per pixel: cos(theta_d) = h.l picks the colour of the thin film from the embedded table (one
+// thickness row, linear sRGB from 2-degree XYZ, interpolated on the GPU); the microfacet model
+// multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G, as
+// swatch.microfacet.ggx_reflectance_factor_cos); then the display transform of swatch.render:
+// exposure k, per-channel shoulder above 0.8, sRGB encoding, background linear grey 0.18.
+
+const VS = `#version 300 es
+in vec2 p; out vec2 uv;
+void main() { uv = p; gl_Position = vec4(p, 0.0, 1.0); }`;
+
+const FS = `#version 300 es
+precision highp float;
+in vec2 uv; out vec4 outColor;
+uniform sampler2D row; uniform int nodes;
+uniform vec3 eye, fwd, right, up, light;
+uniform float tanHalf, aspect, alpha, exposure, bendR, bendPhi;
+const float BG = 0.18;
+bool hitPlate(vec3 o, vec3 d, out float t, out vec3 n) {
+  if (abs(d.z) < 1e-6) return false;
+  t = -o.z / d.z; vec3 q = o + t * d; n = vec3(0, 0, 1);
+  return t > 0.0 && abs(q.x) <= 1.0 && abs(q.y) <= 1.0;
+}
+bool hitBend(vec3 o, vec3 d, out float t, out vec3 n) {
+  vec3 c = vec3(0, 0, -bendR); vec2 oc = (o - c).xz; vec2 dd = d.xz;
+  float a = dot(dd, dd), b = dot(oc, dd), k = dot(oc, oc) - bendR * bendR, disc = b * b - a * k;
+  if (a < 1e-9 || disc < 0.0) return false;
+  float s = sqrt(disc);
+  for (int i = 0; i < 2; i++) {
+    t = (i == 0 ? (-b - s) : (-b + s)) / a; vec3 q = o + t * d; vec3 r = q - c;
+    if (t > 0.0 && abs(q.y) <= 1.0 && abs(atan(r.x, r.z)) <= bendPhi) { n = normalize(vec3(r.x, 0, r.z)); return true; }
+  }
+  return false;
+}
+bool hitSphere(vec3 o, vec3 d, out float t, out vec3 n) {
+  float b = dot(o, d), k = dot(o, o) - 1.0, disc = b * b - k;
+  if (disc < 0.0) return false;
+  t = -b - sqrt(disc); n = normalize(o + t * d); return t > 0.0;
+}
+vec3 tableAt(float c) {
+  float x = clamp(c, 0.0, 1.0) * float(nodes - 1);
+  int i = min(int(x), nodes - 2); float f = x - float(i);
+  return mix(texelFetch(row, ivec2(i, 0), 0).rgb, texelFetch(row, ivec2(i + 1, 0), 0).rgb, f);
+}
+float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
+float enc(float c) { c = clamp(c, 0.0, 1.0); return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055; }
+void main() {
+  vec3 d = normalize(fwd + tanHalf * (uv.x * aspect * right + uv.y * up));
+  float t; vec3 n; bool hit;
+#if SHAPE == 0
+  hit = hitPlate(eye, d, t, n);
+#elif SHAPE == 1
+  hit = hitBend(eye, d, t, n);
+#else
+  hit = hitSphere(eye, d, t, n);
+#endif
+  vec3 lin = vec3(BG);
+  if (hit) {
+    vec3 v = -d;
+    if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
+    float cl = dot(n, light), cv = max(dot(n, v), 0.0);
+    float lv = dot(light, v); float cd = sqrt(max((lv + 1.0) * 0.5, 1e-12));
+    float ch = (cl + cv) * (0.5 / cd);
+    float s;
+#if MODEL == 1
+    s = (cl > 0.0 && cv > 0.0) ? 1.0 : 0.0;
+#else
+    {
+      float c = max(cl, 0.0), a2 = alpha * alpha, om = 1.0 - a2;
+      float den = ch * ch * (a2 - 1.0) + 1.0;
+      float vis = c * sqrt(cv * cv * om + a2) + cv * sqrt(c * c * om + a2);
+      s = 0.5 * a2 * c / max(den * den * vis, 1e-30);
+    }
+#endif
+    vec3 col = tableAt(cd) * s * exposure;
+    lin = vec3(tone(col.r), tone(col.g), tone(col.b));
+  }
+  outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
+}`;
+
+function makeView(canvas, C, settings) {
+  const DEG = Math.PI / 180;
+  const gl = canvas.getContext("webgl2", {antialias: false, preserveDrawingBuffer: true});
+  if (!gl) return null;
+  function compile(type, src) {
+    const s = gl.createShader(type); gl.shaderSource(s, src); gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+    return s;
+  }
+  // one program per shape and shading model (no branching on them per pixel: software GL is faster)
+  const programs = new Map();
+  const vs = compile(gl.VERTEX_SHADER, VS);
+  function program(shape, model) {
+    const key = shape + "/" + model;
+    if (programs.has(key)) return programs.get(key);
+    const prog = gl.createProgram();
+    const src = FS.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model);
+    gl.attachShader(prog, vs);
+    gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, src));
+    gl.bindAttribLocation(prog, 0, "p");
+    gl.linkProgram(prog);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
+    const U = {};
+    for (const name of ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
+      "bendR", "bendPhi"]) U[name] = gl.getUniformLocation(prog, name);
+    gl.useProgram(prog);
+    gl.uniform1i(U.row, 0);
+    gl.uniform1i(U.nodes, C.cosNodes);
+    const entry = {prog, U};
+    programs.set(key, entry);
+    return entry;
+  }
+  const buf = gl.createBuffer();
+  gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+  gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 3, -1, -1, 3]), gl.STATIC_DRAW);
+  gl.enableVertexAttribArray(0);
+  gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
+  const tex = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_2D, tex);
+  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+    [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, v);
+  const BEND_R = 1.2, BEND_PHI = 56 * DEG, FOV = 32 * DEG, DIST = 5.2;
+  let lastRowD = null, lastKey = null, lastK = 1;
+
+  function dir(polar, az) { const t = polar * DEG, p = az * DEG; return [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)]; }
+  function cross(a, b) { return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]; }
+  function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+  function norm(a) { const l = Math.hypot(...a); return a.map((x) => x / l); }
+  function camera(st) {
+    const back = dir(st.view_deg, st.view_azimuth_deg);
+    const eye = back.map((x) => x * DIST);
+    const fwd = back.map((x) => -x);
+    const right = [-Math.sin(st.view_azimuth_deg * DEG), Math.cos(st.view_azimuth_deg * DEG), 0];
+    const up = norm(cross(right, fwd));
+    return {eye, fwd, right, up};
+  }
+  // JS twin of the shader's geometry on a coarse grid: the exposure rule of swatch.render
+  // (k = 1 / median F=1 intensity over the off-mirror pixels, D(h) < D(n)/2)
+  function hit(shape, o, d) {
+    if (shape === 0) {
+      if (Math.abs(d[2]) < 1e-6) return null;
+      const t = -o[2] / d[2]; const q = [o[0] + t * d[0], o[1] + t * d[1]];
+      return (t > 0 && Math.abs(q[0]) <= 1 && Math.abs(q[1]) <= 1) ? [0, 0, 1] : null;
+    }
+    if (shape === 1) {
+      const oc = [o[0], o[2] + BEND_R], dd = [d[0], d[2]];
+      const a = dd[0] * dd[0] + dd[1] * dd[1], b = oc[0] * dd[0] + oc[1] * dd[1], k = oc[0] * oc[0] + oc[1] * oc[1] - BEND_R * BEND_R;
+      const disc = b * b - a * k; if (a < 1e-9 || disc < 0) return null;
+      for (const t of [(-b - Math.sqrt(disc)) / a, (-b + Math.sqrt(disc)) / a]) {
+        const q = o.map((x, i) => x + t * d[i]); const r = [q[0], 0, q[2] + BEND_R];
+        if (t > 0 && Math.abs(q[1]) <= 1 && Math.abs(Math.atan2(r[0], r[2])) <= BEND_PHI) return norm(r);
+      }
+      return null;
+    }
+    const b = dot(o, d), k = dot(o, o) - 1, disc = b * b - k;
+    if (disc < 0) return null;
+    const t = -b - Math.sqrt(disc);
+    return t > 0 ? norm(o.map((x, i) => x + t * d[i])) : null;
+  }
+  function exposure(st, cam, light, aspect) {
+    if (st.model === "paper") return 1;
+    const a2 = settings.roughness ** 2, off = [], all = [];
+    const N = 28;
+    for (let yi = 0; yi < N; yi++) for (let xi = 0; xi < N; xi++) {
+      const u = (xi + 0.5) / N * 2 - 1, w = (yi + 0.5) / N * 2 - 1, th = Math.tan(FOV / 2);
+      const d = norm(cam.fwd.map((f, i) => f + th * (u * aspect * cam.right[i] + w * cam.up[i])));
+      let n = hit(SHAPES.indexOf(st.shape), cam.eye, d); if (!n) continue;
+      const v = d.map((x) => -x); if (dot(n, v) < 0) n = n.map((x) => -x);
+      const cl = dot(n, light), cv = Math.max(dot(n, v), 0); if (cl <= 0 || cv <= 0) continue;
+      const cd = Math.sqrt(Math.max((dot(light, v) + 1) / 2, 1e-12)), ch = (cl + cv) * (0.5 / cd);
+      const den = ch * ch * (a2 - 1) + 1, vis = cl * Math.sqrt(cv * cv * (1 - a2) + a2) + cv * Math.sqrt(cl * cl * (1 - a2) + a2);
+      const s = 0.5 * a2 * cl / Math.max(den * den * vis, 1e-30);
+      all.push(s);
+      if (a2 * a2 / (den * den) < 0.5) off.push(s); // GGX: D(h)/D(n) = alpha^4 / den^2
+    }
+    const pick = off.length >= Math.max(16, 0.01 * all.length) ? off : all;
+    if (!pick.length) return 1;
+    pick.sort((a, b) => a - b);
+    const m = pick[pick.length >> 1];
+    return m > 0 ? 1 / m : 1;
+  }
+  const SHAPES = ["plate", "bent sheet", "sphere"];
+  function draw(st) {
+    const w = canvas.width, h = canvas.height;
+    gl.viewport(0, 0, w, h);
+    if (lastRowD !== st.thickness_nm) {
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, C.cosNodes, 1, 0, gl.RGBA, gl.FLOAT, C.rowLinearSrgb(st.thickness_nm));
+      lastRowD = st.thickness_nm;
+    }
+    const cam = camera(st);
+    const light = dir(st.light_deg, st.light_azimuth_deg);
+    const aspect = w / h;
+    // the exposure depends on the geometry only (as in swatch.render): cached across thicknesses
+    const key = [st.shape, st.model, st.view_deg, st.view_azimuth_deg, st.light_deg, st.light_azimuth_deg, aspect].join();
+    if (key !== lastKey) { lastK = exposure(st, cam, light, aspect); lastKey = key; }
+    const k = lastK;
+    const {prog, U} = program(Math.max(0, SHAPES.indexOf(st.shape)), st.model === "paper" ? 1 : 0);
+    gl.useProgram(prog);
+    gl.uniform3fv(U.eye, cam.eye); gl.uniform3fv(U.fwd, cam.fwd); gl.uniform3fv(U.right, cam.right);
+    gl.uniform3fv(U.up, cam.up); gl.uniform3fv(U.light, light);
+    gl.uniform1f(U.tanHalf, Math.tan(FOV / 2)); gl.uniform1f(U.aspect, aspect);
+    gl.uniform1f(U.alpha, settings.roughness); gl.uniform1f(U.exposure, k);
+    gl.uniform1f(U.bendR, BEND_R); gl.uniform1f(U.bendPhi, BEND_PHI);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    return k;
+  }
+  return {draw, gl, SHAPES};
+}

@@ -1,0 +1,269 @@
+"""The explorer page in real headless Chromium (SwiftShader WebGL2): window.swatchCatalog
+against the CLI, the live view following the physics, compare, find by colour, print, JS off.
+
+Skipped when Chromium is absent, unless SWATCH_REQUIRE_BROWSER=1 (then it fails): CI sets it.
+"""
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import swatch  # noqa: F401
+import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
+from swatch.catalog.build import build_catalog
+from swatch.colorimetry import delta_E_00, get_colorimeter
+from swatch.materials import wavelength_grid
+from swatch.model import get_coating
+from tests.cli_helpers import run_json
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
+        "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+
+pytestmark = pytest.mark.browser
+
+SPEC = """
+name = "explorer test"
+[thickness]
+start_nm = 20
+stop_nm = 300
+step_nm = 40
+[render]
+size_px = 64
+[sheet]
+columns = 4
+rows = 1
+"""
+RANGE = (20.0, 300.0)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    if not Path(CHROMIUM).exists():
+        if os.environ.get("SWATCH_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"{CHROMIUM} is missing and SWATCH_REQUIRE_BROWSER=1")
+        pytest.skip(f"{CHROMIUM} not installed")
+    pytest.importorskip("playwright")
+    root = tmp_path_factory.mktemp("explorer")
+    spec = root / "explorer.toml"
+    spec.write_text(SPEC, encoding="utf-8")
+    out = root / "out"
+    build_catalog(spec, out, jobs=1)
+    return out
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+def _open(browser, out, js=True, viewport=(1280, 900)):
+    ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]})
+    pg = ctx.new_page()
+    events = {"errors": [], "requests": []}
+    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
+    pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
+    pg.on("request", lambda r: events["requests"].append(r.url))
+    pg.goto((out / "index.html").resolve().as_uri())
+    if js:
+        pg.wait_for_function("window.swatchCatalog !== undefined")
+    return ctx, pg, events
+
+
+@pytest.fixture(scope="module")
+def page(browser, built):
+    ctx, pg, events = _open(browser, built)
+    yield pg, events, built
+    ctx.close()
+
+
+def test_color_at_matches_swatch_color(page):
+    pg, events, _ = page
+    rng = np.random.default_rng(11)
+    geometries = [(45.0, 0.0, 0.0, None), (float(rng.uniform(0, 80)), float(rng.uniform(0, 80)), 0.0, None),
+                  (float(rng.uniform(0, 80)), float(rng.uniform(0, 80)), 30.0, 100.0),
+                  (80.0, 75.0, 0.0, 0.0)]
+    worst = 0.0
+    for light, view, laz, vaz in geometries:
+        d = np.round(rng.uniform(*RANGE, 6), 3)
+        args = ["color", "--thickness", ",".join(f"{x:g}" for x in d), "--light", f"{light:g}", "--view", f"{view:g}",
+                "--light-azimuth", f"{laz:g}"]
+        if vaz is not None:
+            args += ["--view-azimuth", f"{vaz:g}"]
+        rows = run_json(*args)["rows"]
+        q = [{"thickness_nm": float(x), "light_deg": light, "view_deg": view, "light_azimuth_deg": laz,
+              **({} if vaz is None else {"view_azimuth_deg": vaz})} for x in d]
+        got = pg.evaluate("qs => qs.map(q => swatchCatalog.colorAt(q))", q)
+        Lab_page = np.array([g["Lab"] for g in got])
+        Lab_cli = np.array([r["Lab"] for r in rows])
+        dE = delta_E_00(Lab_page, Lab_cli)
+        worst = max(worst, float(dE.max()))
+        assert dE.max() <= 0.5, (light, view, laz, vaz, d, dE)
+        for g in got:
+            assert g["hex"].startswith("#") and len(g["hex"]) == 7
+    assert worst > 0.0  # the page interpolates: not the same numbers by construction
+    assert events["errors"] == []
+
+
+def test_color_at_hex_is_2_degree_srgb(page):
+    """The hex is display sRGB from CIE 1931 2° colorimetry, whatever the catalog's observer."""
+    pg, _, _ = page
+    wl = wavelength_grid(380.0, 780.0, 5.0)
+    coating = get_coating("TiO2-Siefke", "Ti-Johnson", wl)
+    cm2 = get_colorimeter(wl, "D65", "2")
+    d = np.array([35.0, 50.8, 140.0, 230.0])
+    enc, _ = cm2.display(cm2.XYZ(coating.reflectance(d, 22.5).R), "srgb")
+    want = np.round(enc * 255)
+    got = pg.evaluate("ds => ds.map(d => swatchCatalog.colorAt({thickness_nm: d, light_deg: 45, view_deg: 0}).hex)",
+                      d.tolist())
+    got_rgb = np.array([[int(h[i:i + 2], 16) for i in (1, 3, 5)] for h in got])
+    assert np.abs(got_rgb - want).max() <= 1
+
+
+def test_match_is_swatch_match_over_the_range(page):
+    pg, _, _ = page
+    for target in ({"hex": "#2275b5"}, {"hex": "#c65ebf"}, {"Lab": [70.0, 5.0, 30.0]}):
+        if "hex" in target:
+            cli = run_json("match", "--hex", target["hex"][1:], "--range", f"{RANGE[0]:g}:{RANGE[1]:g}", "--top", "3")
+        else:
+            cli = run_json("match", "--lab", ",".join(map(str, target["Lab"])), "--range", f"{RANGE[0]:g}:{RANGE[1]:g}",
+                           "--top", "3")
+        got = pg.evaluate("t => swatchCatalog.match(t, 3)", target)
+        assert [set(g) for g in got] == [{"thickness_nm", "voltage_V", "delta_E_00"}] * len(got)
+        assert len(got) == len(cli["candidates"])
+        for g, c in zip(got, cli["candidates"]):
+            # within one search step (0.1 nm): a far candidate's minimum can be flat to 1e-3 over it
+            assert g["thickness_nm"] == pytest.approx(c["thickness_nm"], abs=0.1)
+            assert g["voltage_V"] == pytest.approx(c["voltage_V"], abs=0.1 / 2.032)
+            assert g["delta_E_00"] == pytest.approx(c["delta_E_00"], abs=0.02)
+
+
+def _canvas_centre(pg):
+    return pg.evaluate("""() => { const c = document.getElementById('view'); const gl = c.getContext('webgl2');
+        const p = new Uint8Array(4); gl.readPixels(c.width >> 1, c.height >> 1, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, p);
+        return Array.from(p.slice(0, 3)); }""")
+
+
+def test_slider_moves_the_live_view_with_the_physics(page):
+    pg, events, _ = page
+    pg.evaluate("swatchCatalog.show({thickness_nm: 50.8, light_deg: 45, view_deg: 0, shape: 'plate', model: 'paper'})")
+    blue = _canvas_centre(pg)
+    # the slider itself (an input event, as a user drags it)
+    pg.eval_on_selector("#thickness", "e => { e.value = 140; e.dispatchEvent(new Event('input', {bubbles: true})); }")
+    pink = _canvas_centre(pg)
+    assert blue != pink
+    assert blue[2] > blue[0] + 60 and blue[2] > blue[1]  # 50.8 nm reads blue
+    assert pink[0] > pink[1] + 40 and pink[2] > pink[1] + 20  # 140 nm pink (red and blue over green)
+    # the paper model at the plate centre is colorAt at 45:0 (the camera looks down the normal)
+    want = pg.evaluate("swatchCatalog.colorAt({thickness_nm: 140, light_deg: 45, view_deg: 0}).hex")
+    want_rgb = [int(want[i:i + 2], 16) for i in (1, 3, 5)]
+    assert max(abs(a - b) for a, b in zip(pink, want_rgb)) <= 3
+    assert pg.locator("#t-out").text_content() == "140.0 nm"
+    for shape in ("bent sheet", "sphere"):
+        pg.select_option("#shape", shape)
+        assert _canvas_centre(pg) != [118, 118, 118]  # something drawn over the grey background
+    pg.evaluate("swatchCatalog.show({shape: 'plate', model: 'microfacet'})")
+    assert events["errors"] == []
+
+
+def test_compare_and_find(page):
+    pg, events, out = page
+    doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
+    recs = doc["swatches"]
+    pg.locator(f"#card-{recs[0]['id']} .tools button", has_text="compare").click()
+    pg.locator(f"#card-{recs[3]['id']} .tools button", has_text="compare").click()
+    assert pg.locator("#compare .pin").count() == 2
+    # ΔE between the two pinned swatches, against colour-science on the catalog's own Lab
+    cell = pg.locator("#compare-delta tr").nth(1).locator("td").nth(1).text_content()
+    d00 = float(cell.split("/")[0])
+    want = float(delta_E_00(np.array(recs[0]["Lab"]), np.array(recs[3]["Lab"])))
+    assert d00 == pytest.approx(want, abs=0.3)
+    assert pg.locator("#compare .pin").first.locator(".strip .chip").count() == len(doc["catalog"]["multi_angle_geometries"])
+    assert pg.locator("#compare .pin").first.locator(".ends .chip").count() == 2
+    pg.locator("#compare .unpin").first.click()
+    assert pg.locator("#compare .pin").count() == 1
+    pg.fill("#find-hex", "#2275b5")
+    pg.click("#find-form button[type=submit]")
+    first = pg.locator("#find-results li").first.text_content()
+    assert first.startswith("50.00 nm")
+    pg.screenshot(path=str(out.parent / "explorer.png"), full_page=False)
+    assert events["errors"] == []
+    assert all(u.startswith("file://") for u in events["requests"])
+
+
+def test_cards_show_their_own_images(page):
+    pg, _, out = page
+    urls = pg.eval_on_selector_all(".card .render, .card .amap", "els => els.map(e => getComputedStyle(e).backgroundImage)")
+    assert urls and all("sheet_0" in u for u in urls)
+    loaded = pg.evaluate("""async () => { const u = getComputedStyle(document.querySelector('.card .render'))
+        .backgroundImage.slice(5, -2); const i = new Image(); i.src = u; await i.decode(); return [i.naturalWidth, u]; }""")
+    assert loaded[0] > 0 and (out / Path(loaded[1]).name).exists()
+    assert "light" in pg.locator(".card figure.map").first.text_content()
+
+
+def test_print_keeps_the_chips(browser, built, tmp_path):
+    ctx, pg, events = _open(browser, built)
+    pg.emulate_media(media="print")
+    assert pg.locator("#explorer").is_hidden() and pg.locator("article.card").first.is_visible()
+    style = pg.eval_on_selector(".card .chip", "e => [getComputedStyle(e).printColorAdjust, getComputedStyle(e).breakInside]")
+    assert style[0] == "exact"
+    assert pg.eval_on_selector(".card", "e => getComputedStyle(e).breakInside") == "avoid"
+    pdf = tmp_path / "catalog.pdf"
+    pg.pdf(path=str(pdf), print_background=False)
+    data = pdf.read_bytes()
+    assert data.startswith(b"%PDF") and len(data) > 20_000
+    # the chips survive printing without "background graphics" (print-color-adjust: exact):
+    # the PDF paints the swatches' colours
+    doc = json.loads((built / "catalog.json").read_text(encoding="utf-8"))
+    ctx.close()
+    found = _colours_present(_pdf_fill_colours(pdf), [r["srgb_hex"] for r in doc["swatches"]])
+    assert found >= 3, found
+    assert events["errors"] == []
+
+
+def _pdf_fill_colours(pdf: Path) -> np.ndarray:
+    """The RGB fill colours (0–1) a PDF's content streams paint with (``r g b rg`` operators)."""
+    import re
+    import zlib
+
+    raw = pdf.read_bytes()
+    cols = []
+    for m in re.finditer(rb"stream\r?\n(.*?)\r?\nendstream", raw, re.S):
+        try:
+            text = zlib.decompress(m.group(1))
+        except zlib.error:
+            continue
+        for r, g, b in re.findall(rb"([0-9.]+) ([0-9.]+) ([0-9.]+) (?:rg|sc|scn)\b", text):
+            cols.append((float(r), float(g), float(b)))
+    return np.array(cols).reshape(-1, 3)
+
+
+def _colours_present(cols: np.ndarray, hexes: list[str]) -> int:
+    if cols.size == 0:
+        return 0
+    found = 0
+    for h in hexes:
+        rgb = np.array([int(h[i:i + 2], 16) for i in (1, 3, 5)]) / 255.0
+        if np.any(np.abs(cols - rgb).max(axis=1) <= 1.5 / 255):
+            found += 1
+    return found
+
+
+def test_javascript_off_is_still_the_grid(browser, built):
+    ctx, pg, events = _open(browser, built, js=False)
+    doc = json.loads((built / "catalog.json").read_text(encoding="utf-8"))
+    assert pg.locator("article.card").count() == len(doc["swatches"])
+    assert pg.locator("#explorer").is_hidden()
+    bg = pg.eval_on_selector("article.card .chip", "e => getComputedStyle(e).backgroundColor")
+    assert bg.startswith(("rgb(", "color(display-p3"))
+    assert pg.locator("article.card .title").first.text_content().startswith(f"{doc['swatches'][0]['thickness_nm']:.1f} nm")
+    ctx.close()
