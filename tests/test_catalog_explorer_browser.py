@@ -194,7 +194,10 @@ def test_compare_and_find(page):
     pg.fill("#find-hex", "#2275b5")
     pg.click("#find-form button[type=submit]")
     first = pg.locator("#find-results li").first.text_content()
-    assert first.startswith("50.00 nm")
+    best = pg.evaluate("swatchCatalog.match({hex: '#2275b5'}, 1)[0]")  # = swatch match (test above)
+    assert first.startswith(f"{best['thickness_nm']:.2f} nm · {best['voltage_V']:.1f} V")
+    assert "2°" in pg.locator("#find-target").text_content()  # a hex is matched in sRGB's 2° colorimetry
+    assert pg.locator("#find-results li").count() >= 3
     pg.screenshot(path=str(out.parent / "explorer.png"), full_page=False)
     assert events["errors"] == []
     assert all(u.startswith("file://") for u in events["requests"])

@@ -16,9 +16,8 @@ the CIE tables:
   ``MATCH_STEP_NM`` (the step of ``swatch match``), so the page's colour search runs on the same
   samples as ``swatch match --range`` over the catalog's range.
 * matrices (colour-science, applied to the unit vectors): XYZ (2°) → linear sRGB and linear
-  Display P3 (XYZ on the Y = 100 scale; rows act on row vectors), linear sRGB → XYZ under the
-  catalog's white (as ``swatch match --hex`` reads a
-  hex colour), and the white XYZ for L*a*b*.
+  Display P3 (XYZ on the Y = 100 scale; rows act on row vectors), linear sRGB → 2° XYZ and its
+  white (as ``swatch match --hex`` reads a hex colour), and the white XYZ for L*a*b*.
 
 Values are stored as little-endian uint16 per channel with a per-channel scale
 (``value = code × scale``; the quantisation error is below 1e-3 of the channel's maximum,
@@ -99,7 +98,7 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     coating = get_coating(spec.film, spec.substrate, wl)
     cm = get_colorimeter(wl, spec.illuminant, spec.observer)
-    cm2 = get_colorimeter(wl, spec.illuminant, "2")
+    cm2 = cm.display_colorimeter  # display RGB from CIE 1931 2° colorimetry
     ref = spec.reference
     if reference_cos_d is None:
         reference_cos_d = float(geometry.cos_theta_d(ref.light_deg, ref.view_deg, 0.0, ref.view_azimuth_deg))
@@ -134,9 +133,11 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
         "white_XYZ": [float(v) for v in white],
         "XYZ2_to_srgb_linear": _matrix(lambda e: cm2.rgb_linear(e, "srgb")),
         "XYZ2_to_p3_linear": _matrix(lambda e: cm2.rgb_linear(e, "display-p3")),
-        # as swatch.colorimetry.hex_to_Lab: sRGB adapted (Bradford) to the catalog's white
-        "srgb_linear_to_XYZ": _matrix(lambda e: 100.0 * colour.RGB_to_XYZ(
-            e, "sRGB", illuminant=cm.white_xy, chromatic_adaptation_transform="Bradford")),
+        # as swatch.colorimetry.hex_to_Lab: sRGB adapted (Bradford) to the illuminant's 2° white,
+        # L*a*b* relative to that white (a hex code has no spectrum, so no 10° Lab)
+        "srgb_linear_to_XYZ2": _matrix(lambda e: 100.0 * colour.RGB_to_XYZ(
+            e, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")),
+        "white_XYZ2": [float(v) for v in colour.xy_to_XYZ(cm2.white_xy)],
         "growth_nm_per_V": spec.growth_nm_per_V,
         "match": {"min_separation_nm": MATCH_MIN_SEPARATION_NM, "step_nm": MATCH_STEP_NM},
         "name_rules": [list(r) for r in NAME_RULES],
@@ -186,6 +187,6 @@ def records_p3(spec, data) -> list[list[float]]:
     """Display P3 encoded RGB (2° colorimetry, clipped to [0, 1]) of each swatch at the reference geometry."""
     from swatch.colorimetry import get_colorimeter
 
-    cm2 = get_colorimeter(data.wavelength_nm, spec.illuminant, "2")
-    enc, _ = cm2.display(cm2.XYZ(data.reflectance), "display-p3")
+    cm = get_colorimeter(data.wavelength_nm, spec.illuminant, spec.observer)
+    enc, _ = cm.reflectance_display(data.reflectance, "display-p3")
     return [[round(float(v), 4) for v in row] for row in np.atleast_2d(enc)]

@@ -72,8 +72,9 @@ function makeColour(T) {
     return out;
   }
   function f(t) { return t > 216 / 24389 ? Math.cbrt(t) : (24389 / 27 * t + 16) / 116; }
-  function XYZtoLab(X) { // XYZ on the Y = 100 scale, white W with Y = 1 (colour.XYZ_to_Lab)
-    const fx = f(X[0] / 100 / W[0]), fy = f(X[1] / 100 / W[1]), fz = f(X[2] / 100 / W[2]);
+  function XYZtoLab(X, white) { // XYZ on the Y = 100 scale, white with Y = 1 (colour.XYZ_to_Lab)
+    const w = white || W;
+    const fx = f(X[0] / 100 / w[0]), fy = f(X[1] / 100 / w[1]), fz = f(X[2] / 100 / w[2]);
     return [116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)];
   }
   function LabtoXYZ(Lab) {
@@ -96,7 +97,7 @@ function makeColour(T) {
     const h = String(hex).trim().replace(/^#/, "");
     if (!/^[0-9a-f]{6}$/i.test(h)) throw new Error("bad hex colour " + JSON.stringify(hex) + "; give six hex digits like 1f4e9a");
     const rgb = [0, 2, 4].map((i) => decode(parseInt(h.slice(i, i + 2), 16) / 255));
-    return XYZtoLab(mulRow(rgb, T.srgb_linear_to_XYZ));
+    return XYZtoLab(mulRow(rgb, T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.hex_to_Lab
   }
   // CIEDE2000 (Sharma, Wu, Dalal 2005), as colour.delta_E(method="CIE 2000")
   function dE00(a, b) {
@@ -156,22 +157,35 @@ function makeColour(T) {
     for (let k = 0; k < 6; k++) out[k] = (1 - fx) * col[i * 6 + k] + fx * col[(i + 1) * 6 + k];
     return out;
   }
-  const refLab = new Array(nr);
-  for (let i = 0; i < nr; i++) refLab[i] = XYZtoLab([col[i * 6], col[i * 6 + 1], col[i * 6 + 2]]);
+  // L*a*b* of the column's nodes: catalog observer (o = 0) or 2° (o = 3, for hex targets)
+  const refLabs = {};
+  function refLab(o) {
+    if (!refLabs[o]) {
+      const w = o ? T.white_XYZ2 : W, out = new Array(nr);
+      for (let i = 0; i < nr; i++) out[i] = XYZtoLab([col[i * 6 + o], col[i * 6 + o + 1], col[i * 6 + o + 2]], w);
+      refLabs[o] = out;
+    }
+    return refLabs[o];
+  }
   function refColour(d) { return describe(refAt(d)); }
   // as swatch.fitting.match_colour over the catalog's range: local minima of the sampled
   // CIEDE2000 curve (an end counts only when lower than every interior minimum), the best
-  // refined within one step, kept at least min_separation apart, ranked by CIEDE2000
+  // refined within one step, kept at least min_separation apart, ranked by CIEDE2000.
+  // A Lab target is in the catalog's observer; a hex target is sRGB, so (as swatch match --hex)
+  // the whole match runs in CIE 1931 2° colorimetry.
   function match(target, n) {
-    let Lab;
-    if (target && target.Lab) Lab = target.Lab.map(Number);
-    else if (target && target.hex !== undefined) Lab = hexToLab(target.hex);
+    let Lab, o = 0;
+    if (target && target.Lab) Lab = Array.from(target.Lab, Number);
+    else if (target && target.hex !== undefined) { Lab = hexToLab(target.hex); o = 3; }
     else throw new Error("match: give {Lab: [L, a, b]} or {hex: '#rrggbb'}");
+    if (Lab.length !== 3) throw new Error("match: Lab must have three numbers");
+    const white = o ? T.white_XYZ2 : W;
+    const labAt = (d) => XYZtoLab(refAt(d).slice(o, o + 3), white);
     if (!Lab.every(Number.isFinite) || Lab[0] < 0 || Lab[0] > 100) throw new Error("match: Lab must be finite with L in [0, 100]");
     const top = n === undefined ? 5 : Math.floor(Number(n));
     if (!(top >= 1 && top <= 100)) throw new Error("match: n must be from 1 to 100");
-    const fcurve = refLab.map((x) => dE00(x, Lab));
-    const fine = (d) => dE00(XYZtoLab(refAt(d).slice(0, 3)), Lab);
+    const fcurve = refLab(o).map((x) => dE00(x, Lab));
+    const fine = (d) => dE00(labAt(d), Lab);
     const idx = [];
     for (let i = 0; i < nr; i++) {
       const left = i === 0 || fcurve[i] < fcurve[i - 1];
@@ -203,7 +217,7 @@ function makeColour(T) {
     const kept = [];
     for (const [d, fd] of minima) if (kept.every(([k]) => Math.abs(d - k) > T.match.min_separation_nm)) kept.push([d, fd]);
     return kept.slice(0, top).map(([d, fd]) => ({thickness_nm: d, voltage_V: d / T.growth_nm_per_V, delta_E_00: fd,
-      delta_E_ab: dEab(XYZtoLab(refAt(d).slice(0, 3)), Lab), hex: refColour(d).hex}));
+      delta_E_ab: dEab(labAt(d), Lab), hex: refColour(d).hex, target_Lab: Lab}));
   }
   // process window at any thickness (as swatch.catalog.records.process_window, on the 0.1 nm column)
   function windowAt(d, bound, search_nm) {

@@ -216,8 +216,9 @@ function find(target) {
   res.replaceChildren();
   let hits;
   try { hits = C.match(target, 5); } catch (e) { res.appendChild(el("li", "error", String(e.message))); return; }
-  const tLab = target.Lab || C.hexToLab(target.hex);
-  $("find-target").textContent = "target L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " + T.observer + "°)";
+  const tLab = hits.length ? hits[0].target_Lab : [];
+  const obs = target.Lab ? T.observer : "2"; // a hex is sRGB: its L*a*b* is on the 2° observer (as swatch match --hex)
+  $("find-target").textContent = "target L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " + obs + "°)";
   for (const h of hits) {
     const li = el("li");
     li.appendChild(chip(C.refColour(h.thickness_nm), "small"));
