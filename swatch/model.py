@@ -55,17 +55,28 @@ def _check_rate(nm_per_V: float) -> float:
     return float(nm_per_V)
 
 
-def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V) -> np.ndarray:
-    """Film thickness for an anodising voltage, by the linear growth rate ``nm_per_V``."""
+def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0) -> np.ndarray:
+    """Film thickness for an anodising voltage by the growth law ``offset_nm + nm_per_V × voltage_V``.
+
+    Parameters
+    ----------
+    voltage_V : array_like
+        Anodising (cell) voltage, V, from 0 to ``MAX_VOLTAGE_V``.
+    nm_per_V : float
+        Growth rate, nm per volt.
+    offset_nm : float
+        Thickness at 0 V (the initial oxide), nm.
+    """
     v = np.asarray(voltage_V, dtype=np.float64)
     if not np.all(np.isfinite(v)) or np.any(v < 0) or np.any(v > MAX_VOLTAGE_V):
         raise SwatchError(f"voltage must be a number from 0 to {MAX_VOLTAGE_V:g} V")
-    return check_thickness_nm(v * _check_rate(nm_per_V))
+    return check_thickness_nm(float(offset_nm) + v * _check_rate(nm_per_V))
 
 
-def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V) -> np.ndarray:
-    """Anodising voltage for a film thickness (inverse of :func:`voltage_to_thickness_nm`)."""
-    return np.asarray(thickness_nm, dtype=np.float64) / _check_rate(nm_per_V)
+def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0) -> np.ndarray:
+    """Anodising voltage for a film thickness, V (inverse of :func:`voltage_to_thickness_nm`; below the
+    initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film)."""
+    return (np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)) / _check_rate(nm_per_V)
 
 
 def intensity_correction(simulated, measured) -> np.ndarray:
@@ -186,7 +197,7 @@ def overcoat(spec: str, wavelength_nm) -> Overcoat:
 
 
 @functools.lru_cache(maxsize=64)
-def _coating(film: str, substrate: str, grid: tuple) -> Coating:
+def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1.0) -> Coating:
     wl = np.array(grid, dtype=np.float64)
     f = load_material(film)
     s = load_material(substrate)
@@ -194,10 +205,21 @@ def _coating(film: str, substrate: str, grid: tuple) -> Coating:
         if mat.role != role:
             choices = ", ".join(m.name for m in list_materials(role))
             raise SwatchError(f"{option} {mat.name} is a {mat.role} table, not a {role}; use one of {choices}")
-    return Coating(f.name, s.name, wl, f.nk(wl), s.nk(wl))
+    n_film = f.nk(wl)
+    if film_index_scale != 1.0:
+        n_film = film_index_scale * n_film.real + 1j * n_film.imag
+    return Coating(f.name, s.name, wl, n_film, s.nk(wl))
 
 
-def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wavelength_nm=None) -> Coating:
-    """A cached :class:`Coating` for material names and a grid (default 380–780 nm, 5 nm)."""
+def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wavelength_nm=None,
+                film_index_scale: float = 1.0) -> Coating:
+    """A cached :class:`Coating` for material names and a grid (default 380–780 nm, 5 nm).
+
+    ``film_index_scale`` multiplies the real part of the film's index (an anodic film's density
+    differs from any tabulated film's; a process profile sets it), from 0.5 to 1.5.
+    """
+    scale = float(film_index_scale)
+    if not (math.isfinite(scale) and 0.5 <= scale <= 1.5):
+        raise SwatchError("film index scale must be from 0.5 to 1.5")
     wl = DEFAULT_WAVELENGTHS_NM if wavelength_nm is None else np.asarray(wavelength_nm, dtype=np.float64)
-    return _coating(film, substrate, tuple(wl.tolist()))
+    return _coating(film, substrate, tuple(wl.tolist()), scale)

@@ -91,23 +91,51 @@ def test_neighbour_delta_E(data):
         assert a["delta_E_ab_to_neighbours"]["next"] == pytest.approx(eab, abs=1e-3)
 
 
-def test_process_window_edges_against_tmm(data):
+def _check_window(rec, bound: float, method: str, search_nm: float, rate: float):
+    """The window's edges sit where the colour difference in ``method`` (colour-science, on tmm
+    spectra) reaches ``bound``, and every deviation inside is within it."""
+    d = rec["thickness_nm"]
+    pw = rec["process_window"]
+    Lab0 = ref_Lab(d, 22.5)
+    for sign, width in ((-1, pw["thickness_minus_nm"]), (+1, pw["thickness_plus_nm"])):
+        assert 0 < width < search_nm
+        inside = colour.delta_E(Lab0, ref_Lab(d + sign * (width - 0.03), 22.5), method=method)
+        outside = colour.delta_E(Lab0, ref_Lab(d + sign * (width + 0.03), 22.5), method=method)
+        assert inside <= bound < outside, (d, sign, width, inside, outside)
+        # and the whole interval up to the edge is inside (a coarse independent scan)
+        for delta in np.linspace(0, width - 0.03, 6):
+            assert colour.delta_E(Lab0, ref_Lab(d + sign * delta, 22.5), method=method) <= bound
+    assert pw["voltage_minus_V"] == pytest.approx(pw["thickness_minus_nm"] / rate, abs=2e-3)
+    assert pw["voltage_plus_V"] == pytest.approx(pw["thickness_plus_nm"] / rate, abs=2e-3)
+
+
+def test_process_window_edges_where_delta_E_ab_reaches_the_csaj_bound(data):
+    """A CSAJ grade bounds ΔE*ab (tables/tolerance_grades.csv): the window is judged in ΔE*ab."""
     bound = grade_bound("B", "csaj")
     for rec in data.records[1:4]:
-        d = rec["thickness_nm"]
         pw = rec["process_window"]
-        assert pw["grade"] == "B" and pw["max_delta_E_00"] == bound
-        Lab0 = ref_Lab(d, 22.5)
-        for sign, width in ((-1, pw["thickness_minus_nm"]), (+1, pw["thickness_plus_nm"])):
-            assert 0 < width < SPEC.search_nm
-            inside = colour.delta_E(Lab0, ref_Lab(d + sign * (width - 0.03), 22.5), method="CIE 2000")
-            outside = colour.delta_E(Lab0, ref_Lab(d + sign * (width + 0.03), 22.5), method="CIE 2000")
-            assert inside <= bound < outside, (d, sign, width, inside, outside)
-            # and the whole interval up to the edge is inside (a coarse independent scan)
-            for delta in np.linspace(0, width - 0.03, 6):
-                assert colour.delta_E(Lab0, ref_Lab(d + sign * delta, 22.5), method="CIE 2000") <= bound
-        assert pw["voltage_minus_V"] == pytest.approx(pw["thickness_minus_nm"] / SPEC.growth_nm_per_V, abs=2e-3)
-        assert pw["voltage_plus_V"] == pytest.approx(pw["thickness_plus_nm"] / SPEC.growth_nm_per_V, abs=2e-3)
+        assert pw["grade"] == "B" and pw["metric"] == "dEab" and pw["max"] == bound
+        _check_window(rec, bound, "CIE 1976", SPEC.search_nm, SPEC.nm_per_V)
+
+
+def test_process_window_in_a_written_dE00_tolerance():
+    spec = parse_spec({"name": "t", "thickness": {"list_nm": [50.8, 121.4]},
+                       "tolerance": {"metric": "dE00", "max": 2.0}})
+    for rec in compute(spec).records:
+        pw = rec["process_window"]
+        assert pw["metric"] == "dE00" and pw["max"] == 2.0 and pw["scheme"] is None
+        _check_window(rec, 2.0, "CIE 2000", spec.search_nm, spec.nm_per_V)
+
+
+def test_grade_c_window_is_not_the_dE00_window():
+    """The old defect: grade C's 6.5 applied to ΔE2000 gave windows 1.2–1.8× wider than the grade."""
+    ab = parse_spec({"name": "t", "thickness": {"list_nm": [87.5, 160.6]}, "tolerance": {"grade": "C"}})
+    e00 = parse_spec({"name": "t", "thickness": {"list_nm": [87.5, 160.6]},
+                      "tolerance": {"metric": "dE00", "max": 6.5}})
+    for a, b in zip(compute(ab).records, compute(e00).records):
+        width_ab = a["process_window"]["thickness_minus_nm"] + a["process_window"]["thickness_plus_nm"]
+        width_00 = b["process_window"]["thickness_minus_nm"] + b["process_window"]["thickness_plus_nm"]
+        assert width_00 > 1.1 * width_ab
 
 
 def test_process_window_capped_at_zero_thickness():
@@ -118,7 +146,7 @@ def test_process_window_capped_at_zero_thickness():
 
 def test_voltages_and_layout(data):
     for i, rec in enumerate(data.records):
-        assert rec["voltage_V"] == pytest.approx(rec["thickness_nm"] / SPEC.growth_nm_per_V, abs=1e-4)
+        assert rec["voltage_V"] == pytest.approx(rec["thickness_nm"] / SPEC.nm_per_V, abs=1e-4)
         assert rec["sheet"] == i // 4 + 1
         assert rec["sheet_png"] == f"sheet_{rec['sheet']:02d}.png"
 

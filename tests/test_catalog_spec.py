@@ -42,10 +42,41 @@ def test_multi_angle_view_directions():
     assert [g.name for g in spec.multi_angle] == ["45as-15", "45as15", "45as25", "45as45", "45as75", "45as110"]
 
 
-def test_voltage_spec_uses_growth_rate():
-    spec = parse_spec({"name": "v", "growth_nm_per_V": 2.5, "voltage": {"start_V": 10, "stop_V": 30, "step_V": 10}})
+@pytest.mark.parametrize("key", ["nm_per_V", "growth_nm_per_V"])  # the old name stays an alias
+def test_voltage_spec_uses_growth_rate(key):
+    spec = parse_spec({"name": "v", key: 2.5, "voltage": {"start_V": 10, "stop_V": 30, "step_V": 10}})
     assert spec.voltage_V == (10, 20, 30)
     assert spec.thickness_nm == pytest.approx((25, 50, 75))
+    assert spec.nm_per_V == 2.5 and spec.process == "titanium-fujii2019"
+    assert "nm_per_V" in spec.process_origin
+
+
+def test_spec_process_presets_and_files(tmp_path):
+    ti = parse_spec({"name": "t", "process": "titanium-phosphate-ohtsuka1985", "voltage": {"list_V": [10]}})
+    assert (ti.nm_per_V, ti.film, ti.substrate, ti.thickness_nm) == (2.8, "TiO2-Siefke", "Ti-Johnson", (28.0,))
+    nb = parse_spec({"name": "n", "process": "niobium", "thickness": {"list_nm": [50]}})
+    assert (nb.film, nb.substrate, nb.nm_per_V) == ("Nb2O5-Franta", "Nb-Weaver", None)
+    with pytest.raises(SwatchError, match="no growth rate"):
+        parse_spec({"name": "n", "process": "niobium", "voltage": {"list_V": [10]}})
+    (tmp_path / "line.toml").write_text('name = "my line"\nfilm = "TiO2-Siefke"\nsubstrate = "Ti-Johnson"\n'
+                                        'nm_per_V = 2.5\noffset_nm = 4.0\nfilm_index_scale = 0.95\n')
+    (tmp_path / "spec.toml").write_text('name = "s"\nprocess = "line.toml"\n[voltage]\nlist_V = [10, 20]\n')
+    spec, _ = load_spec(tmp_path / "spec.toml")
+    assert spec.thickness_nm == pytest.approx((29.0, 54.0)) and spec.film_index_scale == 0.95
+    assert spec.process == "my line" and spec.offset_nm == 4.0
+    outside = tmp_path / "sub"
+    outside.mkdir()
+    (outside / "spec.toml").write_text('name = "s"\nprocess = "../line.toml"\n[thickness]\nlist_nm = [50]\n')
+    with pytest.raises(SwatchError, match="inside the spec's folder"):
+        load_spec(outside / "spec.toml")
+
+
+def test_spec_tolerance_in_its_own_metric():
+    spec = parse_spec({"name": "t", "thickness": {"list_nm": [50]}, "tolerance": {"metric": "dE00", "max": 2.0}})
+    assert (spec.metric, spec.max_delta_E, spec.grade) == ("dE00", 2.0, None)
+    assert spec.tolerance.label == "dE00 ≤ 2"
+    c = parse_spec({"name": "t", "thickness": {"list_nm": [50]}})
+    assert (c.metric, c.max_delta_E, c.grade, c.scheme) == ("dEab", 6.5, "C", "csaj")
 
 
 def _write(tmp_path, text: str) -> Path:
@@ -83,6 +114,12 @@ BASE = 'name = "x"\n[thickness]\nlist_nm = [50]\n'
         ('film = "Ti-Johnson"\n' + BASE, ["key film", "substrate table", "TiO2-Siefke"]),
         ('substrate = "Unobtainium"\n' + BASE, ["key substrate", "unknown substrate", "Ti-Johnson"]),
         ('growth_nm_per_V = true\n' + BASE, ["key growth_nm_per_V", "number"]),
+        ('nm_per_V = 2.0\ngrowth_nm_per_V = 2.0\n' + BASE, ["nm_per_V", "not both"]),
+        ('process = "zirconium"\n' + BASE, ["key process", "titanium-fujii2019"]),
+        (BASE + '[tolerance]\nmetric = "dE76"\nmax = 2\n', ["tolerance.metric", "dEab, dE00"]),
+        (BASE + '[tolerance]\nmetric = "dE00"\nmax = 0\n', ["tolerance.max", "> 0"]),
+        (BASE + '[tolerance]\nmetric = "dE00"\n', ["tolerance", "both metric and max"]),
+        (BASE + '[tolerance]\nmetric = "dE00"\nmax = 2\ngrade = "C"\n', ["tolerance", "not both"]),
         ('growth_nm_per_V = 50\n' + BASE, ["key growth_nm_per_V", "<= 10"]),
         ('[thickness]\nlist_nm = [50]\n', ["missing key name"]),
         ('name = "x"\n', ["[thickness]", "[voltage]"]),

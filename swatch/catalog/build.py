@@ -135,16 +135,19 @@ def _remove_first_build(out: Path, meta: Path) -> None:
 
 def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
     from swatch.catalog.records import PROCESS_STEP_NM
-    from swatch.tolerance import grades
+    from swatch.tolerance import METRICS
 
-    grade = next(g for g in grades(spec.scheme) if g.name == spec.grade)
+    tol = spec.tolerance
     return {
         "name": spec.name,
         "description": spec.description,
         "spec_file": spec_name,
         "film": spec.film,
         "substrate": spec.substrate,
-        "growth_nm_per_V": spec.growth_nm_per_V,
+        "process": {"name": spec.process, "origin": spec.process_origin, "nm_per_V": spec.nm_per_V,
+                    "offset_nm": spec.offset_nm, "film_index_scale": spec.film_index_scale,
+                    "growth_law": ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None
+                                   else "thickness_nm = offset_nm + nm_per_V * voltage_V")},
         "illuminant": data.illuminant,
         "observer": data.observer,
         "observer_name": "1964 10°" if data.observer == "10" else "1931 2°",
@@ -159,10 +162,11 @@ def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
         "multi_angle_geometries": [g.to_json() for g in spec.multi_angle],
         "render": {"shapes": list(spec.shapes), "size_px": spec.size_px, "model": spec.model,
                    "roughness": spec.roughness, "angular_map": spec.angular_map},
-        "tolerance": {"scheme": spec.scheme, "grade": spec.grade, "max_delta_E_00": grade.max_delta_E_ab,
-                      "grade_description": grade.description,
-                      "note": ("the grade's bound (defined on ΔE*ab) applied to ΔE2000 between the colour "
-                               "at d±δ and at d, at the reference geometry"),
+        "tolerance": {"scheme": tol.scheme, "grade": tol.label, "metric": tol.metric, "max": tol.max,
+                      "metric_name": METRICS[tol.metric], "text": tol.text,
+                      "grade_description": tol.description,
+                      "note": (f"the bound on {METRICS[tol.metric]} (the metric the tolerance is defined in) "
+                               "between the colour at d±δ and at d, at the reference geometry"),
                       "search_nm": spec.search_nm, "search_step_nm": PROCESS_STEP_NM},
         "exports": {"cxf": f"{slug(spec.name)}.cxf", "ase": f"{slug(spec.name)}.ase",
                     "ase_srgb": f"{slug(spec.name)}-srgb.ase"},
@@ -187,7 +191,7 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
     lab = [f"L_{cs}", f"a_{cs}", f"b_{cs}", f"C_{cs}", f"h_{cs}_deg"]
     head = ["id", "thickness_nm", "voltage_V", *lab, "L_D50_2", "a_D50_2", "b_D50_2", "srgb_hex",
             "in_srgb_gamut", "hue_family", "dE00_previous", "dE00_next", "dEab_previous", "dEab_next",
-            "window_grade", "max_dE00", "thickness_minus_nm", "thickness_plus_nm", "voltage_minus_V",
+            "window_grade", "window_metric", "window_max", "thickness_minus_nm", "thickness_plus_nm", "voltage_minus_V",
             "voltage_plus_V", "minus_capped", "plus_capped"]
     for g in spec.multi_angle:
         head += [f"L_{cs}_{g.name}", f"a_{cs}_{g.name}", f"b_{cs}_{g.name}", f"C_{cs}_{g.name}",
@@ -210,7 +214,8 @@ def _csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer
                r["srgb_hex"], r["in_srgb_gamut"], r["hue_family"],
                r["delta_E_00_to_neighbours"]["previous"], r["delta_E_00_to_neighbours"]["next"],
                r["delta_E_ab_to_neighbours"]["previous"], r["delta_E_ab_to_neighbours"]["next"],
-               f"{pw['scheme']} {pw['grade']}", pw["max_delta_E_00"], pw["thickness_minus_nm"], pw["thickness_plus_nm"],
+               f"{pw['scheme']} {pw['grade']}" if pw["scheme"] else pw["grade"], pw["metric"], pw["max"],
+               pw["thickness_minus_nm"], pw["thickness_plus_nm"],
                pw["voltage_minus_V"], pw["voltage_plus_V"], pw["minus_capped"], pw["plus_capped"]]
         for g in geo:
             row += r["multi_angle"][g] + r["multi_angle_LCh"][g][1:]

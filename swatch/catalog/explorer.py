@@ -141,7 +141,8 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
         "srgb_linear_to_XYZ2": _matrix(lambda e: 100.0 * colour.RGB_to_XYZ(
             e, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")),
         "white_XYZ2": [float(v) for v in colour.xy_to_XYZ(cm2.white_xy)],
-        "growth_nm_per_V": spec.growth_nm_per_V,
+        "nm_per_V": spec.nm_per_V,  # growth law: thickness_nm = offset_nm + nm_per_V * voltage_V (null: none)
+        "offset_nm": spec.offset_nm,
         "match": {"min_separation_nm": MATCH_MIN_SEPARATION_NM, "step_nm": MATCH_STEP_NM},
         "name_rules": [list(r) for r in NAME_RULES],
         "render": {"model": spec.model, "roughness": spec.roughness, "shapes": list(spec.shapes)},

@@ -42,8 +42,9 @@ def metal_symbol(spec: CatalogSpec) -> str:
 
 
 def ase_name(rec: dict, metal: str = "Ti") -> str:
-    """``S001 Ti 20 nm (9.8 V)``: the swatch ID, metal, thickness and voltage."""
-    return f"{rec['id']} {metal} {rec['thickness_nm']:g} nm ({rec['voltage_V']:.1f} V)"
+    """``S001 Ti 20 nm (9.8 V)``: the swatch ID, metal, thickness and voltage (none without a growth rate)."""
+    volts = "" if rec["voltage_V"] is None else f" ({rec['voltage_V']:.1f} V)"
+    return f"{rec['id']} {metal} {rec['thickness_nm']:g} nm{volts}"
 
 
 # -- Adobe Swatch Exchange -------------------------------------------------------------------
@@ -182,7 +183,7 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
         pw = rec["process_window"]
         tags = [
             ("thickness_nm", rec["thickness_nm"]), ("voltage_V", rec["voltage_V"]),
-            ("process_window_grade", f"{pw['scheme']} {pw['grade']} (ΔE2000 <= {pw['max_delta_E_00']:g})"),
+            ("process_window_grade", f"{pw['scheme'] or ''} {pw['grade']} ({pw['metric']} <= {pw['max']:g})".strip()),
             ("thickness_minus_nm", pw["thickness_minus_nm"]), ("thickness_plus_nm", pw["thickness_plus_nm"]),
             ("voltage_minus_V", pw["voltage_minus_V"]), ("voltage_plus_V", pw["voltage_plus_V"]),
         ]

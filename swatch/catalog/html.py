@@ -98,13 +98,15 @@ def _card(s: dict, c: dict, tiles: dict | None, p3) -> str:
         (f"L*a*b* ({ref})", "  ".join(_fmt(v, 2) for v in s["Lab"])),
         ("L*C*h", f'{_fmt(s["LCh"][0], 2)}  {_fmt(s["LCh"][1], 2)}  {_fmt(s["LCh"][2], 1)}°'),
         ("hue family", s["hue_family"]),
-        (f'window ({pw["grade"]})', f'−{_fmt(pw["thickness_minus_nm"], 1)} / +{_fmt(pw["thickness_plus_nm"], 1)} nm'),
+        (f'window ({pw["metric"]} ≤ {pw["max"]:g})',
+         f'−{_fmt(pw["thickness_minus_nm"], 1)} / +{_fmt(pw["thickness_plus_nm"], 1)} nm'),
         ("", f'−{_fmt(pw["voltage_minus_V"], 2)} / +{_fmt(pw["voltage_plus_V"], 2)} V'),
         ("ΔE00 prev / next", f'{_fmt(s["delta_E_00_to_neighbours"]["previous"], 2)} / '
                              f'{_fmt(s["delta_E_00_to_neighbours"]["next"], 2)}'),
     ]
     out.append('<div class="body">')
-    out.append(f'<div class="title">{_fmt(s["thickness_nm"], 1)} nm · {_fmt(s["voltage_V"], 1)} V'
+    volts = "" if s["voltage_V"] is None else f' · {_fmt(s["voltage_V"], 1)} V'
+    out.append(f'<div class="title">{_fmt(s["thickness_nm"], 1)} nm{volts}'
                f'<span class="hex">{e(s["srgb_hex"])}</span></div>')
     out.append(f'<div class="name">{e(s.get("colour_name", ""))}</div>')
     out.append("<table><tbody>" + "".join(f'<tr><td>{e(k)}</td><td class="num">{e(v)}</td></tr>' for k, v in rows)
@@ -129,6 +131,12 @@ def _card(s: dict, c: dict, tiles: dict | None, p3) -> str:
     return "".join(out)
 
 
+def _growth_text(process: dict) -> str:
+    if process["nm_per_V"] is None:
+        return "no growth rate (thicknesses only)"
+    return f"{process['nm_per_V']:g} nm/V + {process['offset_nm']:g} nm"
+
+
 def _explain(c: dict) -> str:
     e = html.escape
     ref = c["reference_geometry"]
@@ -145,9 +153,9 @@ stays at 45°; “as15” means the viewer is 15° away from the gloss (the mirr
 past it on the light's side, “as110” far from it. Near the gloss the colour is the brightest and
 shifts most; far from it you see the colour at grazing facets.</p></details>
 <details><summary>Process window and grade</summary><p>How far the oxide may drift (thinner / thicker,
-and the anodising voltage that makes that drift) before the colour moves more than
-ΔE2000 {pw["max_delta_E_00"]:g} from the nominal swatch: grade {e(pw["grade"])} of the
-{e(pw["scheme"])} scheme ({e(pw.get("grade_description", ""))}). A wide window means a forgiving
+and the anodising voltage that makes that drift) before the colour moves further from the nominal swatch
+than the tolerance, {e(pw["text"])}, judged in the metric it is defined in{
+"" if not pw.get("grade_description") else f" ({e(pw['grade_description'])})"}. A wide window means a forgiving
 colour; a narrow one needs tight voltage control.</p></details>
 <details><summary>sRGB, Display P3 and dashed chips</summary><p>Chips are CIE 1931 2° colorimetry
 shown in sRGB, or in Display P3 on wide-gamut screens. Some interference colours lie outside sRGB:
@@ -242,10 +250,10 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 <header>
 <h1 id="catalog-name">{e(c["name"])}</h1>
 <p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
-growth {c["growth_nm_per_V"]:g} nm/V · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
+process {e(c["process"]["name"])}: {e(_growth_text(c["process"]))} · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
 L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}</p>
 <p class="sub">Multi-angle (flop strip under each chip, left to right): {e(multi)}. Process window: thickness and
-voltage deviations that keep ΔE2000 to the nominal colour ≤ {pw["max_delta_E_00"]:g} (grade {e(pw["grade"])}, {e(pw["scheme"])}).</p>
+voltage deviations that keep the colour difference to the nominal colour within {e(pw["text"])}.</p>
 {_explain(c)}
 <p class="sub files">{links}</p>
 </header>

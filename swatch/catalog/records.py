@@ -10,11 +10,12 @@ Airy reflectance at ``theta_d = 1/2 arccos(l.v)``, taken as the reflectance fact
 swatch at that geometry (no intensity / distribution term: the Lab describes the interference
 colour that the tilted facets show, as in the paper's Table 3 comparison).
 
-Process window: the largest thickness deviations ``-δ-`` / ``+δ+`` such that ΔE2000 between
-the colour at ``d ± δ`` and the colour at the nominal ``d`` (both at the reference geometry)
-stays within the tolerance grade's number for every deviation up to it. The grade's bound
-(defined on ΔE*ab in tables/tolerance_grades.csv) is applied to ΔE2000 here, as the catalog
-issue asks. Voltage window = thickness window / growth rate.
+Process window: the largest thickness deviations ``-δ-`` / ``+δ+`` such that the colour
+difference between the colour at ``d ± δ`` and the colour at the nominal ``d`` (both at the
+reference geometry) stays within the tolerance for every deviation up to it, the difference
+computed in the tolerance's own metric (a CSAJ grade bounds ΔE*ab; a written tolerance such as
+``{ metric = "dE00", max = 2.0 }`` bounds ΔE2000). Voltage window = thickness window / growth
+rate (none when the process profile has no rate).
 """
 from __future__ import annotations
 
@@ -97,19 +98,20 @@ def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
     return refl.R
 
 
-def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search_nm: float):
+def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search_nm: float, metric: str = "dEab"):
     """(minus_nm, plus_nm, minus_capped, plus_capped) arrays for nominal thicknesses ``d``.
 
-    ΔE2000(Lab(d ± δ), Lab(d)) on a δ grid of PROCESS_STEP_NM up to ``search_nm``; the window
+    ``metric`` (swatch.tolerance.METRICS) is the colour difference ``bound`` is defined on:
+    ΔE(Lab(d ± δ), Lab(d)) in that metric on a δ grid of PROCESS_STEP_NM up to ``search_nm``; the window
     edge is the first grid crossing of ``bound``, interpolated linearly between the two grid
     points. ``capped`` means no crossing within the search (or, below, before zero thickness):
     the window is then the search limit (or ``d`` itself).
     """
-    from swatch.colorimetry import delta_E_00
     from swatch.model import MAX_THICKNESS_NM
+    from swatch.tolerance import delta_E
 
     if d.size > _CHUNK:  # bound the memory of the (N, K, W) spectra
-        parts = [process_window(coating, cm, d[i:i + _CHUNK], g, bound, search_nm)
+        parts = [process_window(coating, cm, d[i:i + _CHUNK], g, bound, search_nm, metric)
                  for i in range(0, d.size, _CHUNK)]
         return tuple(np.concatenate([p[j] for p in parts]) for j in range(4))
     n_steps = int(round(search_nm / PROCESS_STEP_NM))
@@ -120,7 +122,7 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
         dd = d[:, None] + sign * delta[None, :]  # (N, K)
         valid = (dd >= 0.0) & (dd <= MAX_THICKNESS_NM)
         Lab = cm.Lab(cm.XYZ(_geometry_R(coating, np.clip(dd, 0.0, MAX_THICKNESS_NM), g)))  # (N, K, 3)
-        dE = delta_E_00(Lab, np.broadcast_to(Lab0[:, None, :], Lab.shape))  # (N, K)
+        dE = delta_E(metric, Lab, np.broadcast_to(Lab0[:, None, :], Lab.shape))  # (N, K)
         dE = np.where(valid, dE, np.inf)  # leaving the physical range ends the window
         over = dE > bound
         has = over.any(axis=1)
@@ -144,16 +146,18 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
 def compute(spec: CatalogSpec) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
     from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
-    from swatch.model import get_coating, thickness_to_voltage_V
-    from swatch.tolerance import grade_bound
+    from swatch.model import get_coating
 
     wl = wavelengths(spec)
-    coating = get_coating(spec.film, spec.substrate, wl)
+    coating = get_coating(spec.film, spec.substrate, wl, spec.film_index_scale)
     cm = _colorimeter(spec, wl)
     d = np.asarray(spec.thickness_nm, dtype=np.float64)
     n = d.size
     volts = (np.asarray(spec.voltage_V, dtype=np.float64) if spec.voltage_V is not None
-             else thickness_to_voltage_V(d, spec.growth_nm_per_V))
+             else spec.voltage_of(d))
+    if volts is None:  # the process has no growth rate: thicknesses only
+        volts = np.full(n, np.nan)
+    rate = spec.nm_per_V
 
     R = _geometry_R(coating, d, spec.reference)
     XYZ = cm.XYZ(R)
@@ -181,8 +185,9 @@ def compute(spec: CatalogSpec) -> CatalogData:
         dab[1:, 0], dab[:-1, 1] = e_ab, e_ab
         d00[1:, 0], d00[:-1, 1] = e_00, e_00
 
-    bound = grade_bound(spec.grade, spec.scheme)
-    minus, plus, minus_cap, plus_cap = process_window(coating, cm, d, spec.reference, bound, spec.search_nm)
+    tol = spec.tolerance
+    minus, plus, minus_cap, plus_cap = process_window(coating, cm, d, spec.reference, tol.max, spec.search_nm,
+                                                      tol.metric)
 
     def r(x, nd=4):
         return None if x is None or not np.isfinite(x) else round(float(x), nd)
@@ -211,13 +216,14 @@ def compute(spec: CatalogSpec) -> CatalogData:
             "delta_E_ab_to_neighbours": {"previous": r(dab[i, 0]), "next": r(dab[i, 1])},
             "delta_E_00_to_neighbours": {"previous": r(d00[i, 0]), "next": r(d00[i, 1])},
             "process_window": {
-                "grade": spec.grade,
-                "scheme": spec.scheme,
-                "max_delta_E_00": bound,
+                "grade": tol.label,
+                "scheme": tol.scheme,
+                "metric": tol.metric,
+                "max": tol.max,
                 "thickness_minus_nm": r(minus[i], 3),
                 "thickness_plus_nm": r(plus[i], 3),
-                "voltage_minus_V": r(minus[i] / spec.growth_nm_per_V, 3),
-                "voltage_plus_V": r(plus[i] / spec.growth_nm_per_V, 3),
+                "voltage_minus_V": None if rate is None else r(minus[i] / rate, 3),
+                "voltage_plus_V": None if rate is None else r(plus[i] / rate, 3),
                 "minus_capped": bool(minus_cap[i]),
                 "plus_capped": bool(plus_cap[i]),
             },

@@ -239,16 +239,18 @@ def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
     n = rec["delta_E_00_to_neighbours"]
     mono, size, step = "DroidSansMono", 15, lay.LINE
     y = 17
-    img = draw_text(img, _fit(f"{rec['thickness_nm']:g} nm  ·  {rec['voltage_V']:.1f} V", 18, w, "DroidSans-Bold"),
+    volts = "" if rec["voltage_V"] is None else f"  ·  {rec['voltage_V']:.1f} V"
+    img = draw_text(img, _fit(f"{rec['thickness_nm']:g} nm{volts}", 18, w, "DroidSans-Bold"),
                     0, y, 18, INK, font="DroidSans-Bold")
     lines = [
         f"L*a*b* {_num(L, 5, 1)}{_num(a, 7, 1)}{_num(b, 7, 1)}",
         f"L*C*h  {_num(L, 5, 1)}{_num(C, 7, 1)}{_num(hue, 6, 0)}°",
         None,  # chip + hex
         f"ΔE00 prev{_num(n['previous'], 5, 1)} next{_num(n['next'], 5, 1)}",
-        f"window {pw['grade']:<2}{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm",
-        f"         {_num(-pw['voltage_minus_V'], 5, 1)}/+{pw['voltage_plus_V']:.1f} V",
+        f"window{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm  {pw['metric']}≤{pw['max']:g}",
     ]
+    if pw["voltage_minus_V"] is not None:
+        lines.append(f"      {_num(-pw['voltage_minus_V'], 5, 1)}/+{pw['voltage_plus_V']:.1f} V")
     y += 3
     for line in lines:
         y += step
@@ -272,11 +274,14 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
     img = draw_text(img, _fit(spec.name, 28, w - 220, "DroidSans-Bold"), 0, 40, 28, INK, font="DroidSans-Bold")
     img = draw_text(img, f"sheet {number} of {of}", w, 40, 18, MUTED, align="right")
     line2 = (f"{spec.film} on {spec.substrate}  ·  illuminant {header['illuminant']}, CIE {header['observer_name']} "
-             f"observer  ·  model: half-vector thin film (Fujii et al. 2019)  ·  growth {spec.growth_nm_per_V:g} nm/V")
+             f"observer  ·  model: half-vector thin film (Fujii et al. 2019)  ·  process {spec.process}: "
+             + (f"{spec.nm_per_V:g} nm/V + {spec.offset_nm:g} nm" if spec.nm_per_V is not None else "no growth rate")
+             + (f", film index ×{spec.film_index_scale:g}" if spec.film_index_scale != 1 else ""))
     img = draw_text(img, _fit(line2, 16, w, "DroidSans"), 0, 66, 16, INK)
     line3 = (f"L*a*b* at {ref['name']} (light {ref['light_deg']:g}°, view {ref['view_deg']:g}° from the normal)  ·  "
-             f"window: the thickness and voltage deviations that keep CIEDE2000 to the nominal colour "
-             f"at most {tol['max_delta_E_00']:g} ({tol['scheme']} grade {tol['grade']})")
+             f"window: the thickness and voltage deviations that keep the colour difference to the nominal "
+             f"colour within " + (f"{tol['scheme']} grade {tol['grade']}: " if tol["scheme"] else "")
+             + f"{tol['metric']} <= {tol['max']:g}")
     img = draw_text(img, _fit(line3, 16, w, "DroidSans"), 0, 90, 16, INK)
     img = draw_rect(img, 0, img.shape[0] - 1, w, img.shape[0], RULE)
     return img

@@ -72,7 +72,7 @@ class CatalogSpec:
     description: str
     film: str
     substrate: str
-    growth_nm_per_V: float
+    nm_per_V: float | None  # growth rate (None: the profile has none; thicknesses only)
     thickness_nm: tuple[float, ...]
     voltage_V: tuple[float, ...] | None  # given voltages (None when thicknesses were given)
     illuminant: str
@@ -85,15 +85,37 @@ class CatalogSpec:
     model: str
     roughness: float
     angular_map: bool
-    scheme: str
-    grade: str
+    scheme: str | None  # a named grade's scheme and name (None for a written tolerance)
+    grade: str | None
+    metric: str  # the colour difference the tolerance bounds (swatch.tolerance.METRICS)
+    max_delta_E: float  # its bound, in that metric
     search_nm: float
     columns: int
     rows: int
+    process: str = "titanium-fujii2019"  # the profile's name
+    offset_nm: float = 0.0  # growth law: thickness_nm = offset_nm + nm_per_V × voltage_V
+    film_index_scale: float = 1.0
+    process_origin: str = "preset"
     extra: dict = field(default_factory=dict)
     chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
     chip_size_mm: float = 50.0
     chip_dpi: int = 300
+
+    @property
+    def tolerance(self):
+        from swatch.tolerance import get_tolerance
+
+        if self.grade is not None:
+            return get_tolerance(self.scheme, self.grade)
+        return get_tolerance(metric=self.metric, max=self.max_delta_E)
+
+    def voltage_of(self, thickness_nm):
+        """Voltage, V, growing ``thickness_nm`` by the spec's growth law; None without a rate."""
+        import numpy as np
+
+        if self.nm_per_V is None:
+            return None
+        return (np.asarray(thickness_nm, dtype=np.float64) - self.offset_nm) / self.nm_per_V
 
     @property
     def per_sheet(self) -> int:
@@ -239,22 +261,48 @@ def _geometry_name(light: float, aspecular: float) -> str:
     return f"{light:g}as{aspecular:g}"
 
 
-def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
-    """Validate a decoded TOML document (``source`` names it in error messages)."""
-    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
-    from swatch.model import DEFAULT_NM_PER_V
+def _process(c: _Checker, value, base_dir: Path | None):
+    """The spec's ``process``: a preset name, or a profile .toml inside the spec's folder."""
+    from swatch.process import _preset_names, load_process
+
+    text = c.string(value, "process", 200)
+    if text in _preset_names() or base_dir is None:
+        try:
+            return load_process(text)
+        except SwatchError as exc:
+            c.fail("process", str(exc), value, show_got=False)
+    root = base_dir.resolve()
+    path = (root / text).resolve()
+    if not path.is_relative_to(root):
+        c.fail("process", "a profile file must lie inside the spec's folder", value)
+    if path.suffix.lower() != ".toml" or not path.is_file():
+        c.fail("process", f"is neither a preset ({', '.join(_preset_names())}) nor a .toml file next to the spec",
+               value)
+    return load_process(str(path))
+
+
+def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None) -> CatalogSpec:
+    """Validate a decoded TOML document (``source`` names it in error messages; a ``process`` file is
+    looked up inside ``base_dir``, the spec's folder)."""
+    from swatch.process import DEFAULT_PROCESS
 
     c = _Checker(source)
-    top = ("name", "description", "film", "substrate", "growth_nm_per_V", "thickness", "voltage",
-           "colour", "geometry", "render", "tolerance", "sheet", "chips")
+    top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
+           "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips")
     c.table(data, "", top)
     if "name" not in data:
         raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
     name = c.string(data["name"], "name", 120)
     description = c.string(data["description"], "description", 1000) if "description" in data else ""
-    film = _material(c, data.get("film", DEFAULT_FILM), "film", "film")
-    substrate = _material(c, data.get("substrate", DEFAULT_SUBSTRATE), "substrate", "substrate")
-    rate = c.number(data.get("growth_nm_per_V", DEFAULT_NM_PER_V), "growth_nm_per_V", 0.1, 10.0)
+    proc = _process(c, data.get("process", DEFAULT_PROCESS), base_dir)
+    film = _material(c, data["film"], "film", "film") if "film" in data else None
+    substrate = _material(c, data["substrate"], "substrate", "substrate") if "substrate" in data else None
+    if "nm_per_V" in data and "growth_nm_per_V" in data:
+        raise SwatchError(f"{source}: give nm_per_V or its old name growth_nm_per_V, not both")
+    rate_key = "growth_nm_per_V" if "growth_nm_per_V" in data else "nm_per_V"
+    rate = c.number(data[rate_key], rate_key, 0.1, 10.0) if rate_key in data else None
+    proc = proc.with_overrides(film, substrate, rate)
+    rate = proc.nm_per_V
 
     if ("thickness" in data) == ("voltage" in data):
         raise SwatchError(f"{source}: give exactly one of the tables [thickness] (nm) or [voltage] (V)")
@@ -262,12 +310,15 @@ def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
         d = _range(c, data["thickness"], "thickness", "nm", MAX_THICKNESS_NM)
         volts = None
     else:
+        if rate is None:
+            raise SwatchError(f"{source}: process {proc.name} has no growth rate, so the catalog needs a "
+                              "[thickness] table (or nm_per_V, or a calibrated profile)")
         volts = _range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
-        d = [v * rate for v in volts]
+        d = [proc.offset_nm + v * rate for v in volts]
         for v, t in zip(volts, d):
-            if t > MAX_THICKNESS_NM:
-                c.fail("voltage", f"{v:g} V gives {t:g} nm at {rate:g} nm/V; at most {MAX_THICKNESS_NM:g} nm",
-                       v)
+            if not 0 <= t <= MAX_THICKNESS_NM:
+                c.fail("voltage", f"{v:g} V gives {t:g} nm at {rate:g} nm/V + {proc.offset_nm:g} nm; "
+                       f"from 0 to {MAX_THICKNESS_NM:g} nm allowed", v)
 
     col = c.table(data.get("colour", {}), "colour", ("illuminant", "observer", "wavelength_step_nm"))
     illuminant = c.string(col.get("illuminant", "D65"), "colour.illuminant", 40)
@@ -316,12 +367,23 @@ def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
     rough = c.number(ren.get("roughness", 0.3), "render.roughness", 0.01, 1.0)
     amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
 
-    tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "search_nm"))
+    tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
     from swatch import tolerance
 
-    scheme = c.string(tol.get("scheme", "csaj"), "tolerance.scheme", 20, tuple(tolerance.schemes()))
-    grade_names = tuple(g.name for g in tolerance.grades(scheme))
-    grade = c.string(tol.get("grade", "C"), "tolerance.grade", 20, grade_names)
+    if "metric" in tol or "max" in tol:
+        if "scheme" in tol or "grade" in tol:
+            c.fail("tolerance", "give scheme and grade, or metric and max (as coating specifications write "
+                   "it: { metric = \"dE00\", max = 2.0 }), not both", tol, show_got=False)
+        if "metric" not in tol or "max" not in tol:
+            c.fail("tolerance", "a written tolerance needs both metric and max", tol, show_got=False)
+        metric = c.string(tol["metric"], "tolerance.metric", 10, tuple(tolerance.METRICS))
+        max_dE = c.number(tol["max"], "tolerance.max", 0.0, tolerance.MAX_TOLERANCE, lo_open=True)
+        scheme, grade = None, None
+    else:
+        scheme = c.string(tol.get("scheme", "csaj"), "tolerance.scheme", 20, tuple(tolerance.schemes()))
+        grade_names = tuple(g.name for g in tolerance.grades(scheme))
+        grade = c.string(tol.get("grade", "C"), "tolerance.grade", 20, grade_names)
+        metric, max_dE = tolerance.grade_metric(scheme), tolerance.grade_bound(grade, scheme)
     search = c.number(tol.get("search_nm", 50.0), "tolerance.search_nm", 1.0, 200.0)
 
     sh = c.table(data.get("sheet", {}), "sheet", ("columns", "rows"))
@@ -339,13 +401,15 @@ def parse_spec(data: dict, source: str = "<spec>") -> CatalogSpec:
                f"({chip_size:g} mm at {chip_dpi} dpi is {chip_px(chip_size, chip_dpi)})", show_got=False)
 
     return CatalogSpec(
-        source=source, name=name, description=description, film=film, substrate=substrate,
-        growth_nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
+        source=source, name=name, description=description, film=proc.film, substrate=proc.substrate,
+        nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
         voltage_V=None if volts is None else tuple(float(v) for v in volts),
         illuminant=illuminant, observer=observer, wavelength_step_nm=wl_step,
         reference=reference, multi_angle=tuple(multi), shapes=shapes, size_px=size, model=model,
-        roughness=rough, angular_map=amap, scheme=scheme, grade=grade, search_nm=search,
-        columns=columns, rows=rows, chips=chips, chip_size_mm=chip_size, chip_dpi=chip_dpi,
+        roughness=rough, angular_map=amap, scheme=scheme, grade=grade, metric=metric, max_delta_E=max_dE,
+        search_nm=search, columns=columns, rows=rows, chips=chips, chip_size_mm=chip_size, chip_dpi=chip_dpi,
+        process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
+        process_origin=proc.origin,
     )
 
 
@@ -369,4 +433,4 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SwatchError(f"{source}: not valid TOML: {exc}") from None
-    return parse_spec(data, source), raw
+    return parse_spec(data, source, p.parent), raw

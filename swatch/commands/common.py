@@ -49,14 +49,32 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
     return np.array(vals, dtype=np.float64)
 
 
+def process_options(f):
+    """``--process NAME|FILE`` and its growth-rate override ``--nm-per-volt``."""
+    f = click.option("--nm-per-volt", type=float, default=None,
+                     help="anodic growth rate, nm/V, overriding the process profile's")(f)
+    f = click.option("--process", "process", default=None, metavar="NAME|FILE",
+                     help="process profile: a preset (swatch calibrate --list) or a profile .toml "
+                          "[default: titanium-fujii2019, 50.8 nm at 25 V]")(f)
+    return f
+
+
+def resolve_process(process: str | None, film: str | None = None, substrate: str | None = None,
+                    nm_per_volt: float | None = None):
+    """The :class:`swatch.process.Process` for ``--process`` with ``--film``/``--substrate``/``--nm-per-volt``."""
+    from swatch.process import DEFAULT_PROCESS, load_process
+
+    return load_process(process or DEFAULT_PROCESS).with_overrides(film, substrate, nm_per_volt)
+
+
 def thickness_options(multiple: bool):
-    """``--thickness`` / ``--voltage`` (+ ``--nm-per-volt``) resolving to ``thickness_nm``."""
+    """``--thickness`` / ``--voltage`` (+ ``--process``, ``--nm-per-volt``) resolving to ``thickness_nm``."""
     t_help = "film thickness in nm: A:B:STEP or N,N,..." if multiple else "film thickness in nm"
-    v_help = "anodising voltage in V instead of a thickness" + (": A:B:STEP or N,N,..." if multiple else "")
+    v_help = ("anodising voltage in V instead of a thickness (through the process's growth law)"
+              + (": A:B:STEP or N,N,..." if multiple else ""))
 
     def deco(f):
-        f = click.option("--nm-per-volt", type=float, default=DEFAULT_NM_PER_V, show_default=True,
-                         help="anodic growth rate (default: the paper's blue sample, 50.8 nm at 25 V)")(f)
+        f = process_options(f)
         f = click.option("--voltage", "voltage", type=str, default=None, help=v_help)(f)
         f = click.option("--thickness", "thickness", type=str, default=None, help=t_help)(f)
         return f
@@ -64,8 +82,11 @@ def thickness_options(multiple: bool):
     return deco
 
 
-def resolve_thickness(thickness: str | None, voltage: str | None, nm_per_volt: float, multiple: bool):
-    """Return (thickness_nm array, voltage_V array or None)."""
+def resolve_thickness(thickness: str | None, voltage: str | None, nm_per_volt, multiple: bool):
+    """Return (thickness_nm array, voltage_V array or None).
+
+    ``nm_per_volt`` is a growth rate in nm/V or a :class:`swatch.process.Process` (its growth law).
+    """
     if (thickness is None) == (voltage is None):
         raise SwatchError("give exactly one of --thickness NM or --voltage V")
     if thickness is not None:
@@ -73,15 +94,18 @@ def resolve_thickness(thickness: str | None, voltage: str | None, nm_per_volt: f
         v = None
     else:
         v = parse_range(voltage, "voltage", "V")
-        d = voltage_to_thickness_nm(v, nm_per_volt)
+        d = (nm_per_volt.thickness_nm(v) if hasattr(nm_per_volt, "thickness_nm")
+             else voltage_to_thickness_nm(v, DEFAULT_NM_PER_V if nm_per_volt is None else nm_per_volt))
     if not multiple and d.size != 1:
         raise SwatchError("this command takes one thickness (or voltage), not a range")
     return check_thickness_nm(d), v
 
 
 def material_options(f):
-    f = click.option("--substrate", default=DEFAULT_SUBSTRATE, show_default=True, help="substrate table (swatch materials list)")(f)
-    f = click.option("--film", default=DEFAULT_FILM, show_default=True, help="film table (swatch materials list)")(f)
+    f = click.option("--substrate", default=None,
+                     help=f"substrate table (swatch materials list) [default: the process's; {DEFAULT_SUBSTRATE}]")(f)
+    f = click.option("--film", default=None,
+                     help=f"film table (swatch materials list) [default: the process's; {DEFAULT_FILM}]")(f)
     return f
 
 
@@ -92,11 +116,15 @@ def overcoat_option(f):
                               "at most 1000 nm")(f)
 
 
-def resolve_coating(film: str, substrate: str, wavelengths: str, overcoats=()):
-    """The coating for the material options, with any ``--overcoat`` layers on top."""
+def resolve_coating(film, substrate: str | None = None, wavelengths: str = "380:780:5", overcoats=()):
+    """The coating for the material options (or a :class:`swatch.process.Process` as ``film``), with
+    any ``--overcoat`` layers on top."""
     from swatch.model import OvercoatedCoating, get_coating, overcoat
 
-    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    if hasattr(film, "coating"):
+        coating = film.coating(resolve_grid(wavelengths))
+    else:
+        coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, resolve_grid(wavelengths))
     if not overcoats:
         return coating
     return OvercoatedCoating(coating, tuple(overcoat(o, coating.wavelength_nm) for o in overcoats))

@@ -6,7 +6,7 @@ import numpy as np
 
 from swatch.commands.common import (
     colour_options, echo_json, geometry_options, grid_option, material_options, overcoat_option, resolve_coating,
-    resolve_grid, resolve_thickness, thickness_options,
+    resolve_grid, resolve_process, resolve_thickness, thickness_options,
 )
 from swatch.errors import SwatchError
 
@@ -18,11 +18,12 @@ from swatch.errors import SwatchError
 @overcoat_option
 @grid_option
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
-def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate, overcoats,
-             wavelengths, as_json):
+def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
+             overcoats, wavelengths, as_json):
     """Spectral reflectance of one thickness on the half-vector facet (R, R_s, R_p)."""
-    d, _ = resolve_thickness(thickness, voltage, nm_per_volt, multiple=False)
-    coating = resolve_coating(film, substrate, wavelengths, overcoats)
+    proc = resolve_process(process, film, substrate, nm_per_volt)
+    d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
+    coating = resolve_coating(proc, wavelengths=wavelengths, overcoats=overcoats)
     refl, theta_d = coating.half_vector(d[0], light, view, light_azimuth, view_azimuth)
     out = {
         "thickness_nm": float(d[0]),
@@ -33,13 +34,14 @@ def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_a
         "reflectance": refl.R.tolist(),
         "reflectance_s": refl.R_s.tolist(),
         "reflectance_p": refl.R_p.tolist(),
+        "process": proc.metadata(),
     }
     out.update(_overcoat_json(coating))
     if as_json:
         echo_json(out)
         return
     click.echo(f"# {coating.film} on {coating.substrate}{_overcoat_text(coating)}, d = {d[0]:g} nm, "
-               f"theta_d = {theta_d:.3f} deg")
+               f"theta_d = {theta_d:.3f} deg; process {proc.name}")
     click.echo(f"{'wavelength_nm':>13} {'R':>10} {'R_s':>10} {'R_p':>10}")
     for row in zip(out["wavelength_nm"], out["reflectance"], out["reflectance_s"], out["reflectance_p"]):
         click.echo(f"{row[0]:13.1f} {row[1]:10.6f} {row[2]:10.6f} {row[3]:10.6f}")
@@ -53,14 +55,15 @@ def spectrum(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_a
 @colour_options
 @grid_option
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
-def color(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate, overcoats,
-          illuminant, observer, wavelengths, as_json):
+def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
+          overcoats, illuminant, observer, wavelengths, as_json):
     """Colour of each thickness at one geometry: XYZ, CIELAB, LCh, sRGB and ΔE*ab to the previous row."""
     from swatch.appearance import color_table
     from swatch.colorimetry import get_colorimeter
 
-    d, v = resolve_thickness(thickness, voltage, nm_per_volt, multiple=True)
-    coating = resolve_coating(film, substrate, wavelengths, overcoats)
+    proc = resolve_process(process, film, substrate, nm_per_volt)
+    d, v = resolve_thickness(thickness, voltage, proc, multiple=True)
+    coating = resolve_coating(proc, wavelengths=wavelengths, overcoats=overcoats)
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     table = color_table(d, light, view, coating, cm, light_azimuth, view_azimuth)
     rows = table.rows()
@@ -71,11 +74,11 @@ def color(thickness, voltage, nm_per_volt, light, view, light_azimuth, view_azim
         echo_json({
             "illuminant": cm.illuminant, "observer": cm.observer, "film": coating.film,
             "substrate": coating.substrate, "light_deg": light, "view_deg": view,
-            "theta_d_deg": table.theta_d_deg, **_overcoat_json(coating), "rows": rows,
+            "theta_d_deg": table.theta_d_deg, **_overcoat_json(coating), "process": proc.metadata(), "rows": rows,
         })
         return
     click.echo(f"# {coating.film} on {coating.substrate}{_overcoat_text(coating)}; light {light:g}°, view {view:g}° "
-               f"(theta_d {table.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer")
+               f"(theta_d {table.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; process {proc.name}")
     click.echo(f"{'d_nm':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'C*':>7} {'h':>6}  {'sRGB':7} {'gamut':5} {'dE_ab':>6}")
     for r in rows:
         L, a, b = r["Lab"]

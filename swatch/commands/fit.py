@@ -9,7 +9,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from swatch.commands.common import colour_options, echo_json, geometry_options, grid_option, material_options
+from swatch.commands.common import (
+    colour_options, echo_json, geometry_options, grid_option, material_options, process_options, resolve_process,
+)
 from swatch.errors import SwatchError
 from swatch.model import DEFAULT_NM_PER_V
 
@@ -64,14 +66,13 @@ def _parse_lab(text: str) -> np.ndarray:
 @colour_options
 @grid_option
 @click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme for the grade")
-@click.option("--nm-per-volt", type=float, default=DEFAULT_NM_PER_V, show_default=True,
-              help="anodic growth rate for the voltage estimate")
+@process_options
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of text")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False, path_type=str), default=None,
               help="write delta_e_map.png/.exr, summary.csv/.md and geometries.csv into this folder")
 @click.option("--force", is_flag=True, help="overwrite existing report files")
 def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, light, view, light_azimuth,
-        view_azimuth, film, substrate, illuminant, observer, wavelengths, scheme, nm_per_volt, as_json,
+        view_azimuth, film, substrate, illuminant, observer, wavelengths, scheme, process, nm_per_volt, as_json,
         report_dir, force):
     """Estimate oxide thickness from measured spectra (or CIELAB) and report ΔE per geometry.
 
@@ -86,6 +87,8 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     from swatch.fitting import fit_lab, fit_spectra
     from swatch.measurements import LabMeasurement, read_measurement
 
+    proc = resolve_process(process, film, substrate, nm_per_volt)
+    film, substrate = proc.film, proc.substrate
     rng = _parse_pair(thickness_range, "--range")
     geom = dict(light_deg=light, view_deg=view, light_azimuth_deg=light_azimuth, view_azimuth_deg=view_azimuth)
     paths = _report_paths(report_dir, measurements) if report_dir is not None else None
@@ -106,7 +109,7 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
         else:
             res = fit_spectra(m, film, substrate, **common)
         results.append(res)
-    dicts = [r.to_dict(nm_per_volt) for r in results]
+    dicts = [_with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]
     if paths:
         from swatch.fileio import check_writable_dir
 
@@ -123,6 +126,15 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
                    f"mean ΔE2000 {s['mean_delta_E_00']:.2f}, grade {s['grade']} ({scheme})")
     if paths:
         click.echo(f"report written to {report_dir}")
+
+
+def _with_process(d: dict, proc) -> dict:
+    """A fit's dict with the voltage from the process's growth law and the profile named."""
+    v = proc.voltage_V(d["thickness_nm"])
+    d["voltage_V"] = None if v is None else float(v)
+    d["nm_per_V"] = proc.nm_per_V
+    d["process"] = proc.metadata()
+    return d
 
 
 def _multi_summary(dicts: list[dict], scheme: str) -> dict:
@@ -158,7 +170,9 @@ def _print_fit(r, d: dict) -> None:
     click.echo(f"# {d['film']} on {d['substrate']}; intensity: {d['scale_mode']}; {d['illuminant']}, "
                f"{d['observer']}° observer")
     unc = f" ± {d['uncertainty_nm']:.2f}" if d["uncertainty_nm"] is not None else ""
-    click.echo(f"thickness      {d['thickness_nm']:.2f}{unc} nm   (≈ {d['voltage_V']:.1f} V at {d['nm_per_V']:.3g} nm/V)")
+    volts = ("no growth rate" if d["voltage_V"] is None
+             else f"≈ {d['voltage_V']:.1f} V at {d['nm_per_V']:.3g} nm/V + {d['process']['offset_nm']:g} nm")
+    click.echo(f"thickness      {d['thickness_nm']:.2f}{unc} nm   ({volts}; process {d['process']['process']})")
     unit = "mean squared error" if d["kind"] == "spectral" else "mean squared ΔE2000"
     click.echo(f"residual       {d['residual']:.4g} ({unit})")
     if d["second_best_thickness_nm"] is not None:
@@ -355,7 +369,7 @@ def _write_report(results, dicts, paths) -> None:
           "|---|---:|---:|---:|---:|---:|---:|---:|:---:|---:|"]
     for d in dicts:
         md.append(f"| {Path(d['source']).name} | {d['thickness_nm']:.1f} | {_fmt(d['uncertainty_nm'], '.2f')} | "
-                  f"{d['voltage_V']:.1f} | {_fmt(d['second_best_thickness_nm'], '.1f')} | {d['mean_delta_E_ab']:.2f} | "
+                  f"{_fmt(d['voltage_V'], '.1f')} | {_fmt(d['second_best_thickness_nm'], '.1f')} | {d['mean_delta_E_ab']:.2f} | "
                   f"{d['mean_delta_E_00']:.2f} | {d['max_delta_E_ab']:.2f} | {d['grade']} | {d['n_used']}/{d['n_geometries']} |")
     if len(dicts) > 1:
         s = _multi_summary(dicts, dicts[0]["scheme"])
@@ -393,12 +407,12 @@ def _write_report(results, dicts, paths) -> None:
 @click.option("--top", type=int, default=5, show_default=True, help="number of candidates")
 @click.option("--grade", default="C", show_default=True, help="tolerance grade a candidate must meet (ΔE*ab)")
 @click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme")
-@click.option("--nm-per-volt", type=float, default=DEFAULT_NM_PER_V, show_default=True, help="anodic growth rate")
+@process_options
 @click.option("--match-lightness", is_flag=True,
               help="scale the simulated colour to the target's lightness (compare hue and chroma only)")
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
 def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substrate, illuminant, observer,
-          wavelengths, thickness_range, step, top, grade, scheme, nm_per_volt, match_lightness, as_json):
+          wavelengths, thickness_range, step, top, grade, scheme, process, nm_per_volt, match_lightness, as_json):
     """Thicknesses (and voltages) whose colour matches a target, across interference orders.
 
     The geometry defaults to the catalog's reference 45°:0° (light at 45°, view along the normal).
@@ -407,19 +421,24 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     from swatch.colorimetry import get_colorimeter, hex_to_Lab
     from swatch.commands.common import resolve_grid
     from swatch.fitting import match_colour
-    from swatch.model import get_coating
 
     if (lab is None) == (hex_code is None):
         raise SwatchError("give exactly one of --lab L,a,b or --hex RRGGBB")
-    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    proc = resolve_process(process, film, substrate, nm_per_volt)
+    coating = proc.coating(resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     if hex_code is not None:  # sRGB is defined on CIE 1931 2° colorimetry: match in it
         cm = cm.display_colorimeter
     target = _parse_lab(lab) if lab is not None else hex_to_Lab(hex_code, cm)
     res = match_colour(target, coating, cm, light, view, light_azimuth, view_azimuth,
                        thickness_range=_parse_pair(thickness_range, "--range"), step_nm=step, top=top,
-                       nm_per_V=nm_per_volt, grade=grade, scheme=scheme, match_lightness=match_lightness)
+                       nm_per_V=proc.nm_per_V or DEFAULT_NM_PER_V, grade=grade, scheme=scheme,
+                       match_lightness=match_lightness)
+    for c in res.candidates:  # voltages by the process's growth law (offset included; None without a rate)
+        v = proc.voltage_V(c["thickness_nm"])
+        c["voltage_V"] = None if v is None else float(v)
     out = res.to_dict()
+    out["process"] = proc.metadata()
     if hex_code is not None:
         out["target_hex"] = "#" + hex_code.strip().lstrip("#").lower()
     if as_json:
@@ -428,12 +447,14 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     L, a, b = res.target_Lab
     src = f" (from {out['target_hex']})" if hex_code is not None else ""
     click.echo(f"# target L*a*b* {L:.2f}, {a:.2f}, {b:.2f}{src}; light {light:g}°, view {view:g}° "
-               f"(theta_d {res.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; {coating.film} on {coating.substrate}")
+               f"(theta_d {res.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; {coating.film} on {coating.substrate}, "
+               f"process {proc.name}")
     click.echo(f"{'rank':>4} {'d_nm':>8} {'volt_V':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'dE00':>6} {'dE_ab':>6}  grade {grade}")
     for k, c in enumerate(res.candidates, start=1):
         Lc, ac, bc = c["Lab"]
         ok = "yes" if c["within_grade"] else "no"
-        click.echo(f"{k:4d} {c['thickness_nm']:8.2f} {c['voltage_V']:7.1f} {Lc:7.2f} {ac:7.2f} {bc:7.2f} "
+        volts = "" if c["voltage_V"] is None else f"{c['voltage_V']:7.1f}"
+        click.echo(f"{k:4d} {c['thickness_nm']:8.2f} {volts:>7} {Lc:7.2f} {ac:7.2f} {bc:7.2f} "
                    f"{c['delta_E_00']:6.2f} {c['delta_E_ab']:6.2f}  {ok}{'  (end of the range)' if c['at_range_bound'] else ''}")
     if not res.any_within_grade:
         click.echo(f"no thickness in {thickness_range} nm comes within grade {grade} of {scheme} "

@@ -12,8 +12,8 @@ import click
 import numpy as np
 
 from swatch.commands.common import (
-    colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_thickness,
-    thickness_options,
+    colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_process,
+    resolve_thickness, thickness_options,
 )
 from swatch.errors import SwatchError
 
@@ -40,25 +40,36 @@ class _Plain:
         return False
 
 
-def _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths):
+def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant, observer, wavelengths):
     from swatch.colorimetry import get_colorimeter
-    from swatch.model import get_coating, thickness_to_voltage_V
 
-    d, v = resolve_thickness(thickness, voltage, nm_per_volt, multiple=True)
-    coating = get_coating(film, substrate, resolve_grid(wavelengths))
+    proc = resolve_process(process, film, substrate, nm_per_volt)
+    d, v = resolve_thickness(thickness, voltage, proc, multiple=True)
+    coating = proc.coating(resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
-    volts = v if v is not None else thickness_to_voltage_V(d, nm_per_volt)
-    note = (f"given; thickness from it at {nm_per_volt:g} nm/V" if v is not None
-            else f"estimated from the thickness at {nm_per_volt:g} nm/V")
-    return d, np.asarray(volts, dtype=float), note, coating, cm
+    volts = v if v is not None else proc.voltage_V(d)
+    law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.name})" if proc.has_growth_law
+           else f"process {proc.name}")
+    note = (f"given; thickness from it at {law}" if v is not None
+            else f"estimated from the thickness at {law}" if volts is not None else f"no growth rate in {law}")
+    volts = np.full(d.shape, np.nan) if volts is None else np.asarray(volts, dtype=float)
+    return d, volts, note, coating, cm, proc
 
 
-def _voltage_meta(meta: dict, volts: float, note: str, nm_per_volt: float) -> dict:
+def _voltage_meta(meta: dict, volts: float, note: str, proc) -> dict:
     meta = dict(meta)
-    meta["voltage_V"] = round(float(volts), 6)
+    meta["voltage_V"] = round(float(volts), 6) if np.isfinite(volts) else None
     meta["voltage_note"] = note
-    meta["nm_per_V"] = round(float(nm_per_volt), 9)
+    meta.update({k: (round(v, 9) if isinstance(v, float) else v) for k, v in proc.metadata().items()})
     return meta
+
+
+def _roughness(roughness: float | None, process: str | None) -> float:
+    """``--roughness``, else the process profile's ``roughness``, else 0.3."""
+    if roughness is not None:
+        return roughness
+    proc = resolve_process(process)
+    return proc.roughness if proc.roughness is not None else 0.3
 
 
 def _check_common(roughness: float, space: str):
@@ -98,14 +109,15 @@ def _lab_json(amap) -> str:
 @click.option("--view-range", default="0:85:1", show_default=True, help="view polar angles A:B:STEP or N,N,... (deg)")
 @click.option("--model", type=click.Choice(["paper", "microfacet"]), default="microfacet", show_default=True,
               help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)")
-@click.option("--roughness", type=float, default=0.3, show_default=True, help="microfacet roughness alpha in (0, 1]")
+@click.option("--roughness", type=float, default=None,
+              help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]")
 @click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
 @click.option("--space", type=click.Choice(SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
 @click.option("--force", is_flag=True, help="overwrite existing files")
 @material_options
 @colour_options
 @grid_option
-def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, model, roughness, distribution,
+def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view_range, model, roughness, distribution,
             space, force, film, substrate, illuminant, observer, wavelengths):
     """Colour over light × view angle (in plane, opposite sides) for each thickness.
 
@@ -118,12 +130,14 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
     from swatch.pngmeta import image_xmp
     from swatch.render import angular_figure, angular_map, file_stem
 
+    roughness = _roughness(roughness, process)
     _check_common(roughness, space)
     lights = geometry.check_polar_deg(parse_range(light_range, "light angle", "deg"), "light")
     views = geometry.check_polar_deg(parse_range(view_range, "view angle", "deg"), "view")
     if lights.size * views.size > 4_000_000:
         raise SwatchError("angular map too large; at most 4,000,000 cells (light × view)")
-    d, volts, note, coating, cm = _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths)
+    d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
+                                               observer, wavelengths)
     stems = [file_stem("angular", x) for x in d]
     if len(set(stems)) != len(stems):
         raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
@@ -134,7 +148,7 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
     with _iterate(list(range(d.size)), "angular maps") as it:
         for i in it:
             amap = angular_map(d[i], lights, views, coating, cm, model, roughness, distribution, space=space)
-            meta = _voltage_meta(amap.metadata, volts[i], note, nm_per_volt)
+            meta = _voltage_meta(amap.metadata, volts[i], note, proc)
             amap.metadata = meta
             path = {suf: out / (stems[i] + suf) for suf in suffixes}  # (not with_suffix: "050.8nm")
             meta["orientation"] = ORIENTATION
@@ -158,7 +172,8 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
 @click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
-@click.option("--roughness", type=float, default=0.3, show_default=True, help="microfacet roughness alpha in (0, 1]")
+@click.option("--roughness", type=float, default=None,
+              help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]")
 @click.option("--model", type=click.Choice(["paper", "microfacet"]), default="microfacet", show_default=True)
 @click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
 @click.option("--space", type=click.Choice(SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
@@ -166,7 +181,7 @@ def angular(thickness, voltage, nm_per_volt, out_dir, light_range, view_range, m
 @material_options
 @colour_options
 @grid_option
-def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, roughness, model, distribution,
+def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, light_deg, roughness, model, distribution,
            space, force, film, substrate, illuminant, observer, wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
     from swatch import geometry, imageio
@@ -174,10 +189,12 @@ def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, 
     from swatch.pngmeta import image_xmp
     from swatch.render import check_size_px, file_stem, render_swatch
 
+    roughness = _roughness(roughness, process)
     _check_common(roughness, space)
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
-    d, volts, note, coating, cm = _setup(thickness, voltage, nm_per_volt, film, substrate, illuminant, observer, wavelengths)
+    d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
+                                               observer, wavelengths)
     stems = [file_stem(shape, x) for x in d]
     if len(set(stems)) != len(stems):
         raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
@@ -187,7 +204,7 @@ def render(thickness, voltage, nm_per_volt, shape, out_dir, size_px, light_deg, 
     with _iterate(list(range(d.size)), f"{shape} swatches") as it:
         for i in it:
             img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution)
-            meta = _voltage_meta(img.metadata, volts[i], note, nm_per_volt)
+            meta = _voltage_meta(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
             imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm", meta))

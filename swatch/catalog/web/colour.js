@@ -216,18 +216,20 @@ function makeColour(T) {
     }).sort((x, y) => x[1] - y[1]);
     const kept = [];
     for (const [d, fd] of minima) if (kept.every(([k]) => Math.abs(d - k) > T.match.min_separation_nm)) kept.push([d, fd]);
-    return kept.slice(0, top).map(([d, fd]) => ({thickness_nm: d, voltage_V: d / T.growth_nm_per_V, delta_E_00: fd,
+    return kept.slice(0, top).map(([d, fd]) => ({thickness_nm: d, voltage_V: T.nm_per_V === null ? null : (d - T.offset_nm) / T.nm_per_V, delta_E_00: fd,
       delta_E_ab: dEab(labAt(d), Lab), hex: refColour(d).hex, target_Lab: Lab}));
   }
-  // process window at any thickness (as swatch.catalog.records.process_window, on the 0.1 nm column)
-  function windowAt(d, bound, search_nm) {
+  // process window at any thickness (as swatch.catalog.records.process_window, on the 0.1 nm column),
+  // judged in the tolerance's own metric ("dEab" or "dE00")
+  function windowAt(d, bound, search_nm, metric) {
+    const dE = metric === "dEab" ? dEab : dE00;
     const Lab0 = XYZtoLab(refAt(d).slice(0, 3));
     const edge = (sign) => {
       let prev = 0, e0 = 0;
       for (let k = 1; k * R.step <= search_nm + 1e-9; k++) {
         const dd = d + sign * k * R.step;
         if (dd < R.start - 1e-9 || dd > hi + 1e-9) return {nm: prev, capped: true};
-        const e = dE00(XYZtoLab(refAt(dd).slice(0, 3)), Lab0);
+        const e = dE(XYZtoLab(refAt(dd).slice(0, 3)), Lab0);
         if (e > bound) return {nm: prev + (e > e0 ? (bound - e0) / (e - e0) : 0) * R.step, capped: false};
         prev = k * R.step; e0 = e;
       }

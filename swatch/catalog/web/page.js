@@ -10,8 +10,12 @@ const fmt = (x, n) => (x === null || x === undefined || !Number.isFinite(Number(
 const HEX = /^#[0-9a-f]{6}$/i;
 const ref = cat.catalog.reference_geometry;
 const geoms = cat.catalog.multi_angle_geometries;
-const growth = cat.catalog.growth_nm_per_V;
-const bound = cat.catalog.tolerance.max_delta_E_00;
+// the catalog's process profile: thickness_nm = offset_nm + nm_per_V * voltage_V (no voltages without a rate)
+const growth = cat.catalog.process.nm_per_V, offsetNm = cat.catalog.process.offset_nm;
+const toV = (d) => growth === null ? null : (d - offsetNm) / growth;
+const fromV = (v) => growth === null ? NaN : offsetNm + v * growth;
+// the tolerance, judged in its own metric (a CSAJ grade bounds ΔE*ab)
+const tol = cat.catalog.tolerance, bound = tol.max;
 function el(tag, cls, text) {
   const e = document.createElement(tag);
   if (cls) e.className = cls;
@@ -83,7 +87,7 @@ function readout() {
   paint($("ref-chip"), r);
   $("ref-text").textContent = ref.name + ": L*a*b* " + r.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + r.hex;
   $("t-out").textContent = fmt(state.thickness_nm, 1) + " nm";
-  $("v-out").textContent = fmt(state.thickness_nm / growth, 1) + " V";
+  $("v-out").textContent = fmt(toV(state.thickness_nm), 1) + " V";
   $("l-out").textContent = fmt(state.light_deg, 1) + "°";
   $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
 }
@@ -92,7 +96,7 @@ function draw() {
   readout();
 }
 function syncInputs() {
-  $("thickness").value = state.thickness_nm; $("voltage").value = fmt(state.thickness_nm / growth, 2);
+  $("thickness").value = state.thickness_nm; $("voltage").value = growth === null ? "" : fmt(toV(state.thickness_nm), 2);
   $("light").value = state.light_deg; $("view-deg").value = state.view_deg;
   $("shape").value = state.shape; $("model").value = state.model;
 }
@@ -100,7 +104,10 @@ function show(q) {
   q = q || {};
   const n = (v, lo, hi) => { const x = Number(v); if (!Number.isFinite(x)) throw new Error("show: numbers expected"); return Math.min(Math.max(x, lo), hi); };
   if (q.thickness_nm !== undefined) state.thickness_nm = clampT(n(q.thickness_nm, -1e9, 1e9));
-  if (q.voltage_V !== undefined) state.thickness_nm = clampT(n(q.voltage_V, -1e9, 1e9) * growth);
+  if (q.voltage_V !== undefined) {
+    if (growth === null) throw new Error("show: this catalog's process has no growth rate; give thickness_nm");
+    state.thickness_nm = clampT(fromV(n(q.voltage_V, -1e9, 1e9)));
+  }
   if (q.light_deg !== undefined) state.light_deg = n(q.light_deg, 0, 89);
   if (q.view_deg !== undefined) state.view_deg = n(q.view_deg, 0, 89);
   if (q.light_azimuth_deg !== undefined) state.light_azimuth_deg = n(q.light_azimuth_deg, -720, 720);
@@ -115,7 +122,7 @@ $("thickness").min = C.range[0]; $("thickness").max = C.range[1];
 $("live-form").addEventListener("input", (e) => {
   const id = e.target.id;
   if (id === "thickness") show({thickness_nm: e.target.value});
-  else if (id === "voltage") { if (e.target.value !== "") { state.thickness_nm = clampT(Number(e.target.value) * growth); $("thickness").value = state.thickness_nm; draw(); } }
+  else if (id === "voltage") { if (e.target.value !== "" && growth !== null) { state.thickness_nm = clampT(fromV(Number(e.target.value))); $("thickness").value = state.thickness_nm; draw(); } }
   else if (id === "light") show({light_deg: e.target.value});
   else if (id === "view-deg") show({view_deg: e.target.value});
   else if (id === "shape") show({shape: e.target.value});
@@ -151,7 +158,7 @@ function pin(item) {
 function windowOf(item) {
   const r = item.record;
   if (r) return {minus: r.process_window.thickness_minus_nm, plus: r.process_window.thickness_plus_nm};
-  const w = C.windowAt(item.thickness_nm, bound, cat.catalog.tolerance.search_nm);
+  const w = C.windowAt(item.thickness_nm, bound, tol.search_nm, tol.metric);
   return {minus: w.minus.nm, plus: w.plus.nm};
 }
 function renderCompare() {
@@ -164,7 +171,7 @@ function renderCompare() {
     const r = C.refColour(d);
     box.appendChild(el("div", "pin-title", item.label));
     box.appendChild(chip(r, "big", ref.name));
-    box.appendChild(el("div", "pin-sub", fmt(d, 1) + " nm · " + fmt(d / growth, 1) + " V · " + r.hex + " · " + nameOf(C.LCh(r.Lab))));
+    box.appendChild(el("div", "pin-sub", fmt(d, 1) + " nm · " + fmt(toV(d), 1) + " V · " + r.hex + " · " + nameOf(C.LCh(r.Lab))));
     const strip = el("div", "strip");
     for (const g of geoms) strip.appendChild(chip(C.colorAt(Object.assign({thickness_nm: d}, geoArgs(g))), "", g.name));
     box.appendChild(strip);
@@ -172,7 +179,7 @@ function renderCompare() {
     const ends = el("div", "ends");
     ends.appendChild(chip(C.refColour(d - w.minus), "", "thin end " + fmt(d - w.minus, 1) + " nm"));
     ends.appendChild(chip(C.refColour(d + w.plus), "", "thick end " + fmt(d + w.plus, 1) + " nm"));
-    box.appendChild(el("div", "pin-sub", "process window (ΔE00 ≤ " + bound + "): −" + fmt(w.minus, 1) + " / +" + fmt(w.plus, 1) + " nm"));
+    box.appendChild(el("div", "pin-sub", "process window (" + tol.metric + " ≤ " + bound + "): −" + fmt(w.minus, 1) + " / +" + fmt(w.plus, 1) + " nm"));
     box.appendChild(ends);
     const rm = el("button", "unpin", "remove");
     rm.type = "button";
