@@ -63,7 +63,8 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
         tile_key._code = _engine_code_hash()
     doc = {
         "v": TILE_VERSION, "code": tile_key._code, "tables": fp["tables"], "versions": fp["versions"],
-        "film": spec.film, "substrate": spec.substrate, "wl_step": spec.wavelength_step_nm,
+        "film": spec.film, "substrate": spec.substrate, "film_index_scale": spec.film_index_scale,
+        "wl_step": spec.wavelength_step_nm,
         "illuminant": spec.illuminant, "observer": spec.observer, "d": float(thickness_nm),
         "shapes": list(spec.shapes), "size": spec.size_px, "model": spec.model, "roughness": spec.roughness,
         "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
@@ -75,14 +76,14 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
 
 def _render_job(args):
     """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
-    (d, film, substrate, wl_step, illuminant, observer, shapes, size, model, roughness, amap) = args
+    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap) = args
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
     from swatch.model import get_coating
     from swatch.render import angular_map, render_swatch
 
     wl = wavelength_grid(380.0, 780.0, wl_step)
-    coating = get_coating(film, substrate, wl)
+    coating = get_coating(film, substrate, wl, scale)
     cm = get_colorimeter(wl, illuminant, observer)
     out = {}
     for i, shape in enumerate(shapes):
@@ -105,7 +106,8 @@ def _render_job(args):
 
 
 def _job_args(spec: CatalogSpec, d: float):
-    return (float(d), spec.film, spec.substrate, spec.wavelength_step_nm, spec.illuminant, spec.observer,
+    return (float(d), spec.film, spec.substrate, spec.film_index_scale, spec.wavelength_step_nm, spec.illuminant,
+            spec.observer,
             tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map)
 
 
@@ -161,7 +163,7 @@ def _warm(spec: CatalogSpec) -> None:
     import swatch.render  # noqa: F401
 
     wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
-    get_coating(spec.film, spec.substrate, wl)
+    get_coating(spec.film, spec.substrate, wl, spec.film_index_scale)
     get_colorimeter(wl, spec.illuminant, spec.observer)
 
 
