@@ -27,6 +27,7 @@ COMMANDS = {
     "fit": "swatch.commands.fit:fit",
     "match": "swatch.commands.fit:match",
     "preset": "swatch.commands.preset:preset",
+    "calibrate": "swatch.commands.calibrate:calibrate",
 }
 
 

@@ -158,7 +158,11 @@ def _from_dict(data: dict, source: str, origin: str) -> Process:
         raise _fail(source, "[calibration] must be a table")
     cal: list[tuple[str, object]] = []
     for key, value in calibration.items():
-        if key in _CALIBRATION_NUMBERS:
+        if key in ("coupons", "outliers"):
+            if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 100_000:
+                raise _fail(source, f"calibration.{key} must be a whole number from 0 to 100000")
+            cal.append((key, value))
+        elif key in _CALIBRATION_NUMBERS:
             cal.append((key, _number(value, f"calibration.{key}", 0.0, 1e6, source)))
         elif key in _CALIBRATION_TEXT:
             cal.append((key, _text(value, f"calibration.{key}", source)))

@@ -66,5 +66,17 @@ def test_grade_table_is_monotonic_and_cited():
     text = (tolerance.tables_dir() / "tolerance_grades.csv").read_text(encoding="utf-8")
     assert "Handbook of Color Science" in text and "Judd" in text
     for scheme in tolerance.schemes():
-        bounds = [g.max_delta_E_ab for g in tolerance.grades(scheme)]
+        bounds = [g.max for g in tolerance.grades(scheme)]
         assert bounds == sorted(bounds) and len(set(bounds)) == len(bounds)
+        assert {g.metric for g in tolerance.grades(scheme)} == {"dEab"}  # both schemes bound ΔE*ab
+        assert tolerance.grade_metric(scheme) == "dEab"
+
+
+def test_written_tolerances():
+    t = tolerance.parse_tolerance("dE00:2")
+    assert (t.metric, t.max, t.grade, t.label) == ("dE00", 2.0, None, "dE00 ≤ 2")
+    c = tolerance.parse_tolerance("csaj:C")
+    assert (c.metric, c.max, c.grade) == ("dEab", 6.5, "C")
+    for bad in ("dE00", "dE00:x", "dE00:0", "dE76:2", "csaj:Z"):
+        with pytest.raises(SwatchError):
+            tolerance.parse_tolerance(bad)

@@ -54,7 +54,7 @@ def process_options(f):
     f = click.option("--nm-per-volt", type=float, default=None,
                      help="anodic growth rate, nm/V, overriding the process profile's")(f)
     f = click.option("--process", "process", default=None, metavar="NAME|FILE",
-                     help="process profile: a preset (swatch calibrate --list) or a profile .toml "
+                     help="process profile: a preset of tables/processes (docs/processes.md) or a profile .toml "
                           "[default: titanium-fujii2019, 50.8 nm at 25 V]")(f)
     return f
 

@@ -1,0 +1,117 @@
+"""The calibration figure: measured against predicted chips per coupon, and the fitted voltage → colour strip.
+
+Chips are display sRGB (from CIE 1931 2° colorimetry of the spectra when the coupons were
+measured as spectra; from the measured CIELAB otherwise, for display only: a Lab value carries
+no spectrum). ΔE2000 under each pair is the fit's residual in the measuring geometry,
+illuminant and observer; outliers are framed in red.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from swatch.calibration import Calibration
+
+__all__ = ["calibration_figure"]
+
+PAGE = (246, 246, 244)
+INK = (20, 20, 20)
+MUTED = (110, 110, 110)
+RED = (200, 30, 30)
+CHIP = 56
+COLS = 8
+TILE_W = 2 * CHIP + 14
+TILE_H = CHIP + 58
+MARGIN = 24
+STRIP_H = 60
+
+
+def _fmt(value, unc, nd: int) -> str:
+    return f"{value:.{nd}f}" + ("" if unc is None else f" ± {unc:.{nd}f}")
+
+
+def _chips(cal: Calibration, model_R, measured_R, cm):
+    """Display sRGB (N, 3) uint8 of measured and predicted colours."""
+    if measured_R is not None:
+        meas, _ = cm.reflectance_display(measured_R)
+        pred, _ = cm.reflectance_display(model_R)
+    else:
+        meas, _ = cm.display(cm.Lab_to_XYZ(cal.Lab_measured))
+        pred, _ = cm.display(cm.Lab_to_XYZ(cal.Lab_predicted))
+    return (np.round(meas * 255).astype(np.uint8), np.round(pred * 255).astype(np.uint8))
+
+
+def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, cm) -> np.ndarray:
+    """An (H, W, 3) uint8 figure.
+
+    ``model_R``: predicted spectra of the coupons (N, W); ``measured_R``: measured spectra or
+    None (colour coupons); ``strip_V`` (K,) voltages and ``strip_R`` (K, W) their predicted spectra.
+    """
+    from swatch.imageio import draw_line, draw_rect, draw_text
+
+    n = cal.voltage_V.size
+    rows = -(-n // COLS)
+    width = 2 * MARGIN + COLS * TILE_W
+    top = 116
+    strip_top = top + rows * TILE_H + 34
+    height = strip_top + STRIP_H + 64
+    img = np.empty((height, width, 3), np.uint8)
+    img[:] = PAGE
+    p, u = cal.process, cal.uncertainty
+    inl = ~cal.outlier
+    img = draw_text(img, f"Calibration: {p.name}  ({p.film} on {p.substrate})", MARGIN, 32, 22, INK,
+                    font="DroidSans-Bold")
+    line = (f"thickness = {_fmt(p.offset_nm, u['offset_nm'], 2)} nm + {_fmt(p.nm_per_V, u['nm_per_V'], 4)} nm/V × V"
+            f"   ·   film index × {_fmt(p.film_index_scale, u['film_index_scale'], 4)}"
+            + ("" if u["film_index_scale"] is not None else " (not determined: kept)"))
+    img = draw_text(img, line, MARGIN, 58, 16, INK)
+    line = (f"{n} coupons, {int(cal.outlier.sum())} outlier(s) set aside   ·   mean dE00 "
+            f"{cal.delta_E_00[inl].mean():.2f}, max {cal.delta_E_00[inl].max():.2f} (without outliers)   ·   "
+            f"light {cal.geometry['light_deg']:g}°, view {cal.geometry['view_deg']:g}°, {cal.illuminant}, "
+            f"CIE {cal.observer}° observer")
+    img = draw_text(img, line, MARGIN, 80, 14, MUTED)
+
+    meas, pred = _chips(cal, model_R, measured_R, cm)
+    order = np.argsort(cal.voltage_V, kind="stable")
+    for k, i in enumerate(order):
+        x = MARGIN + (k % COLS) * TILE_W
+        y = top + (k // COLS) * TILE_H
+        img = draw_rect(img, x, y, x + CHIP, y + CHIP, tuple(int(c) for c in meas[i]))
+        img = draw_rect(img, x + CHIP, y, x + 2 * CHIP, y + CHIP, tuple(int(c) for c in pred[i]))
+        frame = RED if cal.outlier[i] else MUTED
+        img = draw_rect(img, x - 1, y - 1, x + 2 * CHIP + 1, y + CHIP + 1, frame, fill=False,
+                        width=3 if cal.outlier[i] else 1)
+        img = draw_text(img, f"{cal.voltage_V[i]:g} V · {cal.thickness_nm[i]:.1f} nm", x, y + CHIP + 16, 13, INK)
+        tag = "  OUTLIER" if cal.outlier[i] else ""
+        img = draw_text(img, f"dE00 {cal.delta_E_00[i]:.2f}{tag}", x, y + CHIP + 32, 13,
+                        RED if cal.outlier[i] else INK)
+        img = draw_text(img, cal.labels[i][:16], x, y + CHIP + 47, 11, MUTED)
+    note = ("each pair: measured (left) | predicted by the fitted profile (right); "
+            + ("display sRGB of the spectra (CIE 1931 2°)" if measured_R is not None
+               else "display sRGB from the measured CIELAB (display only: a Lab carries no spectrum)"))
+    img = draw_text(img, note, MARGIN, top - 10, 12, MUTED)
+
+    # the fitted voltage -> colour strip, with the coupons' measured colours at their voltages
+    x0, x1 = MARGIN, width - MARGIN
+    img = draw_text(img, "fitted voltage -> colour (half-vector model at the measuring geometry); "
+                    "ticks: coupons, measured colour below", x0, strip_top - 10, 13, INK)
+    cols, _ = cm.reflectance_display(strip_R)
+    cols = np.round(cols * 255).astype(np.uint8)
+    xs = np.linspace(x0, x1, strip_V.size + 1).astype(int)
+    band = np.repeat(np.arange(strip_V.size), np.diff(xs))
+    img[strip_top:strip_top + STRIP_H - 16, x0:x0 + band.size] = cols[band][None, :, :]
+    v_lo, v_hi = float(strip_V[0]), float(strip_V[-1])
+
+    def xv(v):
+        return int(round(x0 + (v - v_lo) / (v_hi - v_lo) * (x1 - x0 - 1)))
+
+    for i in range(n):
+        x = xv(cal.voltage_V[i])
+        img = draw_rect(img, x - 4, strip_top + STRIP_H - 14, x + 5, strip_top + STRIP_H - 5,
+                        tuple(int(c) for c in meas[i]))
+        img = draw_line(img, x, strip_top - 4, x, strip_top, RED if cal.outlier[i] else INK)
+    step = 10.0 if v_hi - v_lo <= 150 else 20.0
+    for v in np.arange(np.ceil(v_lo / step) * step, v_hi + 1e-9, step):
+        x = xv(v)
+        img = draw_line(img, x, strip_top + STRIP_H - 2, x, strip_top + STRIP_H + 4, INK)
+        img = draw_text(img, f"{v:g} V", x, strip_top + STRIP_H + 20, 12, INK, align="center")
+    return img

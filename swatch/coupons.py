@@ -1,0 +1,185 @@
+"""Test coupons of an anodising line, read from CSV (the input of ``swatch calibrate``).
+
+A header row, then one of two forms (``#`` comment lines and blank lines are skipped):
+
+* colour: ``voltage_V,L,a,b`` — one coupon per row, CIELAB measured at the calibration's
+  geometry, illuminant and observer;
+* spectrum: ``voltage_V,wavelength_nm,reflectance`` — long form, one row per wavelength; rows of
+  one coupon share its voltage (or its ``coupon`` label); every coupon on the same evenly spaced
+  wavelength grid; reflectance as a fraction or in percent (detected: percent when any value
+  exceeds 1.5).
+
+Optional columns: ``thickness_nm`` (measured by ellipsometry or XRR; one value per coupon) and
+``coupon`` (a label). A coupon file is untrusted: its size, rows and coupons are capped before
+memory is spent, and every error is one line naming the file, the line and what is allowed.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from swatch.errors import SwatchError
+
+__all__ = ["Coupons", "read_coupons", "MAX_COUPON_BYTES", "MAX_COUPONS"]
+
+MAX_COUPON_BYTES = 8 * 1024 * 1024
+MAX_ROWS = 200_000
+MAX_COUPONS = 1000
+MAX_VOLTAGE_V = 300.0
+_LAB = ("voltage_V", "L", "a", "b")
+_SPECTRAL = ("voltage_V", "wavelength_nm", "reflectance")
+_OPTIONAL = ("thickness_nm", "coupon")
+
+
+@dataclass(frozen=True)
+class Coupons:
+    """N coupons: voltages, optional measured thicknesses, and Lab (N, 3) or spectra (N, W)."""
+
+    source: str
+    voltage_V: np.ndarray
+    thickness_nm: np.ndarray  # NaN where not measured
+    labels: tuple[str, ...]
+    Lab: np.ndarray | None = None
+    wavelength_nm: np.ndarray | None = None
+    reflectance: np.ndarray | None = None  # fraction, (N, W)
+    lines: tuple[int, ...] = ()  # the first CSV line of each coupon (for messages)
+
+    @property
+    def kind(self) -> str:
+        return "colour" if self.Lab is not None else "spectrum"
+
+    def __len__(self) -> int:
+        return int(self.voltage_V.size)
+
+
+def _number(text: str, where: str, what: str, lo: float, hi: float) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise SwatchError(f"{where}: {what} {text.strip()!r} is not a number") from None
+    if not math.isfinite(v) or not lo <= v <= hi:
+        raise SwatchError(f"{where}: {what} = {text.strip()} is out of range; allowed {lo:g} to {hi:g}")
+    return v
+
+
+def _rows(path: Path, source: str):
+    try:
+        size = path.stat().st_size
+    except FileNotFoundError:
+        raise SwatchError(f"coupon file {source} does not exist") from None
+    except OSError as exc:
+        raise SwatchError(f"cannot read coupon file {source}: {exc.strerror}") from None
+    if path.is_dir():
+        raise SwatchError(f"coupon file {source} is a folder; give a .csv file")
+    if size > MAX_COUPON_BYTES:
+        raise SwatchError(f"{source}: {size} bytes; a coupon file may have at most {MAX_COUPON_BYTES} bytes")
+    try:
+        text = path.read_bytes()[:MAX_COUPON_BYTES].decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise SwatchError(f"{source}: not UTF-8 text; a coupon file is a CSV file") from None
+    out = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        if len(out) > MAX_ROWS:
+            raise SwatchError(f"{source}: more than {MAX_ROWS} rows")
+        try:
+            cells = next(csv.reader(io.StringIO(line)))
+        except (csv.Error, StopIteration):
+            raise SwatchError(f"{source}:{number}: not a CSV row") from None
+        out.append((number, [c.strip() for c in cells]))
+    return out
+
+
+def read_coupons(path) -> Coupons:
+    """Read and validate a coupon CSV (see the module docstring)."""
+    p = Path(path)
+    source = str(path)
+    rows = _rows(p, source)
+    if not rows:
+        raise SwatchError(f"{source}: empty; give a header row (voltage_V,L,a,b or "
+                          "voltage_V,wavelength_nm,reflectance) and one row per coupon")
+    head_line, header = rows[0]
+    where = f"{source}:{head_line}"
+    if len(set(header)) != len(header):
+        raise SwatchError(f"{where}: a column is repeated in the header")
+    spectral = "wavelength_nm" in header or "reflectance" in header
+    required = _SPECTRAL if spectral else _LAB
+    for col in header:
+        if col not in required + _OPTIONAL:
+            raise SwatchError(f"{where}: unknown column {col!r}; the header is voltage_V,L,a,b or "
+                              "voltage_V,wavelength_nm,reflectance, plus optional thickness_nm, coupon")
+    missing = [c for c in required if c not in header]
+    if missing:
+        raise SwatchError(f"{where}: missing column {missing[0]!r} (header {','.join(required)})")
+    col = {name: i for i, name in enumerate(header)}
+    if len(rows) < 2:
+        raise SwatchError(f"{source}: no coupons after the header")
+
+    groups: dict[str, dict] = {}
+    for number, cells in rows[1:]:
+        here = f"{source}:{number}"
+        if len(cells) != len(header):
+            raise SwatchError(f"{here}: {len(cells)} cells; the header has {len(header)}")
+        volts = _number(cells[col["voltage_V"]], here, "voltage_V", 0.0, MAX_VOLTAGE_V)
+        label = cells[col["coupon"]] if "coupon" in col else (f"{volts:g} V" if spectral else f"line {number}")
+        if len(label) > 80:
+            raise SwatchError(f"{here}: coupon label longer than 80 characters")
+        thick = (_number(cells[col["thickness_nm"]], here, "thickness_nm", 0.0, 1000.0)
+                 if "thickness_nm" in col and cells[col["thickness_nm"]] != "" else math.nan)
+        g = groups.get(label)
+        if g is None:
+            if len(groups) >= MAX_COUPONS:
+                raise SwatchError(f"{here}: more than {MAX_COUPONS} coupons")
+            g = groups[label] = {"line": number, "V": volts, "d": thick, "values": []}
+        elif not spectral:
+            raise SwatchError(f"{here}: coupon {label!r} appears twice; give each coupon one row")
+        elif g["V"] != volts or not (g["d"] == thick or (math.isnan(g["d"]) and math.isnan(thick))):
+            raise SwatchError(f"{here}: coupon {label!r} changes its voltage_V or thickness_nm between rows")
+        if spectral:
+            wl = _number(cells[col["wavelength_nm"]], here, "wavelength_nm", 200.0, 2000.0)
+            refl = _number(cells[col["reflectance"]], here, "reflectance", 0.0, 100.0)
+            g["values"].append((wl, refl, number))
+        else:
+            g["values"] = [_number(cells[col["L"]], here, "L", 0.0, 100.0),
+                           _number(cells[col["a"]], here, "a", -200.0, 200.0),
+                           _number(cells[col["b"]], here, "b", -200.0, 200.0)]
+
+    labels = tuple(groups)
+    volts = np.array([g["V"] for g in groups.values()])
+    thick = np.array([g["d"] for g in groups.values()])
+    lines = tuple(g["line"] for g in groups.values())
+    if not spectral:
+        return Coupons(source, volts, thick, labels, Lab=np.array([g["values"] for g in groups.values()]),
+                       lines=lines)
+    return _spectra(source, groups, volts, thick, labels, lines)
+
+
+def _spectra(source, groups, volts, thick, labels, lines) -> Coupons:
+    grid = None
+    spectra = []
+    for label, g in groups.items():
+        vals = sorted(g["values"])
+        wl = np.array([v[0] for v in vals])
+        if np.any(np.diff(wl) <= 0):
+            dup = next(v[2] for a, v in zip(vals, vals[1:]) if v[0] == a[0])
+            raise SwatchError(f"{source}:{dup}: coupon {label!r} repeats wavelength {vals[0][0]:g} nm")
+        if grid is None:
+            grid = wl
+            steps = np.diff(wl)
+            if wl.size < 3 or not np.allclose(steps, steps[0]) or steps[0] not in (1.0, 5.0, 10.0, 20.0):
+                raise SwatchError(f"{source}:{g['line']}: coupon {label!r}: wavelengths must be evenly spaced "
+                                  "by 1, 5, 10 or 20 nm (ASTM E308 intervals), at least three of them")
+        elif wl.shape != grid.shape or not np.allclose(wl, grid):
+            raise SwatchError(f"{source}:{g['line']}: coupon {label!r} is on other wavelengths than the first "
+                              "coupon; give every coupon the same wavelengths")
+        spectra.append([v[1] for v in vals])
+    refl = np.array(spectra)
+    if refl.max() > 1.5:  # percent
+        refl = refl / 100.0
+    return Coupons(source, volts, thick, labels, wavelength_nm=grid, reflectance=refl, lines=lines)
