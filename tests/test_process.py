@@ -127,3 +127,15 @@ def test_cli_process_option_and_metadata(tmp_path):
     assert m["process"]["nm_per_V"] == 2.4
     for c in m["candidates"]:
         assert c["voltage_V"] == pytest.approx(c["thickness_nm"] / 2.4, abs=1e-6)
+
+
+def test_match_judges_each_tolerance_in_its_own_metric():
+    e00 = run_json("match", "--hex", "257ab8", "--tolerance", "dE00:2", "--top", "3")
+    assert e00["tolerance"]["metric"] == "dE00" and e00["tolerance"]["max"] == 2.0
+    for c in e00["candidates"]:
+        assert c["within_grade"] == (c["delta_E_00"] <= 2.0)
+    csaj = run_json("match", "--hex", "257ab8", "--grade", "B", "--top", "3")
+    assert csaj["tolerance"]["metric"] == "dEab" and csaj["tolerance"]["max"] == 3.2
+    for c in csaj["candidates"]:
+        assert c["within_grade"] == (c["delta_E_ab"] <= 3.2)
+    assert_one_line_error(run_swatch("match", "--hex", "257ab8", "--tolerance", "dE76:2"), "dE76", "dE00")

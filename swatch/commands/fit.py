@@ -134,20 +134,26 @@ def _with_process(d: dict, proc) -> dict:
     d["voltage_V"] = None if v is None else float(v)
     d["nm_per_V"] = proc.nm_per_V
     d["process"] = proc.metadata()
+    d["grade"] = _grade(d, d["scheme"])
     return d
 
 
-def _multi_summary(dicts: list[dict], scheme: str) -> dict:
-    from swatch.tolerance import grade_for
+def _grade(d: dict, scheme: str) -> str:
+    """The scheme's grade of a mean colour difference, taken in the metric the scheme bounds."""
+    from swatch.tolerance import grade_for, grade_metric
 
-    mean_ab = float(np.mean([d["mean_delta_E_ab"] for d in dicts]))
-    return {
+    return grade_for(d["mean_delta_E_ab" if grade_metric(scheme) == "dEab" else "mean_delta_E_00"], scheme)
+
+
+def _multi_summary(dicts: list[dict], scheme: str) -> dict:
+    out = {
         "samples": dicts,
-        "mean_delta_E_ab": mean_ab,
+        "mean_delta_E_ab": float(np.mean([d["mean_delta_E_ab"] for d in dicts])),
         "mean_delta_E_00": float(np.mean([d["mean_delta_E_00"] for d in dicts])),
-        "grade": grade_for(mean_ab, scheme),
         "scheme": scheme,
     }
+    out["grade"] = _grade(out, scheme)
+    return out
 
 
 def _fmt(x, spec=".2f", none="—"):
@@ -405,22 +411,30 @@ def _write_report(results, dicts, paths) -> None:
 @click.option("--range", "thickness_range", default="0:400", show_default=True, help="thickness range A:B in nm")
 @click.option("--step", type=float, default=0.1, show_default=True, help="search step in nm")
 @click.option("--top", type=int, default=5, show_default=True, help="number of candidates")
-@click.option("--grade", default="C", show_default=True, help="tolerance grade a candidate must meet (ΔE*ab)")
+@click.option("--grade", default="C", show_default=True,
+              help="tolerance grade a candidate must meet, judged in the scheme's metric (CSAJ: ΔE*ab)")
 @click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme")
+@click.option("--tolerance", "tolerance", default=None, metavar="METRIC:MAX",
+              help="a tolerance as coating specifications write it, e.g. dE00:2.0 or dEab:3.2 (instead of --grade)")
 @process_options
 @click.option("--match-lightness", is_flag=True,
               help="scale the simulated colour to the target's lightness (compare hue and chroma only)")
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
 def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substrate, illuminant, observer,
-          wavelengths, thickness_range, step, top, grade, scheme, process, nm_per_volt, match_lightness, as_json):
+          wavelengths, thickness_range, step, top, grade, scheme, tolerance, process, nm_per_volt, match_lightness,
+          as_json):
     """Thicknesses (and voltages) whose colour matches a target, across interference orders.
 
     The geometry defaults to the catalog's reference 45°:0° (light at 45°, view along the normal).
-    Candidates are ranked by ΔE2000; each says whether its ΔE*ab is within --grade.
+    Candidates are ranked by ΔE2000; each says whether it is within the tolerance (--grade of
+    --scheme, or --tolerance), judged in the tolerance's own metric.
     """
     from swatch.colorimetry import get_colorimeter, hex_to_Lab
     from swatch.commands.common import resolve_grid
     from swatch.fitting import match_colour
+    from swatch.tolerance import get_tolerance, parse_tolerance
+
+    tol = parse_tolerance(tolerance) if tolerance is not None else get_tolerance(scheme, grade)
 
     if (lab is None) == (hex_code is None):
         raise SwatchError("give exactly one of --lab L,a,b or --hex RRGGBB")
@@ -437,8 +451,10 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     for c in res.candidates:  # voltages by the process's growth law (offset included; None without a rate)
         v = proc.voltage_V(c["thickness_nm"])
         c["voltage_V"] = None if v is None else float(v)
+        c["within_grade"] = bool(c["delta_E_ab" if tol.metric == "dEab" else "delta_E_00"] <= tol.max)
     out = res.to_dict()
     out["process"] = proc.metadata()
+    out["tolerance"] = tol.to_json()
     if hex_code is not None:
         out["target_hex"] = "#" + hex_code.strip().lstrip("#").lower()
     if as_json:
@@ -449,7 +465,7 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     click.echo(f"# target L*a*b* {L:.2f}, {a:.2f}, {b:.2f}{src}; light {light:g}°, view {view:g}° "
                f"(theta_d {res.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; {coating.film} on {coating.substrate}, "
                f"process {proc.name}")
-    click.echo(f"{'rank':>4} {'d_nm':>8} {'volt_V':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'dE00':>6} {'dE_ab':>6}  grade {grade}")
+    click.echo(f"{'rank':>4} {'d_nm':>8} {'volt_V':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'dE00':>6} {'dE_ab':>6}  {tol.label}")
     for k, c in enumerate(res.candidates, start=1):
         Lc, ac, bc = c["Lab"]
         ok = "yes" if c["within_grade"] else "no"
@@ -457,5 +473,4 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
         click.echo(f"{k:4d} {c['thickness_nm']:8.2f} {volts:>7} {Lc:7.2f} {ac:7.2f} {bc:7.2f} "
                    f"{c['delta_E_00']:6.2f} {c['delta_E_ab']:6.2f}  {ok}{'  (end of the range)' if c['at_range_bound'] else ''}")
     if not res.any_within_grade:
-        click.echo(f"no thickness in {thickness_range} nm comes within grade {grade} of {scheme} "
-                   f"(ΔE*ab <= {res.grade_max_delta_E_ab:g}) at this geometry")
+        click.echo(f"no thickness in {thickness_range} nm comes within {tol.text} at this geometry")

@@ -16,27 +16,29 @@ from swatch.presets import PRESET_FORMATS
               help="GGX α of the finish (written as the renderers' roughness √α)")
 @click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=str), help="output folder")
 @click.option("--force", is_flag=True, help="overwrite an existing file")
-def preset(thickness, voltage, nm_per_volt, film, substrate, fmt, roughness, out, force):
+def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, roughness, out, force):
     """Write a 3-D material preset for one oxide thickness, fitted to its exact colour.
 
     The renderer's own thin-film model (ported in swatch.presets) is fitted to the exact colour
     over facet angles 0–60° (D65, CIE 1931 2°); the largest error is printed.
     """
-    from swatch.commands.common import resolve_thickness
+    from swatch.commands.common import resolve_process, resolve_thickness
     from swatch.fileio import atomic_write_bytes, check_new, check_writable_dir
     from swatch.presets import FORMAT_MODEL
     from swatch.presets.catalog import preset_bytes, preset_file_name, round_params
     from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, fit_presets
 
-    d, _ = resolve_thickness(thickness, voltage, nm_per_volt, multiple=False)
+    proc = resolve_process(process, film, substrate, nm_per_volt)
+    film, substrate, scale = proc.film, proc.substrate, proc.film_index_scale
+    d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
     folder = check_writable_dir(out)
     ident = f"{float(d[0]):g}nm"
     path = folder / preset_file_name(ident, fmt)
     check_new([path], force)
     model = FORMAT_MODEL[fmt]
-    fit = fit_presets(d, model, (22.5,), film, substrate)
+    fit = fit_presets(d, model, (22.5,), film, substrate, scale)
     params = round_params(fit.params)
-    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate)[0]
+    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, scale)[0]
     data = preset_bytes(fmt, ident, f"anodised {float(d[0]):g} nm", params[0], roughness,
                         float(dE.max()), float(d[0]))
     atomic_write_bytes(path, data)

@@ -58,7 +58,7 @@ def fit_key(spec, extra_angles) -> str:
     for m in ("optics", "model", "materials", "colorimetry"):
         code[m] = hashlib.sha256((pkg / f"{m}.py").read_bytes()).hexdigest()
     blob = {"d": [float(x) for x in spec.thickness_nm], "film": spec.film, "substrate": spec.substrate,
-            "angles": [float(a) for a in extra_angles], "code": code,
+            "film_index_scale": spec.film_index_scale, "angles": [float(a) for a in extra_angles], "code": code,
             "versions": [metadata.version(x) for x in ("numpy", "scipy", "colour-science")]}
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
 
@@ -79,11 +79,12 @@ def _fits(spec, cache: Path | None) -> dict:
     out = {}
     for fmt in PRESET_FORMATS:
         model = FORMAT_MODEL[fmt]
-        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate)
+        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale)
         written = round_params(fit.params)
         from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
 
-        dE = errors_delta_E_00(model, written, fit.thickness_nm, FIT_ANGLES_DEG, spec.film, spec.substrate)
+        dE = errors_delta_E_00(model, written, fit.thickness_nm, FIT_ANGLES_DEG, spec.film, spec.substrate,
+                               spec.film_index_scale)
         out[model] = (written, dE.max(axis=1), dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1))
     if path is not None:
         from swatch.fileio import atomic_write_text

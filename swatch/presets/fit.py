@@ -66,14 +66,16 @@ def model_Lab(model: str, params, angles_deg) -> np.ndarray:
     return rgb_to_Lab(F)
 
 
-def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str | None = None) -> np.ndarray:
-    """The exact colour (N, A, 3): Airy reflectance at facet angle θ_d, CIELAB under D65, 2°."""
+def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str | None = None,
+              film_index_scale: float = 1.0) -> np.ndarray:
+    """The exact colour (N, A, 3): Airy reflectance at facet angle θ_d, CIELAB under D65, 2°
+    (``film_index_scale``: a process profile's scale of the film's real index)."""
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
     from swatch.model import get_coating
 
     wl = wavelength_grid(380.0, 780.0, 5.0)
-    coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl)
+    coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl, film_index_scale)
     cm = get_colorimeter(wl, "D65", "2")
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     R = coating.reflectance(d[:, None], np.asarray(angles_deg, dtype=np.float64)[None, :]).R
@@ -81,11 +83,12 @@ def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str 
 
 
 def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DEG, film=None,
-                      substrate=None) -> np.ndarray:
+                      substrate=None, film_index_scale: float = 1.0) -> np.ndarray:
     """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour."""
     from swatch.colorimetry import delta_E_00
 
-    return delta_E_00(model_Lab(model, params, angles_deg), exact_Lab(thickness_nm, angles_deg, film, substrate))
+    return delta_E_00(model_Lab(model, params, angles_deg),
+                      exact_Lab(thickness_nm, angles_deg, film, substrate, film_index_scale))
 
 
 @dataclass
@@ -173,13 +176,13 @@ def _levenberg_marquardt(prob: _Problem, p0, rows, lo, hi, iterations: int = _LM
 
 
 def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
-                substrate: str | None = None) -> PresetFit:
+                substrate: str | None = None, film_index_scale: float = 1.0) -> PresetFit:
     """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring."""
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     extra = np.unique(np.asarray([a for a in extra_angles_deg if 0.0 <= a <= 60.0], dtype=np.float64))
     angles = np.concatenate([SEARCH_ANGLES_DEG, extra])
     weights = np.concatenate([np.where(SEARCH_ANGLES_DEG <= 45.0, 1.0, 0.5), np.full(extra.size, 2.0)])
-    target = exact_Lab(d, angles, film, substrate)
+    target = exact_Lab(d, angles, film, substrate, film_index_scale)
     prob = _Problem(model, target, weights, angles)
     n = d.size
     rows = np.arange(n)
@@ -234,4 +237,4 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
             cost[i[take]] = cw[take]
             worst[i[take]] = ww[take]
     report = np.unique(np.concatenate([FIT_ANGLES_DEG, extra]))
-    return PresetFit(model, d, p, report, errors_delta_E_00(model, p, d, report, film, substrate))
+    return PresetFit(model, d, p, report, errors_delta_E_00(model, p, d, report, film, substrate, film_index_scale))
