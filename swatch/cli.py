@@ -31,7 +31,21 @@ COMMANDS = {
 }
 
 
+class _Interrupted(Exception):
+    """A KeyboardInterrupt carried past click (which would print a blank line and raise Abort)."""
+
+    def __init__(self, exc: KeyboardInterrupt):
+        super().__init__()
+        self.exc = exc
+
+
 class LazyGroup(click.Group):
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt as exc:
+            raise _Interrupted(exc) from None
+
     def list_commands(self, ctx):
         return sorted(COMMANDS)
 
@@ -59,6 +73,9 @@ def _one_line(text: str) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: run the CLI, turning every expected failure into one line and exit 2."""
+    from swatch.procguard import Terminated, handle_termination
+
+    handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
     try:
         rv = cli.main(args=argv, prog_name="swatch", standalone_mode=False)
     except SwatchError as exc:
@@ -71,9 +88,11 @@ def main(argv: list[str] | None = None) -> int:
         cmd = f" (see 'swatch {exc.ctx.command_path.split(' ', 1)[1]} --help')" if getattr(exc, "ctx", None) and " " in exc.ctx.command_path else ""
         click.echo(f"error: {_one_line(exc.format_message())}{cmd}", err=True)
         return exc.exit_code if exc.exit_code else 2
-    except KeyboardInterrupt:
-        click.echo("error: interrupted; nothing half-written was left behind", err=True)
-        return 130
+    except (KeyboardInterrupt, _Interrupted) as caught:
+        intr = caught.exc if isinstance(caught, _Interrupted) else caught
+        what = "terminated" if isinstance(intr, Terminated) else "interrupted"
+        click.echo(f"error: {what}; nothing half-written was left behind", err=True)
+        return 128 + intr.signum if isinstance(intr, Terminated) else 130
     except BrokenPipeError:
         return 0
     except OSError as exc:

@@ -31,7 +31,15 @@ def check_writable_dir(path, create: bool = True) -> Path:
 
 
 def check_new(paths, force: bool) -> None:
-    """Refuse to overwrite existing files unless ``force``; names the first one found."""
+    """Refuse to overwrite existing files unless ``force``; names the first one found.
+
+    A folder (or anything but a file) where an output goes is refused even with ``force``, before
+    any output of the batch is written.
+    """
+    for p in paths:
+        if Path(p).exists() and not Path(p).is_file():
+            raise SwatchError(f"{p} is a folder or special file where an output goes; --force replaces "
+                              "files only; move it away")
     if force:
         return
     existing = [str(p) for p in paths if Path(p).exists()]
@@ -53,18 +61,45 @@ class atomic_path:
         self.suffix = self.path.suffix if suffix is None else suffix
 
     def __enter__(self) -> Path:
-        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=f".tmp{self.suffix}", dir=self.path.parent)
+        _remove_stale_temps(self.path.parent, f".{self.path.stem}.", f".tmp{self.suffix}")
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.{os.getpid()}.", suffix=f".tmp{self.suffix}",
+                                   dir=self.path.parent)
         os.close(fd)
         self.tmp = Path(tmp)
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb):
-        if exc_type is None:
-            os.chmod(self.tmp, 0o644)
-            os.replace(self.tmp, self.path)
-        else:
-            self.tmp.unlink(missing_ok=True)
+        try:
+            if exc_type is None:
+                os.chmod(self.tmp, 0o644)
+                os.replace(self.tmp, self.path)
+        finally:
+            self.tmp.unlink(missing_ok=True)  # (gone after a successful rename)
         return False
+
+
+def _remove_stale_temps(folder: Path, prefix: str, suffix: str) -> None:
+    """Remove temporary files ``<prefix><pid>.<random><suffix>`` left by runs that were killed.
+
+    Only files whose process is gone are removed (a concurrent run's temporary file is kept).
+    """
+    try:
+        names = [n for n in os.listdir(folder) if n.startswith(prefix) and n.endswith(suffix)]
+    except OSError:
+        return
+    for name in names:
+        pid, _, rand = name[len(prefix):len(name) - len(suffix)].partition(".")
+        if not pid.isdigit() or len(rand) != 8 or "." in rand or int(pid) == os.getpid():
+            continue  # not ours (another output's stem), or this process's own
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            try:
+                (folder / name).unlink()
+            except OSError:
+                pass
+        except (PermissionError, OverflowError):
+            pass
 
 
 def atomic_write_bytes(path, data: bytes) -> Path:

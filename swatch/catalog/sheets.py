@@ -28,7 +28,7 @@ import numpy as np
 
 from swatch.catalog.spec import CatalogSpec
 
-__all__ = ["tile_key", "render_missing", "make_pool", "compose_sheet", "Layout", "AMAP_ANGLES_DEG"]
+__all__ = ["tile_key", "load_tile", "render_missing", "make_pool", "compose_sheet", "Layout", "AMAP_ANGLES_DEG"]
 
 TILE_VERSION = 1
 #: Angular-map grid (light × view polar angles, degrees); 60 × 60 cells drawn at 2 px each.
@@ -120,6 +120,48 @@ def _save_npz(path: Path, arrays: dict) -> None:
         tmp.unlink(missing_ok=True)
 
 
+def _tile_shapes(spec: CatalogSpec) -> dict:
+    """Name -> (shape, dtype) of every array a tile of ``spec`` holds (see :func:`_render_job`)."""
+    s = spec.size_px
+    want = {}
+    for i in range(len(spec.shapes)):
+        want.update({f"r{i}_linear": ((s, s, 3), np.float16), f"r{i}_alpha": ((s, s), np.float16),
+                     f"r{i}_display": ((s, s, 3), np.uint8), f"r{i}_exposure": ((), np.float64)})
+    if spec.angular_map:
+        m = AMAP_ANGLES_DEG.size * AMAP_CELL_PX
+        want.update({"amap_linear": ((m, m, 3), np.float16), "amap_display": ((m, m, 3), np.uint8)})
+    return want
+
+
+def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> dict:
+    """A tile's arrays from the cache; an entry that does not read back intact is rendered again.
+
+    The cache is the catalog folder's own but untrusted: only a regular file no larger than
+    :data:`swatch.limits.MAX_CACHE_ENTRY_BYTES` holding exactly the expected arrays is used.
+    """
+    import zipfile
+
+    from swatch.catalog.folder import remove_tree
+    from swatch.limits import MAX_CACHE_ENTRY_BYTES
+    from swatch.safepath import is_regular_file
+
+    path = cache / f"{key}.npz"
+    want = _tile_shapes(spec)
+    if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES:
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                if sorted(z.files) == sorted(want):
+                    arrays = {k: z[k] for k in z.files}
+                    if all(arrays[k].shape == sh and arrays[k].dtype == dt for k, (sh, dt) in want.items()):
+                        return arrays
+        except (OSError, ValueError, KeyError, EOFError, MemoryError, zipfile.BadZipFile):
+            pass
+    arrays = _render_job(_job_args(spec, thickness_nm))
+    remove_tree(path)
+    _save_npz(path, arrays)
+    return arrays
+
+
 def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: list[str], cache: Path,
                    pool, progress_factory) -> int:
     """Render the swatches ``missing`` (indices) into ``cache`` (``<key>.npz``); returns how many.
@@ -153,10 +195,14 @@ def make_pool(spec: CatalogSpec, jobs: int):
                                     "swatch.imageio", "OpenImageIO"])
     else:
         ctx = mp.get_context("spawn")
-    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(spec,))
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(spec, os.getpid()))
 
 
-def _warm(spec: CatalogSpec) -> None:
+def _warm(spec: CatalogSpec, parent_pid: int) -> None:
+    from swatch.procguard import exit_with, ignore_interrupts
+
+    exit_with(parent_pid)  # a killed build leaves no worker (nor fork server, nor resource tracker)
+    ignore_interrupts()  # Ctrl-C: the build reports it once and shuts the pool down
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
     from swatch.model import get_coating
@@ -344,8 +390,7 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
     tiles = []
     bg = np.float32(BACKGROUND_LINEAR)
     for slot, (rec, key) in enumerate(zip(records, keys)):
-        with np.load(cache / f"{key}.npz") as z:
-            arrays = {k: z[k] for k in z.files}
+        arrays = load_tile(spec, cache, key, spec.thickness_nm[rec["index"] - 1])
         x0, y0 = lay.tile_origin(slot)
         disp = draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, CARD)
         disp = draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, RULE, fill=False)

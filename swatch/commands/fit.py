@@ -203,11 +203,14 @@ def _report_paths(report_dir, measurements) -> dict:
     if len(measurements) == 1:
         maps = [(out / "delta_e_map.png", out / "delta_e_map.exr")]
     else:
-        stems, maps = {}, []
+        used, maps = set(), []
         for p in measurements:
             stem = "".join(c if c.isalnum() or c in "-_." else "_" for c in Path(p).stem)
-            stems[stem] = stems.get(stem, 0) + 1
-            name = stem if stems[stem] == 1 else f"{stem}_{stems[stem]}"
+            name, k = stem, 1
+            while name.lower() in used:  # unique even against a file already named x_2
+                k += 1
+                name = f"{stem}_{k}"
+            used.add(name.lower())
             maps.append((out / f"delta_e_map_{name}.png", out / f"delta_e_map_{name}.exr"))
     return {
         "maps": maps,
