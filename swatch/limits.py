@@ -5,7 +5,9 @@ one learns the bound. Light module (no numpy), importable from anywhere.
 """
 from __future__ import annotations
 
-__all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES"]
+__all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
+           "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
+           "MAX_RUN_BYTES", "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -13,3 +15,41 @@ MAX_METADATA_BYTES = 16 * 1024 * 1024
 #: One cached tile (``.swatch-catalog/cache/*.npz``); the largest spec (two 512 px renders and a map)
 #: needs ~5 MB.
 MAX_CACHE_ENTRY_BYTES = 64 * 1024 * 1024
+#: Points in a wavelength grid (380–780 nm at 0.04 nm; colorimetry itself needs 1–20 nm steps).
+MAX_WAVELENGTHS = 10_001
+#: Values in one ``A:B:STEP`` range of the command line (thicknesses, voltages, angles).
+MAX_RANGE_POINTS = 100_000
+#: A measurement CSV (a 10 000-geometry sBRDF set at 5 nm is ~20 MB).
+MAX_MEASUREMENT_BYTES = 32 * 1024 * 1024
+#: A catalog spec (TOML; the shipped ones are ~1 kB).
+MAX_SPEC_BYTES = 1024 * 1024
+#: One CSV field (Python's csv module default).
+MAX_CSV_FIELD_CHARS = 131_072
+#: Largest |a*| and |b*| accepted as a colour (real surface colours stay within about ±130).
+MAX_LAB_AB = 200.0
+#: A measured spectrum whose largest reflectance (fraction) is below this is not a measurement.
+MIN_PEAK_REFLECTANCE = 1e-4
+#: Working memory one run may plan for; large jobs are done in chunks or refused beyond it.
+MAX_RUN_BYTES = 2 * 1024 ** 3
+
+
+def read_capped(path, limit: int, what: str) -> bytes:
+    """The bytes of ``path``, refused (SwatchError) beyond ``limit`` bytes before they are all read.
+
+    Works for devices and pipes too (``/dev/zero``): at most ``limit + 1`` bytes are read.
+    """
+    from swatch.errors import SwatchError
+
+    import os
+    import stat
+
+    with open(path, "rb") as fh:
+        st = os.fstat(fh.fileno())
+        data = b"x" * (limit + 1) if stat.S_ISREG(st.st_mode) and st.st_size > limit else fh.read(limit + 1)
+    if len(data) > limit:
+        raise SwatchError(f"{path}: larger than {_size(limit)}; a {what} is at most {_size(limit)}")
+    return data
+
+
+def _size(n: int) -> str:
+    return f"{n // (1024 * 1024)} MB" if n >= 1024 * 1024 else f"{n // 1024} kB"

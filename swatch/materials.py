@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_WAVELENGTHS
 
 __all__ = [
     "DEFAULT_FILM",
@@ -49,6 +50,10 @@ ROLES = ("film", "substrate")
 
 _OPTICAL_SUBDIR = "optical"
 _COLUMNS = ("wavelength_nm", "n", "k")
+
+
+def _count(span: float) -> str:
+    return f"{span + 1:.3g}" if math.isfinite(span) else "too many"
 
 
 def wavelength_grid(start_nm: float = 380.0, stop_nm: float = 780.0,
@@ -77,7 +82,12 @@ def wavelength_grid(start_nm: float = 380.0, stop_nm: float = 780.0,
             f"wavelength grid start must be below stop (got {start:g}–{stop:g} nm)")
     if step <= 0:
         raise SwatchError(f"wavelength grid step must be > 0 nm (got {step:g} nm)")
-    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+    span = (stop - start) / step  # inf for a subnormal step: compared, never converted first
+    if not span + 1 <= MAX_WAVELENGTHS:
+        raise SwatchError(f"wavelength grid {start:g}:{stop:g}:{step:g} nm has {_count(span)} points; at most "
+                          f"{MAX_WAVELENGTHS} (e.g. a step of at least {(stop - start) / (MAX_WAVELENGTHS - 1):.3g} nm "
+                          "over this range)")
+    count = int(math.floor(span + 1e-9)) + 1
     grid = start + step * np.arange(count, dtype=np.float64)
     if abs(grid[-1] - stop) <= 1e-9 * step:
         grid[-1] = stop

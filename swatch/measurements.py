@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_CSV_FIELD_CHARS, MAX_LAB_AB, MAX_MEASUREMENT_BYTES, MIN_PEAK_REFLECTANCE, read_capped
 from swatch.materials import load_material
 
 __all__ = [
@@ -120,7 +121,11 @@ class _Rows:
             stripped = line.strip()
             if not stripped or stripped.startswith("#"):
                 continue
-            fields = [f.strip() for f in next(csv.reader(io.StringIO(line)))]
+            try:
+                fields = [f.strip() for f in next(csv.reader(io.StringIO(line)))]
+            except csv.Error:
+                raise SwatchError(f"{source}: line {line_no}: not a CSV row (a field longer than "
+                                  f"{MAX_CSV_FIELD_CHARS} characters, or a stray quote or NUL)") from None
             if self.header is None:
                 self.header = [f.lower() for f in fields]
                 self.header_line = line_no
@@ -310,6 +315,9 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
                          f"factor must be at most {MAX_REFLECTANCE:g} (as a fraction)")
     if not np.any(R > 0):
         raise rows.error(lines[0], "every reflectance value is zero: there is nothing to fit")
+    if not np.max(R) >= MIN_PEAK_REFLECTANCE:
+        raise rows.error(lines[int(np.argmax(refl))], f"the largest reflectance is {np.max(R):.3g} (as a fraction): "
+                         f"implausibly dark for a measurement; the peak must be at least {MIN_PEAK_REFLECTANCE:g}")
 
     first_rows = g_first[order]
     return SpectralMeasurement(
@@ -333,6 +341,10 @@ def _parse_lab(rows: _Rows, light_deg, view_deg, light_azimuth_deg, view_azimuth
     bad = np.flatnonzero((Lab[:, 0] < 0) | (Lab[:, 0] > 100))
     if bad.size:
         raise rows.error(lines[bad[0]], f"L {Lab[bad[0], 0]:g} is outside [0, 100]")
+    bad = np.flatnonzero(np.abs(Lab[:, 1:]).max(axis=1) > MAX_LAB_AB)
+    if bad.size:
+        raise rows.error(lines[bad[0]], f"a {Lab[bad[0], 1]:g}, b {Lab[bad[0], 2]:g}: a and b must lie within "
+                         f"±{MAX_LAB_AB:g}")
     keys = _geometry_keys(l, v, la, va)
     _, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
     if np.any(counts > 1):
@@ -353,7 +365,7 @@ def read_measurement(path, percent: bool | None = None, light_deg: float = 45.0,
     if p.is_dir():
         raise SwatchError(f"{p} is a folder; give a CSV file")
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        text = read_capped(p, MAX_MEASUREMENT_BYTES, "measurement file").decode("utf-8-sig")
     except UnicodeDecodeError:
         raise SwatchError(f"{p}: not a UTF-8 text file; give a CSV file") from None
     except OSError as exc:

@@ -190,6 +190,10 @@ def overcoat(spec: str, wavelength_nm) -> Overcoat:
         n_real = float(what)
     except ValueError:
         mat = load_material(what)
+        if mat.role != "film":  # a metal is not a clear layer (it would be opaque at these thicknesses)
+            choices = ", ".join(m.name for m in list_materials("film"))
+            raise SwatchError(f"overcoat {mat.name} is a {mat.role} table, not a clear film; use an index "
+                              f"from 1 to 5 or one of {choices}")
         return Overcoat(mat.name, mat.nk(wl), d)
     if not (math.isfinite(n_real) and 1.0 <= n_real <= 5.0):
         raise SwatchError(f"overcoat index must be from 1 to 5 (got {what})")

@@ -87,6 +87,11 @@ def _colorimeter(spec: CatalogSpec, wl):
         raise SwatchError(f"{spec.source}: key colour.illuminant: {exc}") from None
 
 
+def check_colorimetry(spec: CatalogSpec) -> None:
+    """Refuse what the build would refuse beyond the spec parser (an unknown illuminant), for validate."""
+    _colorimeter(spec, wavelengths(spec))
+
+
 def wavelengths(spec: CatalogSpec) -> np.ndarray:
     from swatch.materials import wavelength_grid
 

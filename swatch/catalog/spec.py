@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_SPEC_BYTES, read_capped
 
 __all__ = ["CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
@@ -164,9 +165,13 @@ class _Checker:
             self.fail(key, f"must be a whole number from {lo} to {hi}", value)
         return int(value)
 
-    def string(self, value, key: str, max_len: int = 200, choices=None) -> str:
+    def string(self, value, key: str, max_len: int = 200, choices=None, multiline: bool = False) -> str:
         if not isinstance(value, str) or not value.strip() or len(value) > max_len:
             self.fail(key, f"must be a non-empty text of at most {max_len} characters", value)
+        allowed = "\t\n\r" if multiline else ""
+        if any(_is_control(ch) and ch not in allowed for ch in value):
+            self.fail(key, "must not contain control characters"
+                      + (" (other than tab and line breaks)" if multiline else ""), value)
         if choices is not None:
             for c in choices:
                 if c.lower() == value.strip().lower():
@@ -185,6 +190,12 @@ class _Checker:
         if len(value) > max_len:
             self.fail(key, f"must have at most {max_len} entries", f"{len(value)} entries", True)
         return [self.number(v, f"{key}[{i}]", lo, hi) for i, v in enumerate(value)]
+
+
+def _is_control(ch: str) -> bool:
+    """C0/C1 controls, DEL and the XML non-characters (the exports are XML: CxF3)."""
+    o = ord(ch)
+    return o < 32 or 127 <= o < 160 or o in (0xFFFE, 0xFFFF) or 0xD800 <= o < 0xE000
 
 
 def _show(v) -> str:
@@ -232,10 +243,11 @@ def _range(c: _Checker, tbl: dict, key: str, unit: str, hi: float) -> list[float
     step = c.number(tbl[names[2]], f"{key}.{names[2]}", 0.0, None, lo_open=True)
     if stop < start:
         c.fail(f"{key}.{names[1]}", f"must be >= {names[0]} ({start:g})", tbl[names[1]])
-    count = int(math.floor((stop - start) / step + 1e-9)) + 1
-    if count > MAX_SWATCHES:
-        c.fail(f"{key}.{names[2]}", f"gives {count} swatches; at most {MAX_SWATCHES} per catalog",
-               tbl[names[2]])
+    span = (stop - start) / step  # inf for a subnormal step: compared before any conversion
+    if not span + 1 <= MAX_SWATCHES:
+        n = f"{math.floor(span + 1e-9) + 1}" if math.isfinite(span) else "too many"
+        c.fail(f"{key}.{names[2]}", f"gives {n} swatches; at most {MAX_SWATCHES} per catalog", tbl[names[2]])
+    count = int(math.floor(span + 1e-9)) + 1
     # start + i*step, rounded to 1e-9 to keep decimal steps exact in the outputs
     return [round(start + i * step, 9) for i in range(count)]
 
@@ -293,7 +305,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     if "name" not in data:
         raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
     name = c.string(data["name"], "name", 120)
-    description = c.string(data["description"], "description", 1000) if "description" in data else ""
+    description = c.string(data["description"], "description", 1000, multiline=True) if "description" in data else ""
     proc = _process(c, data.get("process", DEFAULT_PROCESS), base_dir)
     film = _material(c, data["film"], "film", "film") if "film" in data else None
     substrate = _material(c, data["substrate"], "substrate", "substrate") if "substrate" in data else None
@@ -418,7 +430,7 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
     p = Path(path)
     source = str(path)
     try:
-        raw = p.read_bytes()
+        raw = read_capped(p, MAX_SPEC_BYTES, "catalog spec")
     except FileNotFoundError:
         raise SwatchError(f"catalog spec {source} does not exist") from None
     except IsADirectoryError:
@@ -433,4 +445,7 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SwatchError(f"{source}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise SwatchError(f"{source}: tables or lists nested too deeply; a catalog spec nests at most "
+                          "three levels") from None
     return parse_spec(data, source, p.parent), raw

@@ -45,9 +45,11 @@ def build(spec, out, jobs, quiet):
 @click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
 def validate(spec):
     """Check a catalog spec and summarise it (nothing is written)."""
+    from swatch.catalog.records import check_colorimetry
     from swatch.catalog.spec import load_spec
 
     s, _ = load_spec(spec)
+    check_colorimetry(s)  # validate refuses what build refuses
     d = s.thickness_nm
     per = s.per_sheet
     click.echo(f"{spec}: ok — {s.name!r}: {len(d)} swatches, {d[0]:g}–{d[-1]:g} nm, "

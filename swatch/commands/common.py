@@ -9,10 +9,10 @@ import click
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_RANGE_POINTS
 from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
 from swatch.model import DEFAULT_NM_PER_V, check_thickness_nm, voltage_to_thickness_nm
 
-MAX_RANGE_POINTS = 100_000
 
 
 def parse_range(text: str, what: str, unit: str) -> np.ndarray:
@@ -39,14 +39,19 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
             raise SwatchError(f"{what} range {s!r} needs a step > 0")
         if b < a:
             raise SwatchError(f"{what} range {s!r} is reversed; give A <= B")
-        count = int(math.floor((b - a) / step + 1e-9)) + 1
-        if count > MAX_RANGE_POINTS:
-            raise SwatchError(f"{what} range {s!r} has {count} points; at most {MAX_RANGE_POINTS}")
+        span = (b - a) / step  # inf for a subnormal step: compared before any conversion
+        if not span + 1 <= MAX_RANGE_POINTS:
+            n = f"{span + 1:.3g}" if math.isfinite(span) else "too many"
+            raise SwatchError(f"{what} range {s!r} has {n} points; at most {MAX_RANGE_POINTS}")
+        count = int(math.floor(span + 1e-9)) + 1
         return a + step * np.arange(count)
-    vals = [num(p) for p in s.split(",") if p.strip() != ""]
-    if not vals:
-        raise SwatchError(f"empty {what}; give A:B:STEP or a list N,N,... in {unit}")
-    return np.array(vals, dtype=np.float64)
+    parts = s.split(",")
+    if len(parts) > MAX_RANGE_POINTS:
+        raise SwatchError(f"{what} list has {len(parts)} values; at most {MAX_RANGE_POINTS}")
+    if any(not p.strip() for p in parts):
+        raise SwatchError(f"{what} list {s[:60]!r} has an empty element; give N,N,... in {unit} with no empty "
+                          "entries")
+    return np.array([num(p) for p in parts], dtype=np.float64)
 
 
 def process_options(f):

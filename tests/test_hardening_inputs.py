@@ -1,0 +1,120 @@
+"""Issue #12: bad input is answered in one line (exit 2) before memory is spent, never with exit 70,
+a hang or an out-of-memory; the big-grid cases run under a memory cap so a regression fails fast."""
+from __future__ import annotations
+
+import resource
+import subprocess
+import sys
+
+import pytest
+
+from cli_helpers import assert_one_line_error
+from swatch.limits import MAX_RUN_BYTES
+
+MEMORY_CAP_BYTES = 1024 ** 3  # well under MAX_RUN_BYTES: a refusal must come before any big allocation
+
+
+def run_capped(*args, cap: int = MEMORY_CAP_BYTES, timeout: float = 60) -> subprocess.CompletedProcess:
+    """The CLI in a subprocess whose address space is capped (RLIMIT_AS): a regression fails fast."""
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
+
+    return subprocess.run([sys.executable, "-m", "swatch.cli", *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, preexec_fn=limit)
+
+
+def test_issue12_memory_cap_is_below_the_run_budget():
+    assert MEMORY_CAP_BYTES < MAX_RUN_BYTES
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["materials", "show", "TiO2-Siefke", "--wavelengths", "380:780:1e-7"], "at most 10001"),
+    (["materials", "show", "TiO2-Siefke", "--wavelengths", "380:780:0.00001"], "at most 10001"),
+    (["spectrum", "--thickness", "50", "--wavelengths", "380:780:5e-324"], "at most 10001"),
+    (["color", "--thickness", "20:300:5e-324"], "at most 100000"),
+    (["color", "--thickness", "0:1000:1e-6"], "at most 100000"),
+    (["fit", "/dev/zero"], "at most 32 MB"),
+    (["catalog", "validate", "/dev/urandom"], "at most 1 MB"),
+    (["catalog", "validate", "/dev/zero"], "at most 1 MB"),
+])
+def test_issue12_huge_inputs_are_refused_under_a_memory_cap(args, fragment):
+    proc = run_capped(*args, timeout=30)
+    assert_one_line_error(proc, fragment)
+    assert proc.returncode == 2
+
+
+def test_issue12_giant_csv_field(tmp_path):
+    p = tmp_path / "big.csv"
+    p.write_text("wavelength_nm,reflectance\n380," + "1" * 200_000 + "\n", encoding="utf-8")
+    proc = run_capped("fit", p)
+    assert_one_line_error(proc, "line 2", "131072 characters")
+    assert proc.returncode == 2
+
+
+def test_issue12_deeply_nested_toml(tmp_path):
+    p = tmp_path / "deep.toml"
+    p.write_text('name = "x"\na = ' + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+    for cmd in ("validate", "build"):
+        extra = ["--out", tmp_path / "o"] if cmd == "build" else []
+        proc = run_capped("catalog", cmd, p, *extra)
+        assert_one_line_error(proc, "nested too deeply")
+        assert proc.returncode == 2
+    assert not (tmp_path / "o").exists()
+
+
+SPEC_TAIL = "\n[thickness]\nlist_nm = [50]\n"
+
+
+@pytest.mark.parametrize("toml, fragment", [
+    ('name = "x"\n[colour]\nilluminant = "D99"' + SPEC_TAIL, "key colour.illuminant"),
+    ('name = "a\\u0007b"' + SPEC_TAIL, "control characters"),
+    ('name = "a\\u0000b"' + SPEC_TAIL, "control characters"),
+    ('name = "x"\ndescription = "line\\u001bESC"' + SPEC_TAIL, "control characters"),
+    ('name = "x"\n[thickness]\nstart_nm = 20\nstop_nm = 30\nstep_nm = 5e-324\n', "at most 400"),
+])
+def test_issue12_validate_refuses_what_build_refuses(tmp_path, toml, fragment):
+    spec = tmp_path / "s.toml"
+    spec.write_text(toml, encoding="utf-8")
+    for cmd in ("validate", "build"):
+        extra = ["--out", tmp_path / "o"] if cmd == "build" else []
+        proc = run_capped("catalog", cmd, spec, *extra)
+        assert_one_line_error(proc, fragment)
+        assert proc.returncode == 2
+    assert not (tmp_path / "o").exists()
+
+
+def test_issue12_multiline_description_is_still_allowed(tmp_path):
+    from swatch.catalog.spec import load_spec
+
+    spec = tmp_path / "s.toml"
+    spec.write_text('name = "x"\ndescription = """two\n\tlines"""' + SPEC_TAIL, encoding="utf-8")
+    assert load_spec(spec)[0].description == "two\n\tlines"
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("wavelength_nm,reflectance\n" + "".join(f"{w},1e-310\n" for w in range(380, 781, 5)), "implausibly dark"),
+    ("L,a,b\n50,1e200,0\n", "within ±200"),
+    ("light_deg,view_deg,L,a,b\n45,0,50,3,-1e300\n", "within ±200"),
+])
+def test_issue12_implausible_measurements(tmp_path, text, fragment):
+    p = tmp_path / "m.csv"
+    p.write_text(text, encoding="utf-8")
+    proc = run_capped("fit", p)
+    assert_one_line_error(proc, fragment)
+    assert proc.returncode == 2
+    assert "Warning" not in proc.stderr
+
+
+@pytest.mark.parametrize("value", ["20,,40", "20,40,", ",20"])
+def test_issue12_empty_list_elements_are_refused(value):
+    proc = run_capped("color", "--thickness", value)
+    assert_one_line_error(proc, "empty element")
+    assert proc.returncode == 2
+
+
+def test_issue12_metal_overcoat_is_refused():
+    proc = run_capped("color", "--thickness", "50", "--overcoat", "Ti-Johnson:20")
+    assert_one_line_error(proc, "Ti-Johnson", "not a clear film")
+    assert proc.returncode == 2
+    ok = run_capped("color", "--thickness", "50", "--overcoat", "TiO2-Siefke:20", "--json")
+    assert ok.returncode == 0, ok.stderr
