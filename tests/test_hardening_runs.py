@@ -114,7 +114,7 @@ def files(folder: Path) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
 
 
-@pytest.mark.parametrize("damage", ["truncate", "garbage", "dev-zero", "fifo", "wrong-shape"])
+@pytest.mark.parametrize("damage", ["truncate", "garbage", "dev-zero", "fifo", "wrong-shape", "presets-json"])
 def test_issue12_damaged_cache_entry_is_recomputed(small, tmp_path, damage):
     import numpy as np
 
@@ -134,14 +134,20 @@ def test_issue12_damaged_cache_entry_is_recomputed(small, tmp_path, damage):
     elif damage == "fifo":
         victim.unlink()
         os.mkfifo(victim)
-    else:
+    elif damage == "wrong-shape":
         np.savez(victim, r0_linear=np.zeros((3, 3, 3), np.float16))
+    else:  # the cached preset fits: wrong shapes, then the build must fit again
+        (fits,) = (out / META_DIR / "cache").glob("presets-*.json")
+        fits.write_text('{"gltf": {"params": [[1e308]], "dE60": [1], "dE45": "x"}}')
+        victim = fits
     spec = tmp_path / "s.toml"
     spec.write_text(SMALL.format(grade="A"), encoding="utf-8")  # sheets are recomposed from the cache
     res = build_catalog(spec, out, jobs=1)
     assert not res.noop
     assert files(out) == files(ref)  # byte-identical to a clean build
     assert victim.is_file() and not victim.is_symlink()
+    if damage == "presets-json":
+        assert "1e308" not in victim.read_text()
 
 
 def test_issue12_stale_temporary_files_are_cleaned(small, tmp_path):

@@ -63,18 +63,30 @@ def fit_key(spec, extra_angles) -> str:
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
 
 
+def _cache_entry_ok(path: Path) -> bool:
+    from swatch.limits import MAX_CACHE_ENTRY_BYTES
+    from swatch.safepath import is_regular_file
+
+    return is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES
+
+
 def _fits(spec, cache: Path | None) -> dict:
     from swatch.presets.fit import fit_presets
 
     extra = sorted({g.theta_d_deg for g in (spec.reference, *spec.multi_angle) if g.theta_d_deg <= 60.0})
     key = fit_key(spec, extra)
     path = cache / f"presets-{key}.json" if cache is not None else None
-    if path is not None and path.is_file():
+    if path is not None and _cache_entry_ok(path):  # the cache is untrusted: checked, else refitted
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
-            return {m: (np.asarray(v["params"]), np.asarray(v["dE60"]), np.asarray(v["dE45"]))
-                    for m, v in data.items()}
-        except (OSError, ValueError, KeyError):
+            fits = {m: (np.asarray(v["params"], dtype=np.float64), np.asarray(v["dE60"], dtype=np.float64),
+                        np.asarray(v["dE45"], dtype=np.float64)) for m, v in data.items()}
+            n = len(spec.thickness_nm)
+            if (set(fits) == {FORMAT_MODEL[f] for f in PRESET_FORMATS}
+                    and all(p.ndim == 2 and p.shape[0] == n and e60.shape == (n,) and e45.shape == (n,)
+                            and np.isfinite(p).all() for p, e60, e45 in fits.values())):
+                return fits
+        except (OSError, ValueError, KeyError, TypeError, AttributeError):
             pass
     out = {}
     for fmt in PRESET_FORMATS:
