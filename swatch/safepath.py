@@ -2,9 +2,9 @@
 
 A catalog folder (its ``.swatch-catalog`` metadata: manifest, journal, cache) may come from
 someone else, so every name read back from it is checked before anything is opened, moved or
-deleted: :func:`plain_name` for entries that can only be file names, :func:`inside` for paths
-that must resolve inside a given folder, :func:`real_folder` for a folder that must not be a
-symbolic link (which would redirect writes elsewhere). Failures raise
+deleted: :func:`plain_name` for entries that can only be file names (so they resolve directly
+inside the folder), :func:`real_folder` for a folder that must not be a symbolic link (which
+would redirect writes elsewhere), :func:`is_regular_file` before reading a file back. Failures raise
 :class:`~swatch.errors.SwatchError` (one line, exit 2), before anything is touched.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from pathlib import Path
 
 from swatch.errors import SwatchError
 
-__all__ = ["plain_name", "inside", "real_folder", "is_regular_file", "MAX_NAME_CHARS"]
+__all__ = ["plain_name", "real_folder", "is_regular_file", "MAX_NAME_CHARS"]
 
 #: Longest file name accepted from metadata (the usual file-system limit).
 MAX_NAME_CHARS = 255
@@ -32,17 +32,6 @@ def plain_name(name, what: str) -> str:
                           f"the folder are allowed (no '/', '..' or control characters, at most "
                           f"{MAX_NAME_CHARS} characters)")
     return name
-
-
-def inside(root, relative, what: str) -> Path:
-    """``root / relative``, refused unless it resolves (symbolic links followed) inside ``root``."""
-    if not isinstance(relative, str) or not relative or "\0" in relative:
-        raise SwatchError(f"{what}: {relative!r} is not a relative path inside {root}")
-    base = Path(root).resolve()
-    target = (base / relative).resolve()
-    if Path(relative).is_absolute() or target == base or not target.is_relative_to(base):
-        raise SwatchError(f"{what}: {relative[:80]!r} points outside {root}; only paths inside it are allowed")
-    return base / relative
 
 
 def real_folder(path, what: str) -> Path:
