@@ -10,8 +10,6 @@ Also the compute time of ``swatch color`` over 20–300 nm step 1 (colorimeter b
 """
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from benchmarks.timing import median_seconds
@@ -23,7 +21,7 @@ def run() -> list[str]:
     from colour.phenomena import thin_film_tmm
 
     from swatch import optics
-    from swatch.appearance import color_table
+    from swatch.appearance import thickness_colours
     from swatch.colorimetry import Colorimeter
     from swatch.model import get_coating
 
@@ -65,7 +63,7 @@ def run() -> list[str]:
 
     def color_cold():
         cm = Colorimeter(wl, "D65", "10")
-        color_table(thick, 45.0, 0.0, coating, cm)
+        thickness_colours(thick, 45.0, 0.0, coating, cm)
 
     t_color = median_seconds(color_cold, repeats=5)
 

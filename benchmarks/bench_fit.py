@@ -29,7 +29,8 @@ def run() -> list[str]:
     import swatch  # noqa: F401  (silences colour-science's plotting notice)
     from synthetic import PAPER_THICKNESSES_NM, WAVELENGTHS_NM, make_measurement, paper_dataset
 
-    from swatch.fitting import fit_spectra, match_colour
+    from swatch.matching import match_colour
+    from swatch.spectral_fit import fit_spectra
     from swatch.measurements import SpectralMeasurement
 
     errors = []

@@ -30,6 +30,7 @@ def _median_time(fn, repeats: int) -> float:
 
 def run(size: int = 1024, repeats: int = 7) -> list[str]:
     from swatch import render, shading
+    from swatch import scene as scene_mod
     from swatch.colorimetry import get_colorimeter
     from swatch.model import get_coating
 
@@ -39,8 +40,8 @@ def run(size: int = 1024, repeats: int = 7) -> list[str]:
     render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm)  # warm-up (caches, LUT)
     t_table = _median_time(lambda: render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm), repeats)
 
-    scene = render.make_scene("cylinder", 45.0)
-    n, l, v, hit = render.scene_geometry(scene, size)
+    scene = scene_mod.make_scene("cylinder", 45.0)
+    n, l, v, hit = scene_mod.scene_geometry(scene, size)
     n_hit = int(hit.sum())
     nn, vv = n[hit][::8], v[hit][::8]
     t_sub = _median_time(lambda: shading.shade_direct(nn, l, vv, d, coating, cm, "microfacet", 0.3), 3)

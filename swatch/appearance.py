@@ -8,11 +8,11 @@ import numpy as np
 from swatch.colorimetry import Colorimeter, Lab_to_LCh, delta_E_ab, srgb_hex
 from swatch.model import Coating
 
-__all__ = ["ColorTable", "color_table"]
+__all__ = ["ThicknessColours", "thickness_colours"]
 
 
 @dataclass(frozen=True)
-class ColorTable:
+class ThicknessColours:
     """Colours of a series of thicknesses at one light/view geometry (arrays with N rows)."""
 
     thickness_nm: np.ndarray
@@ -47,7 +47,7 @@ class ColorTable:
         return out
 
 
-def color_table(
+def thickness_colours(
     thickness_nm,
     light_deg: float,
     view_deg: float,
@@ -55,7 +55,7 @@ def color_table(
     colorimeter: Colorimeter,
     light_azimuth_deg: float = 0.0,
     view_azimuth_deg: float | None = None,
-) -> ColorTable:
+) -> ThicknessColours:
     """All thicknesses in one vectorised evaluation and one matrix product."""
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     refl, theta_d = coating.half_vector(d, light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
@@ -68,7 +68,7 @@ def color_table(
     dE = np.full(d.shape, np.nan)
     if d.size > 1:
         dE[1:] = delta_E_ab(Lab[1:], Lab[:-1])
-    return ColorTable(
+    return ThicknessColours(
         thickness_nm=d, theta_d_deg=float(theta_d), reflectance=R, XYZ=XYZ, Lab=Lab,
         LCh=Lab_to_LCh(Lab), srgb=srgb, in_srgb_gamut=gamut, srgb_hex=np.atleast_1d(srgb_hex(srgb)),
         in_display_p3_gamut=gamut_p3,

@@ -30,6 +30,7 @@ __all__ = [
     "OBSERVERS",
     "DISPLAY_OBSERVER",
     "RGB_SPACES",
+    "check_rgb_space",
     "Colorimeter",
     "get_colorimeter",
     "illuminant_names",
@@ -38,6 +39,7 @@ __all__ = [
     "Lab_to_LCh",
     "srgb_hex",
     "hex_to_Lab",
+    "parse_Lab",
 ]
 
 OBSERVERS = {
@@ -49,6 +51,14 @@ RGB_SPACES = {"srgb": "sRGB", "display-p3": "Display P3", "acescg": "ACEScg"}
 DISPLAY_OBSERVER = "2"
 #: Wavelength steps the ASTM E308 practice (colour.sd_to_XYZ's default) accepts.
 ASTM_E308_STEPS_NM = (1.0, 5.0, 10.0, 20.0)
+
+
+def check_rgb_space(space: str) -> str:
+    """The key of an RGB space of :data:`RGB_SPACES` (case-insensitive), or SwatchError."""
+    key = str(space).lower()
+    if key not in RGB_SPACES:
+        raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(RGB_SPACES)}")
+    return key
 
 
 def illuminant_names() -> list[str]:
@@ -146,9 +156,7 @@ class Colorimeter:
         ``XYZ_2``: CIE 1931 2° tristimulus values (:meth:`display_XYZ`), Y = 100 for the white.
         The illuminant's 2° white is adapted to the space's white with the Bradford transform.
         """
-        name = RGB_SPACES.get(str(space).lower())
-        if name is None:
-            raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(RGB_SPACES)}")
+        name = RGB_SPACES[check_rgb_space(space)]
         return colour.XYZ_to_RGB(
             np.asarray(XYZ_2) / 100.0,
             name,
@@ -223,3 +231,17 @@ def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     cm2 = colorimeter.display_colorimeter
     XYZ = colour.RGB_to_XYZ(rgb, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")
     return cm2.Lab(XYZ * 100.0)
+
+
+def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
+    """CIELAB from text ``L,a,b`` (finite, L in [0, 100]); ``what`` names it in the error."""
+    parts = str(text).replace(" ", "").split(",")
+    try:
+        if len(parts) != 3:
+            raise ValueError
+        vals = np.array([float(p) for p in parts])
+    except ValueError:
+        raise SwatchError(f"{what} {text!r} must be three numbers L,a,b, e.g. 45,-5,-30") from None
+    if not np.all(np.isfinite(vals)) or not 0 <= vals[0] <= 100:
+        raise SwatchError(f"{what} needs finite values with L between 0 and 100")
+    return vals

@@ -72,12 +72,12 @@ def _lattice(n: int) -> tuple[np.ndarray, np.ndarray]:
     return (i + 0.5) / n, np.mod((i + 0.5) * _PHI, 1.0)
 
 
-def _vndf(cos_v: np.ndarray, alpha: float, u1: np.ndarray, u2: np.ndarray):
+def _vndf(cos_v: np.ndarray, roughness_alpha: float, u1: np.ndarray, u2: np.ndarray):
     """GGX visible-normal samples: (l (B, N, 3), weight G2/G1 (B, N), cos θ_d (B, N)) for views
     ``v = (sin θ_v, 0, cos θ_v)`` (B,) and lattice points (N,) (Heitz 2018, listing 1)."""
     cv = np.clip(np.asarray(cos_v, dtype=np.float64), 1e-6, 1.0)[:, None]
     sv = np.sqrt(1.0 - cv * cv)
-    vh = np.concatenate([alpha * sv, 0 * sv, cv], -1)
+    vh = np.concatenate([roughness_alpha * sv, 0 * sv, cv], -1)
     vh /= np.linalg.norm(vh, axis=-1, keepdims=True)  # (B, 3)
     lensq = vh[:, 0] ** 2
     t1 = np.where(lensq[:, None] > 0, np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 0.0]))  # (−vh.y, vh.x, 0)/|.| = (0, 1, 0)
@@ -91,17 +91,17 @@ def _vndf(cos_v: np.ndarray, alpha: float, u1: np.ndarray, u2: np.ndarray):
     p2 = (1.0 - s) * np.sqrt(np.maximum(1.0 - p1 * p1, 0.0)) + s * p2
     pz = np.sqrt(np.maximum(1.0 - p1 * p1 - p2 * p2, 0.0))
     nh = p1[..., None] * t1[:, None, :] + p2[..., None] * t2[:, None, :] + pz[..., None] * vh[:, None, :]
-    h = np.stack([alpha * nh[..., 0], alpha * nh[..., 1], np.maximum(nh[..., 2], 0.0)], -1)
+    h = np.stack([roughness_alpha * nh[..., 0], roughness_alpha * nh[..., 1], np.maximum(nh[..., 2], 0.0)], -1)
     h /= np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-300)
     v = np.concatenate([sv, 0 * sv, cv], -1)[:, None, :]
     vdh = np.clip((h * v).sum(-1), 0.0, 1.0)
     l = 2.0 * vdh[..., None] * h - v
     cl = l[..., 2]
-    lam_v = microfacet.smith_lambda(cv, alpha)
-    lam_l = microfacet.smith_lambda(np.clip(cl, 1e-9, 1.0), alpha)
+    lam_v = microfacet.smith_lambda(cv, roughness_alpha)
+    lam_l = microfacet.smith_lambda(np.clip(cl, 1e-9, 1.0), roughness_alpha)
     w = np.where(cl > 0, (1.0 + lam_v) / (1.0 + lam_v + lam_l), 0.0)
     # pdf of l: D_v(h) / (4 v·h) = G1(v) D(h) / (4 cos θ_v)
-    pdf = microfacet.D_ggx(h[..., 2], alpha) / ((1.0 + lam_v) * 4.0 * cv)
+    pdf = microfacet.D_ggx(h[..., 2], roughness_alpha) / ((1.0 + lam_v) * 4.0 * cv)
     return l, w, vdh, pdf
 
 
@@ -110,19 +110,20 @@ class SampleSet:
     direction ``l`` (M, N, 3), weight ``G2/G1 / N`` (M, N), ``cos θ_d`` (M, N); plus, for the
     level, the dense set's weights and ``cos θ_d`` (M, DENSE)."""
 
-    def __init__(self, alpha: float, n: int = SAMPLES, bins: int = VIEW_BINS, dense: int = DENSE_SAMPLES):
-        self.alpha = float(alpha)
+    def __init__(self, roughness_alpha: float, n: int = SAMPLES, bins: int = VIEW_BINS, dense: int = DENSE_SAMPLES):
+        self.roughness_alpha = float(roughness_alpha)
         self.n = int(n)
         self.bins = int(bins)
         self.cos_v = np.cos((np.arange(self.bins) + 0.5) / self.bins * (np.pi / 2))[::-1].copy()
-        l, w, cd, pdf = _vndf(self.cos_v, self.alpha, *_lattice(self.n))
+        l, w, cd, pdf = _vndf(self.cos_v, self.roughness_alpha, *_lattice(self.n))
         self.l = l.astype(np.float32)
         self.w = w / self.n
         self.cos_d = cd
         #: blur per sample (degrees): SIGMA_PER_FOOTPRINT × the side of its footprint 1/(N pdf), rounded
         #: up to the next level of the environment
         self.sigma_deg = np.degrees(SIGMA_PER_FOOTPRINT * np.sqrt(1.0 / (self.n * np.maximum(pdf, 1e-12))))
-        parts = [_vndf(self.cos_v[a:a + 32], self.alpha, *_lattice(int(dense))) for a in range(0, self.bins, 32)]
+        parts = [_vndf(self.cos_v[a:a + 32], self.roughness_alpha, *_lattice(int(dense)))
+                 for a in range(0, self.bins, 32)]
         self.dense_w = np.concatenate([p[1] for p in parts]) / int(dense)
         self.dense_cos_d = np.concatenate([p[2] for p in parts]).astype(np.float32)
         self.cache: dict = {}
@@ -134,16 +135,16 @@ class SampleSet:
         h = h / np.linalg.norm(h, axis=-1, keepdims=True)
         ch = np.clip(h[:, 2].astype(np.float64), 0, 1)
         cv = self.cos_v[-1]
-        d = microfacet.D_ggx(ch, self.alpha)
-        g1 = 1.0 / (1.0 + microfacet.smith_lambda(cv, self.alpha))
+        d = microfacet.D_ggx(ch, self.roughness_alpha)
+        g1 = 1.0 / (1.0 + microfacet.smith_lambda(cv, self.roughness_alpha))
         pdf = g1 * d / (4.0 * cv)  # D_v(h)/(4 v·h) with v·h cancelling
         ok = (cl > 0) & (pdf > 0)
         return float(np.median(1.0 / (self.n * pdf[ok])))
 
 
 @functools.lru_cache(maxsize=8)
-def sample_set(alpha: float, n: int = SAMPLES) -> SampleSet:
-    return SampleSet(microfacet.check_alpha(alpha), int(n))
+def sample_set(roughness_alpha: float, n: int = SAMPLES) -> SampleSet:
+    return SampleSet(microfacet.check_roughness_alpha(roughness_alpha), int(n))
 
 
 def filter_sigma_deg(samples: SampleSet) -> float:
@@ -274,7 +275,8 @@ def shade(n, v, maps, samples: SampleSet, weights) -> np.ndarray:
     return out
 
 
-def shade_reference(n, v, env, alpha: float, f_table, samples: int = DENSE_SAMPLES, chunk: int = 256) -> np.ndarray:
+def shade_reference(n, v, env, roughness_alpha: float, f_table, samples: int = DENSE_SAMPLES,
+                    chunk: int = 256) -> np.ndarray:
     """Brute force (P, 3): ``samples`` VNDF samples per pixel at the pixel's own view angle, the
     unfiltered environment map, ``F`` at each sample's ``θ_d`` (the error reference)."""
     n = np.asarray(n, dtype=np.float64).reshape(-1, 3)
@@ -285,7 +287,7 @@ def shade_reference(n, v, env, alpha: float, f_table, samples: int = DENSE_SAMPL
     for a in range(0, n.shape[0], chunk):
         sl = slice(a, a + chunk)
         cv, t, b = local_frame(n[sl], v[sl])
-        l, w, cd, _ = _vndf(cv.astype(np.float64), float(alpha), u1, u2)
+        l, w, cd, _ = _vndf(cv.astype(np.float64), float(roughness_alpha), u1, u2)
         nn = n[sl]
         dirs = [l[..., 0] * t[:, None, k] + l[..., 1] * b[:, None, k] + l[..., 2] * nn[:, None, k] for k in range(3)]
         E = pad.bilinear(*(d.astype(np.float32) for d in dirs)).astype(np.float64)

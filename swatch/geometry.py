@@ -19,6 +19,8 @@ __all__ = [
     "direction",
     "check_polar_deg",
     "check_azimuth_deg",
+    "check_light_view_deg",
+    "resolve_view_azimuth_deg",
     "cos_light_view",
     "cos_theta_d",
     "theta_d_deg",
@@ -43,6 +45,19 @@ def check_azimuth_deg(azimuth_deg, what: str) -> np.ndarray:
     return a
 
 
+def check_light_view_deg(light_deg, view_deg) -> tuple[np.ndarray, np.ndarray]:
+    """Both polar angles checked by :func:`check_polar_deg` (named ``light`` and ``view``)."""
+    return check_polar_deg(light_deg, "light"), check_polar_deg(view_deg, "view")
+
+
+def resolve_view_azimuth_deg(light_azimuth_deg, view_azimuth_deg=None) -> np.ndarray:
+    """The view azimuth in degrees: ``view_azimuth_deg`` as given, or, when it is None, the light's
+    azimuth + 180 (the plane of incidence, opposite side: the paper's geometry)."""
+    if view_azimuth_deg is None:
+        return np.asarray(light_azimuth_deg, dtype=np.float64) + 180.0
+    return np.asarray(view_azimuth_deg, dtype=np.float64)
+
+
 def direction(polar_deg, azimuth_deg) -> np.ndarray:
     """Unit vectors (..., 3) for polar angles from +z and azimuths from +x."""
     t = np.radians(np.asarray(polar_deg, dtype=np.float64))
@@ -57,7 +72,7 @@ def cos_light_view(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=
     tl = np.radians(np.asarray(light_deg, dtype=np.float64))
     tv = np.radians(np.asarray(view_deg, dtype=np.float64))
     pl = np.radians(check_azimuth_deg(light_azimuth_deg, "light"))
-    pv = pl + np.pi if view_azimuth_deg is None else np.radians(check_azimuth_deg(view_azimuth_deg, "view"))
+    pv = np.radians(check_azimuth_deg(resolve_view_azimuth_deg(light_azimuth_deg, view_azimuth_deg), "view"))
     return np.cos(tl) * np.cos(tv) + np.sin(tl) * np.sin(tv) * np.cos(pl - pv)
 
 
@@ -75,9 +90,8 @@ def theta_d_deg(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=Non
 
 def cos_theta_h(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None) -> np.ndarray:
     """Cosine of the half vector's polar angle (the facet normal's tilt from the macro normal)."""
-    pl = np.asarray(light_azimuth_deg, dtype=np.float64)
-    pv = pl + 180.0 if view_azimuth_deg is None else view_azimuth_deg
-    s = direction(light_deg, pl) + direction(view_deg, pv)
+    pv = resolve_view_azimuth_deg(light_azimuth_deg, view_azimuth_deg)
+    s = direction(light_deg, light_azimuth_deg) + direction(view_deg, pv)
     return s[..., 2] / np.linalg.norm(s, axis=-1)
 
 

@@ -134,12 +134,9 @@ def chromaticities(space: str = "srgb") -> tuple[float, ...]:
     """(rx, ry, gx, gy, bx, by, wx, wy) of an RGB space from colour-science."""
     import colour
 
-    from swatch.colorimetry import RGB_SPACES
+    from swatch.colorimetry import RGB_SPACES, check_rgb_space
 
-    name = RGB_SPACES.get(str(space).lower())
-    if name is None:
-        raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(RGB_SPACES)}")
-    cs = colour.RGB_COLOURSPACES[name]
+    cs = colour.RGB_COLOURSPACES[RGB_SPACES[check_rgb_space(space)]]
     p = np.asarray(cs.primaries, dtype=np.float64).reshape(3, 2)
     w = np.asarray(cs.whitepoint, dtype=np.float64).reshape(2)
     return tuple(float(x) for x in np.concatenate([p.reshape(-1), w]))

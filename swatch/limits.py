@@ -7,7 +7,7 @@ from __future__ import annotations
 
 __all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
-           "MAX_RUN_BYTES", "read_capped"]
+           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_CELLS", "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -31,6 +31,15 @@ MAX_LAB_AB = 200.0
 MIN_PEAK_REFLECTANCE = 1e-4
 #: Working memory one run may plan for; large jobs are done in chunks or refused beyond it.
 MAX_RUN_BYTES = 2 * 1024 ** 3
+#: Largest film thickness accepted (anodic films are 10–300 nm; interference orders beyond a
+#: micrometre are not colours any more).
+MAX_THICKNESS_NM = 1000.0
+#: Largest anodising voltage accepted.
+MAX_VOLTAGE_V = 300.0
+#: Largest render size (pixels per side).
+MAX_SIZE_PX = 8192
+#: Largest angular map (light × view cells).
+MAX_ANGULAR_CELLS = 4_000_000
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

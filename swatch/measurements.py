@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from swatch import geometry
 from swatch.errors import SwatchError
 from swatch.limits import MAX_CSV_FIELD_CHARS, MAX_LAB_AB, MAX_MEASUREMENT_BYTES, MIN_PEAK_REFLECTANCE, read_capped
 from swatch.materials import load_material
@@ -84,8 +85,7 @@ class SpectralMeasurement:
         v = np.atleast_1d(np.asarray(view_deg, dtype=np.float64))
         l, v = np.broadcast_arrays(l, v)
         la = np.broadcast_to(np.asarray(light_azimuth_deg, dtype=np.float64), l.shape)
-        va = la + 180.0 if view_azimuth_deg is None else np.broadcast_to(
-            np.asarray(view_azimuth_deg, dtype=np.float64), l.shape)
+        va = np.broadcast_to(geometry.resolve_view_azimuth_deg(la, view_azimuth_deg), l.shape)
         wl = np.asarray(wavelength_nm, dtype=np.float64)
         R = np.asarray(reflectance, dtype=np.float64).reshape(l.size, wl.size)
         return cls(source, l.copy(), v.copy(), la.copy(), np.asarray(va, dtype=np.float64).copy(), wl, R)
@@ -185,7 +185,7 @@ def _geometry_columns(rows: _Rows, light_deg: float, view_deg: float, light_azim
         l = np.full(n, float(light_deg))
         v = np.full(n, float(view_deg))
         la = np.full(n, float(light_azimuth_deg))
-        va = la + 180.0 if view_azimuth_deg is None else np.full(n, float(view_azimuth_deg))
+        va = np.array(np.broadcast_to(geometry.resolve_view_azimuth_deg(la, view_azimuth_deg), (n,)))
         for what, a in (("light", float(light_deg)), ("view", float(view_deg))):
             if not (math.isfinite(a) and 0 <= a < 90):
                 raise SwatchError(f"{what} angle must be in [0, 90) degrees from the normal (file without angle columns)")

@@ -12,8 +12,9 @@ with ``h = (l + v)/|l + v|`` the half vector, ``θ_d`` the incidence angle on th
 Conventions
 -----------
 * All functions take cosines (and plain arrays), are vectorised by broadcasting and never loop.
-* ``alpha`` is the usual roughness parameter (GGX/Trowbridge–Reitz ``α``, Beckmann RMS slope
-  ``m = α``); valid range (0, 1].
+* ``roughness_alpha`` is the usual roughness parameter ``α`` (GGX/Trowbridge–Reitz ``α``,
+  Beckmann RMS slope ``m = α``); valid range (0, 1]. (``alpha`` alone is never the
+  roughness in swatch; the CLI option and the metadata key are ``roughness``.)
 * ``D`` is normalised so that ``∫ D(h) (n·h) dω_h = 1`` over the hemisphere (Walter et al. 2007,
   "Microfacet models for refraction through rough surfaces").
 * Shadowing–masking is Smith's, with the exact Λ of each distribution (Heitz 2014, "Understanding
@@ -33,11 +34,12 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import erf
 
+from swatch.choices import DISTRIBUTIONS
 from swatch.errors import SwatchError
 
 __all__ = [
     "DISTRIBUTIONS",
-    "check_alpha",
+    "check_roughness_alpha",
     "check_distribution",
     "D",
     "D_ggx",
@@ -51,18 +53,17 @@ __all__ = [
     "ggx_reflectance_factor_cos",
 ]
 
-DISTRIBUTIONS = ("ggx", "beckmann")
 _TINY = 1e-12
 
 
-def check_alpha(alpha) -> float:
+def check_roughness_alpha(roughness_alpha) -> float:
     """Roughness ``α`` as a float, or SwatchError: it must be in (0, 1]."""
     try:
-        a = float(alpha)
+        a = float(roughness_alpha)
     except (TypeError, ValueError):
-        raise SwatchError(f"roughness {alpha!r} is not a number; give a value in (0, 1]") from None
+        raise SwatchError(f"roughness {roughness_alpha!r} is not a number; give a value in (0, 1]") from None
     if not np.isfinite(a) or a <= 0.0 or a > 1.0:
-        raise SwatchError(f"roughness must be > 0 and <= 1, got {alpha!r}")
+        raise SwatchError(f"roughness must be > 0 and <= 1, got {roughness_alpha!r}")
     return a
 
 
@@ -78,32 +79,56 @@ def _tan2(cos_theta):
     return (1.0 - c2) / c2, c2
 
 
-def D_ggx(cos_h, alpha) -> np.ndarray:
-    """GGX / Trowbridge–Reitz: ``α² / (π ((α² − 1) cos²θh + 1)²)``; 0 where ``cos θh <= 0``."""
+# -- GGX: the two polynomials, written once -------------------------------------------------------
+def _ggx_ndf_den(cos_h, a2_minus_1):
+    """``(α² − 1) cos²θh + 1``: GGX's ``D = α² / (π den²)``. The scalar comes in the caller's precision."""
+    return cos_h * cos_h * a2_minus_1 + 1
+
+
+def _ggx_vis_den(cos_l, cos_v, a2, one_minus_a2):
+    """``cos θ_l sqrt(cos²θ_v (1 − α²) + α²) + cos θ_v sqrt(cos²θ_l (1 − α²) + α²)``, which is
+    ``2 cos θ_l cos θ_v (1 + Λ_l + Λ_v)``: GGX's height-correlated ``G / (4 cos θ_l cos θ_v) = 0.5 / den``."""
+    return cos_l * np.sqrt(cos_v * cos_v * one_minus_a2 + a2) + cos_v * np.sqrt(cos_l * cos_l * one_minus_a2 + a2)
+
+
+def D_ggx(cos_h, roughness_alpha) -> np.ndarray:
+    """GGX / Trowbridge–Reitz: ``α² / (π ((α² − 1) cos²θh + 1)²)``; 0 where ``cos θh <= 0``.
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``cos θh = n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1].
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        ``D`` in sr⁻¹ (normalised: ``∫ D cos θh dω = 1``).
+    """
     c = np.asarray(cos_h)
-    a2 = float(alpha) ** 2
-    c2 = c * c
-    den = (a2 - 1.0) * c2 + 1.0
+    a2 = float(roughness_alpha) ** 2
+    den = _ggx_ndf_den(c, a2 - 1.0)
     return np.where(c > 0, a2 / (np.pi * den * den), 0.0)
 
 
-def D_beckmann(cos_h, alpha) -> np.ndarray:
+def D_beckmann(cos_h, roughness_alpha) -> np.ndarray:
     """Beckmann: ``exp(−tan²θh / α²) / (π α² cos⁴θh)``; 0 where ``cos θh <= 0``."""
     c = np.asarray(cos_h)
-    a2 = float(alpha) ** 2
+    a2 = float(roughness_alpha) ** 2
     t2, c2 = _tan2(c)
     return np.where(c > 0, np.exp(-t2 / a2) / (np.pi * a2 * c2 * c2), 0.0)
 
 
-def D(cos_h, alpha, distribution: str = "ggx") -> np.ndarray:
+def D(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     """Normal distribution ``D(h)`` for ``cos θh = n·h``."""
-    return D_ggx(cos_h, alpha) if check_distribution(distribution) == "ggx" else D_beckmann(cos_h, alpha)
+    return D_ggx(cos_h, roughness_alpha) if check_distribution(distribution) == "ggx" else D_beckmann(cos_h, roughness_alpha)
 
 
-def smith_lambda(cos_theta, alpha, distribution: str = "ggx") -> np.ndarray:
+def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     """Smith's ``Λ`` for a direction at polar angle θ (``cos_theta = n·ω``), exact for each D."""
     t2, _ = _tan2(cos_theta)
-    a = float(alpha)
+    a = float(roughness_alpha)
     if check_distribution(distribution) == "ggx":
         return 0.5 * (np.sqrt(1.0 + a * a * t2) - 1.0)
     tan_t = np.sqrt(t2)
@@ -114,24 +139,24 @@ def smith_lambda(cos_theta, alpha, distribution: str = "ggx") -> np.ndarray:
     return np.where(x >= 30.0, 0.0, np.maximum(lam, 0.0))
 
 
-def G1(cos_theta, cos_h_omega, alpha, distribution: str = "ggx") -> np.ndarray:
+def G1(cos_theta, cos_h_omega, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     """Smith masking ``χ⁺(h·ω) / (1 + Λ(ω))`` (``cos_theta = n·ω``, ``cos_h_omega = h·ω``)."""
-    lam = smith_lambda(cos_theta, alpha, distribution)
+    lam = smith_lambda(cos_theta, roughness_alpha, distribution)
     ok = (np.asarray(cos_h_omega) > 0) & (np.asarray(cos_theta) > 0)
     return np.where(ok, 1.0 / (1.0 + lam), 0.0)
 
 
-def G(cos_l, cos_v, cos_hl, cos_hv, alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
+def G(cos_l, cos_v, cos_hl, cos_hv, roughness_alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
     """Smith shadowing–masking for light and view (height-correlated by default, see module doc)."""
     if not correlated:
-        return G1(cos_l, cos_hl, alpha, distribution) * G1(cos_v, cos_hv, alpha, distribution)
-    lam_l = smith_lambda(cos_l, alpha, distribution)
-    lam_v = smith_lambda(cos_v, alpha, distribution)
+        return G1(cos_l, cos_hl, roughness_alpha, distribution) * G1(cos_v, cos_hv, roughness_alpha, distribution)
+    lam_l = smith_lambda(cos_l, roughness_alpha, distribution)
+    lam_v = smith_lambda(cos_v, roughness_alpha, distribution)
     ok = (np.asarray(cos_hl) > 0) & (np.asarray(cos_hv) > 0) & (np.asarray(cos_l) > 0) & (np.asarray(cos_v) > 0)
     return np.where(ok, 1.0 / (1.0 + lam_l + lam_v), 0.0)
 
 
-def ggx_visibility(cos_l, cos_v, alpha) -> np.ndarray:
+def ggx_visibility(cos_l, cos_v, roughness_alpha) -> np.ndarray:
     """``G / (4 cos θ_l cos θ_v)`` for GGX with height-correlated Smith G, in closed form:
 
     ``0.5 / (cos θ_l sqrt(cos²θ_v (1 − α²) + α²) + cos θ_v sqrt(cos²θ_l (1 − α²) + α²))``
@@ -140,15 +165,13 @@ def ggx_visibility(cos_l, cos_v, alpha) -> np.ndarray:
     """
     cl = np.asarray(cos_l)
     cv = np.asarray(cos_v)
-    a2 = float(alpha) ** 2
+    a2 = float(roughness_alpha) ** 2
     t = np.result_type(cl, cv, np.float32).type
-    one_m = t(1.0 - a2)
-    a2 = t(a2)
-    den = cl * np.sqrt(cv * cv * one_m + a2) + cv * np.sqrt(cl * cl * one_m + a2)
+    den = _ggx_vis_den(cl, cv, t(a2), t(1.0 - a2))
     return t(0.5) / np.maximum(den, t(1e-30))
 
 
-def ggx_reflectance_factor_cos(cos_l, cos_v, cos_h, alpha) -> np.ndarray:
+def ggx_reflectance_factor_cos(cos_l, cos_v, cos_h, roughness_alpha) -> np.ndarray:
     """``π D G / (4 cos θ_l cos θ_v) · max(cos θ_l, 0)`` for GGX, height-correlated G (render path).
 
     The reflectance factor of an F = 1 surface times the irradiance cosine, in few operations and
@@ -160,28 +183,27 @@ def ggx_reflectance_factor_cos(cos_l, cos_v, cos_h, alpha) -> np.ndarray:
     cv = np.asarray(cos_v)
     ch = np.asarray(cos_h)
     t = np.result_type(cl, cv, ch, np.float32).type
-    a2 = t(float(alpha) ** 2)
-    one_m = t(1.0) - a2
-    den = ch * ch * (a2 - t(1.0)) + t(1.0)
-    vis = cl * np.sqrt(cv * cv * one_m + a2) + cv * np.sqrt(cl * cl * one_m + a2)
+    a2 = t(float(roughness_alpha) ** 2)
+    den = _ggx_ndf_den(ch, a2 - t(1.0))
+    vis = _ggx_vis_den(cl, cv, a2, t(1.0) - a2)
     # π · a2/(π den²) · 0.5/vis · cl
     return (t(0.5) * a2) * cl / np.maximum(den * den * vis, t(1e-30))
 
 
-def D_ratio(cos_h, alpha, distribution: str = "ggx") -> np.ndarray:
+def D_ratio(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     """``D(h) / D(n)``: 1 on the mirror direction, falling off the specular lobe (both D peak at n)."""
-    a = float(alpha)
+    a = float(roughness_alpha)
     return D(cos_h, a, distribution) * (np.pi * a * a)
 
 
-def brdf_scale(cos_l, cos_v, cos_h, cos_d, alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
+def brdf_scale(cos_l, cos_v, cos_h, cos_d, roughness_alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
     """``D(h) G(l, v) / (4 cos θ_l cos θ_v)``: the BRDF with F = 1 (sr⁻¹); 0 below the horizon.
 
     ``cos_l = n·l``, ``cos_v = n·v``, ``cos_h = n·h`` and ``cos_d = h·l = h·v``. Keeps float32
     inputs in float32. GGX with the height-correlated G uses :func:`ggx_visibility` (the same
     function in fewer operations; tests check the two agree).
     """
-    alpha = check_alpha(alpha)
+    roughness_alpha = check_roughness_alpha(roughness_alpha)
     distribution = check_distribution(distribution)
     cl = np.asarray(cos_l)
     cv = np.asarray(cos_v)
@@ -192,12 +214,9 @@ def brdf_scale(cos_l, cos_v, cos_h, cos_d, alpha, distribution: str = "ggx", cor
     if distribution == "ggx" and correlated:
         t = np.result_type(cl, cv, np.float32).type
         ch = np.asarray(cos_h)
-        a2 = t(alpha * alpha)
-        den = ch * ch * (a2 - t(1.0)) + t(1.0)
-        d = a2 / (t(np.pi) * den * den)
         ok = (cl > 0) & (cv > 0) & (ch > 0)
-        return np.where(ok, d * ggx_visibility(cl, cv, alpha), t(0.0))
-    d = D(cos_h, alpha, distribution)
-    g = G(cl, cv, cos_d, cos_d, alpha, distribution, correlated)
+        return np.where(ok, D_ggx(ch, roughness_alpha) * ggx_visibility(cl, cv, roughness_alpha), t(0.0))
+    d = D(cos_h, roughness_alpha, distribution)
+    g = G(cl, cv, cos_d, cos_d, roughness_alpha, distribution, correlated)
     ok = (cl > 0) & (cv > 0)
     return np.where(ok, d * g / (4.0 * np.maximum(cl, _TINY) * np.maximum(cv, _TINY)), 0.0)

@@ -13,31 +13,30 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch import geometry, optics
+from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.errors import SwatchError
 from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, DEFAULT_WAVELENGTHS_NM, list_materials, load_material
 
 __all__ = [
-    "MAX_THICKNESS_NM",
     "DEFAULT_NM_PER_V",
     "Coating",
     "Overcoat",
     "OvercoatedCoating",
     "overcoat",
+    "overcoat_json",
+    "overcoat_text",
     "get_coating",
     "check_thickness_nm",
     "voltage_to_thickness_nm",
     "thickness_to_voltage_V",
     "intensity_correction",
+    "intensity_scale",
 ]
 
-#: Largest film thickness accepted (anodic films are 10–300 nm; interference orders beyond a
-#: micrometre are not colours any more).
-MAX_THICKNESS_NM = 1000.0
 #: Anodic growth rate, nm per volt: the paper's blue sample (Fig. 3) was anodised at 25 V and its
 #: thickness estimated at 50.8 nm (Table 2), i.e. 2.032 nm/V. Published anodic-TiO2 rates are
 #: 1.5–3 nm/V depending on electrolyte; override it with ``--nm-per-volt``.
 DEFAULT_NM_PER_V = 50.8 / 25.0
-MAX_VOLTAGE_V = 300.0
 
 
 def check_thickness_nm(thickness_nm) -> np.ndarray:
@@ -79,16 +78,33 @@ def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, off
     return (np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)) / _check_rate(nm_per_V)
 
 
+def intensity_scale(simulated, measured) -> np.ndarray:
+    """The paper's intensity correction as a factor: ``mean(measured) / mean(simulated)`` per spectrum.
+
+    Parameters
+    ----------
+    simulated, measured : array_like, shapes (..., W) broadcasting together
+        Spectra on one wavelength grid (last axis).
+
+    Returns
+    -------
+    numpy.ndarray, the broadcast shape without the last axis
+        The scale (dimensionless); 0 where the simulated spectrum has no energy. Computed as the
+        ratio of the spectral sums (equal to the ratio of the means on a common grid).
+    """
+    sim_sum = np.asarray(simulated, dtype=np.float64).sum(axis=-1)
+    mea_sum = np.asarray(measured, dtype=np.float64).sum(axis=-1)
+    sim_sum, mea_sum = np.broadcast_arrays(sim_sum, mea_sum)
+    return np.divide(mea_sum, sim_sum, out=np.zeros_like(sim_sum), where=sim_sum > 0)
+
+
 def intensity_correction(simulated, measured) -> np.ndarray:
     """The paper's intensity correction: scale ``simulated`` so its spectral mean equals ``measured``'s.
 
-    Works on the last axis (wavelength) of broadcastable arrays; returns the scaled spectra.
+    Works on the last axis (wavelength) of broadcastable arrays; returns the scaled spectra
+    (``simulated × intensity_scale(simulated, measured)``).
     """
-    sim = np.asarray(simulated, dtype=np.float64)
-    mea = np.asarray(measured, dtype=np.float64)
-    sim_mean = sim.mean(axis=-1, keepdims=True)
-    scale = np.divide(mea.mean(axis=-1, keepdims=True), sim_mean, out=np.zeros_like(sim_mean), where=sim_mean > 0)
-    return sim * scale
+    return np.asarray(simulated, dtype=np.float64) * intensity_scale(simulated, measured)[..., None]
 
 
 class _HalfVector:
@@ -99,8 +115,7 @@ class _HalfVector:
         amplitudes: bool = False,
     ) -> tuple[optics.Reflectance, np.ndarray]:
         """The half-vector model: reflectance at ``theta_d`` (eq. 5) and ``theta_d`` in degrees."""
-        geometry.check_polar_deg(light_deg, "light")
-        geometry.check_polar_deg(view_deg, "view")
+        geometry.check_light_view_deg(light_deg, view_deg)
         cos_d = geometry.cos_theta_d(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
         theta_d = geometry.theta_d_deg(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
         return self.reflectance_cos(thickness_nm, cos_d, amplitudes), theta_d
@@ -198,6 +213,20 @@ def overcoat(spec: str, wavelength_nm) -> Overcoat:
     if not (math.isfinite(n_real) and 1.0 <= n_real <= 5.0):
         raise SwatchError(f"overcoat index must be from 1 to 5 (got {what})")
     return Overcoat(f"n={n_real:g}", np.full(wl.shape, n_real, dtype=np.complex128), d)
+
+
+def overcoat_json(coating) -> dict:
+    """``{"overcoat": [{"layer", "thickness_nm"}, ...]}`` for a coating with overcoats, else ``{}``."""
+    overcoats = getattr(coating, "overcoats", ())
+    if not overcoats:
+        return {}
+    return {"overcoat": [{"layer": o.label, "thickness_nm": o.thickness_nm} for o in overcoats]}
+
+
+def overcoat_text(coating) -> str:
+    """``" under 1.5 200 nm / ..."`` for a coating with overcoats (from the air side), else ``""``."""
+    layers = [f"{o.label} {o.thickness_nm:g} nm" for o in getattr(coating, "overcoats", ())]
+    return f" under {' / '.join(layers)}" if layers else ""
 
 
 @functools.lru_cache(maxsize=64)

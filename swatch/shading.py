@@ -11,10 +11,10 @@ angle it depends on. The rest is a wavelength-independent scalar:
   directional light on the tilted surface).
 
 So a render builds, once per thickness, the tristimulus values of ``F`` on a uniform grid of
-``cos θ_d`` (:func:`colour_table`: by default 1025 nodes on [0, 1]; a render uses 129 nodes over
+``cos θ_d`` (:func:`facet_colour_table`: by default 1025 nodes on [0, 1]; a render uses 129 nodes over
 the range of ``cos θ_d`` its pixels span; linear interpolation) and shades each pixel by a lookup
 times the scalar (:func:`shade`). Because XYZ → linear RGB is linear, the same
-table can hold RGB (:meth:`ColourTable.to_rgb`) and the render never leaves RGB.
+table can hold RGB (:meth:`FacetColourTable.to_rgb`) and the render never leaves RGB.
 
 :func:`shade_direct` is the reference: it evaluates the full spectrum ``F(λ)`` for every pixel's
 own ``θ_d`` (vectorised over pixel chunks) and integrates it with the colorimeter's weights.
@@ -29,13 +29,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swatch import microfacet
+from swatch.choices import MODELS
 from swatch.errors import SwatchError
 
 __all__ = [
     "MODELS",
     "TABLE_NODES",
-    "ColourTable",
-    "colour_table",
+    "FacetColourTable",
+    "facet_colour_table",
     "check_model",
     "geometry_terms",
     "intensity",
@@ -43,7 +44,6 @@ __all__ = [
     "shade_direct",
 ]
 
-MODELS = ("paper", "microfacet")
 #: Nodes of the cos θ_d table (uniform on [0, 1]). 1025 keeps linear interpolation far inside
 #: ΔE00 0.05 even at 1000 nm (checked in tests/test_render.py against the direct path).
 TABLE_NODES = 1025
@@ -57,7 +57,7 @@ def check_model(model: str) -> str:
 
 
 @dataclass(frozen=True)
-class ColourTable:
+class FacetColourTable:
     """Colour of the facet reflectance ``F(·; d, θ_d)`` on a uniform grid of ``cos θ_d``.
 
     ``cos_d`` (N,) is uniform on ``[c0, c1]`` (default [0, 1]); ``values`` (N, C) are XYZ (Y = 100
@@ -110,7 +110,7 @@ class ColourTable:
         x += self.values.dtype.type(0.5)
         return np.take(self.values, x.astype(np.int32), axis=0)
 
-    def refined(self, factor: int = 16) -> "ColourTable":
+    def refined(self, factor: int = 16) -> "FacetColourTable":
         """The table linearly interpolated onto a ``factor`` times finer grid (same range)."""
         n = (self.nodes - 1) * int(factor) + 1
         grid = np.linspace(self.c0, self.c1, n)
@@ -118,10 +118,10 @@ class ColourTable:
         def interp(v):
             return None if v is None else np.stack([np.interp(grid, self.cos_d, v[:, k]) for k in range(v.shape[1])], -1)
 
-        return ColourTable(self.thickness_nm, grid, interp(self.values).astype(self.values.dtype), kind=self.kind,
+        return FacetColourTable(self.thickness_nm, grid, interp(self.values).astype(self.values.dtype), kind=self.kind,
                            display_XYZ=interp(self.display_XYZ))
 
-    def to_rgb(self, colorimeter, space: str = "srgb", dtype=np.float32) -> "ColourTable":
+    def to_rgb(self, colorimeter, space: str = "srgb", dtype=np.float32) -> "FacetColourTable":
         """The same table in linear RGB of ``space`` (1.0 = white), as ``dtype``, from the nodes'
         CIE 1931 2° XYZ (``display_XYZ``; the values themselves when the table is 2°)."""
         if self.kind != "XYZ":
@@ -130,15 +130,15 @@ class ColourTable:
             if self.display_XYZ is None and colorimeter.observer != "2":
                 raise SwatchError("this XYZ table has no CIE 1931 2° values to derive display RGB from")
             rgb = colorimeter.rgb_linear(self.values if self.display_XYZ is None else self.display_XYZ, space)
-        return ColourTable(self.thickness_nm, self.cos_d, np.asarray(rgb, dtype=dtype), kind=f"RGB:{space}")
+        return FacetColourTable(self.thickness_nm, self.cos_d, np.asarray(rgb, dtype=dtype), kind=f"RGB:{space}")
 
-    def astype(self, dtype) -> "ColourTable":
-        return ColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind,
+    def astype(self, dtype) -> "FacetColourTable":
+        return FacetColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind,
                            display_XYZ=self.display_XYZ)
 
 
-def colour_table(thickness_nm: float, coating, colorimeter, nodes: int = TABLE_NODES,
-                 cos_range=(0.0, 1.0)) -> ColourTable:
+def facet_colour_table(thickness_nm: float, coating, colorimeter, nodes: int = TABLE_NODES,
+                       cos_range=(0.0, 1.0)) -> FacetColourTable:
     """XYZ of the thin-film reflectance over ``cos θ_d`` in ``cos_range`` (``nodes`` uniform samples).
 
     A render passes the range of ``cos θ_d`` its pixels span (perspective makes it narrow), so a
@@ -153,7 +153,7 @@ def colour_table(thickness_nm: float, coating, colorimeter, nodes: int = TABLE_N
     R = coating.reflectance_cos(float(thickness_nm), cos_d).R  # (N, W)
     XYZ = colorimeter.XYZ(R)
     XYZ_2 = XYZ if colorimeter.observer == "2" else colorimeter.display_XYZ(R)
-    return ColourTable(float(thickness_nm), cos_d, XYZ, kind="XYZ", display_XYZ=XYZ_2)
+    return FacetColourTable(float(thickness_nm), cos_d, XYZ, kind="XYZ", display_XYZ=XYZ_2)
 
 
 def _dot(a, b) -> np.ndarray:
@@ -185,7 +185,7 @@ def geometry_terms(normal, light, view):
     return cos_l, cos_v, cos_h, cos_d
 
 
-def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness: float = 0.3,
+def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness_alpha: float = 0.3,
               distribution: str = "ggx", irradiance: bool = True) -> np.ndarray:
     """The wavelength-independent factor ``s`` multiplying the table colour (see module doc).
 
@@ -197,24 +197,24 @@ def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness: 
     cv = np.asarray(cos_v)
     if model == "paper":
         return ((cl > 0) & (cv > 0)).astype(np.result_type(cl, np.float32))
-    s = np.pi * microfacet.brdf_scale(cl, cv, cos_h, cos_d, roughness, distribution)
+    s = np.pi * microfacet.brdf_scale(cl, cv, cos_h, cos_d, roughness_alpha, distribution)
     if irradiance:
         s = s * np.maximum(cl, 0)
     return s
 
 
-def shade(normal, light, view, table: ColourTable, model: str = "microfacet", roughness: float = 0.3,
+def shade(normal, light, view, table: FacetColourTable, model: str = "microfacet", roughness_alpha: float = 0.3,
           distribution: str = "ggx", irradiance: bool = True) -> np.ndarray:
     """Colour per pixel (..., C) by table lookup × intensity (the fast path)."""
     cos_l, cos_v, cos_h, cos_d = geometry_terms(normal, light, view)
-    s = intensity(cos_l, cos_v, cos_h, cos_d, model, roughness, distribution, irradiance)
+    s = intensity(cos_l, cos_v, cos_h, cos_d, model, roughness_alpha, distribution, irradiance)
     out = table.lookup(cos_d)
     out *= np.asarray(s, dtype=out.dtype)[..., None]
     return out
 
 
 def shade_direct(normal, light, view, thickness_nm: float, coating, colorimeter, model: str = "microfacet",
-                 roughness: float = 0.3, distribution: str = "ggx", irradiance: bool = True,
+                 roughness_alpha: float = 0.3, distribution: str = "ggx", irradiance: bool = True,
                  chunk: int = 4096) -> np.ndarray:
     """XYZ per pixel (..., 3) from the full spectrum at each pixel's own θ_d (the reference path).
 
@@ -223,7 +223,7 @@ def shade_direct(normal, light, view, thickness_nm: float, coating, colorimeter,
     the same intensity factor as :func:`shade`.
     """
     cos_l, cos_v, cos_h, cos_d = (np.asarray(t, dtype=np.float64) for t in geometry_terms(normal, light, view))
-    s = intensity(cos_l, cos_v, cos_h, cos_d, model, roughness, distribution, irradiance)
+    s = intensity(cos_l, cos_v, cos_h, cos_d, model, roughness_alpha, distribution, irradiance)
     shape = np.broadcast(cos_d, s).shape
     cd = np.broadcast_to(cos_d, shape).reshape(-1)
     flat_s = np.broadcast_to(s, shape).reshape(-1)

@@ -119,7 +119,6 @@ def test_sheet_metadata_and_pixels(built):
     # The EXR is the PNG in linear light (outside the renders): compare the page background.
     p = oiio.ImageBuf(str(out / "sheet_01.png")).get_pixels(oiio.FLOAT)[5, 5]
     e = oiio.ImageBuf(str(out / "sheet_01.exr")).get_pixels(oiio.FLOAT)[5, 5]
-    import colour
 
     assert np.allclose(colour.models.eotf_sRGB(p), e, atol=2e-3)
 

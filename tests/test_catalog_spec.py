@@ -103,7 +103,7 @@ BASE = 'name = "x"\n[thickness]\nlist_nm = [50]\n'
         (BASE + '[render]\nsize_px = 10\n', ["render.size_px", "64 to 512"]),
         (BASE + '[render]\nsize_px = 100.5\n', ["render.size_px", "whole number"]),
         (BASE + '[render]\nshapes = ["cube"]\n', ["render.shapes[0]", "flat, cylinder, sphere"]),
-        (BASE + '[render]\nmodel = "phong"\n', ["render.model", "microfacet, paper"]),
+        (BASE + '[render]\nmodel = "phong"\n', ["render.model", "paper, microfacet"]),
         (BASE + '[render]\nangular_map = "yes"\n', ["render.angular_map", "true or false"]),
         (BASE + '[tolerance]\ngrade = "Z"\n', ["tolerance.grade", "AAA", "E"]),
         (BASE + '[tolerance]\nscheme = "iso"\n', ["tolerance.scheme", "csaj", "nbs"]),

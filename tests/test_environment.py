@@ -99,7 +99,7 @@ def test_furnace_integration_along_the_normal(d_nm):
     """The fast path itself (no renderer): a surface seen along its normal under ``uniform``."""
     env = environment.get_environment("uniform")
     ss = env_shading.sample_set(ALPHA)
-    tab = shading.colour_table(d_nm, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
+    tab = shading.facet_colour_table(d_nm, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
     n = np.array([[0.0, 1.0, 0.0]])
     rgb = env_shading.shade(n, n, environment.levels(env), ss, env_shading.band_weights(ss, tab))[0]
     got = _lab(_xyz_of_srgb(rgb))
@@ -167,7 +167,7 @@ def test_studio_error_against_brute_force():
     n, v = n[keep], v[keep]
     env = environment.get_environment("studio")
     ss = env_shading.sample_set(ALPHA)
-    tab = shading.colour_table(80.0, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
+    tab = shading.facet_colour_table(80.0, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
     fast = env_shading.shade(n, v, environment.levels(env), ss, env_shading.band_weights(ss, tab))
     ref = env_shading.shade_reference(n, v, env, ALPHA, tab, samples=2048)
     dE = delta_E_00(_lab(_xyz_of_srgb(fast)), _lab(_xyz_of_srgb(ref)))

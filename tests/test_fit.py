@@ -18,7 +18,10 @@ from hypothesis import strategies as st
 
 from swatch.cli import main
 from swatch.errors import SwatchError
-from swatch.fitting import _FacetModel, fit_lab, fit_spectra, match_colour, mirror_angle_deg
+from swatch.fitting import FacetModel, mirror_angle_deg
+from swatch.lab_fit import fit_lab
+from swatch.matching import match_colour
+from swatch.spectral_fit import fit_spectra
 from swatch.measurements import LabMeasurement, SpectralMeasurement
 from swatch.model import get_coating
 
@@ -63,7 +66,7 @@ def test_facet_model_matches_engine_and_tmm():
     coating = get_coating()
     cos_u = np.cos(np.radians([0.0, 22.5, 40.0, 71.0]))
     d = np.array([0.0, 15.9, 138.4, 399.0])
-    fast = _FacetModel(coating, cos_u)(d)
+    fast = FacetModel(coating, cos_u)(d)
     np.testing.assert_allclose(fast, coating.reflectance_cos(d[:, None], cos_u).R, rtol=1e-12, atol=1e-14)
     wi = 30
     th = np.arccos(cos_u[2])
@@ -73,14 +76,14 @@ def test_facet_model_matches_engine_and_tmm():
 
 
 def test_range_end_is_a_minimum_only_when_it_is_the_best():
-    from swatch.fitting import _local_minima
+    from swatch.search import local_minima
 
     falling = np.array([3.0, 1.0, 2.0, 1.5, 1.2, 1.1])  # interior minimum at 1, falls towards the end
-    assert list(_local_minima(falling)) == [1]
+    assert list(local_minima(falling)) == [1]
     best_at_end = np.array([3.0, 1.0, 2.0, 0.5])
-    assert list(_local_minima(best_at_end)) == [3, 1]
+    assert list(local_minima(best_at_end)) == [3, 1]
     monotone = np.array([3.0, 2.0, 1.0])
-    assert list(_local_minima(monotone)) == [2]
+    assert list(local_minima(monotone)) == [2]
 
 
 def test_mirror_angle_independent():

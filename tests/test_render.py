@@ -15,7 +15,7 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from swatch import imageio, microfacet, render, shading
+from swatch import angular, display, imageio, metadata, microfacet, render, scene as scenes, shading
 from swatch.cli import main
 from swatch.colorimetry import Lab_to_LCh, delta_E_00, get_colorimeter
 from swatch.errors import SwatchError
@@ -44,13 +44,13 @@ def _attrs(path) -> dict:
 
 
 # -- the table path against the direct spectral path -------------------------------------------
-@pytest.mark.parametrize("shape", render.SHAPES)
+@pytest.mark.parametrize("shape", scenes.SHAPES)
 @pytest.mark.parametrize("thickness", [BLUE_NM, 240.0, 900.0])
 def test_table_matches_direct_spectral(shape, thickness):
-    scene = render.make_scene(shape, 45.0)
-    n, l, v, hit = render.scene_geometry(scene, 64)
+    scene = scenes.make_scene(shape, 45.0)
+    n, l, v, hit = scenes.scene_geometry(scene, 64)
     n, v = n[hit], v[hit]
-    table = shading.colour_table(thickness, COATING, CM)  # default: full [0, 1] range, 1025 nodes
+    table = shading.facet_colour_table(thickness, COATING, CM)  # default: full [0, 1] range, 1025 nodes
     for model in ("microfacet", "paper"):
         fast = shading.shade(n, l, v, table, model, 0.3)
         direct = shading.shade_direct(n, l, v, thickness, COATING, CM, model, 0.3)
@@ -59,17 +59,17 @@ def test_table_matches_direct_spectral(shape, thickness):
         assert float(np.max(dE)) <= 0.05
 
 
-@pytest.mark.parametrize("shape", render.SHAPES)
+@pytest.mark.parametrize("shape", scenes.SHAPES)
 def test_render_pixels_match_direct_spectral(shape):
     # The real render path (scene-range table, float32, trace without normals) against the
     # direct spectrum at the same pixel centres (normals from the explicit intersection).
     size = 96
     for thickness in (BLUE_NM, 600.0):
         img = render.render_swatch(thickness, shape, size)
-        scene = render.make_scene(shape, 45.0)
-        n, l, v, hit = render.scene_geometry(scene, size)
+        scene = scenes.make_scene(shape, 45.0)
+        n, l, v, hit = scenes.scene_geometry(scene, size)
         # Pixels shaded at their centre: away from the silhouette (edge pixels are supersampled).
-        inside = (img.alpha == 1.0) & hit
+        inside = (img.coverage == 1.0) & hit
         for _ in range(2):
             inside[1:-1, 1:-1] &= inside[:-2, 1:-1] & inside[2:, 1:-1] & inside[1:-1, :-2] & inside[1:-1, 2:]
         inside[[0, -1], :] = False
@@ -86,7 +86,7 @@ def test_render_pixels_match_direct_spectral(shape):
 def test_acescg_render_is_the_same_colour():
     a = render.render_swatch(BLUE_NM, "sphere", 48)
     b = render.render_swatch(BLUE_NM, "sphere", 48, space="acescg")
-    m = a.alpha == 1
+    m = a.coverage == 1
     dE = delta_E_00(CM2.Lab(_rgb_to_XYZ(a.linear_rgb[m])), CM2.Lab(_rgb_to_XYZ(b.linear_rgb[m], "acescg")))
     assert float(np.max(dE)) < 0.05
     assert np.array_equal(a.display_rgb, b.display_rgb) or np.abs(a.display_rgb.astype(int) - b.display_rgb).max() <= 1
@@ -97,22 +97,22 @@ def test_blue_sample_is_blue_off_mirror():
     # Off-mirror pixels (outside the half maximum of the lobe) of the blue sample: hue 220–300°.
     for shape in ("flat", "cylinder", "sphere"):
         img = render.render_swatch(BLUE_NM, shape, 96)
-        scene = render.make_scene(shape, 45.0)
-        n, l, v, hit = render.scene_geometry(scene, 96)
+        scene = scenes.make_scene(shape, 45.0)
+        n, l, v, hit = scenes.scene_geometry(scene, 96)
         h = (l + v) / np.linalg.norm(l + v, axis=-1, keepdims=True)
         cos_h = (n * h).sum(-1)
-        off = hit & (img.alpha == 1) & (microfacet.D_ratio(np.clip(cos_h, 0, 1), 0.3) < 0.5) & ((n @ l) > 0.1)
+        off = hit & (img.coverage == 1) & (microfacet.D_ratio(np.clip(cos_h, 0, 1), 0.3) < 0.5) & ((n @ l) > 0.1)
         assert off.sum() > 20, shape
         lch = Lab_to_LCh(CM2.Lab(_rgb_to_XYZ(img.linear_rgb[off])))
         assert 220 <= np.median(lch[:, 2]) <= 300, (shape, np.median(lch[:, 2]))
         assert np.median(lch[:, 1]) > 15  # clearly coloured, not grey
-    lab = render.reference_Lab(BLUE_NM, COATING, CM)
+    lab = metadata.reference_Lab(BLUE_NM, COATING, CM)
     assert 220 <= Lab_to_LCh(lab)[2] <= 300
 
 
 def test_highlight_brighter_and_edges_antialiased():
     img = render.render_swatch(BLUE_NM, "sphere", 128)
-    a = img.alpha
+    a = img.coverage
     assert a.min() == 0.0 and a.max() == 1.0
     partial = (a > 0) & (a < 1)
     assert 100 < partial.sum() < 4 * 128 * 4  # a thin anti-aliased rim
@@ -129,11 +129,11 @@ def test_any_size_and_paper_model():
         assert img.linear_rgb.shape == (size, size, 3) and img.linear_rgb.dtype == np.float32
     img = render.render_swatch(BLUE_NM, "flat", 64, model="paper")
     assert img.exposure == 1.0
-    img = render.render_swatch(BLUE_NM, "flat", 64, distribution="beckmann", roughness=0.2)
+    img = render.render_swatch(BLUE_NM, "flat", 64, distribution="beckmann", roughness_alpha=0.2)
     assert np.isfinite(img.linear_rgb).all()
 
 
-@pytest.mark.parametrize("kwargs", [dict(size_px=0), dict(size_px=10**6), dict(roughness=0.0), dict(roughness=1.5),
+@pytest.mark.parametrize("kwargs", [dict(size_px=0), dict(size_px=10**6), dict(roughness_alpha=0.0), dict(roughness_alpha=1.5),
                                     dict(shape="cube"), dict(model="phong"), dict(light_deg=95.0),
                                     dict(space="xyz"), dict(thickness_nm=-5.0)])
 def test_render_api_rejects_bad_input(kwargs):
@@ -145,7 +145,7 @@ def test_render_api_rejects_bad_input(kwargs):
 
 # -- angular maps --------------------------------------------------------------------------------
 def test_angular_map_colour_matches_colour_science():
-    m = render.angular_map(BLUE_NM, np.array([0.0, 45.0, 70.0]), np.array([0.0, 30.0]))
+    m = angular.angular_map(BLUE_NM, np.array([0.0, 45.0, 70.0]), np.array([0.0, 30.0]))
     assert m.XYZ.shape == (3, 2, 3) and m.spectral.shape == (3, 2, COATING.wavelength_nm.size)
     sd = colour.SpectralDistribution(dict(zip(COATING.wavelength_nm, m.spectral[1, 0])))
     ref = colour.sd_to_XYZ(sd, CM.cmfs, CM.illuminant_sd)
@@ -157,7 +157,7 @@ def test_angular_map_colour_matches_colour_science():
 
 def test_angular_microfacet_mirror_is_brightest():
     ang = np.arange(0, 86, 5.0)
-    m = render.angular_map(BLUE_NM, ang, ang, model="microfacet")
+    m = angular.angular_map(BLUE_NM, ang, ang, model="microfacet")
     Y = m.XYZ[..., 1]
     # Up to 60° (beyond, 1/cos θ_v lifts grazing off-mirror views): the mirror cell beats every
     # cell of its row at least 30° away from it.
@@ -195,7 +195,7 @@ def test_render_files_metadata_and_determinism(tmp_path, capsys):
     assert list(spec.spec().channelnames) == ["R", "G", "B", "A"] and spec.spec().format == oiio.HALF
     spec.close()
     lab = imageio.read_metadata(exr)["Lab_reference"]
-    np.testing.assert_allclose(lab, render.reference_Lab(50.8, COATING, CM), atol=1e-3)
+    np.testing.assert_allclose(lab, metadata.reference_Lab(50.8, COATING, CM), atol=1e-3)
     p = _attrs(png)
     assert p["swatch:film"] == COATING.film and float(p["swatch:thickness_nm"]) == pytest.approx(50.8)
     assert imageio.read_metadata(png)["roughness"] == pytest.approx(0.3)
@@ -327,8 +327,8 @@ def test_imageio_general(tmp_path):
 
 def test_display_encoding_matches_srgb():
     # Below the shoulder the LUT equals colour-science's sRGB encoding to within rounding.
-    x = np.concatenate([np.linspace(0, render.KNEE, 50001), np.geomspace(1e-7, render.KNEE, 5000)]).astype(np.float32)
-    got = render.display_encode(x[:, None]).astype(float).ravel()
+    x = np.concatenate([np.linspace(0, display.KNEE, 50001), np.geomspace(1e-7, display.KNEE, 5000)]).astype(np.float32)
+    got = display.display_encode(x[:, None]).astype(float).ravel()
     exact = colour.RGB_COLOURSPACES["sRGB"].cctf_encoding(x.astype(np.float64)) * 255
     assert np.max(np.abs(got - exact)) <= 0.6
-    assert render.display_encode(np.array([[0.0, 100.0, -1.0]], np.float32)).tolist() == [[0, 255, 0]]
+    assert display.display_encode(np.array([[0.0, 100.0, -1.0]], np.float32)).tolist() == [[0, 255, 0]]

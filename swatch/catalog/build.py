@@ -50,8 +50,9 @@ __all__ = ["build_catalog", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 FORMAT_VERSION = 1
 
 #: Modules whose code shapes the outputs (their source is hashed into the fingerprint).
-_CODE_MODULES = ("optics", "model", "geometry", "colorimetry", "materials", "appearance", "tolerance",
-                 "microfacet", "render", "imageio")
+_CODE_MODULES = ("__init__", "choices", "limits", "optics", "model", "geometry", "colorimetry", "materials",
+                 "appearance", "tolerance", "microfacet", "shading", "scene", "display", "metadata", "angular",
+                 "render", "imageio")
 
 
 @dataclass

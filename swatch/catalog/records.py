@@ -112,7 +112,7 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
     points. ``capped`` means no crossing within the search (or, below, before zero thickness):
     the window is then the search limit (or ``d`` itself).
     """
-    from swatch.model import MAX_THICKNESS_NM
+    from swatch.limits import MAX_THICKNESS_NM
     from swatch.tolerance import delta_E
 
     if d.size > _CHUNK:  # bound the memory of the (N, K, W) spectra

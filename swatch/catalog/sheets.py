@@ -1,7 +1,7 @@
 """Catalog sheets: tiles of rendered swatches with their numbers, as a linear EXR and a display PNG.
 
 A tile holds the swatch rendered flat and curved (``swatch.render.render_swatch``, the spec's
-shapes, model and roughness, light 45°), a small angular map (``swatch.render.angular_map``,
+shapes, model and roughness, light 45°), a small angular map (``swatch.angular.angular_map``,
 paper model: the colour over light × view angle, 0–85°, light up the side, view along the
 bottom) and the labels: thickness and voltage, L*a*b* and L*C*h at the reference geometry, the
 sRGB hex with a flat chip of that colour, ΔE2000 to the neighbours and the process window.
@@ -80,23 +80,24 @@ def _render_job(args):
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
     from swatch.model import get_coating
-    from swatch.render import angular_map, render_swatch
+    from swatch.angular import angular_map
+    from swatch.render import render_swatch
 
     wl = wavelength_grid(380.0, 780.0, wl_step)
     coating = get_coating(film, substrate, wl, scale)
     cm = get_colorimeter(wl, illuminant, observer)
     out = {}
     for i, shape in enumerate(shapes):
-        im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness=roughness, model=model,
+        im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness_alpha=roughness, model=model,
                            coating=coating, colorimeter=cm, space="srgb", workers=1)
         # half floats: the sheet EXR is half anyway, and the cache stays small
         out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
-        out[f"r{i}_alpha"] = np.asarray(im.alpha, dtype=np.float16)
+        out[f"r{i}_alpha"] = np.asarray(im.coverage, dtype=np.float16)
         out[f"r{i}_display"] = np.asarray(im.display_rgb, dtype=np.uint8)
         out[f"r{i}_exposure"] = np.float64(im.exposure)
     if amap:
         am = angular_map(d, AMAP_ANGLES_DEG, AMAP_ANGLES_DEG, coating=coating, colorimeter=cm, model="paper")
-        # rows = light angle: flip so light 0° is at the bottom (as swatch.render.angular_figure)
+        # rows = light angle: flip so light 0° is at the bottom (as swatch.figures.angular_figure)
         lin = np.asarray(am.linear_rgb, dtype=np.float32)[::-1] * np.float32(am.exposure)
         disp = np.asarray(am.display_rgb, dtype=np.uint8)[::-1]
         c = AMAP_CELL_PX
@@ -378,7 +379,7 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
                   number: int, of: int, png_path: Path, exr_path: Path) -> None:
     """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata)."""
     from swatch.imageio import draw_rect, write_exr, write_png
-    from swatch.render import BACKGROUND_LINEAR
+    from swatch.display import BACKGROUND_LINEAR
 
     lay = Layout(spec)
     disp = _strip(lay.width, lay.height, PAGE)

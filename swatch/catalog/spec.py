@@ -16,17 +16,17 @@ import tomllib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from swatch.choices import MODELS, SHAPES
+from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.errors import SwatchError
 from swatch.limits import MAX_SPEC_BYTES, read_capped
 
 __all__ = ["CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
-RENDER_SHAPES = ("flat", "cylinder", "sphere")
-RENDER_MODELS = ("microfacet", "paper")
+RENDER_SHAPES = SHAPES
+RENDER_MODELS = MODELS
 MAX_SWATCHES = 400
-MAX_THICKNESS_NM = 1000.0  # = swatch.model.MAX_THICKNESS_NM (kept here to avoid importing numpy)
-MAX_VOLTAGE_V = 300.0
 #: Default multi-angle set: illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° (ASTM E2194 / E2539).
 DEFAULT_ASPECULAR_DEG = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
 

@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 import click
-import numpy as np
 
 from swatch.commands.common import (
     colour_options, echo_json, geometry_options, grid_option, material_options, overcoat_option, resolve_coating,
     resolve_grid, resolve_process, resolve_thickness, thickness_options,
 )
-from swatch.errors import SwatchError
+from swatch.model import overcoat_json, overcoat_text
+from swatch.report import colour_table_text, material_text, materials_text, spectrum_text
 
 
 @click.command()
@@ -36,15 +36,11 @@ def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimut
         "reflectance_p": refl.R_p.tolist(),
         "process": proc.metadata(),
     }
-    out.update(_overcoat_json(coating))
+    out.update(overcoat_json(coating))
     if as_json:
         echo_json(out)
         return
-    click.echo(f"# {coating.film} on {coating.substrate}{_overcoat_text(coating)}, d = {d[0]:g} nm, "
-               f"theta_d = {theta_d:.3f} deg; process {proc.name}")
-    click.echo(f"{'wavelength_nm':>13} {'R':>10} {'R_s':>10} {'R_p':>10}")
-    for row in zip(out["wavelength_nm"], out["reflectance"], out["reflectance_s"], out["reflectance_p"]):
-        click.echo(f"{row[0]:13.1f} {row[1]:10.6f} {row[2]:10.6f} {row[3]:10.6f}")
+    click.echo("\n".join(spectrum_text(out, overcoat_text(coating), proc.name)))
 
 
 @click.command()
@@ -58,14 +54,14 @@ def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimut
 def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
           overcoats, illuminant, observer, wavelengths, as_json):
     """Colour of each thickness at one geometry: XYZ, CIELAB, LCh, sRGB and ΔE*ab to the previous row."""
-    from swatch.appearance import color_table
+    from swatch.appearance import thickness_colours
     from swatch.colorimetry import get_colorimeter
 
     proc = resolve_process(process, film, substrate, nm_per_volt)
     d, v = resolve_thickness(thickness, voltage, proc, multiple=True)
     coating = resolve_coating(proc, wavelengths=wavelengths, overcoats=overcoats)
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
-    table = color_table(d, light, view, coating, cm, light_azimuth, view_azimuth)
+    table = thickness_colours(d, light, view, coating, cm, light_azimuth, view_azimuth)
     rows = table.rows()
     if v is not None:
         for row, volts in zip(rows, v):
@@ -74,30 +70,10 @@ def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, 
         echo_json({
             "illuminant": cm.illuminant, "observer": cm.observer, "film": coating.film,
             "substrate": coating.substrate, "light_deg": light, "view_deg": view,
-            "theta_d_deg": table.theta_d_deg, **_overcoat_json(coating), "process": proc.metadata(), "rows": rows,
+            "theta_d_deg": table.theta_d_deg, **overcoat_json(coating), "process": proc.metadata(), "rows": rows,
         })
         return
-    click.echo(f"# {coating.film} on {coating.substrate}{_overcoat_text(coating)}; light {light:g}°, view {view:g}° "
-               f"(theta_d {table.theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; process {proc.name}")
-    click.echo(f"{'d_nm':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'C*':>7} {'h':>6}  {'sRGB':7} {'gamut':5} {'dE_ab':>6}")
-    for r in rows:
-        L, a, b = r["Lab"]
-        _, C, h = r["LCh"]
-        dE = "" if r["delta_E_ab_to_previous"] is None else f"{r['delta_E_ab_to_previous']:6.2f}"
-        click.echo(f"{r['thickness_nm']:7.1f} {L:7.2f} {a:7.2f} {b:7.2f} {C:7.2f} {h:6.1f}  "
-                   f"{r['srgb_hex']:7} {'yes' if r['in_srgb_gamut'] else 'no':5} {dE:>6}")
-
-
-def _overcoat_json(coating) -> dict:
-    overcoats = getattr(coating, "overcoats", ())
-    if not overcoats:
-        return {}
-    return {"overcoat": [{"layer": o.label, "thickness_nm": o.thickness_nm} for o in overcoats]}
-
-
-def _overcoat_text(coating) -> str:
-    layers = [f"{o.label} {o.thickness_nm:g} nm" for o in getattr(coating, "overcoats", ())]
-    return f" under {' / '.join(layers)}" if layers else ""
+    click.echo("\n".join(colour_table_text(rows, coating, cm, light, view, table.theta_d_deg, proc.name)))
 
 
 @click.group()
@@ -120,11 +96,7 @@ def materials_list(role, as_json):
             "default": m.name in (DEFAULT_FILM, DEFAULT_SUBSTRATE),
         } for m in mats])
         return
-    for m in mats:
-        lo, hi = m.wavelength_range_nm
-        star = "*" if m.name in (DEFAULT_FILM, DEFAULT_SUBSTRATE) else " "
-        click.echo(f"{star}{m.name:24} {m.role:9} {lo:8.1f}–{hi:<9.1f} nm  doi:{m.doi}")
-    click.echo("(* default)")
+    click.echo("\n".join(materials_text(mats, (DEFAULT_FILM, DEFAULT_SUBSTRATE))))
 
 
 @materials.command("show")
@@ -146,11 +118,7 @@ def materials_show(name, wavelengths, as_json):
     if as_json:
         echo_json(out)
         return
-    click.echo(f"# {m.name} ({m.role}): {' '.join(m.reference.split())}")
-    click.echo(f"# doi:{m.doi}; {m.license}")
-    click.echo(f"{'wavelength_nm':>13} {'n':>9} {'k':>9}")
-    for w, n, k in zip(wl, nk.real, nk.imag):
-        click.echo(f"{w:13.1f} {n:9.4f} {k:9.4f}")
+    click.echo("\n".join(material_text(m, wl, nk)))
 
 
 @click.command()
@@ -161,27 +129,11 @@ def roughness(ra_nm, as_json):
 
     The paper's blue sample (Ra 268 nm) is rough: h spans 47.5–195 nm.
     """
-    if not np.isfinite(ra_nm) or ra_nm < 0 or ra_nm > 1e6:
-        raise SwatchError("--ra must be a roughness from 0 to 1e6 nm")
-    angles = np.arange(0.0, 61.0, 10.0)
-    wl = np.array([380.0, 480.0, 580.0, 680.0, 780.0])
-    h = wl[None, :] / (8.0 * np.cos(np.radians(angles))[:, None])
-    h_min, h_max = float(h.min()), float(h.max())
-    if ra_nm > h_max:
-        verdict = "rough"
-        text = "optically rough over the whole visible range and 0–60°: facets scatter off-mirror (half-vector model applies)"
-    elif ra_nm < h_min:
-        verdict = "smooth"
-        text = "optically smooth over the whole visible range and 0–60°: a mirror; colour only near the specular direction"
-    else:
-        verdict = "partly rough"
-        text = "rough for short wavelengths or steep angles, smooth otherwise"
+    from swatch.rayleigh import ANGLES_DEG, WAVELENGTHS_NM, rayleigh_criterion, rayleigh_text
+
+    r = rayleigh_criterion(ra_nm)
     if as_json:
-        echo_json({"ra_nm": ra_nm, "h_min_nm": h_min, "h_max_nm": h_max, "verdict": verdict,
-                   "angle_deg": angles.tolist(), "wavelength_nm": wl.tolist(), "h_nm": h.tolist()})
+        echo_json({"ra_nm": ra_nm, "h_min_nm": r["h_min_nm"], "h_max_nm": r["h_max_nm"], "verdict": r["verdict"],
+                   "angle_deg": ANGLES_DEG.tolist(), "wavelength_nm": WAVELENGTHS_NM.tolist(), "h_nm": r["h_nm"].tolist()})
         return
-    click.echo(f"Rayleigh criterion h = λ/(8 cos θ): {h_min:.1f}–{h_max:.1f} nm over 380–780 nm, 0–60°")
-    click.echo(f"{'θ_deg':>6} " + " ".join(f"{w:>7.0f}nm" for w in wl))
-    for a, row in zip(angles, h):
-        click.echo(f"{a:6.0f} " + " ".join(f"{v:9.1f}" for v in row))
-    click.echo(f"Ra = {ra_nm:g} nm: {text}")
+    click.echo("\n".join(rayleigh_text(r, ra_nm)))

@@ -1,23 +1,22 @@
 """Render commands: ``swatch angular`` (colour over light × view angles) and ``swatch render`` (swatches)."""
 from __future__ import annotations
 
-import csv
-import io
-import json
 import sys
-
+from contextlib import nullcontext
 from pathlib import Path
 
 import click
 import numpy as np
 
+from swatch.choices import DISTRIBUTIONS, IMAGE_SPACES, MODELS, SHAPES
+from swatch.limits import MAX_ANGULAR_CELLS
 from swatch.commands.common import (
     colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_process,
     resolve_thickness, thickness_options,
 )
 from swatch.errors import SwatchError
+from swatch.metadata import file_stem, voltage_note, with_voltage
 
-SPACES = ("srgb", "acescg")
 ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view angle, first value at the "
                "left (as the PNG figure and the catalog sheets)")
 
@@ -26,18 +25,7 @@ def _iterate(items, label: str):
     """Items with a progress bar on stderr when it is a terminal and there is more than one."""
     if len(items) > 1 and is_terminal():
         return click.progressbar(items, label=label, file=sys.stderr, show_pos=True)
-    return _Plain(items)
-
-
-class _Plain:
-    def __init__(self, items):
-        self.items = items
-
-    def __enter__(self):
-        return iter(self.items)
-
-    def __exit__(self, *exc):
-        return False
+    return nullcontext(items)
 
 
 def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant, observer, wavelengths):
@@ -48,20 +36,9 @@ def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant
     coating = proc.coating(resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     volts = v if v is not None else proc.voltage_V(d)
-    law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.name})" if proc.has_growth_law
-           else f"process {proc.name}")
-    note = (f"given; thickness from it at {law}" if v is not None
-            else f"estimated from the thickness at {law}" if volts is not None else f"no growth rate in {law}")
+    note = voltage_note(proc, given=v is not None, known=volts is not None)
     volts = np.full(d.shape, np.nan) if volts is None else np.asarray(volts, dtype=float)
     return d, volts, note, coating, cm, proc
-
-
-def _voltage_meta(meta: dict, volts: float, note: str, proc) -> dict:
-    meta = dict(meta)
-    meta["voltage_V"] = round(float(volts), 6) if np.isfinite(volts) else None
-    meta["voltage_note"] = note
-    meta.update({k: (round(v, 9) if isinstance(v, float) else v) for k, v in proc.metadata().items()})
-    return meta
 
 
 def _roughness(roughness: float | None, process: str | None) -> float:
@@ -72,47 +49,17 @@ def _roughness(roughness: float | None, process: str | None) -> float:
     return proc.roughness if proc.roughness is not None else 0.3
 
 
-def _check_common(roughness: float, space: str):
-    from swatch.microfacet import check_alpha
-
-    check_alpha(roughness)
-    if space not in SPACES:
-        raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(SPACES)}")
-
-
-def _lab_csv(amap) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["light_deg", "view_deg", "theta_d_deg", "X", "Y", "Z", "L", "a", "b"])
-    L, V = np.meshgrid(amap.light_deg, amap.view_deg, indexing="ij")
-    rows = np.column_stack([L.ravel(), V.ravel(), amap.theta_d_deg.ravel(), amap.XYZ.reshape(-1, 3),
-                            amap.Lab.reshape(-1, 3)])
-    for r in rows:
-        w.writerow([f"{r[0]:g}", f"{r[1]:g}", f"{r[2]:.4f}"] + [f"{x:.4f}" for x in r[3:]])
-    return buf.getvalue()
-
-
-def _lab_json(amap) -> str:
-    out = {
-        "metadata": amap.metadata,
-        "light_deg": amap.light_deg.tolist(),
-        "view_deg": amap.view_deg.tolist(),
-        "Lab": np.round(amap.Lab, 4).tolist(),
-    }
-    return json.dumps(out, indent=1, ensure_ascii=False, allow_nan=False, sort_keys=True) + "\n"
-
-
 @click.command()
 @thickness_options(multiple=True)
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--light-range", default="0:85:1", show_default=True, help="light polar angles A:B:STEP or N,N,... (deg)")
 @click.option("--view-range", default="0:85:1", show_default=True, help="view polar angles A:B:STEP or N,N,... (deg)")
-@click.option("--model", type=click.Choice(["paper", "microfacet"]), default="microfacet", show_default=True,
+@click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True,
               help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)")
 @click.option("--roughness", type=float, default=None,
               help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]")
-@click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
-@click.option("--space", type=click.Choice(SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
+@click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True)
+@click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
 @click.option("--force", is_flag=True, help="overwrite existing files")
 @material_options
 @colour_options
@@ -126,16 +73,19 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     .csv and .json (Lab per cell). Images: light angle up, view angle to the right.
     """
     from swatch import geometry, imageio
+    from swatch.angular import angular_map
+    from swatch.figures import angular_figure
     from swatch.fileio import atomic_write_text, check_new, check_writable_dir
+    from swatch.microfacet import check_roughness_alpha
     from swatch.pngmeta import image_xmp
-    from swatch.render import angular_figure, angular_map, file_stem
+    from swatch.report import angular_lab_csv, angular_lab_json
 
     roughness = _roughness(roughness, process)
-    _check_common(roughness, space)
-    lights = geometry.check_polar_deg(parse_range(light_range, "light angle", "deg"), "light")
-    views = geometry.check_polar_deg(parse_range(view_range, "view angle", "deg"), "view")
-    if lights.size * views.size > 4_000_000:
-        raise SwatchError("angular map too large; at most 4,000,000 cells (light × view)")
+    check_roughness_alpha(roughness)
+    lights, views = geometry.check_light_view_deg(parse_range(light_range, "light angle", "deg"),
+                                                  parse_range(view_range, "view angle", "deg"))
+    if lights.size * views.size > MAX_ANGULAR_CELLS:
+        raise SwatchError(f"angular map too large; at most {MAX_ANGULAR_CELLS:,} cells (light × view)")
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
     stems = [file_stem("angular", x) for x in d]
@@ -148,7 +98,7 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     with _iterate(list(range(d.size)), "angular maps") as it:
         for i in it:
             amap = angular_map(d[i], lights, views, coating, cm, model, roughness, distribution, space=space)
-            meta = _voltage_meta(amap.metadata, volts[i], note, proc)
+            meta = with_voltage(amap.metadata, volts[i], note, proc)
             amap.metadata = meta
             path = {suf: out / (stems[i] + suf) for suf in suffixes}  # (not with_suffix: "050.8nm")
             meta["orientation"] = ORIENTATION
@@ -158,8 +108,8 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
                               xmp=image_xmp(f"Angular colour map, {d[i]:g} nm", meta))
             imageio.write_spectral_exr(path["_spectral.exr"], amap.spectral[::-1], amap.wavelength_nm, meta,
                                        rgb=amap.linear_rgb[::-1], space=space)
-            atomic_write_text(path[".csv"], _lab_csv(amap))
-            atomic_write_text(path[".json"], _lab_json(amap))
+            atomic_write_text(path[".csv"], angular_lab_csv(amap))
+            atomic_write_text(path[".json"], angular_lab_json(amap))
             written += [str(path[suf]) for suf in suffixes]
     for p in written:
         click.echo(p)
@@ -167,16 +117,16 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
 
 @click.command()
 @thickness_options(multiple=True)
-@click.option("--shape", type=click.Choice(["flat", "cylinder", "sphere"]), default="flat", show_default=True,
+@click.option("--shape", type=click.Choice(SHAPES), default="flat", show_default=True,
               help="flat plate, half cylinder (bent sheet) or sphere")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
 @click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
 @click.option("--roughness", type=float, default=None,
               help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]")
-@click.option("--model", type=click.Choice(["paper", "microfacet"]), default="microfacet", show_default=True)
-@click.option("--distribution", type=click.Choice(["ggx", "beckmann"]), default="ggx", show_default=True)
-@click.option("--space", type=click.Choice(SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
+@click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True)
+@click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True)
+@click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
 @click.option("--force", is_flag=True, help="overwrite existing files")
 @material_options
 @colour_options
@@ -186,11 +136,12 @@ def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, li
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
     from swatch import geometry, imageio
     from swatch.fileio import check_new, check_writable_dir
+    from swatch.microfacet import check_roughness_alpha
     from swatch.pngmeta import image_xmp
-    from swatch.render import check_size_px, file_stem, render_swatch
+    from swatch.render import check_size_px, render_swatch
 
     roughness = _roughness(roughness, process)
-    _check_common(roughness, space)
+    check_roughness_alpha(roughness)
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
@@ -204,7 +155,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, li
     with _iterate(list(range(d.size)), f"{shape} swatches") as it:
         for i in it:
             img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution)
-            meta = _voltage_meta(img.metadata, volts[i], note, proc)
+            meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
             imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm", meta))

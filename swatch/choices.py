@@ -1,0 +1,39 @@
+"""Every choice list (and the fits' defaults) of the library, defined once (no numpy: the spec
+parser imports it). The limits are in :mod:`swatch.limits`.
+
+The CLI builds its ``click.Choice`` lists from these, and the library's checks raise
+:class:`swatch.errors.SwatchError` naming them, so a new choice is added in one place.
+"""
+from __future__ import annotations
+
+__all__ = [
+    "SHAPES",
+    "MODELS",
+    "DISTRIBUTIONS",
+    "IMAGE_SPACES",
+    "SCALE_MODES",
+    "DEFAULT_THICKNESS_RANGE_NM",
+    "DEFAULT_FIT_STEP_NM",
+    "DEFAULT_MATCH_STEP_NM",
+    "DEFAULT_EXCLUDE_MIRROR_DEG",
+]
+
+#: Swatch shapes of a render: flat plate, half cylinder (a bent sheet), sphere.
+SHAPES = ("flat", "cylinder", "sphere")
+#: Intensity models: ``paper`` (the half-vector reflectance alone, facet probability constant) and
+#: ``microfacet`` (D G F / (4 cos θ_l cos θ_v)).
+MODELS = ("paper", "microfacet")
+#: Microfacet normal distributions.
+DISTRIBUTIONS = ("ggx", "beckmann")
+#: RGB primaries of the EXR images of renders and angular maps (the colorimeter knows more spaces,
+#: :data:`swatch.colorimetry.RGB_SPACES`; these are the ones with an EXR ``chromaticities`` tag).
+IMAGE_SPACES = ("srgb", "acescg")
+#: Intensity corrections of the thickness fit: ``energy`` (the paper's mean-energy match per
+#: geometry), ``lsq`` (least-squares scale per geometry), ``global`` (one scale), ``none``.
+SCALE_MODES = ("energy", "lsq", "global", "none")
+
+#: Thickness fits and colour matches: the search range, its steps and the mirror exclusion.
+DEFAULT_THICKNESS_RANGE_NM = (0.0, 400.0)
+DEFAULT_FIT_STEP_NM = 1.0
+DEFAULT_MATCH_STEP_NM = 0.1
+DEFAULT_EXCLUDE_MIRROR_DEG = 10.0
