@@ -18,8 +18,31 @@ from swatch.errors import SwatchError
 DISTS = ["ggx", "beckmann"]
 
 
-def _hemisphere_grid(n_theta=600, n_phi=256):
-    """Gauss–Legendre nodes/weights over (θ, φ) on the upper hemisphere (dω = sin θ dθ dφ)."""
+def _hemisphere_grid(alpha, n_theta=32, n_phi=96):
+    """Gauss–Legendre nodes/weights over the upper hemisphere (dω = sin θ dθ dφ) for integrands
+    peaked at the pole with width ``alpha`` and mirror-symmetric about the xz plane.
+
+    θ: Gauss–Legendre panels broken at α/4, α, 3α (the lobe) and 45° (where the light leaves the
+    hemisphere at normal view); φ: midpoints over [0, π], doubled by the symmetry. Against a
+    200 × 1024-node reference of the same rule this is within 1.3e-4 of every albedo the tests
+    take (the tests allow 2e-3), at 1/10 of the nodes of a uniform 600 × 256 grid.
+    """
+    breaks = sorted({b for b in (alpha / 4, alpha, 3 * alpha, np.pi / 4) if b < np.pi / 2})
+    edges = np.array([0.0, *breaks, np.pi / 2])
+    x, w = np.polynomial.legendre.leggauss(n_theta)
+    half = 0.5 * np.diff(edges)[:, None]
+    theta = (half * (x + 1.0) + edges[:-1, None]).ravel()
+    wt = (half * w).ravel()
+    phi = (np.arange(n_phi) + 0.5) * np.pi / n_phi
+    wp = np.full(n_phi, 2 * np.pi / n_phi)  # each φ in [0, π] stands for ±φ
+    T, P = np.meshgrid(theta, phi, indexing="ij")
+    W = np.outer(wt, wp) * np.sin(T)
+    dirs = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1)
+    return dirs, W
+
+
+def _uniform_hemisphere_grid(n_theta, n_phi):
+    """Gauss–Legendre in θ over [0, π/2] and midpoints in φ over [0, 2π] (no assumptions)."""
     x, w = np.polynomial.legendre.leggauss(n_theta)
     theta = 0.25 * np.pi * (x + 1.0)
     wt = 0.25 * np.pi * w
@@ -55,7 +78,7 @@ def test_ggx_matches_the_tan_form():
 @pytest.mark.parametrize("theta_v", [0.0, 30.0, 60.0, 80.0])
 def test_weak_white_furnace(dist, alpha, theta_v):
     # Heitz 2014: ∫ G1(v, h) D(h) max(0, v·h) dω_h = cos θ_v — the G1 matches its D.
-    h, W = _hemisphere_grid()
+    h, W = _hemisphere_grid(alpha)
     tv = np.radians(theta_v)
     v = np.array([np.sin(tv), 0.0, np.cos(tv)])
     vh = h @ v
@@ -66,7 +89,7 @@ def test_weak_white_furnace(dist, alpha, theta_v):
 
 def _albedo(theta_v, alpha, dist, correlated):
     """∫ f cos θ_l dω_l with F = 1, integrated over the half vector: dω_l = 4 (v·h) dω_h."""
-    h, W = _hemisphere_grid()
+    h, W = _hemisphere_grid(alpha)
     tv = np.radians(theta_v)
     v = np.array([np.sin(tv), 0.0, np.cos(tv)])
     vh = h @ v
@@ -91,8 +114,9 @@ def test_furnace_albedo_at_most_one(dist, alpha, correlated):
 
 
 def test_albedo_by_direct_light_integration():
-    # The same albedo integrated over light directions directly (no change of variables).
-    l, W = _hemisphere_grid(800, 512)
+    # The same albedo integrated over light directions directly (no change of variables, no
+    # adapted nodes: a uniform grid; the lobe is broad at α = 0.5 and the rule converges fast).
+    l, W = _uniform_hemisphere_grid(120, 96)  # converged: 800 × 512 nodes agree to 1e-10
     for theta_v in (10.0, 60.0):
         tv = np.radians(theta_v)
         v = np.array([np.sin(tv), 0.0, np.cos(tv)])
@@ -128,7 +152,7 @@ def test_masking_and_dtype():
 @pytest.mark.parametrize("bad", [0, -0.1, 1.0001, float("nan"), "x"])
 def test_bad_roughness(bad):
     with pytest.raises(SwatchError):
-        mf.check_alpha(bad)
+        mf.check_roughness_alpha(bad)
 
 
 def test_bad_distribution():
