@@ -159,6 +159,11 @@ def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
             "CIELAB of the spectral reflectance factor R(theta_d) of the film on the half-vector facet, "
             "theta_d = 1/2 arccos(l.v), under the illuminant and observer above (colour-science, ASTM E308); "
             "no intensity or microfacet-distribution term"),
+        "srgb_definition": ("srgb_hex, chips and pictures: sRGB (IEC 61966-2-1) of the spectrum by CIE 1931 2° "
+                            "colorimetry under the illuminant above (Bradford-adapted to D65), whatever the "
+                            "observer of the Lab numbers"),
+        "Lab_D50_2_definition": "Lab_D50_2: CIELAB of the reference-geometry spectrum under D50, CIE 1931 2° "
+                                "(ICC / ISO 13655; what the ASE file holds)",
         "reference_geometry": spec.reference.to_json(),
         "multi_angle_geometries": [g.to_json() for g in spec.multi_angle],
         "render": {"shapes": list(spec.shapes), "size_px": spec.size_px, "model": spec.model,
