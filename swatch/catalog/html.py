@@ -223,7 +223,9 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     ref = c["reference_geometry"]
     multi = ", ".join(g["name"] for g in c["multi_angle_geometries"]) or "none"
     files = [("catalog.json", "catalog.json"), ("catalog.csv", "catalog.csv"), (c["exports"]["cxf"], "CxF3"),
-             (c["exports"]["ase"], "ASE")]
+             (c["exports"]["ase"], "ASE (Lab D50/2°)")]
+    if c["exports"].get("ase_srgb"):
+        files.append((c["exports"]["ase_srgb"], "ASE (sRGB)"))
     files += [(s["png"], f"sheet {s['number']}") for s in catalog["sheets"]]
     links = " ".join(f'<a href="{e(href)}">{e(text)}</a>' for href, text in files)
     pw = c["tolerance"]
