@@ -207,6 +207,8 @@ def _parse(path: Path, source: str, origin: str) -> Process:
         raise _fail(source, "profile is not UTF-8 text") from None
     except tomllib.TOMLDecodeError as exc:
         raise _fail(source, f"not valid TOML: {exc}") from None
+    except RecursionError:
+        raise _fail(source, "tables or lists nested too deeply for a profile") from None
     return _from_dict(data, source, origin)
 
 

@@ -129,3 +129,11 @@ def test_issue12_metal_overcoat_is_refused():
     assert proc.returncode == 2
     ok = run_here("color", "--thickness", "50", "--overcoat", "TiO2-Siefke:20", "--json")
     assert ok.returncode == 0, ok.stderr
+
+
+def test_issue12_deeply_nested_process_profile(tmp_path):
+    p = tmp_path / "deep.toml"
+    p.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+    proc = run_here("color", "--thickness", "50", "--process", p)
+    assert_one_line_error(proc, "nested too deeply")
+    assert proc.returncode == 2
