@@ -19,8 +19,9 @@ MAX_CACHE_ENTRY_BYTES = 64 * 1024 * 1024
 MAX_WAVELENGTHS = 10_001
 #: Values in one ``A:B:STEP`` range of the command line (thicknesses, voltages, angles).
 MAX_RANGE_POINTS = 100_000
-#: A measurement CSV (a 10 000-geometry sBRDF set at 5 nm is ~20 MB).
-MAX_MEASUREMENT_BYTES = 32 * 1024 * 1024
+#: A measurement CSV: an sBRDF set of ~7000 geometries at 5 nm (86 × 86 angles) is ~15 MB, and
+#: reading and fitting it peaks near 1 GB.
+MAX_MEASUREMENT_BYTES = 16 * 1024 * 1024
 #: A catalog spec (TOML; the shipped ones are ~1 kB).
 MAX_SPEC_BYTES = 1024 * 1024
 #: One CSV field (Python's csv module default).

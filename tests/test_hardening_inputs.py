@@ -44,7 +44,7 @@ def test_issue12_memory_cap_is_below_the_run_budget():
     (["spectrum", "--thickness", "50", "--wavelengths", "380:780:5e-324"], "at most 10001"),
     (["color", "--thickness", "20:300:5e-324"], "at most 100000"),
     (["color", "--thickness", "0:1000:1e-6"], "at most 100000"),
-    (["fit", "/dev/zero"], "at most 32 MB"),
+    (["fit", "/dev/zero"], "at most 16 MB"),
     (["catalog", "validate", "/dev/urandom"], "at most 1 MB"),
     (["catalog", "validate", "/dev/zero"], "at most 1 MB"),
 ])
