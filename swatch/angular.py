@@ -10,9 +10,23 @@ from swatch import geometry, microfacet, shading
 from swatch.colorimetry import check_rgb_space
 from swatch.display import PAPER_EXPOSURE_RULE, display_encode, exposure
 from swatch.errors import SwatchError
+from swatch.limits import MAX_ANGULAR_SAMPLES
 from swatch.metadata import coating_and_colorimeter, common_metadata
 
-__all__ = ["AngularMap", "angular_map"]
+__all__ = ["AngularMap", "angular_map", "check_angular_size"]
+
+#: Cell-wavelength samples of the optics per block (~16 bytes × 8 temporaries each).
+_BLOCK_SAMPLES = 1 << 20
+
+
+def check_angular_size(n_light: int, n_view: int, n_wavelengths: int) -> None:
+    """Refuse a map whose arrays would exceed the run's memory budget (:data:`MAX_ANGULAR_SAMPLES`)."""
+    samples = n_light * n_view * n_wavelengths
+    if samples > MAX_ANGULAR_SAMPLES:
+        cells = MAX_ANGULAR_SAMPLES // n_wavelengths
+        raise SwatchError(f"angular map too large: {n_light} × {n_view} cells × {n_wavelengths} wavelengths; at most "
+                          f"{MAX_ANGULAR_SAMPLES:,} samples (cells × wavelengths), e.g. {cells:,} cells "
+                          f"({int(cells ** 0.5)} × {int(cells ** 0.5)}) at {n_wavelengths} wavelengths")
 
 
 @dataclass
@@ -59,13 +73,18 @@ def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.ara
     L, V = lt[:, None], vw[None, :]
     cos_d = geometry.cos_theta_d(L, V)
     theta_d = geometry.theta_d_deg(L, V)
-    spectral = coating.reflectance_cos(d, cos_d).R  # (L, V, W)
+    check_angular_size(lt.size, vw.size, coating.wavelength_nm.size)
+    # (L, V, W), in blocks of light rows: the optics' complex temporaries stay ~100 MB at any map size
+    spectral = np.empty(cos_d.shape + (coating.wavelength_nm.size,), dtype=np.float64)
+    rows = max(1, _BLOCK_SAMPLES // (vw.size * coating.wavelength_nm.size))
+    for i in range(0, lt.size, rows):
+        spectral[i:i + rows] = coating.reflectance_cos(d, cos_d[i:i + rows]).R
     if model == "microfacet":
         cl = np.cos(np.radians(L)) + 0 * V
         cv = np.cos(np.radians(V)) + 0 * L
         ch = geometry.cos_theta_h(L, V)
         s = shading.intensity(cl, cv, ch, cos_d, model, roughness_alpha, distribution, irradiance=False)
-        spectral = spectral * s[..., None]
+        spectral *= s[..., None]
         k, rule = exposure(model, s, ch, np.ones_like(s, dtype=bool), roughness_alpha, distribution)
         rule = rule.replace("F=1 intensity", "F=1 reflectance factor")
     else:

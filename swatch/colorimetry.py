@@ -25,6 +25,7 @@ import colour
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_LAB_AB
 
 __all__ = [
     "OBSERVERS",
@@ -242,6 +243,6 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
         vals = np.array([float(p) for p in parts])
     except ValueError:
         raise SwatchError(f"{what} {text!r} must be three numbers L,a,b, e.g. 45,-5,-30") from None
-    if not np.all(np.isfinite(vals)) or not 0 <= vals[0] <= 100:
-        raise SwatchError(f"{what} needs finite values with L between 0 and 100")
+    if not np.all(np.isfinite(vals)) or not 0 <= vals[0] <= 100 or not np.all(np.abs(vals[1:]) <= MAX_LAB_AB):
+        raise SwatchError(f"{what} needs finite values with L between 0 and 100 and a, b within ±{MAX_LAB_AB:g}")
     return vals

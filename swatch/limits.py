@@ -7,7 +7,7 @@ from __future__ import annotations
 
 __all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
-           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_CELLS", "read_capped"]
+           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES", "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -37,10 +37,11 @@ MAX_RUN_BYTES = 2 * 1024 ** 3
 MAX_THICKNESS_NM = 1000.0
 #: Largest anodising voltage accepted.
 MAX_VOLTAGE_V = 300.0
-#: Largest render size (pixels per side).
-MAX_SIZE_PX = 8192
-#: Largest angular map (light × view cells).
-MAX_ANGULAR_CELLS = 4_000_000
+#: Largest render size (pixels per side): a 4096² render peaks at ~1.2 GB (8192² would need ~4.5 GB).
+MAX_SIZE_PX = 4096
+#: Largest angular map, in cells × wavelengths: its spectral array (8 bytes a sample) and the
+#: spectral EXR (4) stay near 0.6 GB within MAX_RUN_BYTES (e.g. 700 × 700 cells at 81 wavelengths).
+MAX_ANGULAR_SAMPLES = 40_000_000
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

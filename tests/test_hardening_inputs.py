@@ -47,11 +47,23 @@ def test_issue12_memory_cap_is_below_the_run_budget():
     (["fit", "/dev/zero"], "at most 16 MB"),
     (["catalog", "validate", "/dev/urandom"], "at most 1 MB"),
     (["catalog", "validate", "/dev/zero"], "at most 1 MB"),
+    (["angular", "--thickness", "50", "--out", "{tmp}/a", "--light-range", "0:85:0.0852", "--view-range",
+      "0:85:0.0852"], "at most 40,000,000 samples"),
+    (["render", "--thickness", "50", "--out", "{tmp}/r", "--size", "8192"], "from 1 to 4096"),
 ])
-def test_issue12_huge_inputs_are_refused_under_a_memory_cap(args, fragment):
-    proc = run_capped(*args, timeout=30)
+def test_issue12_huge_inputs_are_refused_under_a_memory_cap(tmp_path, args, fragment):
+    proc = run_capped(*[a.replace("{tmp}", str(tmp_path)) for a in args], timeout=30)
     assert_one_line_error(proc, fragment)
     assert proc.returncode == 2
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_issue12_angular_map_is_computed_in_blocks(tmp_path):
+    """243 × 243 cells needed ~1.4 GB before the optics ran in blocks of light rows; now ~0.4 GB."""
+    proc = run_capped("angular", "--thickness", "50", "--out", tmp_path, "--light-range", "0:85:0.35",
+                      "--view-range", "0:85:0.35", timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "angular_050.0nm_spectral.exr").is_file()
 
 
 def test_issue12_giant_csv_field(tmp_path):
@@ -114,6 +126,20 @@ def test_issue12_implausible_measurements(tmp_path, text, fragment):
     assert_one_line_error(proc, fragment)
     assert proc.returncode == 2
     assert "Warning" not in proc.stderr
+
+
+def test_issue12_absurd_lab_target_is_refused():
+    proc = run_here("match", "--lab", "50,1e300,0")
+    assert_one_line_error(proc, "within ±200")
+    assert proc.returncode == 2 and "Warning" not in proc.stderr
+
+
+def test_issue12_wavelengths_on_a_spectral_fit_are_refused(tmp_path):
+    p = tmp_path / "s.csv"
+    p.write_text("wavelength_nm,reflectance\n" + "".join(f"{w},0.3\n" for w in range(380, 781, 5)))
+    proc = run_here("fit", p, "--wavelengths", "380:780:10")
+    assert_one_line_error(proc, "--wavelengths applies to CIELAB files")
+    assert proc.returncode == 2
 
 
 @pytest.mark.parametrize("value", ["20,,40", "20,40,", ",20"])

@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 import click
+from click.core import ParameterSource
 
 from swatch.choices import (
     DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_MATCH_STEP_NM, DEFAULT_THICKNESS_RANGE_NM, SCALE_MODES,
@@ -90,6 +91,9 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
         if isinstance(m, LabMeasurement):
             res = fit_lab(m, film, substrate, wavelength_nm=resolve_grid(wavelengths), **common)
         else:
+            if click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT:
+                raise SwatchError(f"{path}: --wavelengths applies to CIELAB files; a spectral fit uses the "
+                                  "measured wavelengths (crop the file to change them)")
             res = fit_spectra(m, film, substrate, **common)
         results.append(res)
     dicts = [with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]

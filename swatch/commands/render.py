@@ -9,7 +9,6 @@ import click
 import numpy as np
 
 from swatch.choices import DISTRIBUTIONS, IMAGE_SPACES, MODELS, SHAPES
-from swatch.limits import MAX_ANGULAR_CELLS
 from swatch.commands.common import (
     colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_process,
     resolve_thickness, thickness_options,
@@ -73,7 +72,7 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     .csv and .json (Lab per cell). Images: light angle up, view angle to the right.
     """
     from swatch import geometry, imageio
-    from swatch.angular import angular_map
+    from swatch.angular import angular_map, check_angular_size
     from swatch.figures import angular_figure
     from swatch.fileio import atomic_write_text, check_new, check_writable_dir
     from swatch.microfacet import check_roughness_alpha
@@ -84,10 +83,9 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     check_roughness_alpha(roughness)
     lights, views = geometry.check_light_view_deg(parse_range(light_range, "light angle", "deg"),
                                                   parse_range(view_range, "view angle", "deg"))
-    if lights.size * views.size > MAX_ANGULAR_CELLS:
-        raise SwatchError(f"angular map too large; at most {MAX_ANGULAR_CELLS:,} cells (light × view)")
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
+    check_angular_size(lights.size, views.size, coating.wavelength_nm.size)
     stems = [file_stem("angular", x) for x in d]
     if len(set(stems)) != len(stems):
         raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
