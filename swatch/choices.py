@@ -11,6 +11,8 @@ __all__ = [
     "MODELS",
     "DISTRIBUTIONS",
     "IMAGE_SPACES",
+    "ENVIRONMENTS",
+    "BACKGROUNDS",
     "SCALE_MODES",
     "DEFAULT_THICKNESS_RANGE_NM",
     "DEFAULT_FIT_STEP_NM",
@@ -28,6 +30,11 @@ DISTRIBUTIONS = ("ggx", "beckmann")
 #: RGB primaries of the EXR images of renders and angular maps (the colorimeter knows more spaces,
 #: :data:`swatch.colorimetry.RGB_SPACES`; these are the ones with an EXR ``chromaticities`` tag).
 IMAGE_SPACES = ("srgb", "acescg")
+#: Built-in lighting of renders (``--environment``; a path to an equirectangular .exr also works):
+#: ``none`` (one directional light), ``uniform`` (radiance 1 everywhere), ``studio`` (a light box).
+ENVIRONMENTS = ("none", "uniform", "studio")
+#: Display backgrounds of renders (``environment``: the map seen behind the object, also in the EXR).
+BACKGROUNDS = ("grey", "white", "environment")
 #: Intensity corrections of the thickness fit: ``energy`` (the paper's mean-energy match per
 #: geometry), ``lsq`` (least-squares scale per geometry), ``global`` (one scale), ``none``.
 SCALE_MODES = ("energy", "lsq", "global", "none")

@@ -33,7 +33,9 @@ from pathlib import Path
 
 import numpy as np
 
+from swatch.choices import ENVIRONMENTS
 from swatch.errors import SwatchError
+from swatch.limits import MAX_ENV_FILE_BYTES, MAX_ENV_PIXELS, MAX_ENV_SIDE
 
 __all__ = [
     "BUILTIN",
@@ -53,12 +55,8 @@ __all__ = [
 ]
 
 #: Built-in environments (``none`` = no environment: the single directional light).
-BUILTIN = ("uniform", "studio")
-ENVIRONMENT_CHOICES = ("none",) + BUILTIN
-#: Caps on a user's EXR, checked from its header before pixels are read.
-MAX_ENV_PIXELS = 8192 * 4096
-MAX_ENV_SIDE = 16384
-MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
+ENVIRONMENT_CHOICES = ENVIRONMENTS
+BUILTIN = tuple(e for e in ENVIRONMENTS if e != "none")
 #: Octahedral map resolution (texels per side) of an environment's radiance.
 MAP_RES = 128
 _REC709_Y = np.array([0.2126, 0.7152, 0.0722])

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 __all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
-           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES", "read_capped"]
+           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
+           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -42,6 +43,10 @@ MAX_SIZE_PX = 4096
 #: Largest angular map, in cells × wavelengths: its spectral array (8 bytes a sample) and the
 #: spectral EXR (4) stay near 0.6 GB within MAX_RUN_BYTES (e.g. 700 × 700 cells at 81 wavelengths).
 MAX_ANGULAR_SAMPLES = 40_000_000
+#: A user's environment map (equirectangular EXR), checked from its header before pixels are read.
+MAX_ENV_PIXELS = 8192 * 4096
+MAX_ENV_SIDE = 16384
+MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

@@ -109,7 +109,7 @@ def _fine_index(fine, cos_d) -> np.ndarray:
 
 
 def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha: float, distribution: str,
-                 display_table=None, workers: int | None = None):
+                 display_table=None, workers: int | None = None, background_linear: float = BACKGROUND_LINEAR):
     """Render ``scene`` with the colour ``table`` (linear RGB; the fast, table-lookup path).
 
     Returns (linear_rgb premultiplied (H, W, 3), coverage (H, W), display uint8 (H, W, 3), exposure,
@@ -144,7 +144,7 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
     display = np.empty((size, size, 3), dtype=np.uint8)
     cols = np.arange(size, dtype=dt) + dt(0.5)
     kk = t32(k)
-    bg = t32(BACKGROUND_LINEAR)
+    bg = t32(background_linear)
 
     def tile(r0, r1):
         rows = (np.arange(r0, r1, dtype=dt) + dt(0.5))[:, None]
@@ -155,7 +155,7 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
         np.multiply(np.take(fine.values, idx, axis=0), s3, out=rgb[r0:r1])
         coverage[r0:r1] = hit
         src = rgb[r0:r1] if dfine is None else np.take(dfine.values, idx, axis=0) * s3
-        display_encode(src, k, (~hit, BACKGROUND_LINEAR), out=display[r0:r1])
+        display_encode(src, k, (~hit, background_linear), out=display[r0:r1])
 
     bounds = list(range(0, size, TILE_ROWS)) + [size]
     n_workers = int(workers or 1)  # threads gain little for numpy ufuncs on 2 cores; opt-in
@@ -191,12 +191,18 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
 
 def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg: float = 45.0,
                   roughness_alpha: float = 0.3, model: str = "microfacet", coating=None, colorimeter=None,
-                  space: str = "srgb", distribution: str = "ggx", workers: int | None = None) -> SwatchImage:
+                  space: str = "srgb", distribution: str = "ggx", workers: int | None = None,
+                  environment=None, background: str = "grey", view_deg: float | None = None,
+                  view_azimuth_deg: float = 0.0) -> SwatchImage:
     """Render one swatch (see the module documentation for scene, units and exposure).
 
     Returns a :class:`SwatchImage`: ``linear_rgb`` (H, W, 3) float32 scene-referred linear RGB in
     ``space`` (srgb or acescg), premultiplied by the ``coverage`` (H, W); ``display_rgb``
     (H, W, 3) uint8 sRGB, exposure applied and composited on neutral grey; ``metadata``.
+    ``environment``: None (the point light) or an environment (name, path or
+    :class:`swatch.environment.Environment`), rendered by :mod:`swatch.env_render`;
+    ``background``: grey, white or (with an environment) environment; ``view_deg`` and
+    ``view_azimuth_deg``: the camera (:func:`swatch.scene.make_scene`).
     """
     from swatch.model import check_thickness_nm
 
@@ -208,14 +214,25 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     distribution = microfacet.check_distribution(distribution)
     space = check_rgb_space(space)
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
-    scene = make_scene(shape, light_deg)
+    scene = make_scene(shape, light_deg, view_deg, view_azimuth_deg)
+    from swatch import env_render
+
+    background = env_render.check_background(background)
+    if environment is not None:
+        return env_render.render_swatch_environment(
+            d, shape, scene, size, environment, background, roughness_alpha, model, distribution, coating, colorimeter,
+            space, common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha),
+            (light_deg, view_deg, view_azimuth_deg))
+    if background == "environment":
+        raise SwatchError("background 'environment' needs an environment; use grey or white with the point light")
+    bg_linear = BACKGROUND_LINEAR if background == "grey" else env_render.BACKGROUND_WHITE
 
     def table(c0, c1, sp=space):
         return shading.facet_colour_table(d, coating, colorimeter, RENDER_TABLE_NODES, (c0, c1)).to_rgb(colorimeter, sp)
 
     display_table = None if space == "srgb" else (lambda c0, c1: table(c0, c1, "srgb"))
     rgb, coverage, display, k, rule, crange = render_scene(scene, table, size, model, roughness_alpha, distribution,
-                                                        display_table, workers)
+                                                           display_table, workers, bg_linear)
 
     meta = common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha)
     meta.update({
@@ -230,7 +247,9 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         "exposure": round(float(k), 9),
         "exposure_rule": rule,
         "cos_theta_d_range": [round(crange[0], 6), round(crange[1], 6)],
-        "display": "sRGB-encoded PNG: linear x exposure, composited on grey 0.18, shoulder above 0.8",
+        "lighting": f"one directional light at {float(light_deg):g} deg (the illuminant's spectrum)",
+        "display": f"sRGB-encoded PNG: linear x exposure, composited on {background} ({bg_linear:g}), "
+                   "shoulder above 0.8",
         "wavelength_grid_nm": f"{coating.wavelength_nm[0]:g}:{coating.wavelength_nm[-1]:g}:{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
     return SwatchImage(rgb, coverage, display, meta, float(k))

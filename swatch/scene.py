@@ -283,30 +283,54 @@ class Scene:
     description: str
 
 
-def make_scene(shape: str, light_deg: float) -> Scene:
-    """The camera, light and object of a swatch render (see the module documentation)."""
+#: Default camera polar angle from the plate's normal (world +y), per shape (degrees).
+DEFAULT_VIEW_DEG = {"flat": 36.0, "cylinder": 70.0, "sphere": 70.0}
+
+
+def _camera_position(dist: float, view_deg: float, view_azimuth_deg: float):
+    """Camera position at ``dist`` from the origin, ``view_deg`` from +y, azimuth from +z towards
+    +x; and the world-up vector for look-at (along the normal the image's up points away from
+    the azimuth's side)."""
+    t, p = math.radians(view_deg), math.radians(view_azimuth_deg)
+    pos = dist * np.array([math.sin(t) * math.sin(p), math.cos(t), math.sin(t) * math.cos(p)])
+    up = (0.0, 1.0, 0.0) if math.sin(t) > 1e-6 else (-math.sin(p), 0.0, -math.cos(p))
+    return pos, up
+
+
+def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view_azimuth_deg: float = 0.0) -> Scene:
+    """The camera, light and object of a swatch render (see the module documentation).
+
+    ``view_deg``: the camera's polar angle to the plate's normal (world +y; 0 = straight down
+    the normal), default :data:`DEFAULT_VIEW_DEG`; ``view_azimuth_deg`` turns the camera about
+    the normal (0 = the +z side). The point light stays where the default camera puts it.
+    """
     shape = check_shape(shape)
     light_deg = float(geometry.check_polar_deg(light_deg, "light"))
+    view = DEFAULT_VIEW_DEG[shape] if view_deg is None else float(geometry.check_polar_deg(view_deg, "view"))
+    azim = float(geometry.check_azimuth_deg(view_azimuth_deg, "view"))
     t = math.radians(light_deg)
     if shape == "flat":
         obj = Plate(1.0)
-        cam_polar = math.radians(36.0)
-        cam = Camera.look_at(3.2 * np.array([0.0, math.cos(cam_polar), math.sin(cam_polar)]))
+        pos, up = _camera_position(3.2, view, azim)
+        cam = Camera.look_at(pos, world_up=up)
         light = np.array([0.0, math.cos(t), -math.sin(t)])
         desc = (f"flat 2x2 plate, normal +y; light {light_deg:g} deg from the normal on the far side; "
-                f"perspective camera 36 deg from the normal on the near side at 3.2 plate half-widths")
+                f"perspective camera {view:g} deg from the normal (azimuth {azim:g} deg) at 3.2 plate half-widths")
     else:
         if shape == "cylinder":
             obj, dist, what = HalfCylinder(1.1), 5.5, "half cylinder (sheet bent to radius 1, height 2.2, vertical axis)"
         else:
             obj, dist, what = Sphere(), 4.0, "unit sphere"
         el = math.radians(20.0)
-        cam = Camera.look_at(dist * np.array([0.0, math.sin(el), math.cos(el)]))
-        c_hat = -cam.forward
-        w = _unit(-cam.right * math.cos(math.radians(30.0)) + cam.up * math.sin(math.radians(30.0)))
+        ref = Camera.look_at(dist * np.array([0.0, math.sin(el), math.cos(el)]))
+        c_hat = -ref.forward
+        w = _unit(-ref.right * math.cos(math.radians(30.0)) + ref.up * math.sin(math.radians(30.0)))
         light = math.cos(t) * c_hat + math.sin(t) * w
-        desc = (f"{what}; perspective camera 20 deg above the horizon at {dist:g} radii; "
-                f"light {light_deg:g} deg from the camera direction, from the left and 30 deg up")
+        pos, up = _camera_position(dist, view, azim)
+        cam = Camera.look_at(pos, world_up=up)
+        desc = (f"{what}; perspective camera {view:g} deg from the vertical (azimuth {azim:g} deg) at {dist:g} radii; "
+                f"light {light_deg:g} deg from the default camera direction (20 deg above the horizon), "
+                f"from the left and 30 deg up")
     cam = cam.fitted(obj.points())
     return Scene(obj, cam, _unit(light), desc)
 

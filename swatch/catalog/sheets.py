@@ -38,6 +38,21 @@ LIGHT_DEG = 45.0
 #: Resolution written into sheet PNGs (pHYs): the page prints about 30 × 23 cm.
 SHEET_DPI = 150
 
+#: Lighting of the tile renders for the microfacet model (GGX): the studio light box, exposure 1
+#: (swatch.env_render), so a render and its chip are on one scale; the paper model keeps the light.
+ENVIRONMENT = "studio"
+
+
+def tile_environment(spec: CatalogSpec) -> str | None:
+    return ENVIRONMENT if spec.model == "microfacet" else None
+
+
+def lighting_caption(spec: CatalogSpec) -> str:
+    if tile_environment(spec):
+        return "studio light box at exposure 1 (white diffuser = white, as for the chip)"
+    return f"one light at {LIGHT_DEG:g}°, display exposure per render"
+
+
 # page colours (display sRGB)
 PAGE = (238, 238, 240)
 CARD = (255, 255, 255)
@@ -68,6 +83,7 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
         "illuminant": spec.illuminant, "observer": spec.observer, "d": float(thickness_nm),
         "shapes": list(spec.shapes), "size": spec.size_px, "model": spec.model, "roughness": spec.roughness,
         "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
+        "environment": tile_environment(spec),
     }
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
@@ -89,7 +105,8 @@ def _render_job(args):
     out = {}
     for i, shape in enumerate(shapes):
         im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness_alpha=roughness, model=model,
-                           coating=coating, colorimeter=cm, space="srgb", workers=1)
+                           coating=coating, colorimeter=cm, space="srgb", workers=1,
+                           environment=ENVIRONMENT if model == "microfacet" else None)
         # half floats: the sheet EXR is half anyway, and the cache stays small
         out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
         out[f"r{i}_alpha"] = np.asarray(im.coverage, dtype=np.float16)
@@ -343,12 +360,13 @@ def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
     img = _strip(w, lay.FOOTER - 8, PAGE)
     shapes = " and ".join({"flat": "flat plate", "cylinder": "half cylinder", "sphere": "sphere"}[s] for s in spec.shapes)
     model = (f"microfacet GGX, roughness {spec.roughness:g}" if spec.model == "microfacet" else "paper model")
-    text = (f"Renders: {shapes}, light {LIGHT_DEG:g}°, {model}; display exposure per render."
-            + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else "")
-            + "  prev / next: CIEDE2000 to the neighbouring swatches."
-            + "  Hex, chips and pictures: sRGB from CIE 1931 2° colorimetry."
-            + f"  swatch {header['swatch_version']}")
-    return draw_text(img, _fit(text, 14, w, "DroidSans"), 0, 24, 14, MUTED)
+    line1 = (f"Renders: {shapes}, {model}, {lighting_caption(spec)}."
+             + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else ""))
+    line2 = ("prev / next: CIEDE2000 to the neighbouring swatches."
+             + "  Hex, chips and pictures: sRGB from CIE 1931 2° colorimetry."
+             + f"  swatch {header['swatch_version']}")
+    img = draw_text(img, _fit(line1, 13, w, "DroidSans"), 0, 15, 13, MUTED)
+    return draw_text(img, _fit(line2, 13, w, "DroidSans"), 0, 33, 13, MUTED)
 
 
 # -- composition -----------------------------------------------------------------------------
@@ -404,7 +422,8 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
             disp[ry:ry + s, xx:xx + s] = arrays[f"r{i}_display"]
             a = arrays[f"r{i}_alpha"][..., None].astype(np.float32)
             lin_patches.append((ry, xx, arrays[f"r{i}_linear"].astype(np.float32) + (np.float32(1.0) - a) * bg))
-            renders.append({"shape": shape, "rect_px": [xx, ry, s, s], "exposure": float(arrays[f"r{i}_exposure"])})
+            renders.append({"shape": shape, "rect_px": [xx, ry, s, s], "exposure": float(arrays[f"r{i}_exposure"]),
+                            "lighting": tile_environment(spec) or f"light {LIGHT_DEG:g} deg"})
         ly = ry + lay.size + lay.GAP
         labels = _tile_labels(rec, spec, lay)
         lx = x0 + lay.PAD

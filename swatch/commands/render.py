@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from swatch.choices import DISTRIBUTIONS, IMAGE_SPACES, MODELS, SHAPES
+from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, IMAGE_SPACES, MODELS, SHAPES
 from swatch.commands.common import (
     colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_process,
     resolve_thickness, thickness_options,
@@ -125,14 +125,26 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
 @click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True)
 @click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True)
 @click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
+@click.option("--environment", default=None, metavar="NAME|FILE.exr",
+              help="lighting: studio (light box; the default for the GGX microfacet model), uniform (white, "
+                   "radiance 1), an equirectangular EXR, or none (one directional light at --light; the default "
+                   "for --model paper and beckmann)")
+@click.option("--view", "view_deg", type=float, default=None,
+              help="camera angle from the plate's normal in degrees [0, 90) (default 36 flat, 70 cylinder/sphere)")
+@click.option("--view-azimuth", "view_azimuth_deg", type=float, default=0.0, show_default=True,
+              help="camera azimuth about the normal in degrees")
+@click.option("--background", type=click.Choice(BACKGROUNDS), default="grey", show_default=True,
+              help="display background (environment: the map behind the object, also in the EXR)")
 @click.option("--force", is_flag=True, help="overwrite existing files")
 @material_options
 @colour_options
 @grid_option
 def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, light_deg, roughness, model, distribution,
-           space, force, film, substrate, illuminant, observer, wavelengths):
+           space, environment, view_deg, view_azimuth_deg, background, force, film, substrate, illuminant, observer,
+           wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
     from swatch import geometry, imageio
+    from swatch.environment import get_environment
     from swatch.fileio import check_new, check_writable_dir
     from swatch.microfacet import check_roughness_alpha
     from swatch.pngmeta import image_xmp
@@ -142,6 +154,17 @@ def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, li
     check_roughness_alpha(roughness)
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
+    if view_deg is not None:
+        geometry.check_polar_deg(view_deg, "view")
+    geometry.check_azimuth_deg(view_azimuth_deg, "view")
+    if environment is None:
+        environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
+    env = get_environment(environment)
+    if env is not None and (model != "microfacet" or distribution != "ggx"):
+        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
+                          "--distribution ggx, or --environment none")
+    if env is None and background == "environment":
+        raise SwatchError("--background environment needs an environment; use grey or white with --environment none")
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
     stems = [file_stem(shape, x) for x in d]
@@ -152,7 +175,9 @@ def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, li
     written = []
     with _iterate(list(range(d.size)), f"{shape} swatches") as it:
         for i in it:
-            img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution)
+            img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution,
+                                environment=env, background=background, view_deg=view_deg,
+                                view_azimuth_deg=view_azimuth_deg)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
