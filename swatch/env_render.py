@@ -31,6 +31,7 @@ import numpy as np
 from swatch import env_shading
 from swatch.choices import BACKGROUNDS
 from swatch.display import BACKGROUND_LINEAR, display_encode
+from swatch.limits import MAX_ENV_RENDER_PX
 from swatch.errors import SwatchError
 
 __all__ = ["BACKGROUNDS", "check_background", "Prepared", "prepared", "render_environment"]
@@ -178,8 +179,10 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     edge_points = points(cn, cv)
     bg = None
     if background == "environment":
-        d = np.stack([np.broadcast_to(t, (size, size)) for t in rays], -1)
-        bg = env.radiance_at(d).astype(np.float32)
+        bg = np.empty((size, size, 3), dtype=np.float32)
+        for r0 in range(0, size, 128):  # bounded temporaries
+            d = np.stack([np.broadcast_to(t, (size, size))[r0:r0 + 128] for t in rays], -1)
+            bg[r0:r0 + 128] = env.radiance_at(d)
     prep = Prepared(size, coverage, nodes, interp, ids, wts, exact_px, exact, edge[keep], edge_points, bg, ss)
     if len(_CACHE) >= 4:
         _CACHE.pop(next(iter(_CACHE)))
@@ -249,6 +252,9 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     from swatch import render, shading
 
     background = check_background(background)
+    if size > MAX_ENV_RENDER_PX:
+        raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
+                          "use a smaller --size, or --environment none")
     if model != "microfacet" or distribution != "ggx":
         raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
                           "--distribution ggx, or --environment none for the point light")

@@ -8,7 +8,7 @@ from __future__ import annotations
 __all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
            "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
-           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "read_capped"]
+           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -47,6 +47,9 @@ MAX_ANGULAR_SAMPLES = 40_000_000
 MAX_ENV_PIXELS = 8192 * 4096
 MAX_ENV_SIDE = 16384
 MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
+#: Largest environment-lit render (pixels per side): a 2048² render peaks at ~0.7 GB (the
+#: gathered environment samples of the shading points), within MAX_RUN_BYTES.
+MAX_ENV_RENDER_PX = 2048
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

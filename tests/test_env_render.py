@@ -86,6 +86,7 @@ BAD = [
     (["--environment", "none", "--background", "environment"], "needs an environment"),
     (["--model", "paper", "--environment", "studio"], "microfacet"),
     (["--view", "95"], "view angle"),
+    (["--size", "4096"], "at most 2048"),
 ]
 
 
