@@ -41,6 +41,14 @@ __all__ = ["BACKGROUNDS", "check_background", "Prepared", "prepared", "render_en
 BACKGROUND_WHITE = 2.0
 
 
+def check_env_size_px(size_px: int) -> int:
+    """The size of an environment-lit render, or SwatchError beyond :data:`MAX_ENV_RENDER_PX`."""
+    if int(size_px) > MAX_ENV_RENDER_PX:
+        raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
+                          "use a smaller --size, or --environment none")
+    return int(size_px)
+
+
 def check_background(name: str) -> str:
     key = str(name).strip().lower()
     if key not in BACKGROUNDS:
@@ -252,9 +260,7 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     from swatch import render, shading
 
     background = check_background(background)
-    if size > MAX_ENV_RENDER_PX:
-        raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
-                          "use a smaller --size, or --environment none")
+    check_env_size_px(size)
     if model != "microfacet" or distribution != "ggx":
         raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
                           "--distribution ggx, or --environment none for the point light")

@@ -163,6 +163,10 @@ def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, li
     if env is not None and (model != "microfacet" or distribution != "ggx"):
         raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
                           "--distribution ggx, or --environment none")
+    if env is not None:
+        from swatch.env_render import check_env_size_px
+
+        check_env_size_px(size)
     if env is None and background == "environment":
         raise SwatchError("--background environment needs an environment; use grey or white with --environment none")
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
