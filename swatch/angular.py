@@ -75,7 +75,7 @@ def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.ara
     theta_d = geometry.theta_d_deg(L, V)
     check_angular_size(lt.size, vw.size, coating.wavelength_nm.size)
     # (L, V, W), in blocks of light rows: the optics' complex temporaries stay ~100 MB at any map size
-    spectral = np.empty(cos_d.shape + (coating.wavelength_nm.size,), dtype=np.float64)
+    spectral = np.empty((*cos_d.shape, coating.wavelength_nm.size), dtype=np.float64)
     rows = max(1, _BLOCK_SAMPLES // (vw.size * coating.wavelength_nm.size))
     for i in range(0, lt.size, rows):
         spectral[i:i + rows] = coating.reflectance_cos(d, cos_d[i:i + rows]).R

@@ -31,7 +31,7 @@ COMMANDS = {
 }
 
 
-class _Interrupted(Exception):
+class _InterruptedError(Exception):
     """A KeyboardInterrupt carried past click (which would print a blank line and raise Abort)."""
 
     def __init__(self, exc: KeyboardInterrupt):
@@ -44,7 +44,7 @@ class LazyGroup(click.Group):
         try:
             return super().invoke(ctx)
         except KeyboardInterrupt as exc:
-            raise _Interrupted(exc) from None
+            raise _InterruptedError(exc) from None
 
     def list_commands(self, ctx):
         return sorted(COMMANDS)
@@ -88,8 +88,8 @@ def main(argv: list[str] | None = None) -> int:
         cmd = f" (see 'swatch {exc.ctx.command_path.split(' ', 1)[1]} --help')" if getattr(exc, "ctx", None) and " " in exc.ctx.command_path else ""
         click.echo(f"error: {_one_line(exc.format_message())}{cmd}", err=True)
         return exc.exit_code if exc.exit_code else 2
-    except (KeyboardInterrupt, _Interrupted) as caught:
-        intr = caught.exc if isinstance(caught, _Interrupted) else caught
+    except (KeyboardInterrupt, _InterruptedError) as caught:
+        intr = caught.exc if isinstance(caught, _InterruptedError) else caught
         what = "terminated" if isinstance(intr, Terminated) else "interrupted"
         click.echo(f"error: {what}; nothing half-written was left behind", err=True)
         return 128 + intr.signum if isinstance(intr, Terminated) else 130

@@ -2,6 +2,7 @@
 user's file unless asked (``force``), and checks that an output folder is usable."""
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 from pathlib import Path
@@ -94,10 +95,8 @@ def _remove_stale_temps(folder: Path, prefix: str, suffix: str) -> None:
         try:
             os.kill(int(pid), 0)
         except ProcessLookupError:
-            try:
+            with contextlib.suppress(OSError):
                 (folder / name).unlink()
-            except OSError:
-                pass
         except (PermissionError, OverflowError):
             pass
 

@@ -57,10 +57,10 @@ def read_capped(path, limit: int, what: str) -> bytes:
 
     Works for devices and pipes too (``/dev/zero``): at most ``limit + 1`` bytes are read.
     """
-    from swatch.errors import SwatchError
-
     import os
     import stat
+
+    from swatch.errors import SwatchError
 
     with open(path, "rb") as fh:
         st = os.fstat(fh.fileno())

@@ -9,8 +9,8 @@ import subprocess
 import sys
 
 import pytest
-
 from cli_helpers import assert_one_line_error
+
 from swatch.cli import main
 from swatch.limits import MAX_RUN_BYTES
 

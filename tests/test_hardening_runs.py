@@ -11,8 +11,8 @@ import time
 from pathlib import Path
 
 import pytest
-
 from cli_helpers import assert_one_line_error, run_swatch
+
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import META_DIR
 

@@ -34,13 +34,30 @@ import json
 import os
 import sys
 import time
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from swatch.catalog.folder import (JOURNAL, MANIFEST, META_DIR, cache_folder, check_targets, commit, file_matches,
-                                   fsync_dir, intact, load_manifest, locked, meta_folder, recover, remove_tree,
-                                   rollback, sha256_file, signals_held, write_journal)
+from swatch.catalog.folder import (
+    JOURNAL,
+    MANIFEST,
+    META_DIR,
+    cache_folder,
+    check_targets,
+    commit,
+    file_matches,
+    fsync_dir,
+    intact,
+    load_manifest,
+    locked,
+    meta_folder,
+    recover,
+    remove_tree,
+    rollback,
+    sha256_file,
+    signals_held,
+    write_journal,
+)
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.errors import SwatchError
 from swatch.fileio import check_writable_dir
@@ -126,10 +143,8 @@ def _prepare_out_dir(out: Path) -> Path:
 def _remove_first_build(out: Path, meta: Path) -> None:
     """A first build that failed leaves nothing: its metadata folder, and the folder if now empty."""
     remove_tree(meta)
-    try:
+    with suppress(OSError):
         out.rmdir()
-    except OSError:
-        pass
 
 
 # -- the build -------------------------------------------------------------------------------

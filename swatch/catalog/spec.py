@@ -17,9 +17,8 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from swatch.choices import MODELS, SHAPES
-from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.errors import SwatchError
-from swatch.limits import MAX_SPEC_BYTES, read_capped
+from swatch.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_capped
 
 __all__ = ["CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
@@ -247,7 +246,7 @@ def _range(c: _Checker, tbl: dict, key: str, unit: str, hi: float) -> list[float
     if not span + 1 <= MAX_SWATCHES:
         n = f"{math.floor(span + 1e-9) + 1}" if math.isfinite(span) else "too many"
         c.fail(f"{key}.{names[2]}", f"gives {n} swatches; at most {MAX_SWATCHES} per catalog", tbl[names[2]])
-    count = int(math.floor(span + 1e-9)) + 1
+    count = math.floor(span + 1e-9) + 1
     # start + i*step, rounded to 1e-9 to keep decimal steps exact in the outputs
     return [round(start + i * step, 9) for i in range(count)]
 
