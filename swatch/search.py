@@ -34,10 +34,11 @@ def check_search_range(thickness_range, step_nm) -> tuple[float, float, float, i
         raise SwatchError(f"thickness range must satisfy 0 <= A < B <= {MAX_THICKNESS_NM:g} nm (got {lo:g}:{hi:g})")
     if not (np.isfinite(step) and 0 < step <= (hi - lo) / 4):
         raise SwatchError(f"search step must be > 0 and at most a quarter of the range (got {step:g} nm)")
-    count = int(np.floor((hi - lo) / step + 1e-9)) + 1
-    if count > MAX_SEARCH_POINTS:
-        raise SwatchError(f"search grid has {count} thicknesses; use a larger step (at most {MAX_SEARCH_POINTS} points)")
-    return lo, hi, step, count
+    span = (hi - lo) / step  # inf for a subnormal step: compared before any conversion
+    if not span + 1 <= MAX_SEARCH_POINTS:
+        n = f"{int(span) + 1}" if np.isfinite(span) else "too many"
+        raise SwatchError(f"search grid has {n} thicknesses; use a larger step (at most {MAX_SEARCH_POINTS} points)")
+    return lo, hi, step, int(np.floor(span + 1e-9)) + 1
 
 
 def local_minima(f: np.ndarray) -> np.ndarray:

@@ -142,6 +142,16 @@ def test_issue12_wavelengths_on_a_spectral_fit_are_refused(tmp_path):
     assert proc.returncode == 2
 
 
+@pytest.mark.parametrize("args", [["match", "--hex", "257ab8", "--step", "5e-324"],
+                                  ["fit", "{csv}", "--step", "5e-324"]])
+def test_issue12_subnormal_search_step_is_refused(tmp_path, args):
+    p = tmp_path / "s.csv"
+    p.write_text("wavelength_nm,reflectance\n" + "".join(f"{w},0.3\n" for w in range(380, 781, 5)))
+    proc = run_here(*[str(p) if a == "{csv}" else a for a in args])
+    assert_one_line_error(proc, "search grid has too many thicknesses", "at most")
+    assert proc.returncode == 2
+
+
 @pytest.mark.parametrize("value", ["20,,40", "20,40,", ",20"])
 def test_issue12_empty_list_elements_are_refused(value):
     proc = run_here("color", "--thickness", value)
