@@ -5,7 +5,7 @@ one learns the bound. Light module (no numpy), importable from anywhere.
 """
 from __future__ import annotations
 
-__all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
+__all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
            "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
            "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "read_capped"]
@@ -13,6 +13,8 @@ __all__ = ["MAX_METADATA_BYTES", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MA
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
 MAX_METADATA_BYTES = 16 * 1024 * 1024
+#: A file name read back from metadata (the usual file-system limit).
+MAX_NAME_CHARS = 255
 #: One cached tile (``.swatch-catalog/cache/*.npz``); the largest spec (two 512 px renders and a map)
 #: needs ~5 MB.
 MAX_CACHE_ENTRY_BYTES = 64 * 1024 * 1024

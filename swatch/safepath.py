@@ -14,11 +14,9 @@ import stat
 from pathlib import Path
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_NAME_CHARS
 
-__all__ = ["plain_name", "real_folder", "is_regular_file", "MAX_NAME_CHARS"]
-
-#: Longest file name accepted from metadata (the usual file-system limit).
-MAX_NAME_CHARS = 255
+__all__ = ["plain_name", "real_folder", "is_regular_file"]
 
 
 def plain_name(name, what: str) -> str:

@@ -114,40 +114,46 @@ def files(folder: Path) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
 
 
-@pytest.mark.parametrize("damage", ["truncate", "garbage", "dev-zero", "fifo", "wrong-shape", "presets-json"])
-def test_issue12_damaged_cache_entry_is_recomputed(small, tmp_path, damage):
+def _damage(victim: Path, how: str) -> None:
     import numpy as np
 
+    if how == "truncate":
+        victim.write_bytes(victim.read_bytes()[:1000])
+    elif how == "garbage":
+        victim.write_bytes(os.urandom(5000))
+    elif how == "dev-zero":
+        victim.unlink()
+        victim.symlink_to("/dev/zero")
+    elif how == "fifo":
+        victim.unlink()
+        os.mkfifo(victim)
+    else:  # a valid .npz with the wrong arrays
+        np.savez(victim, r0_linear=np.zeros((3, 3, 3), np.float16))
+
+
+@pytest.mark.parametrize("damages", [("truncate", "dev-zero", "fifo"), ("garbage", "wrong-shape", None)])
+def test_issue12_damaged_cache_entries_are_recomputed(small, tmp_path, damages):
+    """Each of the three cached tiles damaged differently (and the cached preset fits): the next build
+    renders and fits them again and its files are byte-identical to a clean build's."""
     built, ref = small
     out = tmp_path / "out"
     shutil.copytree(built, out, symlinks=True)
-    entries = sorted((out / META_DIR / "cache").glob("*.npz"))
+    cache = out / META_DIR / "cache"
+    entries = sorted(cache.glob("*.npz"))
     assert len(entries) == 3
-    victim = entries[1]
-    if damage == "truncate":
-        victim.write_bytes(victim.read_bytes()[:1000])
-    elif damage == "garbage":
-        victim.write_bytes(os.urandom(5000))
-    elif damage == "dev-zero":
-        victim.unlink()
-        victim.symlink_to("/dev/zero")
-    elif damage == "fifo":
-        victim.unlink()
-        os.mkfifo(victim)
-    elif damage == "wrong-shape":
-        np.savez(victim, r0_linear=np.zeros((3, 3, 3), np.float16))
-    else:  # the cached preset fits: wrong shapes, then the build must fit again
-        (fits,) = (out / META_DIR / "cache").glob("presets-*.json")
-        fits.write_text('{"gltf": {"params": [[1e308]], "dE60": [1], "dE45": "x"}}')
-        victim = fits
+    victims = [e for e, how in zip(entries, damages, strict=True) if how is not None]
+    for e, how in zip(entries, damages, strict=True):
+        if how is not None:
+            _damage(e, how)
+    (fits,) = cache.glob("presets-*.json")
+    fits.write_text('{"gltf": {"params": [[1e308]], "dE60": [1], "dE45": "x"}}')  # wrong shapes
     spec = tmp_path / "s.toml"
     spec.write_text(SMALL.format(grade="A"), encoding="utf-8")  # sheets are recomposed from the cache
     res = build_catalog(spec, out, jobs=1)
     assert not res.noop
     assert files(out) == files(ref)  # byte-identical to a clean build
-    assert victim.is_file() and not victim.is_symlink()
-    if damage == "presets-json":
-        assert "1e308" not in victim.read_text()
+    assert all(v.is_file() and not v.is_symlink() for v in victims)
+    assert "1e308" not in fits.read_text()
 
 
 def test_issue12_stale_temporary_files_are_cleaned(small, tmp_path):
