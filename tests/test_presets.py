@@ -160,7 +160,7 @@ def test_written_presets_hold_their_stated_error(written, fmt, model, reader):
         assert dE.max() <= rec["presets"][ERROR_KEYS[fmt]] + 0.01
         assert dE[FIT_ANGLES_DEG <= 45].max() <= rec["presets"][ERROR_KEYS[fmt] + "_45"] + 0.01
         if fmt in ("gltf", "blender"):
-            assert dE[FIT_ANGLES_DEG <= 45].max() <= 3.5, (rec["id"], dE)
+            assert dE[FIT_ANGLES_DEG <= 45].max() <= 3.0, (rec["id"], dE)  # the issue's target
 
 
 def test_exact_colour_is_colour_science_of_the_tmm_spectrum():
@@ -334,3 +334,16 @@ def test_model_Lab_shapes():
     p = np.array([[150.0, 2.3, 0.6, 0.5, 0.4], [90.0, 2.1, 0.5, 0.5, 0.5]])
     for m in ("gltf", "cycles", "openpbr"):
         assert model_Lab(m, p, FIT_ANGLES_DEG).shape == (2, FIT_ANGLES_DEG.size, 3)
+
+
+def test_default_catalog_meets_the_target():
+    """The default catalog (20–300 nm): glTF and Blender presets within 3 ΔE2000 at facet angles 0–45°."""
+    from swatch.catalog.records import compute
+    from swatch.catalog.spec import load_spec
+
+    spec, _ = load_spec(HERE.parent / "catalog" / "titanium.toml")
+    records = compute(spec).records
+    catalog_presets(spec, records, None)
+    for key in ("gltf_max_delta_E_00_45", "blender_max_delta_E_00_45"):
+        worst = max(r["presets"][key] for r in records)
+        assert worst <= 3.0, (key, worst)
