@@ -120,12 +120,14 @@ def _card(s: dict, c: dict, tiles: dict | None, p3) -> str:
     out.append(f'<div class="links"><a href="{e(s["sheet_png"])}">sheet {s["sheet"]} (PNG)</a>'
                f'<a href="{e(s["sheet_exr"])}">EXR</a></div>')
     p = s.get("presets")
-    if p:  # 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°)
-        out.append(f'<div class="links presets" title="{e(str(p.get("conditions", "")))}">'
-                   + "".join(f'<a href="{e(str(p[k]))}">{label} ΔE00 {_fmt(p.get(dk), 1)}</a>'
-                             for k, label, dk in (("gltf", "glTF", "gltf_max_delta_E_00"),
-                                                  ("blender", "Blender", "blender_max_delta_E_00"),
-                                                  ("materialx", "OpenPBR", "openpbr_max_delta_E_00")) if p.get(k))
+    if p:  # 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°; title: 0–45°)
+        kinds = (("gltf", "glTF", "gltf_max_delta_E_00"), ("blender", "Blender", "blender_max_delta_E_00"),
+                 ("materialx", "OpenPBR", "openpbr_max_delta_E_00"))
+        title = ("3-D material presets; max " + str(p.get("conditions", "")) + "; at 0–45°: "
+                 + ", ".join(f"{label} {_fmt(p.get(dk + '_45'), 1)}" for _, label, dk in kinds))
+        out.append(f'<div class="links presets" title="{e(title)}"><span>3-D (ΔE00):</span>'
+                   + "".join(f'<a href="{e(str(p[k]))}">{label} {_fmt(p.get(dk), 1)}</a>'
+                             for k, label, dk in kinds if p.get(k))
                    + "</div>")
     out.append("</div></article>")
     return "".join(out)
