@@ -347,3 +347,14 @@ def test_default_catalog_meets_the_target():
     for key in ("gltf_max_delta_E_00_45", "blender_max_delta_E_00_45"):
         worst = max(r["presets"][key] for r in records)
         assert worst <= 3.0, (key, worst)
+
+
+def test_a_damaged_fit_cache_is_refitted(written, tmp_path):
+    spec, records, root, files = written
+    caches = list(root.glob("presets-*.json"))
+    assert len(caches) == 1
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    for junk in ('{"gltf": {"params": [[1, 2]]}}', "not json", '{"gltf": 3}'):
+        (cache / caches[0].name).write_text(junk, encoding="utf-8")
+        assert catalog_presets(spec, [dict(r) for r in records], cache) == files

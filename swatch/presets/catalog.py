@@ -70,6 +70,24 @@ def _cache_entry_ok(path: Path) -> bool:
     return is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES
 
 
+def _read_cache(path: Path, n: int) -> dict | None:
+    """The cached fits if the file is well formed for n swatches (it is read back: untrusted)."""
+    from swatch.presets.fit import MODELS
+
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        out = {m: (np.asarray(data[m]["params"], dtype=np.float64), np.asarray(data[m]["dE60"], dtype=np.float64),
+                   np.asarray(data[m]["dE45"], dtype=np.float64)) for m in MODELS}
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    for p, e60, e45 in out.values():
+        if p.shape != (n, 5) or e60.shape != (n,) or e45.shape != (n,):
+            return None
+        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(e60)) and np.all(np.isfinite(e45))):
+            return None
+    return out
+
+
 def _fits(spec, cache: Path | None) -> dict:
     from swatch.presets.fit import fit_presets
 
@@ -77,17 +95,9 @@ def _fits(spec, cache: Path | None) -> dict:
     key = fit_key(spec, extra)
     path = cache / f"presets-{key}.json" if cache is not None else None
     if path is not None and _cache_entry_ok(path):  # the cache is untrusted: checked, else refitted
-        try:
-            data = json.loads(path.read_text(encoding="utf-8"))
-            fits = {m: (np.asarray(v["params"], dtype=np.float64), np.asarray(v["dE60"], dtype=np.float64),
-                        np.asarray(v["dE45"], dtype=np.float64)) for m, v in data.items()}
-            n = len(spec.thickness_nm)
-            if (set(fits) == {FORMAT_MODEL[f] for f in PRESET_FORMATS}
-                    and all(p.ndim == 2 and p.shape[0] == n and e60.shape == (n,) and e45.shape == (n,)
-                            and np.isfinite(p).all() for p, e60, e45 in fits.values())):
-                return fits
-        except (OSError, ValueError, KeyError, TypeError, AttributeError):
-            pass
+        cached = _read_cache(path, len(spec.thickness_nm))
+        if cached is not None:
+            return cached
     out = {}
     for fmt in PRESET_FORMATS:
         model = FORMAT_MODEL[fmt]
