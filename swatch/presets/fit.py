@@ -10,10 +10,14 @@ is converted to CIELAB (:func:`swatch.presets.spectral.rgb_to_Lab`) and the resi
 per-angle ΔE2000 (raised to a power > 1 for some models, to lean towards the largest error).
 
 Search, all swatches at once: a grid over (thickness offset, film IOR) with the base colour of
-bare metal, then a bounded Levenberg–Marquardt refinement of all five parameters (finite-difference
-Jacobian, one batched model call per parameter). Continuity: each swatch is re-fitted from its
-neighbours' solutions (shifted by the thickness step) and takes that solution when it is at
-least as good (cost within :data:`CONTINUITY_SLACK`), so neighbouring presets vary smoothly.
+bare metal; the best grid point of the best few thickness bands each start a bounded
+Levenberg–Marquardt refinement of all five parameters (finite-difference Jacobian, one batched
+model call per parameter). Continuity (designers interpolate between neighbours): one solution
+per swatch is chosen by a shortest path over the swatches that penalises jumps of thickness
+offset and IOR (:func:`_smooth_choice`), then each swatch is re-fitted from its neighbours'
+solutions and takes that one when its cost stays within :data:`CONTINUITY_SLACK` and its largest
+error at 0–45° within :data:`CONTINUITY_MAX_45`. The models have several equivalent branches
+(thickness offset against IOR), so the parameters are continuous in runs with some jumps.
 Bounds keep the parameters plausible: film IOR :data:`FILM_IOR_RANGE`, base colour
 :data:`BASE_RANGE`, thickness within :data:`THICKNESS_WINDOW_NM` of the swatch's.
 """
@@ -35,7 +39,7 @@ FILM_IOR_RANGE = (1.5, 3.0)
 BASE_RANGE = (0.02, 0.98)
 #: The model's thickness stays within this distance of the swatch's (nm).
 THICKNESS_WINDOW_NM = 120.0
-CONTINUITY_SLACK = 1.15
+CONTINUITY_SLACK = 1.6
 #: A neighbour's solution may not raise a swatch's largest error at 0–45° above this (ΔE2000).
 CONTINUITY_MAX_45 = 2.5
 NEAR_BEST = 1.3
@@ -44,7 +48,7 @@ _GRID_OFFSETS_NM = np.arange(-100.0, 100.0, 4.0)  # 50 offsets = 10 bands of 5
 _BAND = 5
 _GRID_IOR = np.array([1.8, 2.1, 2.4, 2.7])
 _LM_ITERATIONS = 16
-_CONTINUITY_ROUNDS = 1
+_CONTINUITY_ROUNDS = 2
 #: Per model: (weight of the angles past 45°, power p of the residual ΔE2000**p). The catalog's
 #: geometries weigh 2, the other angles up to 45° weigh 1; p > 1 leans towards the largest errors.
 #: glTF cannot follow the exact colour far past 45° (its metal is a real index): it weighs them less.
@@ -181,6 +185,35 @@ def _levenberg_marquardt(prob: _Problem, p0, rows, lo, hi, iterations: int = _LM
     return p, cost, r
 
 
+def _smooth_choice(d, ps, cs, ms) -> np.ndarray:
+    """Index (N,) of one candidate per swatch: a Viterbi path over the swatches sorted by thickness.
+
+    Node cost 3·ln(cost / best cost); a candidate whose largest error at 0–45° exceeds both the
+    swatch's best and :data:`CONTINUITY_MAX_45` is excluded. Edge cost between neighbours: the
+    squared change of thickness offset (per 20 nm) plus film IOR (per 0.15), capped at 4.
+    """
+    n, k = cs.shape
+    best = cs.min(axis=1, keepdims=True)
+    node = 3.0 * np.log(np.maximum(cs, 1e-12) / np.maximum(best, 1e-12))
+    allowed = (ms <= np.maximum(ms[np.arange(n), cs.argmin(axis=1)][:, None], CONTINUITY_MAX_45)) | (cs == best)
+    node = np.where(allowed & (cs <= best * NEAR_BEST * 2.0), node, np.inf)
+    order = np.argsort(d)
+    offset = ps[..., 0] - d[:, None]
+    total = node[order[0]].copy()
+    back = np.zeros((n, k), dtype=np.int64)
+    for a, b in zip(order[:-1], order[1:]):  # the path's steps: one per neighbouring pair of swatches
+        edge = np.minimum(((offset[b][None, :] - offset[a][:, None]) / 20.0) ** 2
+                          + ((ps[b, :, 1][None, :] - ps[a, :, 1][:, None]) / 0.15) ** 2, 4.0)
+        through = total[:, None] + edge  # (from k, to k)
+        back[b] = through.argmin(axis=0)
+        total = through.min(axis=0) + node[b]
+    pick = np.empty(n, dtype=np.int64)
+    pick[order[-1]] = int(total.argmin())
+    for a, b in zip(order[::-1][1:], order[::-1][:-1]):
+        pick[a] = back[b, pick[b]]
+    return pick
+
+
 def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
                 substrate: str | None = None, film_index_scale: float = 1.0) -> PresetFit:
     """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring."""
@@ -215,15 +248,13 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     ps, cs, rs = _levenberg_marquardt(prob, starts, srows, lo[srows], hi[srows])
     cs = cs.reshape(n, -1)
     ps = ps.reshape(n, -1, 5)
-    #    among the near-best solutions take the one whose thickness offset is closest to the
-    #    model's typical offset (plausible, and smooth across swatches)
-    offset = ps[..., 0] - d[:, None]
-    typical = np.median(offset[rows, cs.argmin(axis=1)])
-    near = cs <= cs.min(axis=1, keepdims=True) * NEAR_BEST
-    pick = np.where(near, np.abs(offset - typical), np.inf).argmin(axis=1)
+    ms = prob.max_45(rs).reshape(n, -1)
+    #    choose one solution per swatch so that neighbours agree (a shortest path over the
+    #    swatches in thickness order), among the solutions close to each swatch's best
+    pick = _smooth_choice(d, ps, cs, ms)
     p = ps[rows, pick]
     cost = cs[rows, pick]
-    worst = prob.max_45(rs.reshape(n, -1, rs.shape[-1])[rows, pick])
+    worst = ms[rows, pick]
     # 3. continuity: re-fit from the neighbours' solutions, keep when as good
     order = np.argsort(d)
     for _ in range(_CONTINUITY_ROUNDS):
