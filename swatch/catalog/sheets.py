@@ -243,7 +243,7 @@ class Layout:
     HEADER = 112
     FOOTER = 44
     LINE = 20
-    LABEL_LINES = 7
+    LABEL_LINES = 8  # title, 6 colour/window lines, the 3-D presets' errors
     TEXT_W = 250  # room for the longest label line (26 characters of 15 px DroidSansMono)
 
     def __init__(self, spec: CatalogSpec):
@@ -315,8 +315,10 @@ def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
         f"ΔE00 prev{_num(n['previous'], 5, 1)} next{_num(n['next'], 5, 1)}",
         f"window{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm  {pw['metric']}≤{pw['max']:g}",
     ]
-    if pw["voltage_minus_V"] is not None:
-        lines.append(f"      {_num(-pw['voltage_minus_V'], 5, 1)}/+{pw['voltage_plus_V']:.1f} V")
+    if rec.get("presets"):  # max ΔE2000 (0–60°) of the glTF / Blender / OpenPBR (MaterialX) presets
+        p = rec["presets"]
+        lines.append(f"3D glTF{_num(p['gltf_max_delta_E_00'], 4, 1)} Bl{_num(p['blender_max_delta_E_00'], 4, 1)}"
+                     f" PBR{_num(p['openpbr_max_delta_E_00'], 4, 1)}")
     y += 3
     for line in lines:
         y += step
