@@ -57,8 +57,9 @@ def fit_key(spec, extra_angles) -> str:
     code = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted((pkg / "presets").glob("*.py"))}
     for m in ("optics", "model", "materials", "colorimetry"):
         code[m] = hashlib.sha256((pkg / f"{m}.py").read_bytes()).hexdigest()
-    blob = {"d": [float(x) for x in spec.thickness_nm], "film": spec.film, "substrate": spec.substrate,
-            "film_index_scale": spec.film_index_scale, "angles": [float(a) for a in extra_angles], "code": code,
+    blob = {"d": [float(x) for x in spec.thickness_nm], "per_sheet": spec.per_sheet, "film": spec.film,
+            "substrate": spec.substrate,
+            "angles": [float(a) for a in extra_angles], "code": code,
             "versions": [metadata.version(x) for x in ("numpy", "scipy", "colour-science")]}
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
 
@@ -101,7 +102,8 @@ def _fits(spec, cache: Path | None) -> dict:
     out = {}
     for fmt in PRESET_FORMATS:
         model = FORMAT_MODEL[fmt]
-        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale)
+        groups = np.arange(len(spec.thickness_nm)) // spec.per_sheet  # coupled within a sheet only
+        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, groups)
         written = round_params(fit.params)
         from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
 

@@ -17,7 +17,9 @@ per swatch is chosen by a shortest path over the swatches that penalises jumps o
 offset and IOR (:func:`_smooth_choice`), then each swatch is re-fitted from its neighbours'
 solutions and takes that one when its cost stays within :data:`CONTINUITY_SLACK` and its largest
 error at 0–45° within :data:`CONTINUITY_MAX_45`. The models have several equivalent branches
-(thickness offset against IOR), so the parameters are continuous in runs with some jumps.
+(thickness offset against IOR), so the parameters are continuous in runs with some jumps. The
+coupling stays within ``groups`` (the catalog's sheets), so a swatch's preset depends only on
+its own sheet's thicknesses.
 Bounds keep the parameters plausible: film IOR :data:`FILM_IOR_RANGE`, base colour
 :data:`BASE_RANGE`, thickness within :data:`THICKNESS_WINDOW_NM` of the swatch's.
 """
@@ -185,7 +187,7 @@ def _levenberg_marquardt(prob: _Problem, p0, rows, lo, hi, iterations: int = _LM
     return p, cost, r
 
 
-def _smooth_choice(d, ps, cs, ms) -> np.ndarray:
+def _smooth_choice(d, ps, cs, ms, groups) -> np.ndarray:
     """Index (N,) of one candidate per swatch: a Viterbi path over the swatches sorted by thickness.
 
     Node cost 3·ln(cost / best cost); a candidate whose largest error at 0–45° exceeds both the
@@ -197,27 +199,35 @@ def _smooth_choice(d, ps, cs, ms) -> np.ndarray:
     node = 3.0 * np.log(np.maximum(cs, 1e-12) / np.maximum(best, 1e-12))
     allowed = (ms <= np.maximum(ms[np.arange(n), cs.argmin(axis=1)][:, None], CONTINUITY_MAX_45)) | (cs == best)
     node = np.where(allowed & (cs <= best * NEAR_BEST * 2.0), node, np.inf)
-    order = np.argsort(d)
     offset = ps[..., 0] - d[:, None]
-    total = node[order[0]].copy()
-    back = np.zeros((n, k), dtype=np.int64)
-    for a, b in zip(order[:-1], order[1:]):  # the path's steps: one per neighbouring pair of swatches
-        edge = np.minimum(((offset[b][None, :] - offset[a][:, None]) / 20.0) ** 2
-                          + ((ps[b, :, 1][None, :] - ps[a, :, 1][:, None]) / 0.15) ** 2, 4.0)
-        through = total[:, None] + edge  # (from k, to k)
-        back[b] = through.argmin(axis=0)
-        total = through.min(axis=0) + node[b]
     pick = np.empty(n, dtype=np.int64)
-    pick[order[-1]] = int(total.argmin())
-    for a, b in zip(order[::-1][1:], order[::-1][:-1]):
-        pick[a] = back[b, pick[b]]
+    back = np.zeros((n, k), dtype=np.int64)
+    for g in np.unique(groups):  # one path per group of swatches
+        order = np.flatnonzero(groups == g)
+        order = order[np.argsort(d[order], kind="stable")]
+        total = node[order[0]].copy()
+        for a, b in zip(order[:-1], order[1:]):  # the path's steps: one per neighbouring pair
+            edge = np.minimum(((offset[b][None, :] - offset[a][:, None]) / 20.0) ** 2
+                              + ((ps[b, :, 1][None, :] - ps[a, :, 1][:, None]) / 0.15) ** 2, 4.0)
+            through = total[:, None] + edge  # (from k, to k)
+            back[b] = through.argmin(axis=0)
+            total = through.min(axis=0) + node[b]
+        pick[order[-1]] = int(total.argmin())
+        for a, b in zip(order[::-1][1:], order[::-1][:-1]):
+            pick[a] = back[b, pick[b]]
     return pick
 
 
 def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
-                substrate: str | None = None, film_index_scale: float = 1.0) -> PresetFit:
-    """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring."""
+                substrate: str | None = None, groups=None) -> PresetFit:
+    """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring.
+
+    ``groups`` (N,) confines the continuity coupling: a swatch's preset depends only on the
+    thicknesses of its own group (the catalog passes its sheets, so that changing one swatch
+    leaves the other sheets' presets, and so the sheets, as they were).
+    """
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
+    groups = np.zeros(d.size, dtype=np.int64) if groups is None else np.asarray(groups, dtype=np.int64)
     extra = np.unique(np.asarray([a for a in extra_angles_deg if 0.0 <= a <= 60.0], dtype=np.float64))
     angles = np.concatenate([SEARCH_ANGLES_DEG, extra])
     beyond_45, power = _OBJECTIVE[model]
@@ -251,19 +261,15 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     ms = prob.max_45(rs).reshape(n, -1)
     #    choose one solution per swatch so that neighbours agree (a shortest path over the
     #    swatches in thickness order), among the solutions close to each swatch's best
-    pick = _smooth_choice(d, ps, cs, ms)
+    pick = _smooth_choice(d, ps, cs, ms, groups)
     p = ps[rows, pick]
     cost = cs[rows, pick]
     worst = ms[rows, pick]
     # 3. continuity: re-fit from the neighbours' solutions, keep when as good
-    order = np.argsort(d)
+    order = np.lexsort((d, groups))  # by group, then thickness
+    same = groups[order][1:] == groups[order][:-1]
     for _ in range(_CONTINUITY_ROUNDS):
-        for shift in (1, -1):
-            src = np.roll(order, shift)
-            valid = np.ones(n, dtype=bool)
-            valid[order[0] if shift == 1 else order[-1]] = False
-            i = order[valid[order]]
-            j = src[valid[order]]
+        for i, j in ((order[1:][same], order[:-1][same]), (order[:-1][same], order[1:][same])):
             if i.size == 0:
                 continue
             warm = p[j].copy()
