@@ -28,13 +28,15 @@ def run() -> list[str]:
     fits = {m: fit_presets(d, m, extra, spec.film, spec.substrate, groups) for m in MODELS}
     lines.append(f"presets_fit_s={time.perf_counter() - t0:.2f}")
     n550 = float(np.real(load_material(spec.film).nk(np.array([550.0]))[0]))
-    naive = np.column_stack([d, np.full(d.size, n550), np.tile(_bare_metal_rgb(spec.substrate), (d.size, 1))])
+    bare = np.tile(_bare_metal_rgb(spec.substrate), (d.size, 1))
+    naive = np.column_stack([d, np.full(d.size, n550), bare])
     for m, f in fits.items():
         e = errors_delta_E_00(m, round_params(f.params), d, FIT_ANGLES_DEG, spec.film, spec.substrate)
         e45 = e[:, FIT_ANGLES_DEG <= 45].max(axis=1)
         hand = errors_delta_E_00(m, naive, d, FIT_ANGLES_DEG, spec.film, spec.substrate)
         jumps = int((np.abs(np.diff(f.params[:, 0] - d)) > 10.0).sum())
-        lines.append(f"presets_{m}_jumps_over_10nm={jumps} presets_{m}_dE00_45_median={np.median(e45):.2f} presets_{m}_dE00_45_max={e45.max():.2f} "
+        lines.append(f"presets_{m}_jumps_over_10nm={jumps} presets_{m}_dE00_45_median={np.median(e45):.2f} "
+                     f"presets_{m}_dE00_45_max={e45.max():.2f} "
                      f"presets_{m}_dE00_60_max={e.max():.2f} presets_{m}_by_hand_median={np.median(hand):.1f} "
                      f"presets_{m}_by_hand_max={hand.max():.1f}")
     return lines

@@ -15,10 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-import swatch  # noqa: F401
-import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 import tmm
+
 from swatch.colorimetry import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.catalog import ERROR_KEYS, catalog_presets
@@ -34,6 +32,8 @@ WL = np.arange(360.0, 831.0, 1.0)
 
 @functools.lru_cache(maxsize=1)
 def _rgb_cmfs():
+    import colour
+
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
     return np.asarray(cmfs[WL]) @ spectral.XYZ_TO_REC709.T
 
@@ -41,7 +41,8 @@ def _rgb_cmfs():
 def _tmm_rgb(n_film, n_base, d_nm, theta_deg):
     """Unpolarised film reflectance from coh_tmm, integrated against the CIE 1931 CMFs in Rec.709
     (equal energy, each channel normalised: the spectral weighting the Fourier tables encode)."""
-    R = np.array([0.5 * sum(tmm.coh_tmm(pol, [1.0, n_film, n_base], [np.inf, d_nm, np.inf], np.radians(theta_deg), w)["R"]
+    stack = [1.0, n_film, n_base]
+    R = np.array([0.5 * sum(tmm.coh_tmm(pol, stack, [np.inf, d_nm, np.inf], np.radians(theta_deg), w)["R"]
                             for pol in "sp") for w in WL])
     w = _rgb_cmfs()
     return (R @ w) / w.sum(axis=0)
@@ -165,14 +166,16 @@ def test_written_presets_hold_their_stated_error(written, fmt, model, reader):
 
 def test_exact_colour_is_colour_science_of_the_tmm_spectrum():
     """The fit target: the Airy spectrum (here from tmm) through colour.sd_to_XYZ, D65, 2°."""
+    import colour
+
     from swatch.materials import load_material
 
     d, th = 140.0, 30.0
     wl = np.arange(380.0, 781.0, 5.0)
     nf, ns = load_material("TiO2-Siefke").nk(wl), load_material("Ti-Johnson").nk(wl)
     R = [0.5 * sum(tmm.coh_tmm(p, [1.0, f, s], [np.inf, d, np.inf], np.radians(th), w)["R"] for p in "sp")
-         for f, s, w in zip(nf, ns, wl)]
-    sd = colour.SpectralDistribution(dict(zip(wl, R)))
+         for f, s, w in zip(nf, ns, wl, strict=True)]
+    sd = colour.SpectralDistribution(dict(zip(wl, R, strict=True)))
     XYZ = colour.sd_to_XYZ(sd, colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"])
     white = colour.sd_to_XYZ(colour.sd_ones(colour.SpectralShape(380, 780, 5)),
                              colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"])
@@ -265,7 +268,7 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path):
         pytest.skip(f"{CHROMIUM} not installed")
     from playwright.sync_api import sync_playwright
 
-    spec, records, root, _ = written
+    _, records, root, _ = written
     rec = records[2]
     site = tmp_path / "site"
     site.mkdir()
@@ -302,7 +305,8 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path):
     exact = exact_Lab([rec["thickness_nm"]], [0.0, 22.5])[0]
     shift = float(delta_E_00(exact[0], exact[1]))
     print(f"three.js F {three.round(4)}, port at N·V {ours_at_nv.round(4)}: ΔE00 {_dE(three, ours_at_nv):.2f}; "
-          f"vs exact 45:0 {float(delta_E_00(Lab_three, exact[1])):.2f} (0°: {float(delta_E_00(Lab_three, exact[0])):.2f}, "
+          f"vs exact 45:0 {float(delta_E_00(Lab_three, exact[1])):.2f} "
+          f"(0°: {float(delta_E_00(Lab_three, exact[0])):.2f}, "
           f"0°→22.5° shift {shift:.2f}, stated {rec['presets']['gltf_max_delta_E_00']})")
     assert float(delta_E_00(Lab_three, exact[1])) <= rec["presets"]["gltf_max_delta_E_00"] + tol + shift
     assert float(delta_E_00(Lab_three, exact[0])) <= rec["presets"]["gltf_max_delta_E_00"] + tol
@@ -323,7 +327,8 @@ def test_preset_command(tmp_path):
     first = path.read_bytes()
     assert_one_line_error(run_swatch("preset", "--thickness", "150", "--format", "gltf", "--out", tmp_path),
                           "already exists")
-    r = run_swatch("preset", "--thickness", "150", "--format", "gltf", "--out", tmp_path, "--force")
+    r = run_swatch("preset", "--thickness", "150", "--format", "gltf", "--out", tmp_path,
+                   "--force")
     assert r.returncode == 0 and path.read_bytes() == first
     bad = run_swatch("preset", "--thickness", "-5", "--format", "blender", "--out", tmp_path)
     assert_one_line_error(bad, "thickness")

@@ -50,8 +50,9 @@ def roughness_factor(alpha: float) -> float:
 
 
 def fit_key(spec, extra_angles) -> str:
-    import swatch
     from importlib import metadata
+
+    import swatch
 
     pkg = Path(swatch.__file__).resolve().parent
     code = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted((pkg / "presets").glob("*.py"))}
@@ -113,7 +114,7 @@ def _fits(spec, cache: Path | None) -> dict:
     if path is not None:
         from swatch.fileio import atomic_write_text
 
-        for stale in cache.glob("presets-*.json"):
+        for stale in path.parent.glob("presets-*.json"):
             stale.unlink(missing_ok=True)
         atomic_write_text(path, json.dumps({m: {"params": v[0].tolist(), "dE60": v[1].tolist(),
                                                 "dE45": v[2].tolist()} for m, v in out.items()}))

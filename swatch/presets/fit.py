@@ -127,11 +127,10 @@ def _bounds(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _bare_metal_rgb(substrate: str | None) -> np.ndarray:
     """Linear Rec.709 F0 of the bare substrate (D65, 2°): the starting base colour."""
-    from swatch.presets.spectral import _rgb_to_xyz_matrix
-
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
     from swatch.model import get_coating
+    from swatch.presets.spectral import _rgb_to_xyz_matrix
 
     wl = wavelength_grid(380.0, 780.0, 5.0)
     coating = get_coating(DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl)
@@ -206,14 +205,14 @@ def _smooth_choice(d, ps, cs, ms, groups) -> np.ndarray:
         order = np.flatnonzero(groups == g)
         order = order[np.argsort(d[order], kind="stable")]
         total = node[order[0]].copy()
-        for a, b in zip(order[:-1], order[1:]):  # the path's steps: one per neighbouring pair
+        for a, b in zip(order[:-1], order[1:], strict=True):  # the path's steps: one per neighbouring pair
             edge = np.minimum(((offset[b][None, :] - offset[a][:, None]) / 20.0) ** 2
                               + ((ps[b, :, 1][None, :] - ps[a, :, 1][:, None]) / 0.15) ** 2, 4.0)
             through = total[:, None] + edge  # (from k, to k)
             back[b] = through.argmin(axis=0)
             total = through.min(axis=0) + node[b]
         pick[order[-1]] = int(total.argmin())
-        for a, b in zip(order[::-1][1:], order[::-1][:-1]):
+        for a, b in zip(order[::-1][1:], order[::-1][:-1], strict=True):
             pick[a] = back[b, pick[b]]
     return pick
 

@@ -22,8 +22,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.presets.cycles import (airy_summation, conductor_polarized, dielectric_polarized, f82, f82tint_B,
-                                   gulbrandsen_nk, sensitivities)
+from swatch.presets.cycles import (
+    airy_summation,
+    conductor_polarized,
+    dielectric_polarized,
+    f82,
+    f82tint_B,
+    gulbrandsen_nk,
+    sensitivities,
+)
 from swatch.presets.spectral import XYZ_TO_REC709
 
 __all__ = ["thin_film_metal_fresnel", "gaussian_sensitivity"]

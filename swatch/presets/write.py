@@ -21,7 +21,6 @@ from __future__ import annotations
 import base64
 import functools
 import json
-import struct
 
 import numpy as np
 
