@@ -25,7 +25,7 @@ def run() -> list[str]:
     lines = []
     t0 = time.perf_counter()
     groups = np.arange(d.size) // spec.per_sheet  # as the catalog build couples them
-    fits = {m: fit_presets(d, m, extra, spec.film, spec.substrate, groups) for m in MODELS}
+    fits = {m: fit_presets(d, m, extra, spec.film, spec.substrate, spec.film_index_scale, groups) for m in MODELS}
     lines.append(f"presets_fit_s={time.perf_counter() - t0:.2f}")
     n550 = float(np.real(load_material(spec.film).nk(np.array([550.0]))[0]))
     bare = np.tile(_bare_metal_rgb(spec.substrate), (d.size, 1))

@@ -59,6 +59,7 @@ def fit_key(spec, extra_angles) -> str:
     for m in ("optics", "model", "materials", "colorimetry"):
         code[m] = hashlib.sha256((pkg / f"{m}.py").read_bytes()).hexdigest()
     blob = {"d": [float(x) for x in spec.thickness_nm], "per_sheet": spec.per_sheet, "film": spec.film,
+            "film_index_scale": spec.film_index_scale,
             "substrate": spec.substrate,
             "angles": [float(a) for a in extra_angles], "code": code,
             "versions": [metadata.version(x) for x in ("numpy", "scipy", "colour-science")]}
@@ -104,7 +105,8 @@ def _fits(spec, cache: Path | None) -> dict:
     for fmt in PRESET_FORMATS:
         model = FORMAT_MODEL[fmt]
         groups = np.arange(len(spec.thickness_nm)) // spec.per_sheet  # coupled within a sheet only
-        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, groups)
+        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale,
+                          groups)
         written = round_params(fit.params)
         from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
 

@@ -218,8 +218,10 @@ def _smooth_choice(d, ps, cs, ms, groups) -> np.ndarray:
 
 
 def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
-                substrate: str | None = None, groups=None) -> PresetFit:
+                substrate: str | None = None, film_index_scale: float = 1.0, groups=None) -> PresetFit:
     """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring.
+
+    ``film_index_scale``: a process profile's scale of the film's real index (the exact colour).
 
     ``groups`` (N,) confines the continuity coupling: a swatch's preset depends only on the
     thicknesses of its own group (the catalog passes its sheets, so that changing one swatch
@@ -231,7 +233,7 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     angles = np.concatenate([SEARCH_ANGLES_DEG, extra])
     beyond_45, power = _OBJECTIVE[model]
     weights = np.concatenate([np.where(SEARCH_ANGLES_DEG <= 45.0, 1.0, beyond_45), np.full(extra.size, 2.0)])
-    target = exact_Lab(d, angles, film, substrate)
+    target = exact_Lab(d, angles, film, substrate, film_index_scale)
     prob = _Problem(model, target, weights, angles, power)
     n = d.size
     rows = np.arange(n)
