@@ -168,7 +168,7 @@ those chips are clipped and marked “outside sRGB” (with a dashed outline in 
 def _tools(c: dict) -> str:
     ref = c["reference_geometry"]
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
-<div class="stage"><canvas id="view" width="800" height="600"></canvas>
+<div class="stage"><canvas id="view" width="800" height="600" role="img" aria-label="live view of the swatch"></canvas>
 <p class="hint" id="view-note">Drag the picture to turn the view; the light stays fixed. Colours are the
 thin-film physics of this catalog (embedded table), shaded with the microfacet model.</p></div>
 <div class="panel">

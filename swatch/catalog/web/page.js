@@ -246,6 +246,14 @@ $("find-form").addEventListener("submit", (e) => {
 });
 $("find-picker").addEventListener("input", (e) => { $("find-hex").value = e.target.value; $("find-lab").value = ""; find({hex: e.target.value}); });
 
+// -- printing: open the explanations and the cards' multi-angle tables, close them again after --
+let openedForPrint = [];
+window.addEventListener("beforeprint", () => {
+  openedForPrint = [...document.querySelectorAll("details:not([open])")];
+  for (const d of openedForPrint) d.open = true;
+});
+window.addEventListener("afterprint", () => { for (const d of openedForPrint) d.open = false; openedForPrint = []; });
+
 // -- start -----------------------------------------------------------------------------------
 for (const id of ["explorer", "find"]) $(id).hidden = false;
 document.documentElement.classList.add("js");
