@@ -92,3 +92,32 @@ def test_families_fixed_where_designers_disagreed():
     names = {d: r["colour_name"] for d, r in recs.items()}
     assert names[50.0] == "blue" and names[70.0] == "silver blue" and names[95.0] == "straw"
     assert names[30.0] == "bronze" and names[145.0] == "magenta" and names[180.0] == "teal"
+
+
+def test_cards_flag_out_of_gamut_chips_and_carry_p3():
+    from swatch.catalog.explorer import chip_colours
+    from swatch.catalog.html import index_html
+    from swatch.catalog.records import compute
+
+    spec, _ = load_spec("catalog/titanium.toml")
+    data = compute(spec)
+    chips = chip_colours(spec, data)
+    recs = data.records
+    doc = {"catalog": {"name": "t", "film": "f", "substrate": "s", "growth_nm_per_V": 2.0, "illuminant": "D65",
+                       "observer_name": "1964 10°", "model": "m", "reference_geometry": spec.reference.to_json(),
+                       "multi_angle_geometries": [g.to_json() for g in spec.multi_angle], "render": {"shapes": []},
+                       "tolerance": {"max_delta_E_00": 6.5, "grade": "C", "scheme": "csaj"},
+                       "exports": {"cxf": "x.cxf", "ase": "x.ase"}},
+           "sheets": [], "swatches": recs}
+    page = index_html(doc, chips=chips)
+    out = [r for r in recs if not r["in_srgb_gamut"]]
+    assert out, "the default catalog has colours outside sRGB (170–180 nm)"
+    assert page.count('<span class="gamut">outside sRGB</span>') == len(out)
+    # P3 from colour-science: the 2° XYZ of the reflectance, Bradford-adapted into Display P3
+    cm2 = get_colorimeter(data.wavelength_nm, spec.illuminant, "2")
+    rgb = colour.XYZ_to_RGB(cm2.XYZ(data.reflectance) / 100, "Display P3", illuminant=cm2.white_xy,
+                            chromatic_adaptation_transform="Bradford")
+    want = colour.RGB_COLOURSPACES["Display P3"].cctf_encoding(np.clip(rgb, 0, 1))
+    assert np.allclose([c["p3"] for c in chips], want, atol=1e-4)
+    n_multi_out = sum(not v for c in chips for v in c["multi_in_srgb_gamut"].values())
+    assert page.count('<span class="out-of-gamut"') == n_multi_out

@@ -434,9 +434,9 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
 
 def _page(spec, data, page_doc: dict) -> str:
     """index.html with the explorer's colour table, the tiles' places in the sheets and P3 chips."""
-    from swatch.catalog.explorer import explorer_data, records_p3, tile_rects
+    from swatch.catalog.explorer import chip_colours, explorer_data, tile_rects
     from swatch.catalog.html import index_html
 
     return index_html(page_doc, explorer_data(spec, data.wavelength_nm), tile_rects(spec, page_doc["swatches"]),
-                      records_p3(spec, data))
+                      chip_colours(spec, data))
 

@@ -35,7 +35,7 @@ import numpy as np
 from swatch.errors import SwatchError
 
 __all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "explorer_data", "decode", "grid_lookup",
-           "tile_rects"]
+           "tile_rects", "chip_colours"]
 
 #: Thickness step of the shading grid (nm); 2 nm would give ΔE2000 up to 0.27 with 129 cos nodes, 1 nm keeps
 #: the cos θ_d axis short (97 nodes) for the same accuracy.
@@ -187,10 +187,17 @@ def tile_rects(spec, records: list[dict]) -> dict:
             "amap_deg": [float(AMAP_ANGLES_DEG[0]), float(AMAP_ANGLES_DEG[-1])]}
 
 
-def records_p3(spec, data) -> list[list[float]]:
-    """Display P3 encoded RGB (2° colorimetry, clipped to [0, 1]) of each swatch at the reference geometry."""
+def chip_colours(spec, data) -> list[dict]:
+    """Per swatch: Display P3 encoded RGB at the reference geometry (``p3``, clipped to [0, 1]) and
+    whether each multi-angle colour is inside sRGB (``multi_in_srgb_gamut``), both from CIE 1931 2°."""
     from swatch.colorimetry import get_colorimeter
 
     cm = get_colorimeter(data.wavelength_nm, spec.illuminant, spec.observer)
     enc, _ = cm.reflectance_display(data.reflectance, "display-p3")
-    return [[round(float(v), 4) for v in row] for row in np.atleast_2d(enc)]
+    enc = np.atleast_2d(enc)
+    names = [g.name for g in spec.multi_angle]
+    multi = (cm.reflectance_display(data.multi_reflectance, "srgb")[1] if names
+             else np.zeros((0, enc.shape[0]), dtype=bool))  # (G, N)
+    return [{"p3": [round(float(v), 4) for v in enc[i]],
+             "multi_in_srgb_gamut": {n: bool(multi[j, i]) for j, n in enumerate(names)}}
+            for i in range(enc.shape[0])]

@@ -66,19 +66,21 @@ def _sprite(sheet: str, rect, origin, sheet_px, px: int, cls: str, label: str) -
     return f'<div class="{cls}" role="img" aria-label="{html.escape(label)}" style="{style}"></div>'
 
 
-def _card(s: dict, c: dict, tiles: dict | None, p3) -> str:
+def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     e = html.escape
     ref = c["reference_geometry"]["name"]
     gam = "" if s["in_srgb_gamut"] else '<span class="gamut">outside sRGB</span>'
     out = [f'<article class="card" id="card-{e(s["id"])}" data-id="{e(s["id"])}">',
-           f'<div class="chip" style="{_chip_style(s["srgb_hex"], p3)}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
+           f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
            f'{gam}</div>']
     if c["multi_angle_geometries"]:
         out.append('<div class="flop">')
         for g in c["multi_angle_geometries"]:
             lab = " ".join(_fmt(v, 1) for v in s["multi_angle"][g["name"]])
-            out.append(f'<span style="background-color:{e(s["multi_angle_srgb_hex"][g["name"]])}" '
-                       f'title="{e(g["name"])}: L*a*b* {lab}"></span>')
+            oog = chips is not None and not chips["multi_in_srgb_gamut"].get(g["name"], True)
+            cls, note = (' class="out-of-gamut"', " (outside sRGB: clipped)") if oog else ("", "")
+            out.append(f'<span{cls} style="background-color:{e(s["multi_angle_srgb_hex"][g["name"]])}" '
+                       f'title="{e(g["name"])}: L*a*b* {lab}{note}"></span>')
         out.append("</div>")
     if tiles is not None:
         origin = tiles["origins"][s["id"]]
@@ -161,7 +163,8 @@ than the tolerance, {e(pw["text"])}, judged in the metric it is defined in{
 colour; a narrow one needs tight voltage control.</p></details>
 <details><summary>sRGB, Display P3 and dashed chips</summary><p>Chips are CIE 1931 2° colorimetry
 shown in sRGB, or in Display P3 on wide-gamut screens. Some interference colours lie outside sRGB:
-those chips are clipped and marked “outside sRGB” (with a dashed outline in the explorer).</p></details>
+those chips are clipped, marked “outside sRGB” and outlined with a dashed line (multi-angle patches
+too).</p></details>
 </div>"""
 
 
@@ -209,12 +212,13 @@ thin-film physics of this catalog (embedded table), shaded with the microfacet m
 </section>"""
 
 
-def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = None, p3=None) -> str:
+def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = None,
+               chips: list[dict] | None = None) -> str:
     """The page for a catalog document (catalog.json plus ``hue_families``).
 
     ``table``: :func:`swatch.catalog.explorer.explorer_data` (without it the page is the grid
-    only); ``tiles``: :func:`swatch.catalog.explorer.tile_rects`; ``p3``: Display P3 encoded RGB
-    per swatch (chips on wide-gamut screens).
+    only); ``tiles``: :func:`swatch.catalog.explorer.tile_rects`; ``chips``:
+    :func:`swatch.catalog.explorer.chip_colours` (Display P3 chips, multi-angle gamut flags).
     """
     c = catalog["catalog"]
     e = html.escape
@@ -232,7 +236,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     links = " ".join(f'<a href="{e(href)}">{e(text)}</a>' for href, text in files)
     pw = c["tolerance"]
     swatches = catalog["swatches"]
-    cards = "\n".join(_card(s, c, tiles, None if p3 is None else p3[i]) for i, s in enumerate(swatches))
+    cards = "\n".join(_card(s, c, tiles, None if chips is None else chips[i]) for i, s in enumerate(swatches))
     families = "".join(f'<option value="{e(f)}">{e(f)}</option>' for f in catalog.get("hue_families", []))
     names = sorted({s.get("colour_name") for s in swatches if s.get("colour_name")})
     families += "".join(f'<option value="{e(n)}">{e(n)} (name)</option>' for n in names)

@@ -19,10 +19,10 @@ NEUTRAL_CHROMA = 10.0
 NAME_RULES: tuple[tuple, ...] = (
     ("silver blue", 180.0, 290.0, 5.0, NEUTRAL_CHROMA, None, None),  # a grey with a cool tint
     ("silver", 0.0, 360.0, None, NEUTRAL_CHROMA, None, None),
-    ("silver blue", 235.0, 290.0, None, 25.0, 65.0, None),  # pale light blue
-    ("blue", 235.0, 290.0, None, None, None, None),
-    ("teal", 185.0, 235.0, 20.0, None, None, None),
-    ("silver blue", 185.0, 235.0, None, None, None, None),
+    ("silver blue", 228.0, 290.0, None, 25.0, 65.0, None),  # pale light blue
+    ("blue", 228.0, 290.0, None, None, None, None),
+    ("teal", 185.0, 228.0, 20.0, None, None, None),
+    ("silver blue", 185.0, 228.0, None, None, None, None),
     ("green", 135.0, 185.0, None, None, None, None),
     ("straw", 105.0, 135.0, None, 35.0, None, None),  # pale yellow-green reads as straw
     ("lime", 105.0, 135.0, None, None, None, None),
