@@ -103,12 +103,9 @@ def test_cards_flag_out_of_gamut_chips_and_carry_p3():
     data = compute(spec)
     chips = chip_colours(spec, data)
     recs = data.records
-    doc = {"catalog": {"name": "t", "film": "f", "substrate": "s", "growth_nm_per_V": 2.0, "illuminant": "D65",
-                       "observer_name": "1964 10°", "model": "m", "reference_geometry": spec.reference.to_json(),
-                       "multi_angle_geometries": [g.to_json() for g in spec.multi_angle], "render": {"shapes": []},
-                       "tolerance": {"max_delta_E_00": 6.5, "grade": "C", "scheme": "csaj"},
-                       "exports": {"cxf": "x.cxf", "ase": "x.ase"}},
-           "sheets": [], "swatches": recs}
+    from swatch.catalog.build import _catalog_header
+
+    doc = {"catalog": _catalog_header(spec, data, "titanium.toml"), "sheets": [], "swatches": recs}
     page = index_html(doc, chips=chips)
     out = [r for r in recs if not r["in_srgb_gamut"]]
     assert out, "the default catalog has colours outside sRGB (170–180 nm)"

@@ -92,10 +92,7 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
     from swatch import geometry
     from swatch.colorimetry import get_colorimeter
     from swatch.catalog.names import NAME_RULES
-    try:  # the colour match's own module (#13 splits it out of swatch.fitting)
-        from swatch.matching import MATCH_MIN_SEPARATION_NM
-    except ImportError:
-        from swatch.fitting import MATCH_MIN_SEPARATION_NM
+    from swatch.matching import MATCH_MIN_SEPARATION_NM
     from swatch.model import get_coating
 
     wl = np.asarray(wavelength_nm, dtype=np.float64)
