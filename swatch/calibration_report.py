@@ -11,7 +11,7 @@ import numpy as np
 
 from swatch.calibration import Calibration
 
-__all__ = ["calibration_figure"]
+__all__ = ["calibration_figure", "calibration_text", "calibration_paths", "write_calibration"]
 
 PAGE = (246, 246, 244)
 INK = (20, 20, 20)
@@ -115,3 +115,64 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
         img = draw_line(img, x, strip_top + STRIP_H - 2, x, strip_top + STRIP_H + 4, INK)
         img = draw_text(img, f"{v:g} V", x, strip_top + STRIP_H + 20, 12, INK, align="center")
     return img
+
+
+def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
+    """The lines ``swatch calibrate`` prints: the fitted parameters ± one standard error, the
+    residual ΔE2000, the runner-up order and one line per coupon (``d`` =
+    :meth:`swatch.calibration.Calibration.to_dict`)."""
+    lines = []
+    u = d["uncertainty"]
+
+    def pm(key, nd):
+        return f"{d[key]:.{nd}f}" + ("" if u[key] is None else f" ± {u[key]:.{nd}f}")
+
+    lines.append(f"# {d['process']['process']}: {base.film} on {base.substrate}; light {light:g}°, view {view:g}°, "
+                 f"{d['illuminant']}, CIE {d['observer']}° observer")
+    lines.append(f"nm_per_V          {pm('nm_per_V', 4)}")
+    lines.append(f"offset_nm         {pm('offset_nm', 2)}")
+    scale = pm("film_index_scale", 4) + ("" if u["film_index_scale"] is not None else " (kept: not determined)")
+    lines.append(f"film_index_scale  {scale}")
+    lines.append(f"mean ΔE2000 {d['mean_delta_E_00']:.2f}, max {d['max_delta_E_00']:.2f} over "
+                 f"{len(d['samples']) - d['outliers']} coupons; {d['outliers']} outlier(s)")
+    if d["runner_up"]:
+        r = d["runner_up"]
+        lines.append(f"next-best order: {r['nm_per_V']:g} nm/V + {r['offset_nm']:g} nm "
+                     f"(median ΔE2000 {r['mean_delta_E_00']:.2f})")
+    lines.append(f"{'coupon':>16} {'voltage_V':>9} {'thickness_nm':>12} {'ΔE2000':>7}")
+    for s in d["samples"]:
+        flag = "  outlier" if s["outlier"] else ""
+        lines.append(f"{s['coupon'][:16]:>16} {s['voltage_V']:9g} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f}{flag}")
+    return lines
+
+
+def calibration_paths(out_path: str, report_dir: str | None, force: bool):
+    """The profile to write (a .toml) and the report figure (or None), checked: names not empty,
+    no existing file unless ``force``."""
+    from pathlib import Path
+
+    from swatch.errors import SwatchError
+    from swatch.fileio import check_new
+
+    out = Path(out_path)
+    if not str(out_path).strip() or out.suffix.lower() != ".toml":
+        raise SwatchError(f"--out {out_path!r} must name a .toml file")
+    png = Path(report_dir) / "calibration.png" if report_dir is not None else None
+    if report_dir is not None and not str(report_dir).strip():
+        raise SwatchError("--report is an empty string; give a folder path")
+    check_new([out] + ([png] if png else []), force)
+    return out, png
+
+
+def write_calibration(cal: Calibration, out, png, source: str) -> None:
+    """Write the calibrated profile (TOML, atomically) and, when ``png`` is given, the figure."""
+    from swatch.fileio import atomic_write_text, check_writable_dir
+    from swatch.process import process_toml
+
+    header = f"process profile calibrated by swatch calibrate from {source}; format: docs/processes.md"
+    atomic_write_text(out, process_toml(cal.process, header=header))
+    if png is not None:
+        from swatch.imageio import write_png
+
+        check_writable_dir(png.parent)
+        write_png(png, cal.figure(), {"calibration": cal.to_dict()})

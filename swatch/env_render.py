@@ -34,7 +34,7 @@ from swatch.display import BACKGROUND_LINEAR, display_encode
 from swatch.limits import MAX_ENV_RENDER_PX
 from swatch.errors import SwatchError
 
-__all__ = ["BACKGROUNDS", "check_background", "Prepared", "prepared", "render_environment"]
+__all__ = ["BACKGROUNDS", "check_background", "resolve_lighting", "Prepared", "prepared", "render_environment"]
 
 #: The white background's linear value: the display shoulder maps it (and anything above 1.73)
 #: to 255, so the page is white; display only (the EXR keeps alpha).
@@ -218,7 +218,6 @@ def render_environment(prep: Prepared, f_table_srgb: np.ndarray, background: str
     ``cos θ_d`` over [0, 1]. Returns (linear RGB (H, W, 3) in ``space``, coverage (H, W), display
     sRGB uint8 (H, W, 3)).
     """
-    from swatch import render
 
     size = prep.size
     w = env_shading.band_weights(prep.samples, np.asarray(f_table_srgb, dtype=np.float64))
@@ -298,3 +297,28 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
                               f"{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
     return render.SwatchImage(linear, coverage, display, meta, 1.0)
+
+
+def resolve_lighting(environment: str | None, model: str, distribution: str, size_px: int, background: str,
+                     view_deg: float | None = None, view_azimuth_deg: float = 0.0):
+    """The lighting of ``swatch render``: ``--environment``'s map (or None for one directional light),
+    by default the studio light box for the GGX microfacet model and none otherwise; checked against
+    the model, the image size, the background and the camera angles."""
+    from swatch import geometry
+    from swatch.environment import get_environment
+
+    if view_deg is not None:
+        geometry.check_polar_deg(view_deg, "view")
+    geometry.check_azimuth_deg(view_azimuth_deg, "view")
+
+    if environment is None:
+        environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
+    env = get_environment(environment)
+    if env is not None and (model != "microfacet" or distribution != "ggx"):
+        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
+                          "--distribution ggx, or --environment none")
+    if env is not None:
+        check_env_size_px(size_px)
+    if env is None and background == "environment":
+        raise SwatchError("--background environment needs an environment; use grey or white with --environment none")
+    return env

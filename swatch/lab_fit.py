@@ -3,11 +3,24 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
+from swatch.choices import (
+    DEFAULT_EXCLUDE_MIRROR_DEG,
+    DEFAULT_FIT_STEP_NM,
+    DEFAULT_THICKNESS_RANGE_NM,
+)
 from swatch.colorimetry import Colorimeter, delta_E_00, get_colorimeter
 from swatch.fitting import (
-    FacetModel, FitResult, check_scale, colour_summary, geometry_arrays, geometry_fields, model_reflectance,
-    search_fields, sweep_reflectance, unique_geometry, used_geometries,
+    FacetModel,
+    FitResult,
+    check_scale,
+    colour_summary,
+    geometry_arrays,
+    geometry_fields,
+    model_reflectance,
+    search_fields,
+    sweep_reflectance,
+    unique_geometry,
+    used_geometries,
 )
 from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
 from swatch.measurements import LabMeasurement

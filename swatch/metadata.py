@@ -8,7 +8,7 @@ from swatch import __version__
 from swatch.errors import SwatchError
 
 __all__ = ["REFERENCE_GEOMETRY", "file_stem", "reference_Lab", "common_metadata", "coating_and_colorimeter",
-           "with_voltage", "voltage_note"]
+           "with_voltage", "voltage_note", "file_stems"]
 
 REFERENCE_GEOMETRY = (45.0, 0.0)  # light 45°, view along the normal
 
@@ -31,6 +31,14 @@ def coating_and_colorimeter(coating, colorimeter):
 def file_stem(kind: str, thickness_nm: float) -> str:
     """``cylinder_050.8nm``: the kind and the thickness to 0.1 nm, zero-padded to sort."""
     return f"{kind}_{float(thickness_nm):05.1f}nm"
+
+
+def file_stems(kind: str, thickness_nm) -> list[str]:
+    """:func:`file_stem` of each thickness; two thicknesses with one stem are refused."""
+    stems = [file_stem(kind, x) for x in np.atleast_1d(thickness_nm)]
+    if len(set(stems)) != len(stems):
+        raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
+    return stems
 
 
 def reference_Lab(thickness_nm: float, coating, colorimeter) -> np.ndarray:

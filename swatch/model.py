@@ -13,9 +13,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch import geometry, optics
-from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.errors import SwatchError
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, DEFAULT_WAVELENGTHS_NM, list_materials, load_material
+from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
+from swatch.materials import (
+    DEFAULT_FILM,
+    DEFAULT_SUBSTRATE,
+    DEFAULT_WAVELENGTHS_NM,
+    list_materials,
+    load_material,
+)
 
 __all__ = [
     "DEFAULT_NM_PER_V",

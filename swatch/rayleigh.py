@@ -11,7 +11,7 @@ import numpy as np
 
 from swatch.errors import SwatchError
 
-__all__ = ["ANGLES_DEG", "WAVELENGTHS_NM", "MAX_RA_NM", "rayleigh_criterion", "rayleigh_text"]
+__all__ = ["ANGLES_DEG", "WAVELENGTHS_NM", "MAX_RA_NM", "rayleigh_criterion", "rayleigh_text", "rayleigh_json"]
 
 #: Incidence angles and wavelengths the criterion is tabulated at.
 ANGLES_DEG = np.arange(0.0, 61.0, 10.0)
@@ -50,3 +50,9 @@ def rayleigh_text(r: dict, ra_nm: float) -> list[str]:
              f"{'θ_deg':>6} " + " ".join(f"{w:>7.0f}nm" for w in WAVELENGTHS_NM)]
     lines += [f"{a:6.0f} " + " ".join(f"{v:9.1f}" for v in row) for a, row in zip(ANGLES_DEG, r["h_nm"])]
     return [*lines, f"Ra = {ra_nm:g} nm: {r['text']}"]
+
+
+def rayleigh_json(r: dict, ra_nm: float) -> dict:
+    """``swatch roughness --json``: the criterion's table and verdict for ``ra_nm``."""
+    return {"ra_nm": ra_nm, "h_min_nm": r["h_min_nm"], "h_max_nm": r["h_max_nm"], "verdict": r["verdict"],
+            "angle_deg": ANGLES_DEG.tolist(), "wavelength_nm": WAVELENGTHS_NM.tolist(), "h_nm": r["h_nm"].tolist()}

@@ -24,10 +24,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swatch import microfacet, shading
-from swatch.limits import MAX_SIZE_PX
 from swatch.colorimetry import check_rgb_space
 from swatch.display import BACKGROUND_LINEAR, display_encode, exposure
 from swatch.errors import SwatchError
+from swatch.limits import MAX_SIZE_PX
 from swatch.metadata import coating_and_colorimeter, common_metadata
 from swatch.scene import Scene, check_shape, make_scene
 

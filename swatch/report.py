@@ -18,8 +18,8 @@ if TYPE_CHECKING:
     from swatch.matching import MatchResult
 
 __all__ = ["delta_e_grid", "multi_summary", "report_paths", "write_report", "angular_lab_csv", "angular_lab_json",
-           "fit_text", "match_text", "with_process", "grade_in_metric", "spectrum_text", "colour_table_text",
-           "materials_text", "material_text"]
+           "fit_text", "multi_text", "match_text", "with_process", "grade_in_metric", "spectrum_text", "colour_table_text",
+           "materials_text", "material_text", "materials_json", "material_json"]
 
 
 def delta_e_grid(result: FitResult, which: str = "delta_E_ab"):
@@ -84,11 +84,24 @@ def multi_summary(dicts: list[dict], scheme: str) -> dict:
     return out
 
 
+def multi_text(s: dict) -> str:
+    """The closing line of ``swatch fit`` over several samples (``s`` = :func:`multi_summary`)."""
+    return (f"all {len(s['samples'])} samples: mean ΔE*ab {s['mean_delta_E_ab']:.2f}, "
+            f"mean ΔE2000 {s['mean_delta_E_00']:.2f}, grade {s['grade']} ({s['scheme']})")
+
+
 def _fmt(x, spec=".2f", none="—"):
     return none if x is None else format(x, spec)
 
 
-def report_paths(report_dir, measurements) -> dict:
+def report_paths(report_dir, measurements, force: bool = False) -> dict:
+    """The files of ``swatch fit --report`` (one ΔE map per measurement), checked: the folder name is
+    not empty and no file exists unless ``force``."""
+    from swatch.errors import SwatchError
+    from swatch.fileio import check_new
+
+    if not str(report_dir).strip():
+        raise SwatchError("--report is an empty string; give a folder path")
     out = Path(report_dir)
     if len(measurements) == 1:
         maps = [(out / "delta_e_map.png", out / "delta_e_map.exr")]
@@ -103,12 +116,15 @@ def report_paths(report_dir, measurements) -> dict:
                 name = f"{stem}_{k}"
             used.add(name.lower())
             maps.append((out / f"delta_e_map_{name}.png", out / f"delta_e_map_{name}.exr"))
-    return {
+    paths = {
         "maps": maps,
         "summary_csv": out / "summary.csv",
         "summary_md": out / "summary.md",
         "geometries_csv": out / "geometries.csv",
     }
+    check_new([p for pair in paths["maps"] for p in pair]
+              + [paths[k] for k in ("summary_csv", "summary_md", "geometries_csv")], force)
+    return paths
 
 
 def write_report(results, dicts, paths) -> None:
@@ -316,3 +332,16 @@ def material_text(m, wl: np.ndarray, nk: np.ndarray) -> list[str]:
     lines = [f"# {m.name} ({m.role}): {' '.join(m.reference.split())}", f"# doi:{m.doi}; {m.license}",
              f"{'wavelength_nm':>13} {'n':>9} {'k':>9}"]
     return lines + [f"{w:13.1f} {n:9.4f} {k:9.4f}" for w, n, k in zip(wl, nk.real, nk.imag)]
+
+
+def materials_json(mats, defaults: tuple[str, ...]) -> list[dict]:
+    """``swatch materials list --json``."""
+    return [{"name": m.name, "role": m.role, "formula": m.formula, "reference": m.reference, "doi": m.doi,
+             "wavelength_range_nm": list(m.wavelength_range_nm), "default": m.name in defaults} for m in mats]
+
+
+def material_json(m, wl: np.ndarray, nk: np.ndarray) -> dict:
+    """``swatch materials show --json``: the table's source and n, k on the grid."""
+    return {"name": m.name, "role": m.role, "formula": m.formula,
+            "source": {"reference": m.reference, "doi": m.doi, "file": m.source_file, "license": m.license},
+            "wavelength_nm": wl.tolist(), "n": nk.real.tolist(), "k": nk.imag.tolist()}

@@ -13,8 +13,8 @@ from collections.abc import Callable
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from swatch.limits import MAX_THICKNESS_NM
 from swatch.errors import SwatchError
+from swatch.limits import MAX_THICKNESS_NM
 
 __all__ = ["N_SCREEN", "N_REFINE", "MAX_SEARCH_POINTS", "check_search_range", "local_minima", "refine_minimum",
            "multimodal_search", "curvature_sigma"]

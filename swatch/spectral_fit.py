@@ -4,11 +4,27 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
+from swatch.choices import (
+    DEFAULT_EXCLUDE_MIRROR_DEG,
+    DEFAULT_FIT_STEP_NM,
+    DEFAULT_THICKNESS_RANGE_NM,
+)
 from swatch.colorimetry import get_colorimeter
+from swatch.errors import SwatchError
 from swatch.fitting import (
-    COARSE_SPACING_NM, FacetModel, FitResult, check_scale, colour_grid, colour_summary, geometry_arrays,
-    geometry_fields, interp_rows, model_reflectance, search_fields, sweep_reflectance, unique_geometry,
+    COARSE_SPACING_NM,
+    FacetModel,
+    FitResult,
+    check_scale,
+    colour_grid,
+    colour_summary,
+    geometry_arrays,
+    geometry_fields,
+    interp_rows,
+    model_reflectance,
+    search_fields,
+    sweep_reflectance,
+    unique_geometry,
     used_geometries,
 )
 from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
@@ -17,7 +33,7 @@ from swatch.model import get_coating, intensity_scale
 from swatch.search import CURVATURE_STEP_NM, check_search_range, multimodal_search
 from swatch.tolerance import DEFAULT_SCHEME
 
-__all__ = ["fit_spectra"]
+__all__ = ["fit_spectra", "fit_measurement"]
 
 
 # -- least squares with intensity correction --------------------------------------------------------
@@ -142,3 +158,19 @@ def fit_spectra(
         reflectance_unit_detected=measurement.unit_detected,
         search_thickness_nm=d_grid, search_residual=f_coarse / (M.shape[0] * wl_idx.size),
     )
+
+
+def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, grid_given: bool = False,
+                    source: str | None = None, **options) -> FitResult:
+    """:func:`fit_spectra` of a spectral measurement or :func:`swatch.lab_fit.fit_lab` of a CIELAB
+    one (on ``wavelength_nm``); ``options`` go to the fit. Spectra are fitted on their own
+    wavelengths: a grid the user gave (``grid_given``) is refused for them, naming ``source``."""
+    from swatch.lab_fit import fit_lab
+    from swatch.measurements import LabMeasurement
+
+    if isinstance(measurement, LabMeasurement):
+        return fit_lab(measurement, film, substrate, wavelength_nm=wavelength_nm, **options)
+    if grid_given:
+        raise SwatchError(f"{source or measurement.source}: --wavelengths applies to CIELAB files; a spectral fit "
+                          "uses the measured wavelengths (crop the file to change them)")
+    return fit_spectra(measurement, film, substrate, **options)

@@ -93,10 +93,10 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
 def _render_job(args):
     """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
     (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap) = args
+    from swatch.angular import angular_map
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
     from swatch.model import get_coating
-    from swatch.angular import angular_map
     from swatch.render import render_swatch
 
     wl = wavelength_grid(380.0, 780.0, wl_step)
@@ -224,7 +224,6 @@ def _warm(spec: CatalogSpec, parent_pid: int) -> None:
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
     from swatch.model import get_coating
-    import swatch.render  # noqa: F401
 
     wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
     get_coating(spec.film, spec.substrate, wl, spec.film_index_scale)
@@ -398,8 +397,8 @@ def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
 def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: list[str], cache: Path,
                   number: int, of: int, png_path: Path, exr_path: Path) -> None:
     """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata)."""
-    from swatch.imageio import draw_rect, write_exr, write_png
     from swatch.display import BACKGROUND_LINEAR
+    from swatch.imageio import draw_rect, write_exr, write_png
 
     lay = Layout(spec)
     disp = _strip(lay.width, lay.height, PAGE)

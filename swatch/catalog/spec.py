@@ -20,7 +20,7 @@ from swatch.choices import MODELS, SHAPES
 from swatch.errors import SwatchError
 from swatch.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_capped
 
-__all__ = ["CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
+__all__ = ["spec_summary", "CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
 RENDER_SHAPES = SHAPES
@@ -448,3 +448,12 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
         raise SwatchError(f"{source}: tables or lists nested too deeply; a catalog spec nests at most "
                           "three levels") from None
     return parse_spec(data, source, p.parent), raw
+
+
+def spec_summary(s: CatalogSpec) -> str:
+    """One line: name, swatches, thickness range, sheets, materials, colorimetry, geometries, grade."""
+    d, per = s.thickness_nm, s.per_sheet
+    return (f"{s.name!r}: {len(d)} swatches, {d[0]:g}–{d[-1]:g} nm, "
+            f"{(len(d) + per - 1) // per} sheet(s) of {s.columns}×{s.rows}; {s.film} on {s.substrate}; "
+            f"{s.illuminant}/{s.observer}°; reference {s.reference.name}; "
+            f"{len(s.multi_angle)} multi-angle geometries; grade {s.scheme} {s.grade}")

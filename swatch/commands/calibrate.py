@@ -6,7 +6,6 @@ from pathlib import Path
 import click
 
 from swatch.commands.common import colour_options, echo_json, resolve_process
-from swatch.errors import SwatchError
 
 
 @click.command()
@@ -39,51 +38,21 @@ def calibrate(coupons, out_path, process, film, substrate, name, light, view, il
     the parameters come with standard errors. Data that cannot determine them are refused.
     """
     from swatch.calibration import calibrate as fit
+    from swatch.calibration_report import (
+        calibration_paths,
+        calibration_text,
+        write_calibration,
+    )
     from swatch.coupons import read_coupons
-    from swatch.fileio import atomic_write_text, check_new, check_writable_dir
-    from swatch.process import process_toml
 
-    out = Path(out_path)
-    if not str(out_path).strip() or out.suffix.lower() != ".toml":
-        raise SwatchError(f"--out {out_path!r} must name a .toml file")
-    png = Path(report_dir) / "calibration.png" if report_dir is not None else None
-    if report_dir is not None and not str(report_dir).strip():
-        raise SwatchError("--report is an empty string; give a folder path")
-    check_new([out] + ([png] if png else []), force)
+    out, png = calibration_paths(out_path, report_dir, force)
     base = resolve_process(process, film, substrate)
     data = read_coupons(coupons)
     cal = fit(data, base, light, view, illuminant, observer, fit_scale, name)
-    header = (f"process profile calibrated by swatch calibrate from {Path(coupons).name} "
-              f"({len(data)} coupons); format: docs/processes.md")
-    atomic_write_text(out, process_toml(cal.process, header=header))
-    if png is not None:
-        from swatch.imageio import write_png
-
-        check_writable_dir(report_dir)
-        write_png(png, cal.figure(), {"calibration": cal.to_dict()})
+    write_calibration(cal, out, png, f"{Path(coupons).name} ({len(data)} coupons)")
     d = cal.to_dict()
     if as_json:
         echo_json(d)
         return
-    u = d["uncertainty"]
-
-    def pm(key, nd):
-        return f"{d[key]:.{nd}f}" + ("" if u[key] is None else f" ± {u[key]:.{nd}f}")
-
-    click.echo(f"# {d['process']['process']}: {base.film} on {base.substrate}; light {light:g}°, view {view:g}°, "
-               f"{d['illuminant']}, CIE {d['observer']}° observer")
-    click.echo(f"nm_per_V          {pm('nm_per_V', 4)}")
-    click.echo(f"offset_nm         {pm('offset_nm', 2)}")
-    scale = pm("film_index_scale", 4) + ("" if u["film_index_scale"] is not None else " (kept: not determined)")
-    click.echo(f"film_index_scale  {scale}")
-    click.echo(f"mean ΔE2000 {d['mean_delta_E_00']:.2f}, max {d['max_delta_E_00']:.2f} over "
-               f"{len(d['samples']) - d['outliers']} coupons; {d['outliers']} outlier(s)")
-    if d["runner_up"]:
-        r = d["runner_up"]
-        click.echo(f"next-best order: {r['nm_per_V']:g} nm/V + {r['offset_nm']:g} nm "
-                   f"(median ΔE2000 {r['mean_delta_E_00']:.2f})")
-    click.echo(f"{'coupon':>16} {'voltage_V':>9} {'thickness_nm':>12} {'ΔE2000':>7}")
-    for s in d["samples"]:
-        flag = "  outlier" if s["outlier"] else ""
-        click.echo(f"{s['coupon'][:16]:>16} {s['voltage_V']:9g} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f}{flag}")
+    click.echo("\n".join(calibration_text(d, base, light, view)))
     click.echo(f"profile written to {out}" + (f"; report {png}" if png else ""))

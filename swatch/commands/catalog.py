@@ -46,13 +46,8 @@ def build(spec, out, jobs, quiet):
 def validate(spec):
     """Check a catalog spec and summarise it (nothing is written)."""
     from swatch.catalog.records import check_colorimetry
-    from swatch.catalog.spec import load_spec
+    from swatch.catalog.spec import load_spec, spec_summary
 
     s, _ = load_spec(spec)
     check_colorimetry(s)  # validate refuses what build refuses
-    d = s.thickness_nm
-    per = s.per_sheet
-    click.echo(f"{spec}: ok — {s.name!r}: {len(d)} swatches, {d[0]:g}–{d[-1]:g} nm, "
-               f"{(len(d) + per - 1) // per} sheet(s) of {s.columns}×{s.rows}; {s.film} on {s.substrate}; "
-               f"{s.illuminant}/{s.observer}°; reference {s.reference.name}; "
-               f"{len(s.multi_angle)} multi-angle geometries; grade {s.scheme} {s.grade}")
+    click.echo(f"{spec}: ok — {spec_summary(s)}")

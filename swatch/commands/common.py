@@ -3,55 +3,14 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 
 import click
 import numpy as np
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_RANGE_POINTS
 from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
-from swatch.model import DEFAULT_NM_PER_V, check_thickness_nm, voltage_to_thickness_nm
-
-
-
-def parse_range(text: str, what: str, unit: str) -> np.ndarray:
-    """``A:B:STEP`` (inclusive of B when it falls on the grid), ``N,N,...`` or ``N``."""
-    s = str(text).strip()
-    if not s:
-        raise SwatchError(f"empty {what}; give A:B:STEP or a list N,N,... in {unit}")
-
-    def num(tok: str) -> float:
-        try:
-            v = float(tok)
-        except ValueError:
-            raise SwatchError(f"{what} {tok.strip()!r} is not a number; give A:B:STEP or N,N,... in {unit}") from None
-        if not math.isfinite(v):
-            raise SwatchError(f"{what} must be finite, got {tok.strip()!r}")
-        return v
-
-    if ":" in s:
-        parts = s.split(":")
-        if len(parts) != 3:
-            raise SwatchError(f"{what} range {s!r} must be A:B:STEP in {unit}")
-        a, b, step = (num(p) for p in parts)
-        if step <= 0:
-            raise SwatchError(f"{what} range {s!r} needs a step > 0")
-        if b < a:
-            raise SwatchError(f"{what} range {s!r} is reversed; give A <= B")
-        span = (b - a) / step  # inf for a subnormal step: compared before any conversion
-        if not span + 1 <= MAX_RANGE_POINTS:
-            n = f"{span + 1:.3g}" if math.isfinite(span) else "too many"
-            raise SwatchError(f"{what} range {s!r} has {n} points; at most {MAX_RANGE_POINTS}")
-        count = int(math.floor(span + 1e-9)) + 1
-        return a + step * np.arange(count)
-    parts = s.split(",")
-    if len(parts) > MAX_RANGE_POINTS:
-        raise SwatchError(f"{what} list has {len(parts)} values; at most {MAX_RANGE_POINTS}")
-    if any(not p.strip() for p in parts):
-        raise SwatchError(f"{what} list {s[:60]!r} has an empty element; give N,N,... in {unit} with no empty "
-                          "entries")
-    return np.array([num(p) for p in parts], dtype=np.float64)
+from swatch.model import check_thickness_nm
+from swatch.ranges import parse_grid, parse_range
 
 
 def process_options(f):
@@ -87,20 +46,13 @@ def thickness_options(multiple: bool):
     return deco
 
 
-def resolve_thickness(thickness: str | None, voltage: str | None, nm_per_volt, multiple: bool):
-    """Return (thickness_nm array, voltage_V array or None).
-
-    ``nm_per_volt`` is a growth rate in nm/V or a :class:`swatch.process.Process` (its growth law).
-    """
+def resolve_thickness(thickness: str | None, voltage: str | None, proc, multiple: bool):
+    """Return (thickness_nm array, voltage_V array or None); voltages through the growth law of the
+    :class:`swatch.process.Process` ``proc``."""
     if (thickness is None) == (voltage is None):
         raise SwatchError("give exactly one of --thickness NM or --voltage V")
-    if thickness is not None:
-        d = parse_range(thickness, "thickness", "nm")
-        v = None
-    else:
-        v = parse_range(voltage, "voltage", "V")
-        d = (nm_per_volt.thickness_nm(v) if hasattr(nm_per_volt, "thickness_nm")
-             else voltage_to_thickness_nm(v, DEFAULT_NM_PER_V if nm_per_volt is None else nm_per_volt))
+    v = None if voltage is None else parse_range(voltage, "voltage", "V")
+    d = parse_range(str(thickness), "thickness", "nm") if v is None else proc.thickness_nm(v)
     if not multiple and d.size != 1:
         raise SwatchError("this command takes one thickness (or voltage), not a range")
     return check_thickness_nm(d), v
@@ -121,15 +73,11 @@ def overcoat_option(f):
                               "at most 1000 nm")(f)
 
 
-def resolve_coating(film, substrate: str | None = None, wavelengths: str = "380:780:5", overcoats=()):
-    """The coating for the material options (or a :class:`swatch.process.Process` as ``film``), with
-    any ``--overcoat`` layers on top."""
-    from swatch.model import OvercoatedCoating, get_coating, overcoat
+def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
+    """The :class:`swatch.process.Process`'s coating with any ``--overcoat`` layers on top."""
+    from swatch.model import OvercoatedCoating, overcoat
 
-    if hasattr(film, "coating"):
-        coating = film.coating(resolve_grid(wavelengths))
-    else:
-        coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, resolve_grid(wavelengths))
+    coating = proc.coating(resolve_grid(wavelengths))
     if not overcoats:
         return coating
     return OvercoatedCoating(coating, tuple(overcoat(o, coating.wavelength_nm) for o in overcoats))
@@ -141,14 +89,7 @@ def grid_option(f):
 
 
 def resolve_grid(text: str) -> np.ndarray:
-    parts = str(text).split(":")
-    if len(parts) != 3:
-        raise SwatchError(f"wavelength grid {text!r} must be START:STOP:STEP in nm")
-    try:
-        a, b, s = (float(p) for p in parts)
-    except ValueError:
-        raise SwatchError(f"wavelength grid {text!r} must be numbers START:STOP:STEP in nm") from None
-    return wavelength_grid(a, b, s)
+    return wavelength_grid(*parse_grid(text))
 
 
 def _finite(ctx, param, value):
@@ -177,7 +118,3 @@ def colour_options(f):
 
 def echo_json(obj) -> None:
     click.echo(json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False))
-
-
-def is_terminal() -> bool:
-    return sys.stderr.isatty()

@@ -1,34 +1,16 @@
 """``swatch fit`` (thickness from measurements, ΔE report) and ``swatch match`` (thickness from a colour)."""
 from __future__ import annotations
 
-import math
-
 import click
 from click.core import ParameterSource
 
-from swatch.choices import (
-    DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_MATCH_STEP_NM, DEFAULT_THICKNESS_RANGE_NM, SCALE_MODES,
-)
-from swatch.commands.common import (
-    colour_options, echo_json, geometry_options, grid_option, material_options, process_options, resolve_process,
-)
+from swatch import choices
+from swatch.commands import common
 from swatch.errors import SwatchError
 from swatch.model import DEFAULT_NM_PER_V
+from swatch.ranges import parse_pair
 
-_RANGE_DEFAULT = "{:g}:{:g}".format(*DEFAULT_THICKNESS_RANGE_NM)
-
-
-def _parse_pair(text: str, what: str) -> tuple[float, float]:
-    parts = str(text).split(":")
-    try:
-        if len(parts) != 2:
-            raise ValueError
-        a, b = (float(p) for p in parts)
-    except ValueError:
-        raise SwatchError(f"{what} {text!r} must be A:B in nm, e.g. 0:400") from None
-    if not (math.isfinite(a) and math.isfinite(b)):
-        raise SwatchError(f"{what} must be finite numbers")
-    return a, b
+_RANGE_DEFAULT = "{:g}:{:g}".format(*choices.DEFAULT_THICKNESS_RANGE_NM)
 
 
 # -- fit --------------------------------------------------------------------------------------------
@@ -36,19 +18,19 @@ def _parse_pair(text: str, what: str) -> tuple[float, float]:
 @click.argument("measurements", nargs=-1, required=True, type=click.Path(dir_okay=False, path_type=str))
 @click.option("--percent/--fraction", "percent", default=None,
               help="reflectance unit [default: percent if any value > 1.5, else fraction]")
-@click.option("--scale", type=click.Choice(SCALE_MODES), default="energy", show_default=True,
+@click.option("--scale", type=click.Choice(choices.SCALE_MODES), default="energy", show_default=True,
               help="intensity correction: energy = the paper's (match each geometry's mean energy), "
                    "lsq = least-squares scale per geometry, global = one scale, none = absolute")
-@click.option("--exclude-mirror", "exclude_mirror", type=float, default=DEFAULT_EXCLUDE_MIRROR_DEG, show_default=True,
+@click.option("--exclude-mirror", "exclude_mirror", type=float, default=choices.DEFAULT_EXCLUDE_MIRROR_DEG, show_default=True,
               help="leave out geometries whose view is within this many degrees of the mirror direction (0: keep all)")
 @click.option("--range", "thickness_range", default=_RANGE_DEFAULT, show_default=True, help="thickness search range A:B in nm")
-@click.option("--step", type=float, default=DEFAULT_FIT_STEP_NM, show_default=True, help="global search step in nm")
-@geometry_options
-@material_options
-@colour_options
-@grid_option
+@click.option("--step", type=float, default=choices.DEFAULT_FIT_STEP_NM, show_default=True, help="global search step in nm")
+@common.geometry_options
+@common.material_options
+@common.colour_options
+@common.grid_option
 @click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme for the grade")
-@process_options
+@common.process_options
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of text")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False, path_type=str), default=None,
               help="write delta_e_map.png/.exr, summary.csv/.md and geometries.csv into this folder")
@@ -65,52 +47,33 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     (global search over the range, then local refinement) and reports the best thickness, an
     uncertainty, the next-best minimum, ΔE*ab and ΔE2000 per geometry, their means and the grade.
     """
-    from swatch.commands.common import resolve_grid
-    from swatch.lab_fit import fit_lab
-    from swatch.measurements import LabMeasurement, read_measurement
-    from swatch.report import fit_text, multi_summary, report_paths, with_process, write_report
-    from swatch.spectral_fit import fit_spectra
+    from swatch import report
+    from swatch.measurements import read_measurement
+    from swatch.spectral_fit import fit_measurement
 
-    proc = resolve_process(process, film, substrate, nm_per_volt)
+    proc = common.resolve_process(process, film, substrate, nm_per_volt)
     film, substrate = proc.film, proc.substrate
-    rng = _parse_pair(thickness_range, "--range")
+    rng = parse_pair(thickness_range, "--range")
     geom = dict(light_deg=light, view_deg=view, light_azimuth_deg=light_azimuth, view_azimuth_deg=view_azimuth)
-    paths = report_paths(report_dir, measurements) if report_dir is not None else None
-    if paths:
-        from swatch.fileio import check_new
-
-        if not str(report_dir).strip():
-            raise SwatchError("--report is an empty string; give a folder path")
-        check_new([p for pair in paths["maps"] for p in pair]
-                  + [paths[k] for k in ("summary_csv", "summary_md", "geometries_csv")], force)
-    results = []
-    for path in measurements:
-        m = read_measurement(path, percent, **geom)
-        common = dict(scale=scale, exclude_mirror_deg=exclude_mirror, thickness_range=rng, step_nm=step,
-                      illuminant=illuminant, observer=observer, scheme=scheme)
-        if isinstance(m, LabMeasurement):
-            res = fit_lab(m, film, substrate, wavelength_nm=resolve_grid(wavelengths), **common)
-        else:
-            if click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT:
-                raise SwatchError(f"{path}: --wavelengths applies to CIELAB files; a spectral fit uses the "
-                                  "measured wavelengths (crop the file to change them)")
-            res = fit_spectra(m, film, substrate, **common)
-        results.append(res)
-    dicts = [with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]
+    paths = report.report_paths(report_dir, measurements, force) if report_dir is not None else None
+    options = dict(scale=scale, exclude_mirror_deg=exclude_mirror, thickness_range=rng, step_nm=step,
+                   illuminant=illuminant, observer=observer, scheme=scheme, wavelength_nm=common.resolve_grid(wavelengths))
+    given = click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT
+    results = [fit_measurement(read_measurement(p, percent, **geom), film, substrate, grid_given=given, source=p,
+                               **options) for p in measurements]
+    dicts = [report.with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]
     if paths:
         from swatch.fileio import check_writable_dir
 
         check_writable_dir(report_dir)  # created only once every measurement has been read and fitted
-        write_report(results, dicts, paths)
+        report.write_report(results, dicts, paths)
     if as_json:
-        echo_json(dicts[0] if len(dicts) == 1 else multi_summary(dicts, scheme))
+        common.echo_json(dicts[0] if len(dicts) == 1 else report.multi_summary(dicts, scheme))
         return
     for d in dicts:
-        click.echo("\n".join(fit_text(d)))
+        click.echo("\n".join(report.fit_text(d)))
     if len(dicts) > 1:
-        s = multi_summary(dicts, scheme)
-        click.echo(f"\nall {len(dicts)} samples: mean ΔE*ab {s['mean_delta_E_ab']:.2f}, "
-                   f"mean ΔE2000 {s['mean_delta_E_00']:.2f}, grade {s['grade']} ({scheme})")
+        click.echo("\n" + report.multi_text(report.multi_summary(dicts, scheme)))
     if paths:
         click.echo(f"report written to {report_dir}")
 
@@ -119,19 +82,19 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
 @click.command()
 @click.option("--lab", "lab", default=None, help="target CIELAB L,a,b (under --illuminant/--observer)")
 @click.option("--hex", "hex_code", default=None, help="target sRGB colour RRGGBB")
-@geometry_options
-@material_options
-@colour_options
-@grid_option
+@common.geometry_options
+@common.material_options
+@common.colour_options
+@common.grid_option
 @click.option("--range", "thickness_range", default=_RANGE_DEFAULT, show_default=True, help="thickness range A:B in nm")
-@click.option("--step", type=float, default=DEFAULT_MATCH_STEP_NM, show_default=True, help="search step in nm")
+@click.option("--step", type=float, default=choices.DEFAULT_MATCH_STEP_NM, show_default=True, help="search step in nm")
 @click.option("--top", type=int, default=5, show_default=True, help="number of candidates")
 @click.option("--grade", default="C", show_default=True,
               help="tolerance grade a candidate must meet, judged in the scheme's metric (CSAJ: ΔE*ab)")
 @click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme")
 @click.option("--tolerance", "tolerance", default=None, metavar="METRIC:MAX",
               help="a tolerance as coating specifications write it, e.g. dE00:2.0 or dEab:3.2 (instead of --grade)")
-@process_options
+@common.process_options
 @click.option("--match-lightness", is_flag=True,
               help="scale the simulated colour to the target's lightness (compare hue and chroma only)")
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
@@ -145,7 +108,6 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     --scheme, or --tolerance), judged in the tolerance's own metric.
     """
     from swatch.colorimetry import get_colorimeter, hex_to_Lab, parse_Lab
-    from swatch.commands.common import resolve_grid
     from swatch.matching import judge_candidates, match_colour
     from swatch.report import match_text
     from swatch.tolerance import get_tolerance, parse_tolerance
@@ -154,14 +116,14 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
 
     if (lab is None) == (hex_code is None):
         raise SwatchError("give exactly one of --lab L,a,b or --hex RRGGBB")
-    proc = resolve_process(process, film, substrate, nm_per_volt)
-    coating = proc.coating(resolve_grid(wavelengths))
+    proc = common.resolve_process(process, film, substrate, nm_per_volt)
+    coating = proc.coating(common.resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     if hex_code is not None:  # sRGB is defined on CIE 1931 2° colorimetry: match in it
         cm = cm.display_colorimeter
     target = parse_Lab(lab, "--lab") if lab is not None else hex_to_Lab(hex_code, cm)
     res = match_colour(target, coating, cm, light, view, light_azimuth, view_azimuth,
-                       thickness_range=_parse_pair(thickness_range, "--range"), step_nm=step, top=top,
+                       thickness_range=parse_pair(thickness_range, "--range"), step_nm=step, top=top,
                        nm_per_V=proc.nm_per_V or DEFAULT_NM_PER_V, grade=grade, scheme=scheme,
                        match_lightness=match_lightness)
     judge_candidates(res, proc.voltage_V, tol)
@@ -171,6 +133,6 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     if hex_code is not None:
         out["target_hex"] = "#" + hex_code.strip().lstrip("#").lower()
     if as_json:
-        echo_json(out)
+        common.echo_json(out)
         return
     click.echo("\n".join(match_text(res, out.get("target_hex"), thickness_range, cm, coating, proc.name, tol)))

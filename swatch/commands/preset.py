@@ -24,24 +24,12 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     """
     from swatch.commands.common import resolve_process, resolve_thickness
     from swatch.fileio import atomic_write_bytes, check_new, check_writable_dir
-    from swatch.presets import FORMAT_MODEL
-    from swatch.presets.catalog import preset_bytes, preset_file_name, round_params
-    from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, fit_presets
+    from swatch.presets.catalog import preset_file_name, single_preset
 
     proc = resolve_process(process, film, substrate, nm_per_volt)
-    film, substrate, scale = proc.film, proc.substrate, proc.film_index_scale
     d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
-    folder = check_writable_dir(out)
-    ident = f"{float(d[0]):g}nm"
-    path = folder / preset_file_name(ident, fmt)
+    path = check_writable_dir(out) / preset_file_name(f"{float(d[0]):g}nm", fmt)
     check_new([path], force)
-    model = FORMAT_MODEL[fmt]
-    fit = fit_presets(d, model, (22.5,), film, substrate, scale)
-    params = round_params(fit.params)
-    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, scale)[0]
-    data = preset_bytes(fmt, ident, f"anodised {float(d[0]):g} nm", params[0], roughness,
-                        float(dE.max()), float(d[0]))
+    data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness)
     atomic_write_bytes(path, data)
-    click.echo(f"{path}: {model} model, thickness {params[0, 0]:g} nm, film IOR {params[0, 1]:g}, "
-               f"base colour {params[0, 2]:g} {params[0, 3]:g} {params[0, 4]:g} (linear Rec.709); "
-               f"max ΔE2000 {dE.max():.2f} at 0–60°, {dE[FIT_ANGLES_DEG <= 45].max():.2f} at 0–45° (D65, 2°)")
+    click.echo(f"{path}: {summary}")

@@ -9,12 +9,8 @@ import click
 import numpy as np
 
 from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, IMAGE_SPACES, MODELS, SHAPES
-from swatch.commands.common import (
-    colour_options, grid_option, is_terminal, material_options, parse_range, resolve_grid, resolve_process,
-    resolve_thickness, thickness_options,
-)
-from swatch.errors import SwatchError
-from swatch.metadata import file_stem, voltage_note, with_voltage
+from swatch.commands import common
+from swatch.metadata import file_stems, voltage_note, with_voltage
 
 ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view angle, first value at the "
                "left (as the PNG figure and the catalog sheets)")
@@ -22,7 +18,7 @@ ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view 
 
 def _iterate(items, label: str):
     """Items with a progress bar on stderr when it is a terminal and there is more than one."""
-    if len(items) > 1 and is_terminal():
+    if len(items) > 1 and sys.stderr.isatty():
         return click.progressbar(items, label=label, file=sys.stderr, show_pos=True)
     return nullcontext(items)
 
@@ -30,9 +26,9 @@ def _iterate(items, label: str):
 def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant, observer, wavelengths):
     from swatch.colorimetry import get_colorimeter
 
-    proc = resolve_process(process, film, substrate, nm_per_volt)
-    d, v = resolve_thickness(thickness, voltage, proc, multiple=True)
-    coating = proc.coating(resolve_grid(wavelengths))
+    proc = common.resolve_process(process, film, substrate, nm_per_volt)
+    d, v = common.resolve_thickness(thickness, voltage, proc, multiple=True)
+    coating = proc.coating(common.resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     volts = v if v is not None else proc.voltage_V(d)
     note = voltage_note(proc, given=v is not None, known=volts is not None)
@@ -41,28 +37,37 @@ def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant
 
 
 def _roughness(roughness: float | None, process: str | None) -> float:
-    """``--roughness``, else the process profile's ``roughness``, else 0.3."""
-    if roughness is not None:
-        return roughness
-    proc = resolve_process(process)
-    return proc.roughness if proc.roughness is not None else 0.3
+    """``--roughness``, else the process profile's ``roughness``, else 0.3; checked."""
+    from swatch.microfacet import check_roughness_alpha
+
+    profile = None if roughness is not None else common.resolve_process(process).roughness
+    return check_roughness_alpha(roughness if roughness is not None else (0.3 if profile is None else profile))
+
+
+def _image_options(f):
+    """The options renders and angular maps share: intensity model, roughness, distribution, EXR
+    primaries, --force, materials, colorimetry and the wavelength grid."""
+    for deco in (
+        common.grid_option, common.colour_options, common.material_options,
+        click.option("--force", is_flag=True, help="overwrite existing files"),
+        click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True,
+                     help="EXR RGB primaries"),
+        click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True),
+        click.option("--roughness", type=float, default=None,
+                     help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]"),
+        click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True,
+                     help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)"),
+    ):
+        f = deco(f)
+    return f
 
 
 @click.command()
-@thickness_options(multiple=True)
+@common.thickness_options(multiple=True)
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--light-range", default="0:85:1", show_default=True, help="light polar angles A:B:STEP or N,N,... (deg)")
 @click.option("--view-range", default="0:85:1", show_default=True, help="view polar angles A:B:STEP or N,N,... (deg)")
-@click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True,
-              help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)")
-@click.option("--roughness", type=float, default=None,
-              help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]")
-@click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True)
-@click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
-@click.option("--force", is_flag=True, help="overwrite existing files")
-@material_options
-@colour_options
-@grid_option
+@_image_options
 def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view_range, model, roughness, distribution,
             space, force, film, substrate, illuminant, observer, wavelengths):
     """Colour over light × view angle (in plane, opposite sides) for each thickness.
@@ -75,20 +80,16 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     from swatch.angular import angular_map, check_angular_size
     from swatch.figures import angular_figure
     from swatch.fileio import atomic_write_text, check_new, check_writable_dir
-    from swatch.microfacet import check_roughness_alpha
     from swatch.pngmeta import image_xmp
     from swatch.report import angular_lab_csv, angular_lab_json
 
     roughness = _roughness(roughness, process)
-    check_roughness_alpha(roughness)
-    lights, views = geometry.check_light_view_deg(parse_range(light_range, "light angle", "deg"),
-                                                  parse_range(view_range, "view angle", "deg"))
+    lights, views = geometry.check_light_view_deg(common.parse_range(light_range, "light angle", "deg"),
+                                                  common.parse_range(view_range, "view angle", "deg"))
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
     check_angular_size(lights.size, views.size, coating.wavelength_nm.size)
-    stems = [file_stem("angular", x) for x in d]
-    if len(set(stems)) != len(stems):
-        raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
+    stems = file_stems("angular", d)
     suffixes = (".exr", ".png", "_spectral.exr", ".csv", ".json")
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in suffixes], force)
     out = check_writable_dir(out_dir)  # created only once every input has been checked
@@ -114,66 +115,39 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
 
 
 @click.command()
-@thickness_options(multiple=True)
+@common.thickness_options(multiple=True)
 @click.option("--shape", type=click.Choice(SHAPES), default="flat", show_default=True,
               help="flat plate, half cylinder (bent sheet) or sphere")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
 @click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
-@click.option("--roughness", type=float, default=None,
-              help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]")
-@click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True)
-@click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True)
-@click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True, help="EXR RGB primaries")
 @click.option("--environment", default=None, metavar="NAME|FILE.exr",
-              help="lighting: studio (light box; the default for the GGX microfacet model), uniform (white, "
-                   "radiance 1), an equirectangular EXR, or none (one directional light at --light; the default "
-                   "for --model paper and beckmann)")
+              help="lighting: studio (light box; the default for the GGX microfacet model), uniform (white, radiance 1), "
+                   "an equirectangular EXR, or none (one directional light at --light; the default otherwise)")
 @click.option("--view", "view_deg", type=float, default=None,
               help="camera angle from the plate's normal in degrees [0, 90) (default 36 flat, 70 cylinder/sphere)")
 @click.option("--view-azimuth", "view_azimuth_deg", type=float, default=0.0, show_default=True,
               help="camera azimuth about the normal in degrees")
 @click.option("--background", type=click.Choice(BACKGROUNDS), default="grey", show_default=True,
               help="display background (environment: the map behind the object, also in the EXR)")
-@click.option("--force", is_flag=True, help="overwrite existing files")
-@material_options
-@colour_options
-@grid_option
-def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, light_deg, roughness, model, distribution,
-           space, environment, view_deg, view_azimuth_deg, background, force, film, substrate, illuminant, observer,
-           wavelengths):
+@_image_options
+def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, light_deg, environment, view_deg,
+           view_azimuth_deg, background, model, roughness, distribution, space, force, film, substrate, illuminant,
+           observer, wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
     from swatch import geometry, imageio
-    from swatch.environment import get_environment
+    from swatch.env_render import resolve_lighting
     from swatch.fileio import check_new, check_writable_dir
-    from swatch.microfacet import check_roughness_alpha
     from swatch.pngmeta import image_xmp
     from swatch.render import check_size_px, render_swatch
 
     roughness = _roughness(roughness, process)
-    check_roughness_alpha(roughness)
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
-    if view_deg is not None:
-        geometry.check_polar_deg(view_deg, "view")
-    geometry.check_azimuth_deg(view_azimuth_deg, "view")
-    if environment is None:
-        environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
-    env = get_environment(environment)
-    if env is not None and (model != "microfacet" or distribution != "ggx"):
-        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
-                          "--distribution ggx, or --environment none")
-    if env is not None:
-        from swatch.env_render import check_env_size_px
-
-        check_env_size_px(size)
-    if env is None and background == "environment":
-        raise SwatchError("--background environment needs an environment; use grey or white with --environment none")
+    env = resolve_lighting(environment, model, distribution, size, background, view_deg, view_azimuth_deg)
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
-    stems = [file_stem(shape, x) for x in d]
-    if len(set(stems)) != len(stems):
-        raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
+    stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
     out = check_writable_dir(out_dir)  # created only once every input has been checked
     written = []

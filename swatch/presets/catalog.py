@@ -25,7 +25,7 @@ import numpy as np
 
 from swatch.presets import FORMAT_MODEL, PRESET_FORMATS
 
-__all__ = ["catalog_presets", "preset_file_name", "round_params", "roughness_factor", "ERROR_KEYS"]
+__all__ = ["catalog_presets", "single_preset", "preset_file_name", "round_params", "roughness_factor", "ERROR_KEYS"]
 
 #: catalog.json key of each format's error (max ΔE2000 over 0–60°).
 ERROR_KEYS = {"gltf": "gltf_max_delta_E_00", "blender": "blender_max_delta_E_00",
@@ -156,3 +156,24 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, 
         entry["conditions"] = "ΔE2000 vs exact colour, D65, CIE 1931 2°, facet angles 0–60° (_45: 0–45°)"
         rec["presets"] = entry
     return files
+
+
+def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,
+                  roughness_alpha: float) -> tuple[bytes, str]:
+    """One thickness's preset in ``fmt``, fitted to its exact colour (``swatch preset``): the file's
+    bytes and a line saying what was fitted and its largest ΔE2000 (D65, CIE 1931 2°)."""
+    from swatch.presets import FORMAT_MODEL
+    from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, fit_presets
+
+    d = np.array([float(thickness_nm)])
+    model = FORMAT_MODEL[fmt]
+    fit = fit_presets(d, model, (22.5,), film, substrate, film_index_scale)
+    params = round_params(fit.params)
+    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale)[0]
+    data = preset_bytes(fmt, f"{d[0]:g}nm", f"anodised {d[0]:g} nm", params[0], roughness_alpha, float(dE.max()),
+                        float(d[0]))
+    p = params[0]
+    summary = (f"{model} model, thickness {p[0]:g} nm, film IOR {p[1]:g}, base colour {p[2]:g} {p[3]:g} {p[4]:g} "
+               f"(linear Rec.709); max ΔE2000 {dE.max():.2f} at 0–60°, {dE[FIT_ANGLES_DEG <= 45].max():.2f} at "
+               f"0–45° (D65, 2°)")
+    return data, summary
