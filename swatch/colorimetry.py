@@ -55,7 +55,23 @@ ASTM_E308_STEPS_NM = (1.0, 5.0, 10.0, 20.0)
 
 
 def check_rgb_space(space: str) -> str:
-    """The key of an RGB space of :data:`RGB_SPACES` (case-insensitive), or SwatchError."""
+    """The key of an RGB space of :data:`RGB_SPACES` (``srgb``, ``display-p3``, ``acescg``).
+
+    Parameters
+    ----------
+    space : str
+        Case-insensitive name.
+
+    Returns
+    -------
+    str
+        The lower-case key.
+
+    Raises
+    ------
+    SwatchError
+        For an unknown space.
+    """
     key = str(space).lower()
     if key not in RGB_SPACES:
         raise SwatchError(f"unknown RGB space {space!r}; use one of {', '.join(RGB_SPACES)}")
@@ -78,7 +94,7 @@ def _observer_name(observer) -> str:
 
 
 def _illuminant_name(illuminant: str) -> str:
-    for name in colour.SDS_ILLUMINANTS.keys():
+    for name in colour.SDS_ILLUMINANTS:
         if name.lower() == str(illuminant).strip().lower():
             return name
     raise SwatchError(
@@ -89,7 +105,28 @@ def _illuminant_name(illuminant: str) -> str:
 
 
 class Colorimeter:
-    """Converts reflectance spectra on one wavelength grid to colour coordinates."""
+    """Converts reflectance spectra on one wavelength grid to colour coordinates.
+
+    Parameters
+    ----------
+    wavelength_nm : array_like, shape (W,), nm
+        An even 1, 5, 10 or 20 nm grid of at least 6 samples inside the observer's range
+        (ASTM E308).
+    illuminant : str
+        A colour-science illuminant name (D65, D50, A, FL2, ...), case-insensitive.
+    observer : {"10", "2"}
+        CIE 1964 10° or CIE 1931 2° standard observer.
+
+    Attributes
+    ----------
+    weights : numpy.ndarray, shape (W, 3)
+        ASTM E308 tristimulus weights from ``colour.msds_to_XYZ`` on unit impulses:
+        ``XYZ = R @ weights`` equals ``colour.sd_to_XYZ`` (Y = 100 for R = 1).
+    white_XYZ : numpy.ndarray, shape (3,)
+        The perfect reflecting diffuser under the illuminant.
+    white_xy : numpy.ndarray, shape (2,)
+        Its chromaticity (the CIELAB reference white).
+    """
 
     def __init__(self, wavelength_nm, illuminant: str = "D65", observer="10"):
         wl = np.asarray(wavelength_nm, dtype=np.float64)
@@ -126,36 +163,81 @@ class Colorimeter:
 
     # -- conversions (all vectorised over leading axes) --------------------------------------
     def XYZ(self, reflectance) -> np.ndarray:
-        """Tristimulus values (..., 3) of reflectance spectra (..., W); Y = 100 for R = 1."""
+        """Tristimulus values of reflectance spectra: one matrix product.
+
+        Parameters
+        ----------
+        reflectance : array_like, shape (..., W)
+            Reflectance factors (fraction, 1 = perfect white) on the grid.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            CIE XYZ under the illuminant and observer, Y = 100 for R = 1.
+        """
         return np.asarray(reflectance, dtype=np.float64) @ self.weights
 
     def Lab(self, XYZ) -> np.ndarray:
-        """CIELAB relative to the illuminant's white under this observer."""
+        """CIELAB relative to the illuminant's white under this observer.
+
+        Parameters
+        ----------
+        XYZ : array_like, shape (..., 3)
+            Tristimulus values, Y = 100 for the white.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            L* (0–100 for reflectors), a*, b*.
+        """
         return colour.XYZ_to_Lab(np.asarray(XYZ) / 100.0, self.white_xy)
 
     def Lab_to_XYZ(self, Lab) -> np.ndarray:
+        """The inverse of :meth:`Lab`: XYZ (..., 3) with Y = 100 for the white, from CIELAB (..., 3)."""
         return colour.Lab_to_XYZ(np.asarray(Lab), self.white_xy) * 100.0
 
     def spectrum_Lab(self, reflectance) -> np.ndarray:
+        """CIELAB (..., 3) of reflectance spectra (..., W): :meth:`Lab` of :meth:`XYZ`."""
         return self.Lab(self.XYZ(reflectance))
 
     # -- display RGB (always from CIE 1931 2° colorimetry) ----------------------------------
     @property
-    def display_colorimeter(self) -> "Colorimeter":
+    def display_colorimeter(self) -> Colorimeter:
         """The colorimeter display RGB is computed with: same grid and illuminant, CIE 1931 2°."""
         if self.observer == DISPLAY_OBSERVER:
             return self
         return get_colorimeter(self.wavelength_nm, self.illuminant, DISPLAY_OBSERVER)
 
     def display_XYZ(self, reflectance) -> np.ndarray:
-        """CIE 1931 2° tristimulus values (..., 3) of reflectance spectra (Y = 100 for R = 1)."""
+        """CIE 1931 2° tristimulus values of reflectance spectra, the input of display RGB.
+
+        Parameters
+        ----------
+        reflectance : array_like, shape (..., W)
+            Reflectance factors on the grid.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            XYZ (2°, this illuminant), Y = 100 for R = 1.
+        """
         return self.display_colorimeter.XYZ(reflectance)
 
     def rgb_linear(self, XYZ_2, space: str = "srgb") -> np.ndarray:
-        """Linear RGB (1.0 = the white's Y) in ``space`` (srgb, display-p3, acescg).
+        """Linear RGB in ``space`` from CIE 1931 2° tristimulus values.
 
-        ``XYZ_2``: CIE 1931 2° tristimulus values (:meth:`display_XYZ`), Y = 100 for the white.
         The illuminant's 2° white is adapted to the space's white with the Bradford transform.
+
+        Parameters
+        ----------
+        XYZ_2 : array_like, shape (..., 3)
+            CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
+        space : {"srgb", "display-p3", "acescg"}
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            Linear RGB, 1.0 = the white's Y; out-of-gamut colours have components outside [0, 1].
         """
         name = RGB_SPACES[check_rgb_space(space)]
         return colour.XYZ_to_RGB(
@@ -166,8 +248,21 @@ class Colorimeter:
         )
 
     def display(self, XYZ_2, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
-        """Display-encoded RGB in [0, 1] (clipped) and an in-gamut flag per colour, from
-        CIE 1931 2° tristimulus values (:meth:`display_XYZ`)."""
+        """Display-encoded RGB and an in-gamut flag per colour, from CIE 1931 2° XYZ.
+
+        Parameters
+        ----------
+        XYZ_2 : array_like, shape (..., 3)
+            CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
+        space : {"srgb", "display-p3", "acescg"}
+
+        Returns
+        -------
+        encoded : numpy.ndarray, shape (..., 3)
+            The space's transfer function applied to the linear RGB clipped to [0, 1].
+        in_gamut : numpy.ndarray of bool, shape (...)
+            All linear components within [-1e-3, 1 + 1e-3].
+        """
         rgb = self.rgb_linear(XYZ_2, space)
         # The spaces' whitepoints are given to 4 digits, so the adapted perfect white lands
         # within 2e-4 of (1, 1, 1): allow 1e-3 (a quarter of one 8-bit code value).
@@ -192,38 +287,105 @@ def _cached(grid: tuple, illuminant: str, observer: str) -> Colorimeter:
 
 
 def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Colorimeter:
-    """A cached :class:`Colorimeter` (weights are computed once per grid/illuminant/observer)."""
+    """A cached :class:`Colorimeter` (the weights are computed once per grid, illuminant, observer).
+
+    Parameters
+    ----------
+    wavelength_nm : array_like, shape (W,), nm
+    illuminant : str
+    observer : {"10", "2"}
+
+    Returns
+    -------
+    Colorimeter
+    """
     return _cached(tuple(np.asarray(wavelength_nm, dtype=float).tolist()), str(illuminant), str(observer))
 
 
 def delta_E_ab(Lab1, Lab2) -> np.ndarray:
-    """CIE 1976 ΔE*ab (the paper's eq. 6)."""
+    """CIE 1976 colour difference ΔE*ab (the paper's eq. 6), by colour-science.
+
+    Parameters
+    ----------
+    Lab1, Lab2 : array_like, shape (..., 3)
+        CIELAB values; broadcast together.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        Euclidean distance in L*a*b*.
+    """
     return colour.delta_E(np.asarray(Lab1), np.asarray(Lab2), method="CIE 1976")
 
 
 def delta_E_00(Lab1, Lab2) -> np.ndarray:
-    """CIEDE2000 ΔE00."""
+    """CIEDE2000 colour difference ΔE00, by colour-science.
+
+    Parameters
+    ----------
+    Lab1, Lab2 : array_like, shape (..., 3)
+        CIELAB values; broadcast together.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+    """
     return colour.delta_E(np.asarray(Lab1), np.asarray(Lab2), method="CIE 2000")
 
 
 def Lab_to_LCh(Lab) -> np.ndarray:
-    """CIE LCh(ab) with hue in degrees [0, 360)."""
-    return colour.Lab_to_LCHab(np.asarray(Lab))
+    """CIE LCh(ab): lightness, chroma and hue angle.
+
+    Parameters
+    ----------
+    Lab : array_like, shape (..., 3)
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        L*, C*ab, h in degrees [0, 360).
+    """
+    return colour.Lab_to_LCHab(np.asarray(Lab))  # type: ignore[attr-defined]  # exported, not in colour's stubs
 
 
 def srgb_hex(encoded_rgb) -> np.ndarray | str:
-    """``#rrggbb`` strings of display-encoded RGB values in [0, 1]."""
+    """``#rrggbb`` strings of display-encoded RGB values.
+
+    Parameters
+    ----------
+    encoded_rgb : array_like, shape (..., 3)
+        Encoded values in [0, 1] (clipped), rounded to 8 bits.
+
+    Returns
+    -------
+    str or numpy.ndarray of str, shape (...)
+        One string for a single colour (shape (3,)), else an object array.
+    """
     arr = np.asarray(encoded_rgb, dtype=np.float64)
     ints = np.round(np.clip(arr, 0.0, 1.0) * 255.0).astype(np.int64)
     flat = ints.reshape(-1, 3)
-    out = np.array(["#%02x%02x%02x" % tuple(v) for v in flat], dtype=object)
+    out = np.array(["#{:02x}{:02x}{:02x}".format(*v) for v in flat], dtype=object)
     return out[0] if arr.ndim == 1 else out.reshape(arr.shape[:-1])
 
 
 def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
-    """CIELAB of an sRGB hex colour ``RRGGBB`` under the colorimeter's illuminant and the CIE
-    1931 2° observer (the observer sRGB is defined on; a hex code carries no spectrum, so its
-    10° Lab is not defined)."""
+    """CIELAB of an sRGB hex colour under the colorimeter's illuminant and the CIE 1931 2° observer.
+
+    sRGB is defined on 2° colorimetry, and a hex code carries no spectrum, so its 10° Lab is not
+    defined.
+
+    Parameters
+    ----------
+    hex_code : str
+        ``RRGGBB`` (a leading ``#`` is allowed).
+    colorimeter : Colorimeter
+        Gives the illuminant (its 2° counterpart is used).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        L*, a*, b* (2° observer).
+    """
     h = hex_code.strip().lstrip("#")
     if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
         raise SwatchError(f"bad hex colour {hex_code!r}; give six hex digits like 1f4e9a")
@@ -235,7 +397,19 @@ def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
 
 
 def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
-    """CIELAB from text ``L,a,b`` (finite, L in [0, 100]); ``what`` names it in the error."""
+    """CIELAB from the text ``L,a,b``.
+
+    Parameters
+    ----------
+    text : str
+        Three comma-separated numbers, finite, L in [0, 100].
+    what : str
+        The option or field name, for the error message.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+    """
     parts = str(text).replace(" ", "").split(",")
     try:
         if len(parts) != 3:

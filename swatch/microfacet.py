@@ -57,7 +57,23 @@ _TINY = 1e-12
 
 
 def check_roughness_alpha(roughness_alpha) -> float:
-    """Roughness ``α`` as a float, or SwatchError: it must be in (0, 1]."""
+    """The roughness ``α`` as a float.
+
+    Parameters
+    ----------
+    roughness_alpha : float-like
+        The value to check.
+
+    Returns
+    -------
+    float
+        ``α`` in (0, 1].
+
+    Raises
+    ------
+    SwatchError
+        When it is not a number or outside (0, 1].
+    """
     try:
         a = float(roughness_alpha)
     except (TypeError, ValueError):
@@ -68,6 +84,13 @@ def check_roughness_alpha(roughness_alpha) -> float:
 
 
 def check_distribution(name: str) -> str:
+    """The distribution's key (one of :data:`swatch.choices.DISTRIBUTIONS`), case-insensitive.
+
+    Raises
+    ------
+    SwatchError
+        For an unknown name.
+    """
     key = str(name).strip().lower()
     if key not in DISTRIBUTIONS:
         raise SwatchError(f"unknown microfacet distribution {name!r}; use one of {', '.join(DISTRIBUTIONS)}")
@@ -113,7 +136,20 @@ def D_ggx(cos_h, roughness_alpha) -> np.ndarray:
 
 
 def D_beckmann(cos_h, roughness_alpha) -> np.ndarray:
-    """Beckmann: ``exp(−tan²θh / α²) / (π α² cos⁴θh)``; 0 where ``cos θh <= 0``."""
+    """Beckmann: ``exp(−tan²θh / α²) / (π α² cos⁴θh)``; 0 where ``cos θh <= 0``.
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``cos θh = n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        ``D`` in sr⁻¹ (normalised: ``∫ D cos θh dω = 1``).
+    """
     c = np.asarray(cos_h)
     a2 = float(roughness_alpha) ** 2
     t2, c2 = _tan2(c)
@@ -121,12 +157,40 @@ def D_beckmann(cos_h, roughness_alpha) -> np.ndarray:
 
 
 def D(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
-    """Normal distribution ``D(h)`` for ``cos θh = n·h``."""
+    """The normal distribution ``D(h)`` of the named distribution.
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``cos θh = n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        ``D`` in sr⁻¹.
+    """
     return D_ggx(cos_h, roughness_alpha) if check_distribution(distribution) == "ggx" else D_beckmann(cos_h, roughness_alpha)
 
 
 def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
-    """Smith's ``Λ`` for a direction at polar angle θ (``cos_theta = n·ω``), exact for each D."""
+    """Smith's ``Λ`` for a direction at polar angle θ, exact for each distribution (module doc).
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        ``cos θ = n·ω``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_theta``
+        ``Λ ≥ 0`` (dimensionless; 0 at normal incidence).
+    """
     t2, _ = _tan2(cos_theta)
     a = float(roughness_alpha)
     if check_distribution(distribution) == "ggx":
@@ -140,14 +204,49 @@ def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.nd
 
 
 def G1(cos_theta, cos_h_omega, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
-    """Smith masking ``χ⁺(h·ω) / (1 + Λ(ω))`` (``cos_theta = n·ω``, ``cos_h_omega = h·ω``)."""
+    """Smith masking of one direction, ``χ⁺(h·ω) / (1 + Λ(ω))``.
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        ``n·ω``.
+    cos_h_omega : array_like
+        ``h·ω``; broadcasts with ``cos_theta`` to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, shape S
+        ``G1`` in [0, 1].
+    """
     lam = smith_lambda(cos_theta, roughness_alpha, distribution)
     ok = (np.asarray(cos_h_omega) > 0) & (np.asarray(cos_theta) > 0)
     return np.where(ok, 1.0 / (1.0 + lam), 0.0)
 
 
 def G(cos_l, cos_v, cos_hl, cos_hv, roughness_alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
-    """Smith shadowing–masking for light and view (height-correlated by default, see module doc)."""
+    """Smith shadowing–masking of light and view.
+
+    Parameters
+    ----------
+    cos_l, cos_v : array_like
+        ``n·l`` and ``n·v``.
+    cos_hl, cos_hv : array_like
+        ``h·l`` and ``h·v`` (equal for the half vector); all four broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+    correlated : bool
+        Height-correlated ``1 / (1 + Λl + Λv)`` (default; Heitz 2014, eq. 99) or the separable
+        product ``G1(l) G1(v)``.
+
+    Returns
+    -------
+    numpy.ndarray, shape S
+        ``G`` in [0, 1]; 0 below either horizon.
+    """
     if not correlated:
         return G1(cos_l, cos_hl, roughness_alpha, distribution) * G1(cos_v, cos_hv, roughness_alpha, distribution)
     lam_l = smith_lambda(cos_l, roughness_alpha, distribution)
@@ -157,11 +256,23 @@ def G(cos_l, cos_v, cos_hl, cos_hv, roughness_alpha, distribution: str = "ggx", 
 
 
 def ggx_visibility(cos_l, cos_v, roughness_alpha) -> np.ndarray:
-    """``G / (4 cos θ_l cos θ_v)`` for GGX with height-correlated Smith G, in closed form:
+    """``G / (4 cos θl cos θv)`` for GGX with the height-correlated Smith G, in closed form.
 
-    ``0.5 / (cos θ_l sqrt(cos²θ_v (1 − α²) + α²) + cos θ_v sqrt(cos²θ_l (1 − α²) + α²))``
-    (algebraically equal to ``1 / ((1 + Λ_l + Λ_v) 4 cos θ_l cos θ_v)``; fewer operations and no
-    division by the cosines). Valid for ``cos θ_l, cos θ_v > 0`` (the caller masks the rest).
+    ``0.5 / (cos θl sqrt(cos²θv (1 − α²) + α²) + cos θv sqrt(cos²θl (1 − α²) + α²))``,
+    algebraically equal to ``1 / ((1 + Λl + Λv) 4 cos θl cos θv)`` with fewer operations and
+    no division by the cosines.
+
+    Parameters
+    ----------
+    cos_l, cos_v : array_like
+        ``n·l`` and ``n·v``, > 0 (the caller masks the rest); broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+
+    Returns
+    -------
+    numpy.ndarray, shape S, in the inputs' precision (at least float32)
+        The visibility term, sr⁰ (dimensionless).
     """
     cl = np.asarray(cos_l)
     cv = np.asarray(cos_v)
@@ -172,12 +283,24 @@ def ggx_visibility(cos_l, cos_v, roughness_alpha) -> np.ndarray:
 
 
 def ggx_reflectance_factor_cos(cos_l, cos_v, cos_h, roughness_alpha) -> np.ndarray:
-    """``π D G / (4 cos θ_l cos θ_v) · max(cos θ_l, 0)`` for GGX, height-correlated G (render path).
+    """``π D G / (4 cos θl cos θv) · max(cos θl, 0)`` for GGX with height-correlated G (renders).
 
     The reflectance factor of an F = 1 surface times the irradiance cosine, in few operations and
-    in the inputs' precision. Masking is left to the caller except ``cos θ_l <= 0 -> 0``: it
-    assumes ``cos θ_v > 0`` (a visible surface), where ``cos θ_h > 0`` holds automatically.
-    Equal to ``π · brdf_scale(...) · max(cos θ_l, 0)`` (tested).
+    in the inputs' precision. Masking is left to the caller except ``cos θl <= 0 -> 0``: it
+    assumes ``cos θv > 0`` (a visible surface), where ``cos θh > 0`` holds automatically.
+    Equal to ``π · brdf_scale(...) · max(cos θl, 0)`` (tested).
+
+    Parameters
+    ----------
+    cos_l, cos_v, cos_h : array_like
+        ``n·l``, ``n·v`` and ``n·h``; broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+
+    Returns
+    -------
+    numpy.ndarray, shape S, in the inputs' precision (at least float32)
+        Dimensionless (1 for a perfect white diffuser lit and seen along the normal).
     """
     cl = np.maximum(np.asarray(cos_l), 0)
     cv = np.asarray(cos_v)
@@ -191,17 +314,47 @@ def ggx_reflectance_factor_cos(cos_l, cos_v, cos_h, roughness_alpha) -> np.ndarr
 
 
 def D_ratio(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
-    """``D(h) / D(n)``: 1 on the mirror direction, falling off the specular lobe (both D peak at n)."""
+    """``D(h) / D(n)``: 1 on the mirror direction, falling off the specular lobe (both D peak at n).
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        In [0, 1].
+    """
     a = float(roughness_alpha)
     return D(cos_h, a, distribution) * (np.pi * a * a)
 
 
 def brdf_scale(cos_l, cos_v, cos_h, cos_d, roughness_alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
-    """``D(h) G(l, v) / (4 cos θ_l cos θ_v)``: the BRDF with F = 1 (sr⁻¹); 0 below the horizon.
+    """``D(h) G(l, v) / (4 cos θl cos θv)``: the BRDF with F = 1; 0 below the horizon.
 
-    ``cos_l = n·l``, ``cos_v = n·v``, ``cos_h = n·h`` and ``cos_d = h·l = h·v``. Keeps float32
-    inputs in float32. GGX with the height-correlated G uses :func:`ggx_visibility` (the same
-    function in fewer operations; tests check the two agree).
+    GGX with the height-correlated G goes through :func:`D_ggx` and :func:`ggx_visibility`
+    (tests check it against the definition); float32 inputs stay float32.
+
+    Parameters
+    ----------
+    cos_l, cos_v, cos_h : array_like
+        ``n·l``, ``n·v`` and ``n·h``.
+    cos_d : array_like
+        ``h·l = h·v``; all four broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+    correlated : bool
+        Height-correlated (default) or separable Smith G.
+
+    Returns
+    -------
+    numpy.ndarray, shape S
+        The BRDF scale in sr⁻¹.
     """
     roughness_alpha = check_roughness_alpha(roughness_alpha)
     distribution = check_distribution(distribution)

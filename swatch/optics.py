@@ -19,24 +19,17 @@ float64 / complex128 and vectorised by broadcasting: no loops over thickness, an
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any
 
 import numpy as np
 
 from swatch.errors import SwatchError
 
-__all__ = [
-    "Reflectance",
-    "FilmAtAngles",
-    "layer_q",
-    "fresnel_r",
-    "film_reflectance",
-    "stack_reflectance",
-    "film_reflectance_cos",
-    "film_reflectance_sweep",
-]
+__all__ = ["Reflectance", "FilmAtAngles", "layer_q", "fresnel_r", "film_reflectance", "stack_reflectance",
+           "film_reflectance_cos", "film_reflectance_sweep"]
 
 
 @dataclass(frozen=True)
@@ -58,11 +51,22 @@ class Reflectance:
 
 
 def layer_q(n_layer: np.ndarray, kx: np.ndarray) -> np.ndarray:
-    """``n cos(theta)`` in a layer of complex index ``n_layer`` for the tangential index ``kx``.
+    """``q = n cos θ`` in a layer of complex index ``n`` for the tangential index ``kx``.
 
-    ``kx = n_0 sin(theta_0)`` is conserved across planar interfaces (Snell's law). The square
-    root's branch is the one of a forward wave: decaying into an absorbing medium (``Im q > 0``),
-    or propagating forwards (``Re q > 0``) when lossless.
+    ``kx = n0 sin θ0`` is conserved across planar interfaces (Snell's law). The square root's
+    branch is the one of a forward wave: decaying into an absorbing medium (``Im q > 0``), or
+    propagating forwards (``Re q > 0``) when lossless.
+
+    Parameters
+    ----------
+    n_layer : array_like, complex
+        The layer's index, shape (W,) or broadcastable with ``kx``.
+    kx : array_like, real
+        ``n0 sin θ0``, shape (..., 1) or (..., W).
+
+    Returns
+    -------
+    numpy.ndarray, complex128, the broadcast shape
     """
     q = np.sqrt(np.asarray(n_layer, dtype=np.complex128) ** 2 - np.asarray(kx) ** 2)
     # The principal root already has Re q >= 0; a negative-zero imaginary part of the radicand
@@ -71,7 +75,20 @@ def layer_q(n_layer: np.ndarray, kx: np.ndarray) -> np.ndarray:
 
 
 def fresnel_r(n_i, q_i, n_j, q_j) -> tuple[np.ndarray, np.ndarray]:
-    """Fresnel amplitude reflection coefficients (r_s, r_p) from medium i into medium j."""
+    """Fresnel amplitude reflection coefficients from medium i into medium j.
+
+    Parameters
+    ----------
+    n_i, n_j : array_like, complex
+        Indices of the two media.
+    q_i, q_j : array_like, complex
+        ``n cos θ`` in each medium (:func:`layer_q`); all four broadcast to a shape S.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray), complex, shape S
+        ``r_s`` and ``r_p`` (formulas in the module's conventions).
+    """
     r_s = (q_i - q_j) / (q_i + q_j)
     a = n_j * n_j * q_i
     b = n_i * n_i * q_j
@@ -107,7 +124,7 @@ class FilmAtAngles:
 
     The Fresnel coefficients depend on (angle, wavelength) only and are computed once here;
     the thickness enters only through the round-trip phase factor
-    ``E = exp(2 i delta) = rho e^{i phi}`` (``2 delta = 4 pi d q1 / lambda``), and
+    ``E = exp(2 i delta) = rho e^(i phi)`` (``2 delta = 4 pi d q1 / lambda``), and
 
     ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2 = K |E - z_num|^2 / |E - z_den|^2``
 
@@ -116,7 +133,16 @@ class FilmAtAngles:
     relative precision. Used by :func:`film_reflectance_cos`, :func:`film_reflectance_sweep`
     and the thickness fitter.
 
-    ``cos_incidence`` has any shape A; the coefficient arrays have shape ``A + (W,)``.
+    Parameters
+    ----------
+    cos_incidence : array_like, shape A
+        Cosine of the incidence angle in the ambient medium, in (0, 1].
+    wavelength_nm : array_like, shape (W,), nm
+        Positive wavelengths.
+    n_film, n_substrate : array_like, complex, shape (W,) or scalar
+        Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
+    n_ambient : float
+        Real index of the ambient medium (1.0: air).
     """
 
     def __init__(self, cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0):
@@ -137,13 +163,23 @@ class FilmAtAngles:
         self.k4 = (4.0 * np.pi / wl) * q1
         #: per polarisation (s, p): ``(K, z_num, z_den)``.
         self.poles = []
-        for r01, r12 in zip(self.r01, self.r12):
+        for r01, r12 in zip(self.r01, self.r12, strict=True):
             K_num, z_num = _pole_form(r01, r12)
             K_den, z_den = _pole_form(1.0 + 0j, r01 * r12)
             self.poles.append((K_num / K_den, z_num, z_den))
 
     def phase_factor(self, thickness_nm) -> np.ndarray:
-        """``E`` (complex) for thicknesses broadcast against the angles: shape S + (W,)."""
+        """The round-trip phase factor ``E = exp(i k4 d)`` of thicknesses.
+
+        Parameters
+        ----------
+        thickness_nm : array_like, nm
+            Film thicknesses, shape broadcasting with A (the angles' shape) to S.
+
+        Returns
+        -------
+        numpy.ndarray, complex128, shape S + (W,)
+        """
         d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
         phi = d * self.k4.real
         return np.exp(-d * self.k4.imag) * (np.cos(phi) + 1j * np.sin(phi))
@@ -154,7 +190,7 @@ class FilmAtAngles:
             work = (np.empty(E.shape, dtype=np.complex128), np.empty(E.shape))
         w, den = work
         result = []
-        for (K, z_num, z_den), out in zip(self.poles, (out_s, out_p)):
+        for (K, z_num, z_den), out in zip(self.poles, (out_s, out_p), strict=True):
             out = np.empty(E.shape) if out is None else out
             np.abs(np.subtract(E, z_num, out=w), out=out)
             np.abs(np.subtract(E, z_den, out=w), out=den)
@@ -165,7 +201,20 @@ class FilmAtAngles:
         return result[0], result[1]
 
     def reflectance(self, thickness_nm, amplitudes: bool = False) -> Reflectance:
-        """R_s, R_p (and r_s, r_p) for thicknesses broadcast with the angles: shape S + (W,)."""
+        """Reflectance of thicknesses at the fixed angles.
+
+        Parameters
+        ----------
+        thickness_nm : array_like, nm
+            Film thicknesses ≥ 0, broadcasting with A to S.
+        amplitudes : bool
+            Also return the complex ``r_s``, ``r_p``.
+
+        Returns
+        -------
+        Reflectance
+            ``R_s``, ``R_p`` (fractions) of shape S + (W,), and ``r_s``, ``r_p`` when requested.
+        """
         E = self.phase_factor(thickness_nm)
         R_s, R_p = self.reflectance_from_phase(E)
         if not amplitudes:
@@ -176,7 +225,13 @@ class FilmAtAngles:
         return Reflectance(R_s=R_s, R_p=R_p, r_s=r_s, r_p=r_p)
 
     def sweep(self, thickness_start_nm: float, thickness_step_nm: float, count: int) -> Reflectance:
-        """Reflectance over ``start + step * j``, ``j < count``: see :func:`film_reflectance_sweep`."""
+        """Reflectance over ``start + step * j``, ``j < count`` (see :func:`film_reflectance_sweep`).
+
+        Returns
+        -------
+        Reflectance
+            ``R_s``, ``R_p`` of shape (count,) + A + (W,).
+        """
         return _sweep(self, thickness_start_nm, thickness_step_nm, count)
 
 
@@ -191,7 +246,24 @@ def film_reflectance_cos(
 ) -> Reflectance:
     """Airy reflectance of one film, with the incidence angle given by its cosine.
 
-    See :class:`FilmAtAngles`. With ``amplitudes=True`` the complex r_s and r_p are also returned.
+    Parameters
+    ----------
+    thickness_nm : array_like, nm
+        Film thicknesses ≥ 0.
+    cos_incidence : array_like
+        Cosine of the incidence angle, in (0, 1]; broadcasts with ``thickness_nm`` to S.
+    wavelength_nm : array_like, shape (W,), nm
+    n_film, n_substrate : array_like, complex, shape (W,) or scalar
+        Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
+    n_ambient : float
+        Real index of the ambient medium (1.0: air).
+    amplitudes : bool
+        Also return the complex ``r_s``, ``r_p``.
+
+    Returns
+    -------
+    Reflectance
+        ``R_s``, ``R_p`` (and the unpolarised ``R``) of shape S + (W,).
     """
     film = FilmAtAngles(cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient)
     return film.reflectance(thickness_nm, amplitudes)
@@ -208,7 +280,7 @@ def _workers(samples: int, blocks: int) -> int:
     return max(1, min(blocks, os.cpu_count() or 1, 4))
 
 
-def _pole_form(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _pole_form(a: np.ndarray | complex, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Write ``|a + b E|^2`` as ``K |E - z|^2`` (``z = -a / b``, ``K = |b|^2``).
 
     Where ``|b|`` is negligible against ``|a|`` the pole is put far away (``|z| = 1e100``) with
@@ -238,17 +310,35 @@ def film_reflectance_sweep(
 ) -> Reflectance:
     """Reflectance over an evenly spaced thickness sweep ``start + step * j``, ``j < count``.
 
-    The result has shape ``(count,) + incidence.shape + (W,)`` and equals
-    :func:`film_reflectance` on the same thicknesses to rounding. It is faster for sweeps
-    (thickness tables, fitting searches, process windows, the benchmark grid):
+    It equals :func:`film_reflectance` on the same thicknesses to rounding, and is faster for
+    sweeps (thickness tables, fitting searches, process windows, the benchmark grid):
 
-    * the phase factor is split as ``E_{kB+i} = O_k I_i`` with ``B ~ sqrt(count)``; the inner
-      factors ``I_i = E_step**i`` and the block factors ``O_k = E_start E_{B step}**k`` come
+    * the phase factor is split as ``E_(kB+i) = O_k I_i`` with ``B ~ sqrt(count)``; the inner
+      factors ``I_i = E_step**i`` and the block factors ``O_k = E_start E_(B step)**k`` come
       from cumulative products (rounding grows as ``sqrt(count) * eps``), so only three rows
       need transcendental functions and each sample costs one complex multiplication;
     * then ``R = K |E - z_num|^2 / |E - z_den|^2`` per polarisation (see :class:`FilmAtAngles`);
     * blocks of B thicknesses keep the temporaries in cache, and a large sweep shares its blocks
       among threads, one per core (numpy releases the GIL; results are identical).
+
+    Parameters
+    ----------
+    thickness_start_nm, thickness_step_nm : float, nm
+        First thickness and spacing (the last, ``start + step (count − 1)``, must be ≥ 0).
+    count : int
+        Number of thicknesses, ≥ 1.
+    incidence_deg : array_like, shape A, degrees
+        Incidence angles in [0, 90).
+    wavelength_nm : array_like, shape (W,), nm
+    n_film, n_substrate : array_like, complex, shape (W,) or scalar
+        Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
+    n_ambient : float
+        Real index of the ambient medium (1.0: air).
+
+    Returns
+    -------
+    Reflectance
+        ``R_s``, ``R_p`` of shape (count,) + A + (W,).
     """
     _check_geometry(np.zeros(1), np.asarray(incidence_deg, dtype=np.float64))
     film = FilmAtAngles(np.cos(np.radians(np.asarray(incidence_deg, dtype=np.float64))),
@@ -270,16 +360,16 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
     # E_{kB+i} = E_start E_B**k E_step**i = O_k I_i with I_i = E_step**(i+1) and
     # O_k = E_start E_B**(k+1) / (E_B E_step), both by cumulative products.
     e_step, e_block = film.phase_factor(step), film.phase_factor(step * B)
-    inner = np.cumprod(np.broadcast_to(e_step, (B,) + rows), axis=0)
-    outer = np.cumprod(np.broadcast_to(e_block, (nblocks,) + rows), axis=0)
+    inner = np.cumprod(np.broadcast_to(e_step, (B, *rows)), axis=0)
+    outer = np.cumprod(np.broadcast_to(e_block, (nblocks, *rows)), axis=0)
     outer *= film.phase_factor(start) / (e_block * e_step)
 
-    R_s = np.empty((count,) + rows)
-    R_p = np.empty((count,) + rows)
+    R_s = np.empty((count, *rows))
+    R_p = np.empty((count, *rows))
 
     def run_blocks(blocks: range) -> None:
-        E = np.empty((B,) + rows, dtype=np.complex128)
-        work = (np.empty((B,) + rows, dtype=np.complex128), np.empty((B,) + rows))
+        E = np.empty((B, *rows), dtype=np.complex128)
+        work = (np.empty((B, *rows), dtype=np.complex128), np.empty((B, *rows)))
         for k in blocks:  # blocks of B thicknesses (not a per-sample loop)
             lo, hi = k * B, min(count, (k + 1) * B)
             n = hi - lo
@@ -307,9 +397,25 @@ def film_reflectance(
 ) -> Reflectance:
     """Airy reflectance (multiple reflections included) of ambient / film / substrate.
 
-    ``thickness_nm`` and ``incidence_deg`` (from the surface normal, in [0, 90)) broadcast to S;
-    ``n_film``/``n_substrate`` are complex indices on ``wavelength_nm`` (shape (W,)) or scalars.
-    Returns R_s, R_p (and r_s, r_p with ``amplitudes=True``) of shape ``S + (W,)``.
+    Parameters
+    ----------
+    thickness_nm : array_like, nm
+        Film thicknesses ≥ 0.
+    incidence_deg : array_like, degrees
+        Incidence angles from the surface normal, in [0, 90); broadcast with ``thickness_nm``
+        to S.
+    wavelength_nm : array_like, shape (W,), nm
+    n_film, n_substrate : array_like, complex, shape (W,) or scalar
+        Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
+    n_ambient : float
+        Real index of the ambient medium (1.0: air).
+    amplitudes : bool
+        Also return the complex ``r_s``, ``r_p``.
+
+    Returns
+    -------
+    Reflectance
+        ``R_s``, ``R_p`` (fractions; ``R`` their mean) of shape S + (W,).
     """
     d = np.asarray(thickness_nm, dtype=np.float64)
     theta = np.asarray(incidence_deg, dtype=np.float64)
@@ -329,12 +435,29 @@ def stack_reflectance(
 ) -> Reflectance:
     """Coherent reflectance of a stack of films on a substrate by the transfer-matrix product.
 
-    ``thicknesses_nm[j]`` and ``n_layers[j]`` describe film j, listed from the ambient side
-    (e.g. a clear lacquer first, then the oxide). Each thickness broadcasts with
-    ``incidence_deg`` to S; indices are on the wavelength grid. The characteristic matrix is
-    ``M = D_01 P_1 D_12 P_2 ... D_N,sub`` with ``D_ij = [[1, r_ij], [r_ij, 1]] / t_ij`` and
-    ``P_j = diag(exp(-i delta_j), exp(i delta_j))``; ``r = M_10 / M_00`` (the 1/t factors
-    cancel in the ratio and are left out). With one film this equals :func:`film_reflectance`.
+    The characteristic matrix is ``M = D_01 P_1 D_12 P_2 ... D_N,sub`` with
+    ``D_ij = [[1, r_ij], [r_ij, 1]] / t_ij`` and ``P_j = diag(exp(-i delta_j), exp(i delta_j))``;
+    ``r = M_10 / M_00`` (the 1/t factors cancel in the ratio and are left out). With one film
+    this equals :func:`film_reflectance`.
+
+    Parameters
+    ----------
+    thicknesses_nm : sequence of array_like, nm
+        One thickness per film, listed from the ambient side (e.g. a clear lacquer first, then
+        the oxide); each broadcasts with ``incidence_deg`` to S.
+    n_layers : sequence of array_like, complex, shape (W,) or scalar
+        The films' indices, in the same order.
+    n_substrate : array_like, complex, shape (W,) or scalar
+    incidence_deg : array_like, degrees
+        Incidence angles in [0, 90).
+    wavelength_nm : array_like, shape (W,), nm
+    n_ambient : float
+        Real index of the ambient medium.
+
+    Returns
+    -------
+    Reflectance
+        ``R_s``, ``R_p``, ``r_s``, ``r_p`` of shape S + (W,).
     """
     if len(thicknesses_nm) != len(n_layers):
         raise SwatchError("a stack needs one thickness per film layer")
@@ -349,9 +472,12 @@ def stack_reflectance(
     ] + [_as_index(n_substrate, wl, "substrate")]
     kx = n0 * np.sin(np.radians(theta))[..., None]
     qs = [layer_q(n, kx) for n in ns]
-    out = {}
+    out: dict[str, np.ndarray] = {}
     for pol in ("s", "p"):
-        m00 = m01 = m10 = m11 = None
+        m00: Any = None
+        m01: Any = None
+        m10: Any = None
+        m11: Any = None
         for j in range(len(ns) - 1):
             rs, rp = fresnel_r(ns[j], qs[j], ns[j + 1], qs[j + 1])
             r = rs if pol == "s" else rp
