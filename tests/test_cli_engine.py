@@ -1,10 +1,12 @@
 """The engine commands' public contract: names, JSON keys, errors."""
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
+from cli_helpers import assert_one_line_error, run_json, run_swatch, run_swatch_process
 
-from cli_helpers import assert_one_line_error, run_json, run_swatch
 from swatch.model import DEFAULT_NM_PER_V
 
 
@@ -25,7 +27,7 @@ def test_color_json_contract_and_blue_sample():
 def test_paper_blue_sample_is_blue():
     """The paper's blue sample (Fig. 3, 25 V) is estimated at 50.8 nm: it must come out blue."""
     row = run_json("color", "--thickness", "50.8")["rows"][0]
-    L, C, h = row["LCh"]
+    _L, C, h = row["LCh"]
     assert 220.0 <= h <= 290.0 and C > 20.0, row
     r, g, b = (int(row["srgb_hex"][i : i + 2], 16) for i in (1, 3, 5))
     assert b > r and b > g
@@ -121,3 +123,14 @@ def test_bad_input_is_one_line_error(args, fragments):
     proc = run_swatch(*args)
     assert_one_line_error(proc, *fragments)
     assert proc.returncode == 2
+
+
+def test_the_process_itself():
+    # The other tests call the entry point in-process; here the real `python -m swatch.cli`.
+    bad = run_swatch_process("color", "--thickness", "-5")
+    assert_one_line_error(bad, "thickness")
+    assert bad.returncode == 2
+    ok = run_swatch_process("color", "--thickness", "50", "--json")
+    assert ok.returncode == 0, ok.stderr
+    assert ok.stderr == ""
+    assert [r["thickness_nm"] for r in json.loads(ok.stdout)["rows"]] == [50.0]
