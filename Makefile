@@ -1,11 +1,15 @@
 # Thin wrappers around dev.py, which bootstraps .venv (needs only Python 3.11+ and pip).
 PYTHON ?= python3
 
-.PHONY: catalog test bench clean
+.PHONY: catalog test quick lint bench clean
 catalog:
 	$(PYTHON) dev.py catalog
 test:
 	$(PYTHON) dev.py test
+quick:  # a local loop: everything but the tests marked slow (CI runs them all)
+	$(PYTHON) dev.py test -m "not slow"
+lint:
+	$(PYTHON) dev.py lint
 bench:
 	$(PYTHON) dev.py bench
 clean:

@@ -6,6 +6,7 @@ Needs nothing but Python 3.11+ and pip:
     python3 dev.py catalog    # build the default catalog (catalog/titanium.toml -> build/catalog)
     python3 dev.py test       # run the test suite
     python3 dev.py bench      # time the project against the reference implementations
+    python3 dev.py lint       # ruff and mypy, as CI runs them
     python3 dev.py swatch ARGS...   # run the CLI inside the environment
 
 The environment is (re)installed when pyproject.toml changes (a stamp file records its hash).
@@ -49,12 +50,15 @@ def main(argv: list[str]) -> int:
         cmd = [str(BIN / "swatch"), "catalog", "build", "catalog/titanium.toml", "--out", "build/catalog", *rest]
     elif job == "test":
         cmd = [str(PY), "-m", "pytest", *rest]
+    elif job == "lint":
+        rc = subprocess.run([str(BIN / "ruff"), "check", ".", *rest], cwd=ROOT).returncode
+        return rc or subprocess.run([str(BIN / "mypy")], cwd=ROOT).returncode
     elif job == "bench":
         cmd = [str(PY), "-m", "benchmarks.bench", *rest]
     elif job == "swatch":
         cmd = [str(BIN / "swatch"), *rest]
     else:
-        print(f"dev.py: unknown job {job!r}; use catalog, test, bench or swatch", file=sys.stderr)
+        print(f"dev.py: unknown job {job!r}; use catalog, test, lint, bench or swatch", file=sys.stderr)
         return 2
     return subprocess.run(cmd, cwd=ROOT).returncode
 

@@ -16,10 +16,10 @@ from benchmarks.timing import median_seconds
 
 
 def run() -> list[str]:
-    import swatch  # noqa: F401  (silences colour-science's plotting notice)
     import tmm
     from colour.phenomena import thin_film_tmm
 
+    import swatch  # noqa: F401  (silences colour-science's plotting notice)
     from swatch import optics
     from swatch.appearance import thickness_colours
     from swatch.colorimetry import Colorimeter

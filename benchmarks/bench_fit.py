@@ -26,12 +26,12 @@ _TESTS = Path(__file__).resolve().parents[1] / "tests"
 def run() -> list[str]:
     if str(_TESTS) not in sys.path:
         sys.path.insert(0, str(_TESTS))
-    import swatch  # noqa: F401  (silences colour-science's plotting notice)
     from synthetic import PAPER_THICKNESSES_NM, WAVELENGTHS_NM, make_measurement, paper_dataset
 
+    import swatch  # noqa: F401  (silences colour-science's plotting notice)
     from swatch.matching import match_colour
-    from swatch.spectral_fit import fit_spectra
     from swatch.measurements import SpectralMeasurement
+    from swatch.spectral_fit import fit_spectra
 
     errors = []
     measurements = []

@@ -371,7 +371,7 @@ def convert_file(source_dir: Path, folder: str, stem: str, role: str) -> tuple[s
     out.append("wavelength_nm,n,k")
     out += [
         f"{format_number(w)},{format_number(a)},{format_number(b)}"
-        for w, a, b in zip(wavelength_nm, n, k)
+        for w, a, b in zip(wavelength_nm, n, k, strict=True)
     ]
     return name, "\n".join(out) + "\n"
 

@@ -47,7 +47,11 @@ class AngularMap:
     metadata: dict = field(default_factory=dict)
 
 
-def angular_map(thickness_nm: float, light_deg=np.arange(0, 86), view_deg=np.arange(0, 86), coating=None,
+#: Default light and view polar angles of a map: 0–85° in 1° steps.
+DEFAULT_ANGLES_DEG = tuple(range(86))
+
+
+def angular_map(thickness_nm: float, light_deg=DEFAULT_ANGLES_DEG, view_deg=DEFAULT_ANGLES_DEG, coating=None,
                 colorimeter=None, model: str = "paper", roughness_alpha: float = 0.3, distribution: str = "ggx",
                 space: str = "srgb") -> AngularMap:
     """The colour of one thickness over all in-plane light × view angles (the paper's Fig. 5/11).

@@ -73,6 +73,7 @@ class Calibration:
         from swatch.calibration_report import calibration_figure
 
         m, p = self.model, self.process
+        assert m is not None and p.nm_per_V is not None, "calibrate() gives a model and a growth rate"
         strip_V = np.linspace(0.0, 1.1 * float(self.voltage_V.max()), 400)
         strip_d = np.clip(p.offset_nm + p.nm_per_V * strip_V, 0.0, 1000.0)
         return calibration_figure(self, m.R(self.thickness_nm, p.film_index_scale), self.measured_R, strip_V,
@@ -87,7 +88,7 @@ class Calibration:
             "samples": [{"coupon": lab, "voltage_V": float(v), "thickness_nm": round(float(d), 3),
                          "delta_E_00": round(float(e), 3), "outlier": bool(o)}
                         for lab, v, d, e, o in zip(self.labels, self.voltage_V, self.thickness_nm, self.delta_E_00,
-                                                   self.outlier)],
+                                                   self.outlier, strict=True)],
             "mean_delta_E_00": round(float(self.delta_E_00[inl].mean()), 3),
             "max_delta_E_00": round(float(self.delta_E_00[inl].max()), 3),
             "outliers": int(self.outlier.sum()),
@@ -100,7 +101,7 @@ class Calibration:
 class _Model:
     """Lab of the profile's film at thicknesses, for a film index scale, at one geometry."""
 
-    def __init__(self, base: Process, wavelength_nm, cm, cos_d: float):
+    def __init__(self, base: Process, wavelength_nm, cm, cos_d):
         coating = base.coating(wavelength_nm)
         self.wl = coating.wavelength_nm
         self.n_film = coating.n_film  # already scaled by the base profile's film_index_scale
@@ -147,7 +148,7 @@ def _global_search(model: _Model, V: np.ndarray, Lab_m: np.ndarray, d_meas: np.n
     d = offsets[None, :, None] + rates[:, None, None] * V[None, None, :]  # (R, O, N)
     inside = (d >= 0.0) & (d <= 1000.0)
     idx = np.clip(np.rint(d / _TABLE_STEP_NM).astype(np.int64), 0, d_table.size - 1)
-    dE = delta_E_00(Lab_table[idx], np.broadcast_to(Lab_m, idx.shape + (3,)))
+    dE = delta_E_00(Lab_table[idx], np.broadcast_to(Lab_m, (*idx.shape, 3)))
     cost = _robust(dE)
     have = np.isfinite(d_meas)
     if have.any():
@@ -272,7 +273,7 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
         res, (rate, offset, scale) = _fit(model, V, Lab_m, d_meas, (rate, offset, scale), True, scale0, "soft_l1")
     runner_up = None
     r1, o1, _ = runs[0][1]
-    for cost, (r2, o2, _) in runs[1:]:  # another interference order than the best (scale held)
+    for _cost, (r2, o2, _) in runs[1:]:  # another interference order than the best (scale held)
         if np.max(np.abs((o2 + r2 * V) - (o1 + r1 * V))) > 8.0:
             dE2 = delta_E_00(model.Lab(o2 + r2 * V, scale0), Lab_m)
             runner_up = {"nm_per_V": round(r2, 4), "offset_nm": round(o2, 2),
@@ -325,8 +326,8 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
                    ("geometry", f"light {light_deg:g} deg, view {view_deg:g} deg (half-vector model)"),
                    ("illuminant", cm.illuminant), ("observer", f"CIE {cm.observer} deg"),
                    ("mean_delta_E_00", round(float(dE[inl].mean()), 3)),
-                   ("max_delta_E_00", round(float(dE[inl].max()), 3))) + tuple(
-        (f"{k}_uncertainty", v) for k, v in uncertainty.items() if v is not None)
+                   ("max_delta_E_00", round(float(dE[inl].max()), 3)),
+                   *((f"{k}_uncertainty", v) for k, v in uncertainty.items() if v is not None))
     proc = dataclasses.replace(
         base, name=name or f"{base.name}-calibrated", nm_per_V=round(float(rate), 5),
         offset_nm=round(float(offset), 3), film_index_scale=round(float(scale), 5), origin="calibrated",

@@ -102,7 +102,7 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
     v_lo, v_hi = float(strip_V[0]), float(strip_V[-1])
 
     def xv(v):
-        return int(round(x0 + (v - v_lo) / (v_hi - v_lo) * (x1 - x0 - 1)))
+        return round(x0 + (v - v_lo) / (v_hi - v_lo) * (x1 - x0 - 1))
 
     for i in range(n):
         x = xv(cal.voltage_V[i])

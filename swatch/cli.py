@@ -67,7 +67,7 @@ def cli():
     """
 
 
-def _one_line(text: str) -> str:
+def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 
@@ -85,7 +85,8 @@ def main(argv: list[str] | None = None) -> int:
         click.echo("error: aborted", err=True)
         return 130
     except click.ClickException as exc:
-        cmd = f" (see 'swatch {exc.ctx.command_path.split(' ', 1)[1]} --help')" if getattr(exc, "ctx", None) and " " in exc.ctx.command_path else ""
+        ctx = getattr(exc, "ctx", None)
+        cmd = f" (see 'swatch {ctx.command_path.split(' ', 1)[1]} --help')" if ctx and " " in ctx.command_path else ""
         click.echo(f"error: {_one_line(exc.format_message())}{cmd}", err=True)
         return exc.exit_code if exc.exit_code else 2
     except (KeyboardInterrupt, _InterruptedError) as caught:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import io
+import itertools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -82,7 +83,7 @@ def _rows(path: Path, source: str):
         text = path.read_bytes()[:MAX_COUPON_BYTES].decode("utf-8-sig")
     except UnicodeDecodeError:
         raise SwatchError(f"{source}: not UTF-8 text; a coupon file is a CSV file") from None
-    out = []
+    out: list[tuple[int, list[str]]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
@@ -151,23 +152,23 @@ def read_coupons(path) -> Coupons:
                            _number(cells[col["b"]], here, "b", -200.0, 200.0)]
 
     labels = tuple(groups)
-    volts = np.array([g["V"] for g in groups.values()])
-    thick = np.array([g["d"] for g in groups.values()])
+    volts_V = np.array([g["V"] for g in groups.values()])
+    thick_nm = np.array([g["d"] for g in groups.values()])
     lines = tuple(g["line"] for g in groups.values())
     if not spectral:
-        return Coupons(source, volts, thick, labels, Lab=np.array([g["values"] for g in groups.values()]),
+        return Coupons(source, volts_V, thick_nm, labels, Lab=np.array([g["values"] for g in groups.values()]),
                        lines=lines)
-    return _spectra(source, groups, volts, thick, labels, lines)
+    return _spectra(source, groups, volts_V, thick_nm, labels, lines)
 
 
-def _spectra(source, groups, volts, thick, labels, lines) -> Coupons:
+def _spectra(source, groups, volts_V, thick_nm, labels, lines) -> Coupons:
     grid = None
     spectra = []
     for label, g in groups.items():
         vals = sorted(g["values"])
         wl = np.array([v[0] for v in vals])
         if np.any(np.diff(wl) <= 0):
-            dup = next(v[2] for a, v in zip(vals, vals[1:]) if v[0] == a[0])
+            dup = next(v[2] for a, v in itertools.pairwise(vals) if v[0] == a[0])
             raise SwatchError(f"{source}:{dup}: coupon {label!r} repeats wavelength {vals[0][0]:g} nm")
         if grid is None:
             grid = wl
@@ -182,4 +183,4 @@ def _spectra(source, groups, volts, thick, labels, lines) -> Coupons:
     refl = np.array(spectra)
     if refl.max() > 1.5:  # percent
         refl = refl / 100.0
-    return Coupons(source, volts, thick, labels, wavelength_nm=grid, reflectance=refl, lines=lines)
+    return Coupons(source, volts_V, thick_nm, labels, wavelength_nm=grid, reflectance=refl, lines=lines)

@@ -200,7 +200,7 @@ def local_frame(n, v):
     cv = np.einsum("pi,pi->p", n, v)
     t = v - cv[:, None] * n
     tl = np.linalg.norm(t, axis=-1)
-    alt = np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, np.float32([1, 0, 0]), np.float32([0, 1, 0])))
+    alt = np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, np.array([1, 0, 0], dtype=np.float32), np.array([0, 1, 0], dtype=np.float32)))
     small = tl < 1e-6
     t = np.where(small[:, None], alt, t)
     t /= np.linalg.norm(t, axis=-1, keepdims=True)

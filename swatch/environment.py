@@ -30,6 +30,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -136,7 +137,7 @@ class PaddedMap:
         self.flat = p.reshape(-1).view(np.complex128)
 
     def _fetch(self, idx) -> np.ndarray:
-        return np.take(self.flat, idx).view(np.float32).reshape(idx.shape + (4,))
+        return np.take(self.flat, idx).view(np.float32).reshape((*idx.shape, 4))
 
     def nearest(self, x, y, z) -> np.ndarray:
         """RGBA (..., 4) of the texel containing each direction (planar float32 arrays)."""
@@ -420,6 +421,8 @@ class LevelMaps:
     """Several blurred copies of one environment in one flat texel array, for per-sample
     filtered lookups: sample ``i`` reads level ``k_i`` (its footprint) at its nearest texel."""
 
+    bilinear: Any  # the filtered lookup, bound below (_levels_bilinear)
+
     def __init__(self, maps: list[PaddedMap], sigmas_deg: list[float]):
         self.sigma_deg = np.asarray(sigmas_deg, dtype=np.float64)
         self.res = np.array([m.res for m in maps], dtype=np.int64)
@@ -444,10 +447,10 @@ class LevelMaps:
         ix = np.minimum((u * h + c).astype(np.int32), res.astype(np.int32))
         iy = np.minimum((w * h + c).astype(np.int32), res.astype(np.int32))
         idx = offset.astype(np.int32) + iy * (res.astype(np.int32) + 2) + ix
-        return np.take(self.flat, idx).view(np.float32).reshape(idx.shape + (4,))[..., :3]
+        return np.take(self.flat, idx).view(np.float32).reshape((*idx.shape, 4))[..., :3]
 
 
-def levels(env: "Environment") -> LevelMaps:
+def levels(env: Environment) -> LevelMaps:
     """The :data:`LEVELS` blurred copies of ``env`` (cached on it)."""
     if "levels" not in env._cache:
         maps = [env.padded() if s == 0 else env.filtered(s, r) for s, r in LEVELS]
@@ -473,7 +476,7 @@ def _levels_bilinear(self, x, y, z, res, offset) -> np.ndarray:
     f = self.flat
 
     def fetch(k):
-        return np.take(f, k).view(np.float32).reshape(k.shape + (4,))[..., :3]
+        return np.take(f, k).view(np.float32).reshape((*k.shape, 4))[..., :3]
 
     c00 = fetch(i)
     top = c00 + ax * (fetch(i + 1) - c00)

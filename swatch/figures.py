@@ -153,8 +153,8 @@ def delta_e_figure(result: FitResult, title: str) -> tuple[np.ndarray, dict]:
     for i in range(nL + 1):
         y = mt + i * cell
         img[min(y, H - 1), ml:ml + nV * cell] = 255
-    every_v = max(1, int(math.ceil(28 / cell)))
-    every_l = max(1, int(math.ceil(16 / cell)))
+    every_v = max(1, math.ceil(28 / cell))
+    every_l = max(1, math.ceil(16 / cell))
     for j in range(0, nV, every_v):
         texts.append((ml + j * cell + cell // 2, mt + nL * cell + 6, f"{vv[j]:g}", 12, (0, 0, 0), "center", "top"))
     for i in range(0, nL, every_l):
@@ -173,7 +173,7 @@ def delta_e_figure(result: FitResult, title: str) -> tuple[np.ndarray, dict]:
     img[mt:mt + bh, bx:bx + bar_w] = colormap(1.0 - ys / max(bh - 1, 1))[:, None, :]
     for k in range(6):
         v = vmax * k / 5
-        y = mt + int(round((1 - k / 5) * (bh - 1)))
+        y = mt + round((1 - k / 5) * (bh - 1))
         img[y, bx + bar_w:bx + bar_w + 5] = 0
         texts.append((bx + bar_w + 8, y, f"{v:g}", 12, (0, 0, 0), "left", "center"))
     texts.append((bx, mt - 10, "dE*ab", 12, (0, 0, 0), "left", "bottom"))
@@ -185,6 +185,9 @@ def delta_e_figure(result: FitResult, title: str) -> tuple[np.ndarray, dict]:
         if not oiio.ImageBufAlgo.render_text(buf, int(x), int(y), drawable_text(text), int(size), font, col, align,
                                              valign):
             raise SwatchError(f"cannot draw text on the ΔE map: {buf.geterror()}")
-    out = np.clip(np.round(buf.get_pixels(oiio.FLOAT).reshape(H, W, 3) * 255.0), 0, 255).astype(np.uint8)
+    pixels = buf.get_pixels(oiio.FLOAT)
+    if pixels is None:
+        raise SwatchError(f"cannot read back the ΔE map: {buf.geterror()}")
+    out = np.clip(np.round(pixels.reshape(H, W, 3) * 255.0), 0, 255).astype(np.uint8)
     data = {"light_deg": lv, "view_deg": vv, "grid": grid, "excluded": excluded, "signed": signed, "vmax": vmax}
     return out, data

@@ -49,7 +49,7 @@ def check_new(paths, force: bool) -> None:
         raise SwatchError(f"{existing[0]}{more} already exists; use --force to overwrite")
 
 
-class atomic_path:
+class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as tmp`)
     """Context manager giving a temporary path next to ``path``; renamed onto it on success.
 
     >>> with atomic_path("out.exr") as tmp:  # write tmp with any library

@@ -226,9 +226,9 @@ class FitResult:
                                      float(self.colour_wavelength_nm[1] - self.colour_wavelength_nm[0])],
             "colour_grid_interpolated": bool(self.colour_grid_interpolated),
         }
-        if self.kind == "spectral":
-            out["wavelength_nm"] = [float(self.wavelength_nm[0]), float(self.wavelength_nm[-1]),
-                                    int(self.wavelength_nm.size)]
+        if self.kind == "spectral" and self.wavelength_nm is not None:
+            wl = self.wavelength_nm
+            out["wavelength_nm"] = [float(wl[0]), float(wl[-1]), int(wl.size)]
             out["reflectance_unit"] = self.reflectance_unit
             out["reflectance_unit_detected"] = bool(self.reflectance_unit_detected)
         out["geometries"] = geoms
@@ -303,7 +303,7 @@ def colour_summary(Lab_m, Lab_s, used, scheme):
 
 def search_fields(kept: list[tuple[float, float]], norm: float) -> dict:
     """FitResult fields from the search's minima (lowest first), residuals normalised by ``norm``."""
-    d_best, f_best = kept[0]
+    _d_best, f_best = kept[0]
     second = kept[1] if len(kept) > 1 else (None, None)
     return dict(
         residual=f_best * norm, second_best_thickness_nm=second[0],

@@ -101,8 +101,8 @@ def _exr_value(value):
             return "int", v
         return "string", str(v)
     if isinstance(value, (float, np.floating)):
-        v = float(value)
-        return ("float", v) if math.isfinite(v) else ("string", repr(v))
+        f = float(value)
+        return ("float", f) if math.isfinite(f) else ("string", repr(f))
     if isinstance(value, str):
         return "string", value
     return "string", _to_json(value)
@@ -244,7 +244,7 @@ def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None =
     names = [reflective_channel_name(x) for x in wl]
     if rgb is not None:
         rgb = _as_hwc(rgb, "preview RGB")
-        if rgb.shape != arr.shape[:2] + (3,):
+        if rgb.shape != (*arr.shape[:2], 3):
             raise SwatchError("the spectral EXR's RGB preview must be (H, W, 3) like the spectra")
         arr = np.concatenate([np.asarray(rgb, dtype=np.float32), arr.astype(np.float32)], axis=2)
         names = ["R", "G", "B", *names]

@@ -3,11 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.choices import (
-    DEFAULT_EXCLUDE_MIRROR_DEG,
-    DEFAULT_FIT_STEP_NM,
-    DEFAULT_THICKNESS_RANGE_NM,
-)
+from swatch.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
 from swatch.colorimetry import Colorimeter, delta_E_00, get_colorimeter
 from swatch.fitting import (
     FacetModel,

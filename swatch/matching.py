@@ -3,6 +3,7 @@ the local minima of ΔE2000 to the target (one per interference order), each ref
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -118,7 +119,7 @@ def match_colour(
     dE00 = np.atleast_1d(delta_E_00(Lab, target))
     dEab = np.atleast_1d(delta_E_ab(Lab, target))
     volts = thickness_to_voltage_V(d, nm_per_V)
-    cands = [
+    cands: list[dict[str, Any]] = [
         {
             "thickness_nm": float(d[i]),
             "voltage_V": float(volts[i]),

@@ -87,7 +87,7 @@ def wavelength_grid(start_nm: float = 380.0, stop_nm: float = 780.0,
         raise SwatchError(f"wavelength grid {start:g}:{stop:g}:{step:g} nm has {_count(span)} points; at most "
                           f"{MAX_WAVELENGTHS} (e.g. a step of at least {(stop - start) / (MAX_WAVELENGTHS - 1):.3g} nm "
                           "over this range)")
-    count = int(math.floor(span + 1e-9)) + 1
+    count = math.floor(span + 1e-9) + 1
     grid = start + step * np.arange(count, dtype=np.float64)
     if abs(grid[-1] - stop) <= 1e-9 * step:
         grid[-1] = stop
@@ -201,7 +201,7 @@ def _read_table(path: Path) -> Material:
                 values = ()
             if len(values) != 3:
                 raise SwatchError(f"{path}: line {line_no}: expected 3 numbers, got {line!r}")
-            rows.append(values)  # type: ignore[arg-type]
+            rows.append(values)
 
     if len(rows) < 2:
         raise SwatchError(f"{path}: needs at least two data rows")
@@ -232,7 +232,7 @@ def _read_table(path: Path) -> Material:
     )
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _load_cached(name: str) -> Material:
     return _read_table(_optical_files()[name])
 

@@ -79,7 +79,7 @@ class SpectralMeasurement:
 
     @classmethod
     def from_arrays(cls, light_deg, view_deg, wavelength_nm, reflectance, light_azimuth_deg=0.0,
-                    view_azimuth_deg=None, source: str = "<arrays>") -> "SpectralMeasurement":
+                    view_azimuth_deg=None, source: str = "<arrays>") -> SpectralMeasurement:
         """Build a measurement from arrays (view azimuth default: opposite side of the light)."""
         l = np.atleast_1d(np.asarray(light_deg, dtype=np.float64))
         v = np.atleast_1d(np.asarray(view_deg, dtype=np.float64))
@@ -115,8 +115,8 @@ class _Rows:
     def __init__(self, text: str, source: str):
         self.source = source
         self.rows: list[tuple[int, list[str]]] = []
-        self.header: list[str] | None = None
-        self.header_line = 0
+        header: list[str] | None = None
+        header_line = 0
         for line_no, line in enumerate(text.splitlines(), start=1):
             stripped = line.strip()
             if not stripped or stripped.startswith("#"):
@@ -126,13 +126,15 @@ class _Rows:
             except csv.Error:
                 raise SwatchError(f"{source}: line {line_no}: not a CSV row (a field longer than "
                                   f"{MAX_CSV_FIELD_CHARS} characters, or a stray quote or NUL)") from None
-            if self.header is None:
-                self.header = [f.lower() for f in fields]
-                self.header_line = line_no
+            if header is None:
+                header = [f.lower() for f in fields]
+                header_line = line_no
             else:
                 self.rows.append((line_no, fields))
-        if self.header is None:
+        if header is None:
             raise SwatchError(f"{source}: the file is empty; give a CSV header row and data rows")
+        self.header: list[str] = header
+        self.header_line = header_line
 
     def error(self, line_no: int, message: str) -> SwatchError:
         return SwatchError(f"{self.source}: line {line_no}: {message}")
@@ -253,7 +255,7 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
         raise rows.error(lines[bad[0]], f"wavelength_nm {wl[bad[0]]:g} must be > 0 nm")
 
     keys = _geometry_keys(l, v, la, va)
-    ukeys, g_first, g_inv = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    _ukeys, g_first, g_inv = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     g_inv = g_inv.reshape(-1)
     # Keep geometries in file order.
     order = np.argsort(g_first, kind="stable")
@@ -269,7 +271,7 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
 
     # Duplicates: the same (geometry, wavelength) twice.
     cell = g_idx * W + w_inv
-    _, cell_first, cell_count = np.unique(cell, return_index=True, return_counts=True)
+    _, _cell_first, cell_count = np.unique(cell, return_index=True, return_counts=True)
     if np.any(cell_count > 1):
         seen = np.zeros(G * W, dtype=bool)
         for r, c in enumerate(cell):  # find the first repeated row (error path only)
@@ -346,7 +348,7 @@ def _parse_lab(rows: _Rows, light_deg, view_deg, light_azimuth_deg, view_azimuth
         raise rows.error(lines[bad[0]], f"a {Lab[bad[0], 1]:g}, b {Lab[bad[0], 2]:g}: a and b must lie within "
                          f"±{MAX_LAB_AB:g}")
     keys = _geometry_keys(l, v, la, va)
-    _, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
+    _, _first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
     if np.any(counts > 1):
         seen = set()
         for r, k in enumerate(map(tuple, keys)):

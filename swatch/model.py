@@ -15,13 +15,7 @@ import numpy as np
 from swatch import geometry, optics
 from swatch.errors import SwatchError
 from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
-from swatch.materials import (
-    DEFAULT_FILM,
-    DEFAULT_SUBSTRATE,
-    DEFAULT_WAVELENGTHS_NM,
-    list_materials,
-    load_material,
-)
+from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, DEFAULT_WAVELENGTHS_NM, list_materials, load_material
 
 __all__ = [
     "DEFAULT_NM_PER_V",
@@ -116,6 +110,9 @@ def intensity_correction(simulated, measured) -> np.ndarray:
 class _HalfVector:
     """The half-vector model on top of a ``reflectance_cos`` method."""
 
+    def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
+        raise NotImplementedError
+
     def half_vector(
         self, thickness_nm, light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None,
         amplitudes: bool = False,
@@ -207,9 +204,12 @@ def overcoat(spec: str, wavelength_nm) -> Overcoat:
         raise SwatchError(f"overcoat thickness must be more than 0 and at most {MAX_THICKNESS_NM:g} nm "
                           "(a thicker layer is not coherent: its fringes are finer than the wavelength grid)")
     wl = np.asarray(wavelength_nm, dtype=np.float64)
+    n_real: float | None
     try:
         n_real = float(what)
     except ValueError:
+        n_real = None
+    if n_real is None:
         mat = load_material(what)
         if mat.role != "film":  # a metal is not a clear layer (it would be opaque at these thicknesses)
             choices = ", ".join(m.name for m in list_materials("film"))

@@ -88,13 +88,13 @@ def finish_png(blob: bytes, xmp: str | None = None, dpi: float | None = None) ->
             continue
         if kind == b"sRGB":
             data = bytes([SRGB_INTENT])
-        elif kind == b"eXIf" and len(data) <= 14:  # a TIFF header and an IFD without entries
-            continue
-        elif kind in (b"oFFs", b"pHYs") and (kind == b"pHYs" or not any(data[:8])):
+        elif (kind == b"eXIf" and len(data) <= 14) or (kind in (b"oFFs", b"pHYs")
+                                                         and (kind == b"pHYs" or not any(data[:8]))):
+            # an empty eXIf (a TIFF header and an IFD without entries), or OIIO's own oFFs/pHYs
             continue
         elif kind == b"IDAT" and out[-1][4:8] != b"IDAT":
             if dpi is not None:
-                ppm = int(round(float(dpi) / _INCH_M))
+                ppm = round(float(dpi) / _INCH_M)
                 out.append(_chunk(b"pHYs", struct.pack(">IIB", ppm, ppm, 1)))
             if xmp is not None:
                 out.append(_itxt(XMP_KEYWORD, xmp, compress=False))

@@ -55,7 +55,7 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
         if not span + 1 <= MAX_RANGE_POINTS:
             n = f"{span + 1:.3g}" if math.isfinite(span) else "too many"
             raise SwatchError(f"{what} range {s!r} has {n} points; at most {MAX_RANGE_POINTS}")
-        count = int(math.floor(span + 1e-9)) + 1
+        count = math.floor(span + 1e-9) + 1
         return a + step * np.arange(count)
     parts = s.split(",")
     if len(parts) > MAX_RANGE_POINTS:

@@ -48,7 +48,7 @@ def rayleigh_text(r: dict, ra_nm: float) -> list[str]:
     """The lines ``swatch roughness`` prints for :func:`rayleigh_criterion`'s result ``r``."""
     lines = [f"Rayleigh criterion h = λ/(8 cos θ): {r['h_min_nm']:.1f}–{r['h_max_nm']:.1f} nm over 380–780 nm, 0–60°",
              f"{'θ_deg':>6} " + " ".join(f"{w:>7.0f}nm" for w in WAVELENGTHS_NM)]
-    lines += [f"{a:6.0f} " + " ".join(f"{v:9.1f}" for v in row) for a, row in zip(ANGLES_DEG, r["h_nm"])]
+    lines += [f"{a:6.0f} " + " ".join(f"{v:9.1f}" for v in row) for a, row in zip(ANGLES_DEG, r["h_nm"], strict=True)]
     return [*lines, f"Ra = {ra_nm:g} nm: {r['text']}"]
 
 

@@ -157,7 +157,7 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
         src = rgb[r0:r1] if dfine is None else np.take(dfine.values, idx, axis=0) * s3
         display_encode(src, k, (~hit, background_linear), out=display[r0:r1])
 
-    bounds = list(range(0, size, TILE_ROWS)) + [size]
+    bounds = [*list(range(0, size, TILE_ROWS)), size]
     n_workers = int(workers or 1)  # threads gain little for numpy ufuncs on 2 cores; opt-in
     if n_workers > 1 and len(bounds) > 2:
         with ThreadPoolExecutor(max_workers=n_workers) as pool:

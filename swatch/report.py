@@ -6,7 +6,7 @@ import csv
 import io
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -116,7 +116,7 @@ def report_paths(report_dir, measurements, force: bool = False) -> dict:
                 name = f"{stem}_{k}"
             used.add(name.lower())
             maps.append((out / f"delta_e_map_{name}.png", out / f"delta_e_map_{name}.exr"))
-    paths = {
+    paths: dict[str, Any] = {
         "maps": maps,
         "summary_csv": out / "summary.csv",
         "summary_md": out / "summary.md",
@@ -132,7 +132,7 @@ def write_report(results, dicts, paths) -> None:
     from swatch.fileio import atomic_write_text
     from swatch.imageio import write_exr, write_png
 
-    for r, d, (png, exr) in zip(results, dicts, paths["maps"]):
+    for r, (png, exr) in zip(results, paths["maps"], strict=True):
         stem = Path(r.source).name
         title = f"dE*ab (CIE 1976)  {stem}   d = {r.thickness_nm:.1f} nm"
         image, data = delta_e_figure(r, title)
@@ -295,7 +295,7 @@ def spectrum_text(out: dict, under: str = "", process: str = "") -> list[str]:
     """``swatch spectrum``'s table from its JSON dictionary (``under``: the overcoat description)."""
     lines = [f"# {out['film']} on {out['substrate']}{under}, d = {out['thickness_nm']:g} nm, "
              f"theta_d = {out['theta_d_deg']:.3f} deg; process {process}", f"{'wavelength_nm':>13} {'R':>10} {'R_s':>10} {'R_p':>10}"]
-    for row in zip(out["wavelength_nm"], out["reflectance"], out["reflectance_s"], out["reflectance_p"]):
+    for row in zip(out["wavelength_nm"], out["reflectance"], out["reflectance_s"], out["reflectance_p"], strict=True):
         lines.append(f"{row[0]:13.1f} {row[1]:10.6f} {row[2]:10.6f} {row[3]:10.6f}")
     return lines
 
@@ -331,7 +331,7 @@ def material_text(m, wl: np.ndarray, nk: np.ndarray) -> list[str]:
     """``swatch materials show``: the source, then n and k per wavelength."""
     lines = [f"# {m.name} ({m.role}): {' '.join(m.reference.split())}", f"# doi:{m.doi}; {m.license}",
              f"{'wavelength_nm':>13} {'n':>9} {'k':>9}"]
-    return lines + [f"{w:13.1f} {n:9.4f} {k:9.4f}" for w, n, k in zip(wl, nk.real, nk.imag)]
+    return lines + [f"{w:13.1f} {n:9.4f} {k:9.4f}" for w, n, k in zip(wl, nk.real, nk.imag, strict=True)]
 
 
 def materials_json(mats, defaults: tuple[str, ...]) -> list[dict]:

@@ -309,6 +309,7 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
     view = DEFAULT_VIEW_DEG[shape] if view_deg is None else float(geometry.check_polar_deg(view_deg, "view"))
     azim = float(geometry.check_azimuth_deg(view_azimuth_deg, "view"))
     t = math.radians(light_deg)
+    obj: Shape
     if shape == "flat":
         obj = Plate(1.0)
         pos, up = _camera_position(3.2, view, azim)

@@ -70,7 +70,7 @@ class FacetColourTable:
     cos_d: np.ndarray
     values: np.ndarray
     kind: str = "XYZ"
-    _delta: np.ndarray = field(default=None, repr=False, compare=False)
+    _delta: np.ndarray = field(init=False, repr=False, compare=False)
     display_XYZ: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
@@ -110,7 +110,7 @@ class FacetColourTable:
         x += self.values.dtype.type(0.5)
         return np.take(self.values, x.astype(np.int32), axis=0)
 
-    def refined(self, factor: int = 16) -> "FacetColourTable":
+    def refined(self, factor: int = 16) -> FacetColourTable:
         """The table linearly interpolated onto a ``factor`` times finer grid (same range)."""
         n = (self.nodes - 1) * int(factor) + 1
         grid = np.linspace(self.c0, self.c1, n)
@@ -121,7 +121,7 @@ class FacetColourTable:
         return FacetColourTable(self.thickness_nm, grid, interp(self.values).astype(self.values.dtype), kind=self.kind,
                            display_XYZ=interp(self.display_XYZ))
 
-    def to_rgb(self, colorimeter, space: str = "srgb", dtype=np.float32) -> "FacetColourTable":
+    def to_rgb(self, colorimeter, space: str = "srgb", dtype=np.float32) -> FacetColourTable:
         """The same table in linear RGB of ``space`` (1.0 = white), as ``dtype``, from the nodes'
         CIE 1931 2° XYZ (``display_XYZ``; the values themselves when the table is 2°)."""
         if self.kind != "XYZ":
@@ -132,7 +132,7 @@ class FacetColourTable:
             rgb = colorimeter.rgb_linear(self.values if self.display_XYZ is None else self.display_XYZ, space)
         return FacetColourTable(self.thickness_nm, self.cos_d, np.asarray(rgb, dtype=dtype), kind=f"RGB:{space}")
 
-    def astype(self, dtype) -> "FacetColourTable":
+    def astype(self, dtype) -> FacetColourTable:
         return FacetColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind,
                            display_XYZ=self.display_XYZ)
 
@@ -233,4 +233,4 @@ def shade_direct(normal, light, view, thickness_nm: float, coating, colorimeter,
         idx = lit[start:start + int(chunk)]
         R = coating.reflectance_cos(float(thickness_nm), np.clip(cd[idx], 0.0, 1.0)).R  # (n, W)
         out[idx] = colorimeter.XYZ(R) * flat_s[idx, None]
-    return out.reshape(shape + (3,))
+    return out.reshape((*shape, 3))

@@ -4,11 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.choices import (
-    DEFAULT_EXCLUDE_MIRROR_DEG,
-    DEFAULT_FIT_STEP_NM,
-    DEFAULT_THICKNESS_RANGE_NM,
-)
+from swatch.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
 from swatch.colorimetry import get_colorimeter
 from swatch.errors import SwatchError
 from swatch.fitting import (
@@ -122,7 +118,7 @@ def fit_spectra(
         return float(_scales_and_ssr(S, M, scale)[1])
 
     kept, d_grid, f_coarse = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
-    d_best, f_best = kept[0]
+    d_best, _f_best = kept[0]
     n = M.size
     sigma = spectral_sigma(facets, inv, M, scale, d_best, lo, hi)
 

@@ -121,7 +121,7 @@ def write_long_csv(path, light_deg, view_deg, wavelength_nm, reflectance, percen
     return path
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def paper_dataset(index: int, seed: int = 0):
     """(thickness_nm, light (100,), view (100,), wavelength (81,), reflectance (100, 81), scale)."""
     d = PAPER_THICKNESSES_NM[index]

@@ -6,13 +6,13 @@ from __future__ import annotations
 import functools
 import json
 
-import swatch  # noqa: F401  (before colour: silences colour-science's plotting notice)
 import colour
 import numpy as np
 import pytest
 import tmm
-
 from cli_helpers import assert_one_line_error, run_swatch
+
+import swatch
 from swatch.calibration import calibrate
 from swatch.coupons import read_coupons
 from swatch.materials import load_material
@@ -29,7 +29,7 @@ THETA_D = 22.5  # half-vector facet angle at 45°:0°
 TRUE_RATE, TRUE_OFFSET, LINE_FILM = 2.45, 6.0, "TiO2-Franta"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _indices(film: str):
     return load_material(film).nk(WL), load_material("Ti-Johnson").nk(WL)
 
@@ -120,7 +120,7 @@ def test_spectral_coupons_with_measured_thickness(tmp_path):
         d = TRUE_OFFSET + TRUE_RATE * v
         R = tmm_spectrum(d) * 100.0 + rng.normal(0.0, 0.2, WL.size)  # percent
         measured = d + rng.normal(0, 1.0)  # ellipsometry, ±1 nm
-        rows += [f"{v:g},{w:g},{r:.3f},{measured:.1f}" for w, r in zip(WL, R)]
+        rows += [f"{v:g},{w:g},{r:.3f},{measured:.1f}" for w, r in zip(WL, R, strict=True)]
     path = tmp_path / "spectra.csv"
     path.write_text("\n".join(rows) + "\n")
     coupons = read_coupons(path)

@@ -8,10 +8,10 @@ import json
 import os
 from pathlib import Path
 
+import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 import pytest
 
 import swatch  # noqa: F401
-import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 from swatch.catalog.build import build_catalog
 
 CHROMIUM = "/usr/bin/chromium"
@@ -85,7 +85,7 @@ def test_page_loads_and_shows_every_swatch(page):
     assert pg.locator("article.card").count() == n == 7
     assert pg.locator("#count").text_content() == f"showing {n} of {n}"
     titles = shown(pg)
-    for rec, title in zip(doc["swatches"], titles):
+    for rec, title in zip(doc["swatches"], titles, strict=True):
         assert f"{rec['voltage_V']:.1f} V" in title and f"{rec['thickness_nm']:.1f} nm" in title
     # the chip shows the record's colour
     # (sRGB hex first; a Display P3 declaration after it wins where the browser has color())

@@ -10,11 +10,11 @@ import sys
 import time
 from pathlib import Path
 
+import colour
 import numpy as np
 import pytest
 
 import swatch  # noqa: F401  (silences colour-science's plotting notice)
-import colour  # noqa: F401  (imported here, after swatch, so the notice stays silenced)
 from swatch.catalog import build as buildmod
 from swatch.catalog import sheets as sheetmod
 from swatch.catalog.build import META_DIR, build_catalog
@@ -159,7 +159,7 @@ def test_incremental_rebuilds_only_what_changed(tmp_path):
     assert all(r["process_window"]["grade"] == "B" for r in doc["swatches"])
     # one thickness on the second sheet changed: one render, one sheet; sheet 1 untouched
     inode = (out / "sheet_01.png").stat().st_ino
-    write_spec(spec, THICKNESSES[:-1] + [210], grade="B")
+    write_spec(spec, [*THICKNESSES[:-1], 210], grade="B")
     res = build_catalog(spec, out, jobs=1)
     assert (res.rendered, res.composed) == (1, 1)
     assert (out / "sheet_01.png").stat().st_ino == inode

@@ -1,16 +1,16 @@
 """The explorer's embedded colour table against the direct spectral computation."""
 from __future__ import annotations
 
+import colour
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import swatch  # noqa: F401
-import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 from swatch.catalog.explorer import decode, explorer_data, grid_lookup
-from swatch.catalog.records import hue_family
 from swatch.catalog.names import colour_name
+from swatch.catalog.records import hue_family
 from swatch.catalog.spec import load_spec
 from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.materials import wavelength_grid
@@ -27,7 +27,7 @@ def table():
 def _direct(spec, wl, d, cos_d, observer):
     coating = get_coating(spec.film, spec.substrate, wl)
     cm = get_colorimeter(wl, spec.illuminant, observer)
-    R = np.stack([coating.reflectance_cos(float(di), np.array([ci])).R[0] for di, ci in zip(d, cos_d)])
+    R = np.stack([coating.reflectance_cos(float(di), np.array([ci])).R[0] for di, ci in zip(d, cos_d, strict=True)])
     # colour.sd_to_XYZ-independent check of the weights happens in test_colorimetry; here the
     # reference is the engine's direct path per sample, not the table
     return cm, cm.XYZ(R)

@@ -9,11 +9,11 @@ import json
 import os
 from pathlib import Path
 
+import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 import numpy as np
 import pytest
 
 import swatch  # noqa: F401
-import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 from swatch.catalog.build import build_catalog
 from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.materials import wavelength_grid
@@ -140,7 +140,7 @@ def test_match_is_swatch_match_over_the_range(page):
         got = pg.evaluate("t => swatchCatalog.match(t, 3)", target)
         assert [set(g) for g in got] == [{"thickness_nm", "voltage_V", "delta_E_00"}] * len(got)
         assert len(got) == len(cli["candidates"])
-        for g, c in zip(got, cli["candidates"]):
+        for g, c in zip(got, cli["candidates"], strict=True):
             # within one search step (0.1 nm): a far candidate's minimum can be flat to 1e-3 over it
             assert g["thickness_nm"] == pytest.approx(c["thickness_nm"], abs=0.1)
             assert g["voltage_V"] == pytest.approx(c["voltage_V"], abs=0.1 / 2.032)
@@ -166,7 +166,7 @@ def test_slider_moves_the_live_view_with_the_physics(page):
     # the paper model at the plate centre is colorAt at 45:0 (the camera looks down the normal)
     want = pg.evaluate("swatchCatalog.colorAt({thickness_nm: 140, light_deg: 45, view_deg: 0}).hex")
     want_rgb = [int(want[i:i + 2], 16) for i in (1, 3, 5)]
-    assert max(abs(a - b) for a, b in zip(pink, want_rgb)) <= 3
+    assert max(abs(a - b) for a, b in zip(pink, want_rgb, strict=True)) <= 3
     assert pg.locator("#t-out").text_content() == "140.0 nm"
     for shape in ("bent sheet", "sphere"):
         pg.select_option("#shape", shape)
@@ -279,7 +279,7 @@ def _colours_present(cols: np.ndarray, hexes: list[str]) -> int:
 
 
 def test_javascript_off_is_still_the_grid(browser, built):
-    ctx, pg, events = _open(browser, built, js=False)
+    ctx, pg, _events = _open(browser, built, js=False)
     doc = json.loads((built / "catalog.json").read_text(encoding="utf-8"))
     assert pg.locator("article.card").count() == len(doc["swatches"])
     assert pg.locator("#explorer").is_hidden()

@@ -4,11 +4,11 @@ from __future__ import annotations
 import struct
 import xml.etree.ElementTree as ET
 
+import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 import numpy as np
 import pytest
 
 import swatch  # noqa: F401
-import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 from swatch.catalog.exports import ase_bytes, cxf_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
@@ -56,7 +56,7 @@ def test_ase_round_trip(data):
     assert blocks[-1] == {"kind": 0xC002}
     colours = blocks[1:-1]
     assert len(colours) == 3
-    for blk, rec in zip(colours, data.records):
+    for blk, rec in zip(colours, data.records, strict=True):
         L, a, b = blk["values"]
         assert [L * 100, a, b] == pytest.approx(rec["Lab_D50_2"], abs=1e-3)  # D50/2°: as Adobe reads ASE
         assert blk["type"] == 0  # global
@@ -66,7 +66,7 @@ def test_ase_round_trip(data):
 def test_cxf3_content(data):
     blob = cxf_bytes(SPEC, data)
     root = ET.fromstring(blob)
-    assert root.tag == "{%s}CxF" % NS["cc"]
+    assert root.tag == "{" + NS["cc"] + "}CxF"
     objs = root.findall(".//cc:Object", NS)
     assert len(objs) == 3
     specs = {cs.get("Id"): cs for cs in root.findall(".//cc:ColorSpecification", NS)}
@@ -81,7 +81,7 @@ def test_cxf3_content(data):
     assert (wr.get("StartWL"), wr.get("Increment")) == ("380", "5")
     ma = specs["CS-45as110"].find(".//cc:BRDFAngle", NS)
     assert float(ma.find("cc:Aspecular", NS).text) == 110
-    for obj, rec, R in zip(objs, data.records, data.reflectance):
+    for obj, rec, R in zip(objs, data.records, data.reflectance, strict=True):
         labs = {e.get("ColorSpecification"): e for e in obj.findall(".//cc:ColorCIELab", NS)}
         lab = labs[ref_id]
         got = [float(lab.find(f"cc:{k}", NS).text) for k in ("L", "A", "B")]

@@ -2,13 +2,14 @@
 from __future__ import annotations
 
 import functools
+import itertools
 
-import swatch  # noqa: F401  (before colour: silences colour-science's plotting notice)
 import colour
 import numpy as np
 import pytest
 import tmm
 
+import swatch  # noqa: F401  (before colour: silences colour-science's plotting notice)
 from swatch.catalog.records import compute, hue_family
 from swatch.catalog.spec import parse_spec
 from swatch.materials import load_material
@@ -22,7 +23,7 @@ OBSERVER = colour.MSDS_CMFS["CIE 1964 10 Degree Standard Observer"]
 D65 = colour.SDS_ILLUMINANTS["D65"]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _indices():
     return load_material("TiO2-Siefke").nk(WL), load_material("Ti-Johnson").nk(WL)
 
@@ -83,7 +84,7 @@ def test_neighbour_delta_E(data):
     recs = data.records
     assert recs[0]["delta_E_00_to_neighbours"]["previous"] is None
     assert recs[-1]["delta_E_00_to_neighbours"]["next"] is None
-    for a, b in zip(recs, recs[1:]):
+    for a, b in itertools.pairwise(recs):
         e00 = colour.delta_E(np.array(a["Lab"]), np.array(b["Lab"]), method="CIE 2000")
         eab = np.linalg.norm(np.subtract(a["Lab"], b["Lab"]))
         assert a["delta_E_00_to_neighbours"]["next"] == pytest.approx(e00, abs=1e-3)
@@ -132,7 +133,7 @@ def test_grade_c_window_is_not_the_dE00_window():
     ab = parse_spec({"name": "t", "thickness": {"list_nm": [87.5, 160.6]}, "tolerance": {"grade": "C"}})
     e00 = parse_spec({"name": "t", "thickness": {"list_nm": [87.5, 160.6]},
                       "tolerance": {"metric": "dE00", "max": 6.5}})
-    for a, b in zip(compute(ab).records, compute(e00).records):
+    for a, b in zip(compute(ab).records, compute(e00).records, strict=True):
         width_ab = a["process_window"]["thickness_minus_nm"] + a["process_window"]["thickness_plus_nm"]
         width_00 = b["process_window"]["thickness_minus_nm"] + b["process_window"]["thickness_plus_nm"]
         assert width_00 > 1.1 * width_ab

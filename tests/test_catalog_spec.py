@@ -1,6 +1,7 @@
 """Catalog specs: the shipped specs, and rejection of bad ones with the file, the key and what is allowed."""
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import pytest
@@ -18,7 +19,7 @@ def test_titanium_spec_is_the_default_range():
     spec, _ = load_spec(ROOT / "catalog" / "titanium.toml")
     d = spec.thickness_nm
     assert d[0] == 20 and d[-1] == 300
-    steps = {round(b - a, 9) for a, b in zip(d, d[1:])}
+    steps = {round(b - a, 9) for a, b in itertools.pairwise(d)}
     assert len(steps) == 1
     assert spec.reference.light_deg == 45 and spec.reference.view_deg == 0
     assert [g.aspecular_deg for g in spec.multi_angle] == [-15, 15, 25, 45, 75, 110]

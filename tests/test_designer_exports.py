@@ -16,11 +16,11 @@ import sys
 import warnings
 from pathlib import Path
 
+import colour
 import numpy as np
 import pytest
 
 import swatch  # noqa: F401  (silences colour-science's plotting notice)
-import colour  # noqa: F401
 from swatch.catalog.exports import ase_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
@@ -112,7 +112,7 @@ def test_ase_names_and_types(data):
 def test_ase_srgb_variant_is_the_hex(data):
     ase = parse_ase(ase_bytes(SPEC, data.records, "srgb"))
     assert [c["model"] for c in ase["colours"]] == ["RGB"] * len(THICKNESSES)
-    for c, rec in zip(ase["colours"], data.records):
+    for c, rec in zip(ase["colours"], data.records, strict=True):
         hexed = "#" + "".join(f"{round(v * 255):02x}" for v in c["values"])
         assert hexed == rec["srgb_hex"]
         assert all(0.0 <= v <= 1.0 for v in c["values"])
@@ -130,7 +130,7 @@ def test_catalog_hex_is_2deg_srgb(illuminant, observer):
         warnings.simplefilter("ignore")
         white = colour.sd_to_XYZ(colour.SpectralDistribution(np.ones(data.wavelength_nm.size), data.wavelength_nm),
                                  cmfs, ill) / 100.0
-        for R, rec in zip(data.reflectance, data.records):
+        for R, rec in zip(data.reflectance, data.records, strict=True):
             XYZ = colour.sd_to_XYZ(colour.SpectralDistribution(R, data.wavelength_nm), cmfs, ill) / 100.0
             rgb = colour.XYZ_to_sRGB(XYZ, illuminant=colour.XYZ_to_xy(white), chromatic_adaptation_transform="Bradford")
             want = np.round(np.clip(rgb, 0, 1) * 255).astype(int)
@@ -309,7 +309,7 @@ def test_spectral_exr_has_an_rgb_preview_and_float32_and_the_png_orientation(tmp
         ch = {k: v.pixels for k, v in f.channels().items()}
     assert {"R", "G", "B"} <= set(ch)
     spectral = sorted((k for k in ch if k.startswith("T.")), key=lambda k: float(k[2:-2].replace(",", ".")))
-    assert len(spectral) == 81 and all(ch[k].dtype == np.float32 for k in spectral + ["R", "G", "B"])
+    assert len(spectral) == 81 and all(ch[k].dtype == np.float32 for k in [*spectral, "R", "G", "B"])
     cube = np.stack([ch[k] for k in spectral], -1).astype(np.float64)  # (rows, cols, W)
     assert cube.shape[:2] == (9, 4)
     wl = np.arange(380.0, 781.0, 5.0)
@@ -350,7 +350,7 @@ def test_print_chips_png_and_tiff(tiny_catalog):
     assert (width, height, depth, ctype) == (side, side, 16, 2)
     with Image.open(png) as im:
         assert im.info["srgb"] == 0 and im.info["dpi"] == pytest.approx((300, 300), abs=0.05)
-        assert json.loads(im.text["swatch:record"]) == {k: v for k, v in rec.items()}
+        assert json.loads(im.text["swatch:record"]) == dict(rec)
         xmp = xmp_fields(im.info["XML:com.adobe.xmp"])
     assert xmp["title"].startswith("S002 Ti 75.5 nm") and xmp["Lab_D50_2"] == " ".join(
         f"{x:.2f}" for x in rec["Lab_D50_2"])
@@ -375,7 +375,7 @@ def test_chip_spec_limits():
     base = {"name": "x", "thickness": {"list_nm": [50.0]}}
     assert parse_spec(dict(base, chips={"size_mm": 25, "dpi": 600})).chip_size_mm == 25
     assert not parse_spec(dict(base, chips={"enabled": False})).chips
-    with pytest.raises(SwatchError, match="at most 4096 pixels"):
+    with pytest.raises(SwatchError, match=r"at most 4096 pixels"):
         parse_spec(dict(base, chips={"size_mm": 300, "dpi": 1200}))
-    with pytest.raises(SwatchError, match="chips.dpi"):
+    with pytest.raises(SwatchError, match=r"chips\.dpi"):
         parse_spec(dict(base, chips={"dpi": 10}))

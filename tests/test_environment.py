@@ -36,7 +36,7 @@ CM2 = CM.display_colorimeter  # CIE 1931 2°: the observer RGB is defined on
 WL = np.asarray(COATING.wavelength_nm, dtype=float)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _indices():
     return load_material("TiO2-Siefke").nk(WL), load_material("Ti-Johnson").nk(WL)
 
@@ -56,7 +56,7 @@ def _ggx_lambda(c, a):
     return 0.5 * (np.sqrt(1.0 + a * a * t2) - 1.0)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def albedo_normal_view(d_nm: float, a: float = ALPHA) -> np.ndarray:
     """Spectral directional albedo (W,) for the view along the normal, by quadrature."""
     nodes = np.radians(np.arange(0.0, 46.0, 3.0))  # θ_d from 0 to 45°
@@ -71,7 +71,7 @@ def albedo_normal_view(d_nm: float, a: float = ALPHA) -> np.ndarray:
         f = D * G / (4.0 * cl * 1.0)
         return 2.0 * np.pi * f * cl * np.sin(theta_l) * spline(theta_l / 2)
 
-    val, err = integrate.quad_vec(integrand, 0.0, np.pi / 2 - 1e-9, epsrel=1e-7)
+    val, _err = integrate.quad_vec(integrand, 0.0, np.pi / 2 - 1e-9, epsrel=1e-7)
     return val
 
 
@@ -122,7 +122,7 @@ def test_albedo_level_of_the_sample_sets():
         cv = ss.cos_v[j]
         v = np.array([np.sqrt(1 - cv * cv), 0.0, cv])
 
-        def f(phi, th):
+        def f(phi, th, v=v, cv=cv):
             l = np.array([np.sin(th) * np.cos(phi), np.sin(th) * np.sin(phi), np.cos(th)])
             h = (l + v) / np.linalg.norm(l + v)
             den = (ALPHA ** 2 - 1.0) * h[2] ** 2 + 1.0

@@ -15,16 +15,6 @@ import pytest
 import tmm
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from swatch.cli import main
-from swatch.errors import SwatchError
-from swatch.fitting import FacetModel, mirror_angle_deg
-from swatch.lab_fit import fit_lab
-from swatch.matching import match_colour
-from swatch.spectral_fit import fit_spectra
-from swatch.measurements import LabMeasurement, SpectralMeasurement
-from swatch.model import get_coating
-
 from synthetic import (
     PAPER_THICKNESSES_NM,
     WAVELENGTHS_NM,
@@ -34,6 +24,15 @@ from synthetic import (
     tmm_half_vector_reflectance,
     write_long_csv,
 )
+
+from swatch.cli import main
+from swatch.errors import SwatchError
+from swatch.fitting import FacetModel, mirror_angle_deg
+from swatch.lab_fit import fit_lab
+from swatch.matching import match_colour
+from swatch.measurements import LabMeasurement, SpectralMeasurement
+from swatch.model import get_coating
+from swatch.spectral_fit import fit_spectra
 
 CMFS = colour.MSDS_CMFS["CIE 1964 10 Degree Standard Observer"]
 D65 = colour.SDS_ILLUMINANTS["D65"]
@@ -118,7 +117,7 @@ def test_recovers_paper_thicknesses(index):
 
 
 def test_coarse_curve_has_the_minimum_and_residual_is_mse():
-    d_true, m = measurement(5)
+    _d_true, m = measurement(5)
     res = fit_spectra(m)
     # residual is the mean over used samples of (a S - M)^2, recomputed with tmm spectra
     S = tmm_half_vector_reflectance(res.thickness_nm, m.light_deg, m.view_deg)
@@ -188,7 +187,7 @@ def test_all_geometries_in_mirror_region_is_an_error():
 # -- Lab-only fit ----------------------------------------------------------------------------------
 @pytest.mark.parametrize("index", [1, 4, 8])
 def test_lab_only_fit(index):
-    d_true, light, view, wl, R, _ = paper_dataset(index)
+    d_true, light, view, _wl, R, _ = paper_dataset(index)
     Lab = reference_Lab(R)
     m = LabMeasurement("lab", light, view, np.zeros_like(light), np.full_like(light, 180.0), Lab)
     res = fit_lab(m)
@@ -259,10 +258,10 @@ def test_cli_fit_json(sample_csv, capsys):
     d, p = sample_csv
     assert main(["fit", str(p), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert FIT_KEYS <= set(out)
+    assert set(out) >= FIT_KEYS
     assert abs(out["thickness_nm"] - d) <= 0.5
     assert out["reflectance_unit"] == "percent" and out["reflectance_unit_detected"]
-    assert len(out["geometries"]) == 100 and GEOM_KEYS <= set(out["geometries"][0])
+    assert len(out["geometries"]) == 100 and set(out["geometries"][0]) >= GEOM_KEYS
     used = [g for g in out["geometries"] if not g["excluded"]]
     assert out["mean_delta_E_ab"] == pytest.approx(np.mean([g["delta_E_ab"] for g in used]))
     # stated unit overrides detection: as fractions the values are 100x too bright, the fit still works
@@ -279,11 +278,11 @@ def test_cli_fit_text_states_percent(sample_csv, capsys):
 
 
 def test_cli_fit_lab_file(tmp_path, capsys):
-    d, light, view, wl, R, _ = paper_dataset(2)
+    d, light, view, _wl, R, _ = paper_dataset(2)
     Lab = reference_Lab(R)
     p = tmp_path / "lab.csv"
     p.write_text("light_deg,view_deg,L,a,b\n" + "".join(
-        f"{l:g},{v:g},{L!r},{a!r},{b!r}\n" for l, v, (L, a, b) in zip(light, view, Lab.tolist())))
+        f"{l:g},{v:g},{L!r},{a!r},{b!r}\n" for l, v, (L, a, b) in zip(light, view, Lab.tolist(), strict=True)))
     assert main(["fit", str(p), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["kind"] == "lab" and abs(out["thickness_nm"] - d) <= 0.5
@@ -335,7 +334,7 @@ def test_cli_report_files(sample_csv, tmp_path, capsys):
 def test_cli_report_several_samples(tmp_path, capsys):
     paths = []
     for i in (0, 3):
-        d, light, view, wl, R, _ = paper_dataset(i)
+        _d, light, view, wl, R, _ = paper_dataset(i)
         paths.append(write_long_csv(tmp_path / f"s{i + 1}.csv", light, view, wl, R))
     rep = tmp_path / "rep"
     assert main(["fit", *map(str, paths), "--report", str(rep), "--json"]) == 0

@@ -58,8 +58,10 @@ def _uniform_hemisphere_grid(n_theta, n_phi):
 @pytest.mark.parametrize("alpha", [0.05, 0.1, 0.3, 0.6, 1.0])
 def test_D_is_normalised(dist, alpha):
     # ∫ D(θh) cos θh sin θh dθh dφ over the hemisphere = 1, by adaptive quadrature (scipy.quad).
-    f = lambda t: float(mf.D(np.cos(t), alpha, dist)) * np.cos(t) * np.sin(t) * 2 * np.pi
-    val, err = integrate.quad(f, 0.0, np.pi / 2, points=[alpha / 4, alpha, 2 * alpha], limit=400)
+    def f(t):
+        return float(mf.D(np.cos(t), alpha, dist)) * np.cos(t) * np.sin(t) * 2 * np.pi
+
+    val, _err = integrate.quad(f, 0.0, np.pi / 2, points=[alpha / 4, alpha, 2 * alpha], limit=400)
     assert val == pytest.approx(1.0, abs=2e-5)
 
 
@@ -133,7 +135,9 @@ def test_albedo_by_direct_light_integration():
 def test_fast_forms_equal_the_definition(alpha, cl, cv, ch):
     ref = mf.D(ch, alpha, "ggx") * mf.G(cl, cv, 0.5, 0.5, alpha, "ggx") / (4 * cl * cv)
     assert float(mf.brdf_scale(cl, cv, ch, 0.5, alpha, "ggx")) == pytest.approx(float(ref), rel=1e-9)
-    lam = lambda c: 0.5 * (np.sqrt(1 + alpha**2 * (1 - c * c) / (c * c)) - 1)  # GGX Λ, written out
+    def lam(c):  # GGX Λ, written out
+        return 0.5 * (np.sqrt(1 + alpha**2 * (1 - c * c) / (c * c)) - 1)
+
     assert float(mf.G(cl, cv, 0.5, 0.5, alpha)) == pytest.approx(1 / (1 + lam(cl) + lam(cv)), rel=1e-9)
     fast = mf.ggx_reflectance_factor_cos(np.float32(cl), np.float32(cv), np.float32(ch), alpha)
     assert float(fast) == pytest.approx(np.pi * float(ref) * cl, rel=2e-5)

@@ -6,8 +6,8 @@ import tomllib
 import numpy as np
 import pytest
 import tmm
-
 from cli_helpers import assert_one_line_error, run_json, run_swatch
+
 from swatch.errors import SwatchError
 from swatch.materials import load_material, tables_dir
 from swatch.process import DEFAULT_PROCESS, MAX_PROFILE_BYTES, list_processes, load_process, process_toml
@@ -21,7 +21,7 @@ def test_every_shipped_number_has_a_source():
     for path in sorted((tables_dir() / "processes").glob("*.toml")):
         data = tomllib.loads(path.read_text(encoding="utf-8"))
         sources = data.get("sources", {})
-        for key in NUMBERS + ("film", "substrate"):
+        for key in (*NUMBERS, "film", "substrate"):
             if key in data:
                 assert len(sources.get(key, "")) > 20, (path.name, key)
         if "nm_per_V" not in data:  # a rate not shipped says why
@@ -105,7 +105,7 @@ def test_oversized_and_unknown_profiles(tmp_path):
     big.write_text(BASE + "# " + "x" * MAX_PROFILE_BYTES + "\n")
     with pytest.raises(SwatchError, match="at most"):
         load_process(str(big))
-    with pytest.raises(SwatchError, match="unknown process 'zirconium'.*titanium-fujii2019"):
+    with pytest.raises(SwatchError, match=r"unknown process 'zirconium'.*titanium-fujii2019"):
         load_process("zirconium")
 
 

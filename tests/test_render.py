@@ -15,7 +15,8 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from swatch import angular, display, imageio, metadata, microfacet, render, scene as scenes, shading
+from swatch import angular, display, imageio, metadata, microfacet, render, shading
+from swatch import scene as scenes
 from swatch.cli import main
 from swatch.colorimetry import Lab_to_LCh, delta_E_00, get_colorimeter
 from swatch.errors import SwatchError
@@ -147,7 +148,7 @@ def test_render_api_rejects_bad_input(kwargs):
 def test_angular_map_colour_matches_colour_science():
     m = angular.angular_map(BLUE_NM, np.array([0.0, 45.0, 70.0]), np.array([0.0, 30.0]))
     assert m.XYZ.shape == (3, 2, 3) and m.spectral.shape == (3, 2, COATING.wavelength_nm.size)
-    sd = colour.SpectralDistribution(dict(zip(COATING.wavelength_nm, m.spectral[1, 0])))
+    sd = colour.SpectralDistribution(dict(zip(COATING.wavelength_nm, m.spectral[1, 0], strict=True)))
     ref = colour.sd_to_XYZ(sd, CM.cmfs, CM.illuminant_sd)
     np.testing.assert_allclose(m.XYZ[1, 0], ref, rtol=1e-6)
     # Paper model: the reflectance at θ_d = (45 + 0)/2 — the engine's own half-vector spectrum.
@@ -177,7 +178,7 @@ def _run(args, capsys):
 
 def test_render_files_metadata_and_determinism(tmp_path, capsys):
     out = tmp_path / "a"
-    rc, stdout, err = _run(["render", "--voltage", "25", "--shape", "cylinder", "--size", "64", "--out", str(out)], capsys)
+    rc, _stdout, err = _run(["render", "--voltage", "25", "--shape", "cylinder", "--size", "64", "--out", str(out)], capsys)
     assert rc == 0, err
     exr, png = out / "cylinder_050.8nm.exr", out / "cylinder_050.8nm.png"
     assert exr.is_file() and png.is_file() and err == ""
@@ -224,7 +225,7 @@ def test_acescg_chromaticities(tmp_path, capsys):
 
 
 def test_angular_files(tmp_path, capsys):
-    rc, stdout, err = _run(["angular", "--thickness", "50.8", "--light-range", "0:85:5", "--view-range", "0:85:5",
+    rc, _stdout, err = _run(["angular", "--thickness", "50.8", "--light-range", "0:85:5", "--view-range", "0:85:5",
                             "--model", "paper", "--out", str(tmp_path)], capsys)
     assert rc == 0, err
     names = sorted(p.name for p in tmp_path.iterdir())
@@ -279,7 +280,7 @@ def test_bad_cli_input(tmp_path, extra, capsys):
     args = ["render", "--shape", "flat", "--out", str(out)]
     if "--thickness" not in extra:
         args += ["--thickness", "50"]
-    rc, stdout, err = _run(args + extra, capsys)
+    rc, _stdout, err = _run(args + extra, capsys)
     assert rc != 0
     assert len(err.strip().splitlines()) == 1 and err.startswith("error:")
     assert not out.exists() or not any(out.iterdir())
@@ -289,9 +290,9 @@ def test_unwritable_output_folder(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("x")
     for cmd in (["render", "--thickness", "50"], ["angular", "--thickness", "50"]):
-        rc, _, err = _run(cmd + ["--out", str(blocker / "sub")], capsys)
+        rc, _, err = _run([*cmd, "--out", str(blocker / "sub")], capsys)
         assert rc != 0 and len(err.strip().splitlines()) == 1
-        rc, _, err = _run(cmd + ["--out", str(blocker)], capsys)
+        rc, _, err = _run([*cmd, "--out", str(blocker)], capsys)
         assert rc != 0 and len(err.strip().splitlines()) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
 

@@ -37,6 +37,7 @@ import time
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from swatch.catalog.folder import (
     JOURNAL,
@@ -107,8 +108,8 @@ def code_fingerprint() -> dict:
     code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}
     tdir = tables_dir()
     tables = {p.relative_to(tdir).as_posix(): _sha256_file(p)
-              for p in sorted(tdir.glob("optical/*.csv")) + [tdir / "tolerance_grades.csv"]}
-    versions = {}
+              for p in [*sorted(tdir.glob("optical/*.csv")), tdir / "tolerance_grades.csv"]}
+    versions: dict[str, str | None] = {}
     for dist in ("colour-science", "numpy", "OpenImageIO", "OpenEXR", "colour-cxf", "pillow"):
         try:
             versions[dist] = metadata.version(dist)
@@ -217,7 +218,7 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
     for g in spec.multi_angle:
         head += [f"L_{cs}_{g.name}", f"a_{cs}_{g.name}", f"b_{cs}_{g.name}", f"C_{cs}_{g.name}",
                  f"h_{cs}_deg_{g.name}"]
-    return head + ["sheet_png", "sheet_exr", "tile_row", "tile_col"]
+    return [*head, "sheet_png", "sheet_exr", "tile_row", "tile_col"]
 
 
 def _csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer: str) -> bytes:
@@ -337,7 +338,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         old_sheet_keys = old.get("sheet_keys", {})
         old_files = old.get("files", {})
         files: dict[str, dict] = {}
-        todo = []
+        todo: list[Any] = []
         for s in range(n_sheets):
             recs = records[s * per:(s + 1) * per]
             png, exr = f"sheet_{s + 1:02d}.png", f"sheet_{s + 1:02d}.exr"
@@ -355,7 +356,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                         staging / png, staging / exr)
                 todo.append(pool.submit(sheetmod.compose_sheet, *args) if pool is not None else args)
         # print chips, in the pool beside the sheets
-        chip_jobs = []
+        chip_jobs: list[Any] = []
         if spec.chips:
             from swatch.catalog import chips as chipmod
             from swatch.catalog.exports import metal_symbol
@@ -381,7 +382,10 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             (staging / name).write_bytes(blob)
         with _progress("composing sheets", len(todo), progress) as bar:
             for job in todo:
-                job.result() if pool is not None else sheetmod.compose_sheet(*job)
+                if pool is not None:
+                    job.result()
+                else:
+                    sheetmod.compose_sheet(*job)
                 bar.update(1)
         composed = len(todo)
         chip_files = [f for job in chip_jobs

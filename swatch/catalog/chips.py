@@ -32,7 +32,7 @@ _ICC_DATE = (2000, 1, 1, 0, 0, 0)
 
 def chip_px(size_mm: float, dpi: float) -> int:
     """Pixels per side of a ``size_mm`` chip at ``dpi``."""
-    return int(round(float(size_mm) / _MM_PER_INCH * float(dpi)))
+    return round(float(size_mm) / _MM_PER_INCH * float(dpi))
 
 
 def chip_names(rec: dict) -> tuple[str, str]:
@@ -98,7 +98,7 @@ def write_chips(folder, header: dict, records: list[dict], values, metal: str, s
     folder = Path(folder)
     n = chip_px(size_mm, dpi)
     names = []
-    for rec, rgb in zip(records, values):
+    for rec, rgb in zip(records, values, strict=True):
         png, tif = chip_names(rec)
         title, description, props = _texts(rec, metal, header, size_mm, dpi)
         pixels = np.broadcast_to(np.asarray(rgb, dtype=np.uint16), (n, n, 3))

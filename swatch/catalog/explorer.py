@@ -79,7 +79,7 @@ def thickness_axis(thickness_nm, step_nm: float) -> tuple[float, float, int]:
     lo, hi = float(d.min()), float(d.max())
     if hi - lo < 1e-9:
         lo, hi = max(0.0, lo - SINGLE_MARGIN_NM), hi + SINGLE_MARGIN_NM
-    count = int(math.ceil((hi - lo) / step_nm - 1e-9)) + 1
+    count = math.ceil((hi - lo) / step_nm - 1e-9) + 1
     if count > MAX_GRID_NODES:
         raise SwatchError(f"explorer table: {count} thickness nodes exceed {MAX_GRID_NODES}")
     return lo, lo + (count - 1) * step_nm, count

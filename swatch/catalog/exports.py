@@ -66,6 +66,7 @@ def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> byt
     blocks = []
     blocks.append((0xC001, _utf16_name(spec.name)))
     for rec in records:
+        values: tuple[float, ...]
         if model == "lab":
             L, a, b = rec["Lab_D50_2"]
             values = (L / 100.0, a, b)
@@ -95,7 +96,7 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
 
     date = XmlDateTime.from_string(FIXED_DATE)
     wl = data.wavelength_nm
-    start, inc = int(round(wl[0])), int(round(wl[1] - wl[0]))
+    start, inc = round(wl[0]), round(wl[1] - wl[0])
     # colour.sd_to_XYZ's ASTM E308 practice: 1 and 5 nm data are weighted by the 1 nm tables at the
     # data's wavelengths; 10 and 20 nm data by weights for bandpass-corrected data (Table 6).
     method = cxf3.EastmTableType.E308_1NM if inc in (1, 5) else cxf3.EastmTableType.E308_TABLE6

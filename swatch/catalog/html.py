@@ -85,7 +85,7 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     if tiles is not None:
         origin = tiles["origins"][s["id"]]
         out.append('<div class="imgs">')
-        for shape, rect in zip(c["render"]["shapes"], tiles["renders"]):
+        for shape, rect in zip(c["render"]["shapes"], tiles["renders"], strict=True):
             out.append(_sprite(s["sheet_png"], rect, origin, tiles["sheet_px"], CARD_IMAGE_PX, "render",
                                f"{shape} render, light 45°"))
         if tiles["amap"] is not None:

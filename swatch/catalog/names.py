@@ -43,7 +43,7 @@ def colour_name(L: float, C: float, h: float) -> str:
     h = float(h) % 360.0
     for name, h0, h1, c0, c1, l0, l1 in NAME_RULES:
         in_hue = (h0 <= h < h1) if h0 <= h1 else (h >= h0 or h < h1)
-        if (in_hue and (c0 is None or C >= c0) and (c1 is None or C < c1)
-                and (l0 is None or L >= l0) and (l1 is None or L < l1)):
+        if (in_hue and (c0 is None or c0 <= C) and (c1 is None or c1 > C)
+                and (l0 is None or l0 <= L) and (l1 is None or l1 > L)):
             return name
     raise AssertionError("unreachable: every hue has a row without bounds")

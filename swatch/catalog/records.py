@@ -119,7 +119,7 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
         parts = [process_window(coating, cm, d[i:i + _CHUNK], g, bound, search_nm, metric)
                  for i in range(0, d.size, _CHUNK)]
         return tuple(np.concatenate([p[j] for p in parts]) for j in range(4))
-    n_steps = int(round(search_nm / PROCESS_STEP_NM))
+    n_steps = round(search_nm / PROCESS_STEP_NM)
     delta = PROCESS_STEP_NM * np.arange(n_steps + 1)  # (K,), delta[0] = 0
     Lab0 = cm.Lab(cm.XYZ(_geometry_R(coating, d, g)))  # (N, 3)
     out = []
@@ -150,13 +150,7 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
 
 def compute(spec: CatalogSpec) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
-    from swatch.colorimetry import (
-        Lab_to_LCh,
-        delta_E_00,
-        delta_E_ab,
-        get_colorimeter,
-        srgb_hex,
-    )
+    from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
     from swatch.model import get_coating
 
     wl = wavelengths(spec)

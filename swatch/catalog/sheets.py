@@ -19,14 +19,19 @@ not depend on the number of jobs.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from swatch.catalog.spec import CatalogSpec
+
+if TYPE_CHECKING:
+    from multiprocessing.context import BaseContext
 
 __all__ = ["tile_key", "load_tile", "render_missing", "make_pool", "compose_sheet", "Layout", "AMAP_ANGLES_DEG"]
 
@@ -61,23 +66,22 @@ MUTED = (88, 88, 96)
 RULE = (200, 200, 206)
 
 
+@functools.lru_cache(maxsize=1)
 def _engine_code_hash() -> str:
     """Hash of the engine modules (swatch/*.py) and this file: a tile depends on all of them."""
     import swatch
 
     pkg = Path(swatch.__file__).resolve().parent
     h = hashlib.sha256()
-    for f in sorted(pkg.glob("*.py")) + [Path(__file__).resolve()]:
+    for f in [*sorted(pkg.glob("*.py")), Path(__file__).resolve()]:
         h.update(f.name.encode() + b"\0" + f.read_bytes())
     return h.hexdigest()
 
 
 def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
     """Content hash of everything a swatch's renders depend on."""
-    if not hasattr(tile_key, "_code"):
-        tile_key._code = _engine_code_hash()
     doc = {
-        "v": TILE_VERSION, "code": tile_key._code, "tables": fp["tables"], "versions": fp["versions"],
+        "v": TILE_VERSION, "code": _engine_code_hash(), "tables": fp["tables"], "versions": fp["versions"],
         "film": spec.film, "substrate": spec.substrate, "film_index_scale": spec.film_index_scale,
         "wl_step": spec.wavelength_step_nm,
         "illuminant": spec.illuminant, "observer": spec.observer, "d": float(thickness_nm),
@@ -102,7 +106,7 @@ def _render_job(args):
     wl = wavelength_grid(380.0, 780.0, wl_step)
     coating = get_coating(film, substrate, wl, scale)
     cm = get_colorimeter(wl, illuminant, observer)
-    out = {}
+    out: dict[str, Any] = {}
     for i, shape in enumerate(shapes):
         im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness_alpha=roughness, model=model,
                            coating=coating, colorimeter=cm, space="srgb", workers=1,
@@ -191,7 +195,7 @@ def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: li
     args = [_job_args(spec, thickness_nm[i]) for i in missing]
     with progress_factory(len(missing)) as bar:
         results = map(_render_job, args) if pool is None else pool.map(_render_job, args, chunksize=1)
-        for i, arrays in zip(missing, results):
+        for i, arrays in zip(missing, results, strict=True):
             _save_npz(cache / f"{keys[i]}.npz", arrays)
             bar.update(1)
     return len(missing)
@@ -207,6 +211,7 @@ def make_pool(spec: CatalogSpec, jobs: int):
     # Not "fork": a process that has used OpenImageIO (or any library with threads) may hold a
     # lock at the fork and the child would deadlock. The fork server is a fresh process that
     # imports the renderer once and forks the workers from there (cheap, and thread-free).
+    ctx: BaseContext
     if "forkserver" in mp.get_all_start_methods():
         ctx = mp.get_context("forkserver")
         ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render", "swatch.colorimetry",
@@ -409,7 +414,7 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
     disp[fy:fy + lay.FOOTER - 8, lay.MARGIN:lay.width - lay.MARGIN] = _footer(spec, header, lay)
     tiles = []
     bg = np.float32(BACKGROUND_LINEAR)
-    for slot, (rec, key) in enumerate(zip(records, keys)):
+    for slot, (rec, key) in enumerate(zip(records, keys, strict=True)):
         arrays = load_tile(spec, cache, key, spec.thickness_nm[rec["index"] - 1])
         x0, y0 = lay.tile_origin(slot)
         disp = draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, CARD)

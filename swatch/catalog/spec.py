@@ -15,6 +15,7 @@ import math
 import tomllib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import NoReturn
 
 from swatch.choices import MODELS, SHAPES
 from swatch.errors import SwatchError
@@ -134,7 +135,7 @@ class _Checker:
     def __init__(self, source: str):
         self.source = source
 
-    def fail(self, key: str, what: str, got=None, show_got: bool = True):
+    def fail(self, key: str, what: str, got=None, show_got: bool = True) -> NoReturn:
         msg = f"{self.source}: key {key}: {what}"
         if show_got:
             msg += f" (got {_show(got)})"
@@ -326,7 +327,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
                               "[thickness] table (or nm_per_V, or a calibrated profile)")
         volts = _range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
         d = [proc.offset_nm + v * rate for v in volts]
-        for v, t in zip(volts, d):
+        for v, t in zip(volts, d, strict=True):
             if not 0 <= t <= MAX_THICKNESS_NM:
                 c.fail("voltage", f"{v:g} V gives {t:g} nm at {rate:g} nm/V + {proc.offset_nm:g} nm; "
                        f"from 0 to {MAX_THICKNESS_NM:g} nm allowed", v)
@@ -349,10 +350,8 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     ma = c.table(geo.get("multi_angle", {}), "geometry.multi_angle", ("light_deg", "aspecular_deg"))
     ma_light = c.number(ma.get("light_deg", 45.0), "geometry.multi_angle.light_deg", 0, 90, hi_open=True)
     asp = ma.get("aspecular_deg", list(DEFAULT_ASPECULAR_DEG))
-    if isinstance(asp, list) and not asp:
-        asp_vals = []
-    else:
-        asp_vals = c.numbers(asp, "geometry.multi_angle.aspecular_deg", -180, 180, max_len=24)
+    empty = isinstance(asp, list) and not asp
+    asp_vals = [] if empty else c.numbers(asp, "geometry.multi_angle.aspecular_deg", -180, 180, max_len=24)
     multi = []
     for i, g in enumerate(asp_vals):
         v = ma_light - g  # swatch.geometry.aspecular_view_deg: signed, negative = light's side

@@ -38,11 +38,7 @@ def calibrate(coupons, out_path, process, film, substrate, name, light, view, il
     the parameters come with standard errors. Data that cannot determine them are refused.
     """
     from swatch.calibration import calibrate as fit
-    from swatch.calibration_report import (
-        calibration_paths,
-        calibration_text,
-        write_calibration,
-    )
+    from swatch.calibration_report import calibration_paths, calibration_text, write_calibration
     from swatch.coupons import read_coupons
 
     out, png = calibration_paths(out_path, report_dir, force)

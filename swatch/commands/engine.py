@@ -61,7 +61,7 @@ def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, 
     table = thickness_colours(d, light, view, coating, cm, light_azimuth, view_azimuth)
     rows = table.rows()
     if v is not None:
-        for row, volts in zip(rows, v):
+        for row, volts in zip(rows, v, strict=True):
             row["voltage_V"] = float(volts)
     if as_json:
         common.echo_json({

@@ -113,7 +113,7 @@ def _fits(spec, cache: Path | None) -> dict:
         dE = errors_delta_E_00(model, written, fit.thickness_nm, FIT_ANGLES_DEG, spec.film, spec.substrate,
                                spec.film_index_scale)
         out[model] = (written, dE.max(axis=1), dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1))
-    if path is not None:
+    if path is not None and cache is not None:
         from swatch.fileio import atomic_write_text
 
         for stale in path.parent.glob("presets-*.json"):
