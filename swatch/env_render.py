@@ -31,8 +31,8 @@ import numpy as np
 from swatch import env_shading
 from swatch.choices import BACKGROUNDS
 from swatch.display import BACKGROUND_LINEAR, display_encode
-from swatch.limits import MAX_ENV_RENDER_PX
 from swatch.errors import SwatchError
+from swatch.limits import MAX_ENV_RENDER_PX
 
 __all__ = ["BACKGROUNDS", "check_background", "resolve_lighting", "Prepared", "prepared", "render_environment"]
 
@@ -181,7 +181,7 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     if not ch.all():  # a centroid off a thin object: use its first covered sub-sample
         first = np.argmax(eh[keep], axis=1)
         bad = ~ch
-        ch2, cn2, cv2 = _normals_views(scene, sx[keep][bad, first[bad]], sy[keep][bad, first[bad]], size)
+        _ch2, cn2, cv2 = _normals_views(scene, sx[keep][bad, first[bad]], sy[keep][bad, first[bad]], size)
         cn[bad], cv[bad] = cn2, cv2
     coverage.reshape(-1)[edge] = cover
     edge_points = points(cn, cv)
@@ -230,6 +230,7 @@ def render_environment(prep: Prepared, f_table_srgb: np.ndarray, background: str
     rgb = flat.reshape(size, size, 3)
     coverage = prep.coverage
     if background == "environment":
+        assert prep.background is not None, "prepared() keeps the background for background='environment'"
         comp = rgb + (1.0 - coverage)[..., None] * prep.background
         display = display_encode(comp, 1.0)
         linear = comp

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_environment import CM, COATING, _lab, _lab_of_spectrum, _write_equirect, _xyz_of_srgb, albedo_normal_view
 
 from swatch import environment, render, scene
 from swatch.cli import main
 from swatch.colorimetry import delta_E_00
-from test_environment import CM, COATING, _lab, _lab_of_spectrum, _write_equirect, _xyz_of_srgb, albedo_normal_view
 
 
 @pytest.mark.parametrize("d_nm", [30.0, 80.0, 160.0])
@@ -93,7 +93,7 @@ BAD = [
 @pytest.mark.parametrize("extra,words", BAD)
 def test_cli_bad_environment_input(tmp_path, capsys, extra, words):
     out = tmp_path / "out"
-    rc, _, err = _run(["render", "--thickness", "60", "--size", "16", "--out", str(out)] + extra, capsys)
+    rc, _, err = _run(["render", "--thickness", "60", "--size", "16", "--out", str(out), *extra], capsys)
     assert rc == 2 and err.startswith("error:") and len(err.strip().splitlines()) == 1 and words in err, err
     assert not out.exists()
 

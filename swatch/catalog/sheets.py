@@ -369,8 +369,8 @@ def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
     line1 = (f"Renders: {shapes}, {model}, {lighting_caption(spec)}."
              + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else ""))
     line2 = ("prev / next: CIEDE2000 to the neighbouring swatches."
-             + "  Hex, chips and pictures: sRGB from CIE 1931 2° colorimetry."
-             + f"  swatch {header['swatch_version']}")
+              "  Hex, chips and pictures: sRGB from CIE 1931 2° colorimetry."
+              f"  swatch {header['swatch_version']}")
     img = draw_text(img, _fit(line1, 13, w, "DroidSans"), 0, 15, 13, MUTED)
     return draw_text(img, _fit(line2, 13, w, "DroidSans"), 0, 33, 13, MUTED)
 
