@@ -140,7 +140,10 @@ def test_fast_forms_equal_the_definition(alpha, cl, cv, ch):
 
     assert float(mf.G(cl, cv, 0.5, 0.5, alpha)) == pytest.approx(1 / (1 + lam(cl) + lam(cv)), rel=1e-9)
     fast = mf.ggx_reflectance_factor_cos(np.float32(cl), np.float32(cv), np.float32(ch), alpha)
-    assert float(fast) == pytest.approx(np.pi * float(ref) * cl, rel=2e-5)
+    # float32 near a sharp peak: D's denominator (α² − 1) cos²θh + 1 is a difference of numbers near
+    # 1, so its rounding error (a few float32 ulps of 1) is relative to its own, small, size.
+    den = (alpha**2 - 1.0) * ch * ch + 1.0
+    assert float(fast) == pytest.approx(np.pi * float(ref) * cl, rel=2e-5 + 2e-7 / den)
 
 
 def test_masking_and_dtype():
