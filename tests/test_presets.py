@@ -33,7 +33,6 @@ WL = np.arange(360.0, 831.0, 1.0)
 
 @functools.lru_cache(maxsize=1)
 def _rgb_cmfs():
-    import colour
 
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
     return np.asarray(cmfs[WL]) @ spectral.XYZ_TO_REC709.T
@@ -167,7 +166,6 @@ def test_written_presets_hold_their_stated_error(written, fmt, model, reader):
 
 def test_exact_colour_is_colour_science_of_the_tmm_spectrum():
     """The fit target: the Airy spectrum (here from tmm) through colour.sd_to_XYZ, D65, 2°."""
-    import colour
 
     from swatch.materials import load_material
 

@@ -25,6 +25,7 @@ Bounds keep the parameters plausible: film IOR :data:`FILM_IOR_RANGE`, base colo
 """
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -205,7 +206,7 @@ def _smooth_choice(d, ps, cs, ms, groups) -> np.ndarray:
         order = np.flatnonzero(groups == g)
         order = order[np.argsort(d[order], kind="stable")]
         total = node[order[0]].copy()
-        for a, b in zip(order[:-1], order[1:], strict=True):  # the path's steps: one per neighbouring pair
+        for a, b in itertools.pairwise(order):  # the path's steps: one per neighbouring pair
             edge = np.minimum(((offset[b][None, :] - offset[a][:, None]) / 20.0) ** 2
                               + ((ps[b, :, 1][None, :] - ps[a, :, 1][:, None]) / 0.15) ** 2, 4.0)
             through = total[:, None] + edge  # (from k, to k)
