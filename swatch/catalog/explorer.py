@@ -91,6 +91,7 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
 
     from swatch import geometry
     from swatch.catalog.names import NAME_RULES
+    from swatch.colorimetry import get_colorimeter
     from swatch.matching import MATCH_MIN_SEPARATION_NM
     from swatch.model import get_coating
 
