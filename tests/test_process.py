@@ -139,3 +139,19 @@ def test_match_judges_each_tolerance_in_its_own_metric():
     for c in csaj["candidates"]:
         assert c["within_grade"] == (c["delta_E_ab"] <= 3.2)
     assert_one_line_error(run_swatch("match", "--hex", "257ab8", "--tolerance", "dE76:2"), "dE76", "dE00")
+
+
+def test_thickness_only_catalog_builds(tmp_path):
+    """A profile without a growth rate (niobium) gives a whole catalog labelled by thickness."""
+    spec = tmp_path / "nb.toml"
+    spec.write_text('name = "Nb"\nprocess = "niobium"\n[thickness]\nlist_nm = [60, 120]\n'
+                    '[render]\nshapes = ["flat"]\nsize_px = 64\nangular_map = false\n', encoding="utf-8")
+    proc = run_swatch("catalog", "build", spec, "--out", tmp_path / "out")
+    assert proc.returncode == 0, proc.stderr
+    import json
+
+    cat = json.loads((tmp_path / "out" / "catalog.json").read_text(encoding="utf-8"))
+    assert cat["catalog"]["process"]["name"] == "niobium" and cat["catalog"]["process"]["nm_per_V"] is None
+    for rec in cat["swatches"]:
+        assert rec["voltage_V"] is None and rec["process_window"]["voltage_minus_V"] is None
+        assert rec["process_window"]["thickness_minus_nm"] > 0

@@ -71,7 +71,8 @@ def _texts(rec: dict, metal: str, header: dict, size_mm: float, dpi: float) -> t
     description = (f"{title}: {header['film']} on {header['substrate']}. Print chip {size_mm:g} mm at {dpi:g} dpi, "
                    f"sRGB {rec['srgb_hex']} (CIE 1931 2° colorimetry). L*a*b* at {header['reference_geometry']['name']}:"
                    f" {L:.2f} {a:.2f} {b:.2f} ({cs}); {L50:.2f} {a50:.2f} {b50:.2f} (D50, CIE 1931 2°).")
-    props = {"id": rec["id"], "thickness_nm": f"{rec['thickness_nm']:g}", "voltage_V": f"{rec['voltage_V']:g}",
+    volts = "" if rec["voltage_V"] is None else f"{rec['voltage_V']:g}"  # none without a growth rate
+    props = {"id": rec["id"], "thickness_nm": f"{rec['thickness_nm']:g}", "voltage_V": volts,
              "Lab": f"{L:.2f} {a:.2f} {b:.2f}", "Lab_D50_2": f"{L50:.2f} {a50:.2f} {b50:.2f}",
              "illuminant": header["illuminant"], "observer": header["observer"], "srgb_hex": rec["srgb_hex"]}
     return title, description, props
