@@ -64,7 +64,7 @@ from swatch.colorimetry import ASTM_E308_STEPS_NM, delta_E_00, delta_E_ab
 from swatch.errors import SwatchError
 from swatch.materials import wavelength_grid
 from swatch.model import DEFAULT_NM_PER_V, Coating, thickness_to_voltage_V
-from swatch.tolerance import grade_for
+from swatch.tolerance import grade_for, grade_metric
 
 __all__ = ["FitResult", "FacetModel", "mirror_angle_deg", "colour_grid", "check_scale"]
 
@@ -298,7 +298,8 @@ def colour_summary(Lab_m, Lab_s, used, scheme):
     dE00 = np.atleast_1d(delta_E_00(Lab_m, Lab_s))
     mean_ab = float(dEab[used].mean())
     mean_00 = float(dE00[used].mean())
-    return dEab, dE00, mean_ab, mean_00, grade_for(mean_ab, scheme)
+    # the grade in the metric the scheme bounds (CSAJ and NBS: ΔE*ab)
+    return dEab, dE00, mean_ab, mean_00, grade_for(mean_ab if grade_metric(scheme) == "dEab" else mean_00, scheme)
 
 
 def search_fields(kept: list[tuple[float, float]], norm: float) -> dict:

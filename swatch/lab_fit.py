@@ -53,11 +53,13 @@ def fit_lab(
     illuminant: str = "D65",
     observer: str = "10",
     scheme: str = DEFAULT_SCHEME,
+    film_index_scale: float = 1.0,
 ) -> FitResult:
-    """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring)."""
+    """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring);
+    ``film_index_scale`` is a process profile's scale of the film's real index."""
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
-    coating = get_coating(film, substrate, wavelength_nm)
+    coating = get_coating(film, substrate, wavelength_nm, film_index_scale)
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     cos_d, theta_d, mirror = geometry_arrays(measurement)
     used = used_geometries(mirror, exclude_mirror_deg)

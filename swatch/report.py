@@ -177,7 +177,8 @@ def write_report(results, dicts, paths) -> None:
     md = ["# Thickness fit and colour difference (cf. Fujii et al., Tables 2 and 3)", "",
           f"Intensity correction: {dicts[0]['scale_mode']}; mirror region (view within "
           f"{dicts[0]['exclude_mirror_deg']:g}° of the mirror direction) left out of the means; "
-          f"{dicts[0]['illuminant']}, {dicts[0]['observer']}° observer; grades: {dicts[0]['scheme']}.", "",
+          f"{dicts[0]['illuminant']}, {dicts[0]['observer']}° observer; grades: {dicts[0]['scheme']}"
+          + (f"; process {dicts[0]['process']['process']}" if "process" in dicts[0] else "") + ".", "",
           "| sample | thickness (nm) | ± (nm) | voltage (V) | 2nd minimum (nm) | mean ΔE*ab | mean ΔE2000 | max ΔE*ab | grade | geometries used |",
           "|---|---:|---:|---:|---:|---:|---:|---:|:---:|---:|"]
     for d in dicts:

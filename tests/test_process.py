@@ -155,3 +155,23 @@ def test_thickness_only_catalog_builds(tmp_path):
     for rec in cat["swatches"]:
         assert rec["voltage_V"] is None and rec["process_window"]["voltage_minus_V"] is None
         assert rec["process_window"]["thickness_minus_nm"] > 0
+
+
+def test_fit_uses_the_profiles_film_index_scale(tmp_path):
+    """fit with a scaled film finds the thickness of coupons made with that film (tmm-free: the scale
+    is checked against tmm in test_film_index_scale_against_tmm)."""
+    from swatch.lab_fit import fit_lab
+    from swatch.measurements import LabMeasurement
+    from swatch.model import get_coating
+    from swatch.colorimetry import get_colorimeter
+
+    wl = np.arange(380.0, 781.0, 5.0)
+    coat = get_coating("TiO2-Siefke", "Ti-Johnson", wl, 0.9)
+    cm = get_colorimeter(wl)
+    light, view = np.array([45.0, 30.0, 60.0]), np.array([0.0, 10.0, 20.0])
+    R, _ = coat.half_vector(120.0, light, view)
+    m = LabMeasurement("x", light, view, np.zeros(3), np.full(3, 180.0), cm.Lab(cm.XYZ(R.R)))
+    scaled = fit_lab(m, "TiO2-Siefke", "Ti-Johnson", wavelength_nm=wl, film_index_scale=0.9, scale="none")
+    plain = fit_lab(m, "TiO2-Siefke", "Ti-Johnson", wavelength_nm=wl, scale="none")
+    assert scaled.thickness_nm == pytest.approx(120.0, abs=0.2)
+    assert abs(plain.thickness_nm - 120.0) > 5.0

@@ -57,7 +57,8 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     geom = dict(light_deg=light, view_deg=view, light_azimuth_deg=light_azimuth, view_azimuth_deg=view_azimuth)
     paths = report.report_paths(report_dir, measurements, force) if report_dir is not None else None
     options = dict(scale=scale, exclude_mirror_deg=exclude_mirror, thickness_range=rng, step_nm=step,
-                   illuminant=illuminant, observer=observer, scheme=scheme, wavelength_nm=common.resolve_grid(wavelengths))
+                   illuminant=illuminant, observer=observer, scheme=scheme, wavelength_nm=common.resolve_grid(wavelengths),
+                   film_index_scale=proc.film_index_scale)
     given = click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT
     results = [fit_measurement(read_measurement(p, percent, **geom), film, substrate, grid_given=given, source=p,
                                **options) for p in measurements]
