@@ -160,10 +160,10 @@ def test_thickness_only_catalog_builds(tmp_path):
 def test_fit_uses_the_profiles_film_index_scale(tmp_path):
     """fit with a scaled film finds the thickness of coupons made with that film (tmm-free: the scale
     is checked against tmm in test_film_index_scale_against_tmm)."""
+    from swatch.colorimetry import get_colorimeter
     from swatch.lab_fit import fit_lab
     from swatch.measurements import LabMeasurement
     from swatch.model import get_coating
-    from swatch.colorimetry import get_colorimeter
 
     wl = np.arange(380.0, 781.0, 5.0)
     coat = get_coating("TiO2-Siefke", "Ti-Johnson", wl, 0.9)
