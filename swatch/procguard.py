@@ -12,7 +12,7 @@ import os
 import signal
 import threading
 
-__all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts"]
+__all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts"]
 
 
 class Terminated(KeyboardInterrupt):
@@ -39,6 +39,25 @@ def handle_termination() -> None:
 def ignore_interrupts() -> None:
     """For workers: Ctrl-C goes to the whole process group; only the parent reacts (one message)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def start_forkserver_ignoring_interrupts() -> None:
+    """Start multiprocessing's fork server with SIGINT ignored, so every worker forked from it ignores
+    Ctrl-C from its first instruction (not only once its initializer has run).
+
+    The disposition SIG_IGN survives the server's exec, and the server restores it in each child.
+    A server already running is left as it is.
+    """
+    from multiprocessing import forkserver
+
+    if threading.current_thread() is not threading.main_thread():
+        forkserver.ensure_running()
+        return
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        forkserver.ensure_running()
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 def _watch_pidfd(fd: int) -> None:

@@ -43,6 +43,15 @@ def group_members(pgid: int) -> list[int]:
     return out
 
 
+def ignores_sigint(pid: int) -> bool:
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return True  # already gone
+    mask = next(int(line.split()[1], 16) for line in status.splitlines() if line.startswith("SigIgn:"))
+    return bool(mask & (1 << (signal.SIGINT - 1)))
+
+
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc")
 @pytest.mark.parametrize("how", ["SIGKILL", "SIGTERM", "SIGINT-group"])
 def test_issue12_killed_build_leaves_no_process(tmp_path, how):
@@ -60,6 +69,10 @@ def test_issue12_killed_build_leaves_no_process(tmp_path, how):
             time.sleep(0.1)
         assert proc.poll() is None and len(group_members(proc.pid)) >= 5, "the pool never started"
         if how == "SIGINT-group":  # Ctrl-C on a terminal: the whole foreground group gets SIGINT
+            # the fork server, its workers (from birth, before their initializer) and the resource
+            # tracker ignore it: only the build reports, in one line
+            helpers = [p for p in group_members(proc.pid) if p != proc.pid]
+            assert helpers and all(ignores_sigint(p) for p in helpers)
             os.killpg(proc.pid, signal.SIGINT)
         else:
             os.kill(proc.pid, getattr(signal, how))

@@ -216,6 +216,9 @@ def make_pool(spec: CatalogSpec, jobs: int):
         ctx = mp.get_context("forkserver")
         ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render", "swatch.colorimetry",
                                     "swatch.imageio", "OpenImageIO"])
+        from swatch.procguard import start_forkserver_ignoring_interrupts
+
+        start_forkserver_ignoring_interrupts()  # workers ignore Ctrl-C from birth (one message, the build's)
     else:
         ctx = mp.get_context("spawn")
     return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(spec, os.getpid()))
