@@ -5,7 +5,6 @@ Skipped when Chromium is absent, unless SWATCH_REQUIRE_BROWSER=1 (then it fails)
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
@@ -13,8 +12,8 @@ import pytest
 
 import swatch  # noqa: F401
 from swatch.catalog.build import build_catalog
+from tests.browser import CHROMIUM, require_chromium
 
-CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking"]
 EVIL = 'Ti <script>alert(1)</script> & "co" </script><img src=x onerror=alert(2)>'
 
@@ -36,11 +35,7 @@ rows = 1
 
 @pytest.fixture(scope="module")
 def page_url(tmp_path_factory):
-    if not Path(CHROMIUM).exists():
-        if os.environ.get("SWATCH_REQUIRE_BROWSER") == "1":
-            pytest.fail(f"{CHROMIUM} is missing and SWATCH_REQUIRE_BROWSER=1")
-        pytest.skip(f"{CHROMIUM} not installed")
-    pytest.importorskip("playwright")
+    require_chromium()
     root = tmp_path_factory.mktemp("page")
     spec = root / "evil.toml"
     spec.write_text(SPEC.format(name=json.dumps(EVIL)), encoding="utf-8")

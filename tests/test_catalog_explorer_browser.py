@@ -6,7 +6,6 @@ Skipped when Chromium is absent, unless SWATCH_REQUIRE_BROWSER=1 (then it fails)
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
@@ -18,9 +17,9 @@ from swatch.catalog.build import build_catalog
 from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.materials import wavelength_grid
 from swatch.model import get_coating
+from tests.browser import CHROMIUM, require_chromium
 from tests.cli_helpers import run_json
 
-CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
         "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
 
@@ -43,11 +42,7 @@ RANGE = (20.0, 300.0)
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    if not Path(CHROMIUM).exists():
-        if os.environ.get("SWATCH_REQUIRE_BROWSER") == "1":
-            pytest.fail(f"{CHROMIUM} is missing and SWATCH_REQUIRE_BROWSER=1")
-        pytest.skip(f"{CHROMIUM} not installed")
-    pytest.importorskip("playwright")
+    require_chromium()
     root = tmp_path_factory.mktemp("explorer")
     spec = root / "explorer.toml"
     spec.write_text(SPEC, encoding="utf-8")

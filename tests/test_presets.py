@@ -22,10 +22,10 @@ from swatch.colorimetry import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.catalog import ERROR_KEYS, catalog_presets
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, model_Lab
+from tests.browser import CHROMIUM, require_chromium
 
 HERE = Path(__file__).resolve().parent
 VENDOR = HERE / "vendor"
-CHROMIUM = "/usr/bin/chromium"
 WL = np.arange(360.0, 831.0, 1.0)
 
 
@@ -261,10 +261,7 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path):
     scattering compensation differs between the two plates) — and (2) with the exact colour at
     45:0, within the stated error + that tolerance + the exact colour's own change from 0° to 22.5°.
     """
-    if not Path(CHROMIUM).exists():
-        if os.environ.get("SWATCH_REQUIRE_BROWSER") == "1":
-            pytest.fail(f"{CHROMIUM} is missing and SWATCH_REQUIRE_BROWSER=1")
-        pytest.skip(f"{CHROMIUM} not installed")
+    require_chromium()
     from playwright.sync_api import sync_playwright
 
     _, records, root, _ = written
