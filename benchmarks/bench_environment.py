@@ -18,14 +18,7 @@ import time
 
 import numpy as np
 
-
-def _median_time(fn, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+from benchmarks.timing import median_seconds
 
 
 def run(size: int = 1024, repeats: int = 5) -> list[str]:
@@ -42,9 +35,9 @@ def run(size: int = 1024, repeats: int = 5) -> list[str]:
         return render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm, environment="studio")
 
     img = one()  # warm-up: sample set, blur levels
-    t_env = _median_time(one, repeats)
-    t_next = _median_time(lambda: render.render_swatch(d + 5, "cylinder", size, coating=coating, colorimeter=cm,
-                                                       environment="studio"), repeats)
+    t_env = median_seconds(one, repeats, warmup=0)
+    t_next = median_seconds(lambda: render.render_swatch(d + 5, "cylinder", size, coating=coating, colorimeter=cm,
+                                                       environment="studio"), repeats, warmup=0)
 
     sc = scene.make_scene("cylinder", 45.0)
     c = np.arange(size, dtype=np.float32) + np.float32(0.5)

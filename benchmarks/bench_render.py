@@ -14,18 +14,7 @@ per-pixel spectral path measured in the same run.
 """
 from __future__ import annotations
 
-import time
-
-import numpy as np
-
-
-def _median_time(fn, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+from benchmarks.timing import median_seconds
 
 
 def run(size: int = 1024, repeats: int = 7) -> list[str]:
@@ -38,13 +27,13 @@ def run(size: int = 1024, repeats: int = 7) -> list[str]:
     cm = get_colorimeter(coating.wavelength_nm)
     d = 50.8
     render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm)  # warm-up (caches, LUT)
-    t_table = _median_time(lambda: render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm), repeats)
+    t_table = median_seconds(lambda: render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm), repeats, warmup=0)
 
     scene = scene_mod.make_scene("cylinder", 45.0)
     n, l, v, hit = scene_mod.scene_geometry(scene, size)
     n_hit = int(hit.sum())
     nn, vv = n[hit][::8], v[hit][::8]
-    t_sub = _median_time(lambda: shading.shade_direct(nn, l, vv, d, coating, cm, "microfacet", 0.3), 3)
+    t_sub = median_seconds(lambda: shading.shade_direct(nn, l, vv, d, coating, cm, "microfacet", 0.3), 3, warmup=0)
     t_direct = t_sub / nn.shape[0] * n_hit
     return [f"render_{size}_s={t_table:.4f} render_ratio={t_direct / t_table:.1f}"]
 
