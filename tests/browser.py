@@ -21,3 +21,20 @@ def require_chromium() -> None:
             pytest.fail(f"{CHROMIUM} is missing and SWATCH_REQUIRE_BROWSER=1")
         pytest.skip(f"{CHROMIUM} not installed")
     pytest.importorskip("playwright")
+
+
+def wait_until(page, function_js: str, timeout_s: float = 30.0) -> None:
+    """Poll ``page.evaluate(function_js)`` until it returns a truthy value.
+
+    Playwright's ``wait_for_function`` evaluates its predicate with ``eval`` inside the page, which
+    the catalog page's Content-Security-Policy forbids (no ``'unsafe-eval'``); CI's Chromium reported
+    that as an ``EvalError``. ``page.evaluate`` of a function is compiled by the DevTools protocol,
+    outside the page's CSP, so polling it tests the page under its real policy.
+    """
+    import time
+
+    deadline = time.monotonic() + timeout_s
+    while not page.evaluate(function_js):
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout_s} s waiting for {function_js}")
+        page.wait_for_timeout(50)

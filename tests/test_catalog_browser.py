@@ -12,7 +12,7 @@ import pytest
 
 import swatch  # noqa: F401
 from swatch.catalog.build import build_catalog
-from tests.browser import CHROMIUM, require_chromium
+from tests.browser import CHROMIUM, require_chromium, wait_until
 
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking"]
 EVIL = 'Ti <script>alert(1)</script> & "co" </script><img src=x onerror=alert(2)>'
@@ -118,7 +118,7 @@ def test_filter_and_sort(page):
     assert len(shown(pg)) == len(want) == 4
     assert pg.locator("#count").text_content() == f"showing 4 of {len(recs)}"
     pg.click("button[type=reset]")
-    pg.wait_for_function(f"document.querySelectorAll('article.card').length === {len(recs)}")
+    wait_until(pg, f"() => document.querySelectorAll('article.card').length === {len(recs)}")
     pg.fill("#tmin", "100")
     assert len(shown(pg)) == len([r for r in recs if r["thickness_nm"] >= 100])
     pg.fill("#tmin", "")

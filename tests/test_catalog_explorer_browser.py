@@ -17,7 +17,7 @@ from swatch.catalog.build import build_catalog
 from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.materials import wavelength_grid
 from swatch.model import get_coating
-from tests.browser import CHROMIUM, require_chromium
+from tests.browser import CHROMIUM, require_chromium, wait_until
 from tests.cli_helpers import run_json
 
 ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
@@ -70,7 +70,7 @@ def _open(browser, out, js=True, viewport=(1280, 900)):
     pg.on("request", lambda r: events["requests"].append(r.url))
     pg.goto((out / "index.html").resolve().as_uri())
     if js:
-        pg.wait_for_function("window.swatchCatalog !== undefined")
+        wait_until(pg, "() => window.swatchCatalog !== undefined")
     return ctx, pg, events
 
 

@@ -22,7 +22,7 @@ from swatch.colorimetry import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.catalog import ERROR_KEYS, catalog_presets
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, model_Lab
-from tests.browser import CHROMIUM, require_chromium
+from tests.browser import CHROMIUM, require_chromium, wait_until
 
 HERE = Path(__file__).resolve().parent
 VENDOR = HERE / "vendor"
@@ -280,7 +280,7 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path):
                 "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
             page = browser.new_page()
             page.goto(f"http://127.0.0.1:{server.server_address[1]}/render.html?gltf=preset.gltf&intensity=4")
-            page.wait_for_function("window.result !== undefined", timeout=60000)
+            wait_until(page, "() => window.result !== undefined", timeout_s=60.0)
             result = page.evaluate("window.result")
             page.screenshot(path=str(tmp_path / "threejs.png"))
             browser.close()
