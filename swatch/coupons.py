@@ -25,13 +25,10 @@ from pathlib import Path
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_COUPON_BYTES, MAX_COUPON_ROWS, MAX_COUPONS, MAX_VOLTAGE_V, read_capped
 
 __all__ = ["Coupons", "read_coupons", "MAX_COUPON_BYTES", "MAX_COUPONS"]
 
-MAX_COUPON_BYTES = 8 * 1024 * 1024
-MAX_ROWS = 200_000
-MAX_COUPONS = 1000
-MAX_VOLTAGE_V = 300.0
 _LAB = ("voltage_V", "L", "a", "b")
 _SPECTRAL = ("voltage_V", "wavelength_nm", "reflectance")
 _OPTIONAL = ("thickness_nm", "coupon")
@@ -69,26 +66,24 @@ def _number(text: str, where: str, what: str, lo: float, hi: float) -> float:
 
 
 def _rows(path: Path, source: str):
+    if path.is_dir():
+        raise SwatchError(f"coupon file {source} is a folder; give a .csv file")
     try:
-        size = path.stat().st_size
+        raw = read_capped(path, MAX_COUPON_BYTES, "coupon file")
     except FileNotFoundError:
         raise SwatchError(f"coupon file {source} does not exist") from None
     except OSError as exc:
         raise SwatchError(f"cannot read coupon file {source}: {exc.strerror}") from None
-    if path.is_dir():
-        raise SwatchError(f"coupon file {source} is a folder; give a .csv file")
-    if size > MAX_COUPON_BYTES:
-        raise SwatchError(f"{source}: {size} bytes; a coupon file may have at most {MAX_COUPON_BYTES} bytes")
     try:
-        text = path.read_bytes()[:MAX_COUPON_BYTES].decode("utf-8-sig")
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         raise SwatchError(f"{source}: not UTF-8 text; a coupon file is a CSV file") from None
     out: list[tuple[int, list[str]]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
-        if len(out) > MAX_ROWS:
-            raise SwatchError(f"{source}: more than {MAX_ROWS} rows")
+        if len(out) > MAX_COUPON_ROWS:
+            raise SwatchError(f"{source}: more than {MAX_COUPON_ROWS} rows; a coupon file has at most {MAX_COUPON_ROWS}")
         try:
             cells = next(csv.reader(io.StringIO(line)))
         except (csv.Error, StopIteration):

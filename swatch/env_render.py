@@ -276,7 +276,7 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     meta.update({
         "shadowing": "Smith height-correlated",
         "shape": shape,
-        "geometry": scene.description,
+        "geometry": scene.camera_description,
         "size_px": size,
         "rgb_space": space,
         "lighting": f"environment {env.name}: {env.description}",

@@ -8,7 +8,10 @@ from __future__ import annotations
 __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
            "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
-           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "read_capped"]
+           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
+           "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
+           "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
+           "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -52,6 +55,32 @@ MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
 #: Largest environment-lit render (pixels per side): a 2048² render peaks at ~0.7 GB (the
 #: gathered environment samples of the shading points), within MAX_RUN_BYTES.
 MAX_ENV_RENDER_PX = 2048
+
+#: Swatches in one catalog (a spec's thickness or voltage list or range).
+MAX_SWATCHES = 400
+#: Largest print-chip side in pixels (a 16-bit RGB chip of 4096² is 100 MB in memory).
+MAX_CHIP_PX = 4096
+#: Thickness nodes of either explorer table (a 1000 nm range at 0.1 nm).
+MAX_GRID_NODES = 10_001
+#: Largest thickness search grid (``swatch match``/``fit`` ``--step`` over ``--range``).
+MAX_SEARCH_POINTS = 200_000
+#: Largest roughness Ra accepted by the Rayleigh criterion (nm; a millimetre).
+MAX_RA_NM = 1e6
+#: A coupon CSV (``swatch calibrate``): bytes, non-comment rows and coupons.
+MAX_COUPON_BYTES = 8 * 1024 * 1024
+MAX_COUPON_ROWS = 200_000
+MAX_COUPONS = 1000
+#: A process profile (TOML; the shipped ones are ~1 kB) and one of its text fields.
+MAX_PROFILE_BYTES = 64 * 1024
+MAX_PROFILE_TEXT_CHARS = 2000
+#: Largest colour tolerance (ΔE, any metric) a spec or a grade may state.
+MAX_TOLERANCE = 100.0
+#: Largest reflectance factor accepted in a measurement (fraction). Near the mirror direction a
+#: glossy sample's reflectance factor (relative to a white diffuser) can reach the hundreds;
+#: beyond this a value is an error in the file.
+MAX_REFLECTANCE = 1e5
+#: Most negative reflectance (as a fraction) accepted as measurement noise.
+MIN_REFLECTANCE = -0.05
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

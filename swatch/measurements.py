@@ -32,7 +32,15 @@ import numpy as np
 
 from swatch import geometry
 from swatch.errors import SwatchError
-from swatch.limits import MAX_CSV_FIELD_CHARS, MAX_LAB_AB, MAX_MEASUREMENT_BYTES, MIN_PEAK_REFLECTANCE, read_capped
+from swatch.limits import (
+    MAX_CSV_FIELD_CHARS,
+    MAX_LAB_AB,
+    MAX_MEASUREMENT_BYTES,
+    MAX_REFLECTANCE,
+    MIN_PEAK_REFLECTANCE,
+    MIN_REFLECTANCE,
+    read_capped,
+)
 from swatch.materials import load_material
 
 __all__ = [
@@ -48,12 +56,6 @@ __all__ = [
 
 #: Reflectance columns with a value above this are taken as percent.
 PERCENT_THRESHOLD = 1.5
-#: Most negative reflectance (as a fraction) accepted as measurement noise.
-MIN_REFLECTANCE = -0.05
-#: Largest reflectance factor accepted (fraction). Near the mirror direction a glossy sample's
-#: reflectance factor (relative to a white diffuser) can reach the hundreds; beyond this a
-#: value is an error in the file.
-MAX_REFLECTANCE = 1e5
 _KEY_DIGITS = 9
 
 

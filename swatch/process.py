@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_PROFILE_BYTES, MAX_PROFILE_TEXT_CHARS, read_capped
 from swatch.materials import list_materials, tables_dir
 
 if TYPE_CHECKING:
@@ -29,8 +30,6 @@ __all__ = ["DEFAULT_PROCESS", "Process", "load_process", "list_processes", "proc
 
 #: The profile used when none is given: the paper's titanium (50.8 nm at 25 V).
 DEFAULT_PROCESS = "titanium-fujii2019"
-MAX_PROFILE_BYTES = 64 * 1024
-MAX_TEXT = 2000
 RATE_RANGE = (0.1, 10.0)  # nm per volt
 OFFSET_RANGE = (-50.0, 100.0)  # nm at 0 V
 SCALE_RANGE = (0.5, 1.5)
@@ -123,7 +122,7 @@ def _number(value, key: str, lo: float, hi: float, source: str = "process") -> f
     return float(value)
 
 
-def _text(value, key: str, source: str, limit: int = MAX_TEXT) -> str:
+def _text(value, key: str, source: str, limit: int = MAX_PROFILE_TEXT_CHARS) -> str:
     if not isinstance(value, str) or len(value) > limit or any(ord(ch) < 32 for ch in value):
         raise _fail(source, f"{key} must be one line of text of at most {limit} characters")
     return value
@@ -195,12 +194,9 @@ def _preset_names() -> list[str]:
 
 def _parse(path: Path, source: str, origin: str) -> Process:
     try:
-        size = path.stat().st_size
+        raw = read_capped(path, MAX_PROFILE_BYTES, "process profile")
     except OSError:
         raise _fail(source, "cannot read the profile file") from None
-    if size > MAX_PROFILE_BYTES:
-        raise _fail(source, f"profile is {size} bytes; at most {MAX_PROFILE_BYTES}")
-    raw = path.read_bytes()[:MAX_PROFILE_BYTES + 1]
     try:
         data = tomllib.loads(raw.decode("utf-8"))
     except UnicodeDecodeError:

@@ -10,13 +10,13 @@ from __future__ import annotations
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_RA_NM
 
 __all__ = ["ANGLES_DEG", "WAVELENGTHS_NM", "MAX_RA_NM", "rayleigh_criterion", "rayleigh_text", "rayleigh_json"]
 
 #: Incidence angles and wavelengths the criterion is tabulated at.
 ANGLES_DEG = np.arange(0.0, 61.0, 10.0)
 WAVELENGTHS_NM = np.array([380.0, 480.0, 580.0, 680.0, 780.0])
-MAX_RA_NM = 1e6
 
 
 def rayleigh_criterion(ra_nm: float) -> dict:

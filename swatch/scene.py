@@ -280,7 +280,8 @@ class Scene:
     shape: Shape
     camera: Camera
     light: np.ndarray  # unit vector towards the light
-    description: str
+    description: str  # object, point light and camera (the point-light render's geometry)
+    camera_description: str  # object and camera only (environment lighting has no point light)
 
 
 #: Default camera polar angle from the plate's normal (world +y), per shape (degrees).
@@ -315,8 +316,9 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
         pos, up = _camera_position(3.2, view, azim)
         cam = Camera.look_at(pos, world_up=up)
         light = np.array([0.0, math.cos(t), -math.sin(t)])
-        desc = (f"flat 2x2 plate, normal +y; light {light_deg:g} deg from the normal on the far side; "
-                f"perspective camera {view:g} deg from the normal (azimuth {azim:g} deg) at 3.2 plate half-widths")
+        what = "flat 2x2 plate, normal +y"
+        cam_text = f"perspective camera {view:g} deg from the normal (azimuth {azim:g} deg) at 3.2 plate half-widths"
+        desc = f"{what}; light {light_deg:g} deg from the normal on the far side; {cam_text}"
     else:
         if shape == "cylinder":
             obj, dist, what = HalfCylinder(1.1), 5.5, "half cylinder (sheet bent to radius 1, height 2.2, vertical axis)"
@@ -329,11 +331,11 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
         light = math.cos(t) * c_hat + math.sin(t) * w
         pos, up = _camera_position(dist, view, azim)
         cam = Camera.look_at(pos, world_up=up)
-        desc = (f"{what}; perspective camera {view:g} deg from the vertical (azimuth {azim:g} deg) at {dist:g} radii; "
-                f"light {light_deg:g} deg from the default camera direction (20 deg above the horizon), "
-                f"from the left and 30 deg up")
+        cam_text = f"perspective camera {view:g} deg from the vertical (azimuth {azim:g} deg) at {dist:g} radii"
+        desc = (f"{what}; {cam_text}; light {light_deg:g} deg from the default camera direction (20 deg above the "
+                f"horizon), from the left and 30 deg up")
     cam = cam.fitted(obj.points())
-    return Scene(obj, cam, _unit(light), desc)
+    return Scene(obj, cam, _unit(light), desc, f"{what}; {cam_text}")
 
 
 def scene_geometry(scene: Scene, size_px: int, dtype=np.float64):

@@ -14,7 +14,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_THICKNESS_NM
+from swatch.limits import MAX_SEARCH_POINTS, MAX_THICKNESS_NM
 
 __all__ = ["N_SCREEN", "N_REFINE", "MAX_SEARCH_POINTS", "check_search_range", "local_minima", "refine_minimum",
            "multimodal_search", "curvature_sigma"]
@@ -22,8 +22,6 @@ __all__ = ["N_SCREEN", "N_REFINE", "MAX_SEARCH_POINTS", "check_search_range", "l
 #: Local minima of the coarse search re-scored on the full data, and how many of those are refined.
 N_SCREEN = 8
 N_REFINE = 3
-#: Largest search grid.
-MAX_SEARCH_POINTS = 200_000
 CURVATURE_STEP_NM = 0.05
 
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_TOLERANCE
 from swatch.materials import tables_dir
 
 __all__ = ["Grade", "Tolerance", "METRICS", "schemes", "grades", "grade_for", "grade_bound", "grade_metric",
@@ -25,7 +26,6 @@ __all__ = ["Grade", "Tolerance", "METRICS", "schemes", "grades", "grade_for", "g
 DEFAULT_SCHEME = "csaj"
 #: Colour-difference metrics a tolerance can bound: name -> description (one definition of the choice list).
 METRICS = {"dEab": "CIE 1976 ΔE*ab", "dE00": "CIEDE2000 ΔE00"}
-MAX_TOLERANCE = 100.0
 
 
 @dataclass(frozen=True)

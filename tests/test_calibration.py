@@ -157,8 +157,16 @@ def test_bad_coupon_files_one_line_with_line_numbers(tmp_path, text, needles):
 
 
 def test_oversized_coupon_file(tmp_path):
-    from swatch.coupons import MAX_COUPON_BYTES
+    from swatch.limits import MAX_COUPON_BYTES
 
     path = tmp_path / "big.csv"
     path.write_text("voltage_V,L,a,b\n" + "# x\n" * (MAX_COUPON_BYTES // 4 + 1))
-    assert_one_line_error(run_swatch("calibrate", path, "--out", tmp_path / "p.toml"), "bytes", "at most")
+    assert_one_line_error(run_swatch("calibrate", path, "--out", tmp_path / "p.toml"), "larger than 8 MB",
+                          "at most 8 MB")
+    assert not (tmp_path / "p.toml").exists()
+
+
+def test_endless_coupon_file_is_refused_without_reading_it_all(tmp_path):
+    """A device that never ends (``/dev/zero``) is read up to the cap, then refused (it used to be
+    read whole before the cap was applied: the size of a device is 0)."""
+    assert_one_line_error(run_swatch("calibrate", "/dev/zero", "--out", tmp_path / "p.toml"), "at most 8 MB")

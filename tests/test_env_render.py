@@ -98,3 +98,14 @@ def test_cli_bad_environment_input(tmp_path, capsys, extra, words):
     assert not out.exists()
 
 
+
+
+@pytest.mark.parametrize("shape", ["flat", "sphere"])
+def test_environment_render_geometry_names_no_point_light(shape):
+    """An environment-lit render's ``geometry`` describes the object and camera only: the point
+    light of the point-light render plays no part in it (it used to be described there)."""
+    img = render.render_swatch(80.0, shape, 16, environment="uniform", view_deg=10.0, coating=COATING, colorimeter=CM)
+    point = render.render_swatch(80.0, shape, 16, view_deg=10.0, coating=COATING, colorimeter=CM)
+    assert "light" not in img.metadata["geometry"] and "light_deg" not in img.metadata
+    assert "camera 10 deg" in img.metadata["geometry"]
+    assert "light 45 deg" in point.metadata["geometry"] and point.metadata["light_deg"] == 45.0

@@ -173,3 +173,28 @@ def test_issue12_deeply_nested_process_profile(tmp_path):
     proc = run_here("color", "--thickness", "50", "--process", p)
     assert_one_line_error(proc, "nested too deeply")
     assert proc.returncode == 2
+
+
+def test_issue13_every_input_cap_is_defined_once_in_limits():
+    """Caps on untrusted input live in swatch.limits only (one definition per limit): no other
+    module assigns a module-level ``MAX_*``/``MIN_*`` name except the named modelling constants."""
+    import ast
+    from pathlib import Path
+
+    import swatch
+    from swatch import limits
+
+    root = Path(swatch.__file__).parent
+    allowed = {("fitting.py", "MIN_COLOUR_SAMPLES")}  # colour-science's interpolation needs 6 samples: not a cap
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        if path.name == "limits.py":
+            continue
+        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(
+                node, ast.AnnAssign) else []
+            for t in targets:
+                if isinstance(t, ast.Name) and t.id.startswith(("MAX_", "MIN_")) and (path.name, t.id) not in allowed:
+                    found.append(f"{path.relative_to(root)}: {t.id}")
+    assert found == []
+    assert all(hasattr(limits, n) for n in limits.__all__)

@@ -9,8 +9,9 @@ import tmm
 from cli_helpers import assert_one_line_error, run_json, run_swatch
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_PROFILE_BYTES
 from swatch.materials import load_material, tables_dir
-from swatch.process import DEFAULT_PROCESS, MAX_PROFILE_BYTES, list_processes, load_process, process_toml
+from swatch.process import DEFAULT_PROCESS, list_processes, load_process, process_toml
 
 NUMBERS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness")
 
@@ -103,7 +104,7 @@ def test_bad_profiles_one_line(tmp_path, text, needles):
 def test_oversized_and_unknown_profiles(tmp_path):
     big = tmp_path / "big.toml"
     big.write_text(BASE + "# " + "x" * MAX_PROFILE_BYTES + "\n")
-    with pytest.raises(SwatchError, match="at most"):
+    with pytest.raises(SwatchError, match="at most 64 kB"):
         load_process(str(big))
     with pytest.raises(SwatchError, match=r"unknown process 'zirconium'.*titanium-fujii2019"):
         load_process("zirconium")

@@ -18,13 +18,13 @@ import functools
 
 import numpy as np
 
+from swatch.limits import MAX_CHIP_PX
+
 __all__ = ["CHIP_SIZE_MM", "CHIP_DPI", "MAX_CHIP_PX", "chip_px", "chip_names", "srgb_icc_profile", "encoded_16bit",
            "chip_batches", "write_chips"]
 
 CHIP_SIZE_MM = 50.0
 CHIP_DPI = 300
-#: Largest chip side in pixels (a 16-bit RGB chip of 4096² is 100 MB in memory).
-MAX_CHIP_PX = 4096
 _MM_PER_INCH = 25.4
 #: The ICC header's creation date, fixed (bytes 24–35: year, month, day, hour, minute, second).
 _ICC_DATE = (2000, 1, 1, 0, 0, 0)

@@ -33,6 +33,7 @@ import math
 import numpy as np
 
 from swatch.errors import SwatchError
+from swatch.limits import MAX_GRID_NODES
 
 __all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "explorer_data", "decode", "grid_lookup",
            "tile_rects", "chip_colours"]
@@ -44,8 +45,6 @@ GRID_STEP_NM = 1.0
 COS_NODES = 97
 #: Thickness step of the reference-geometry column (= swatch match's default search step).
 MATCH_STEP_NM = 0.1
-#: Cap on thickness nodes of either table (a 1000 nm range at 0.1 nm).
-MAX_GRID_NODES = 10001
 #: Margin added on both sides of a one-thickness catalog so the slider still moves (nm).
 SINGLE_MARGIN_NM = 10.0
 

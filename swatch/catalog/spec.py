@@ -19,14 +19,13 @@ from typing import NoReturn
 
 from swatch.choices import MODELS, SHAPES
 from swatch.errors import SwatchError
-from swatch.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_capped
+from swatch.limits import MAX_SPEC_BYTES, MAX_SWATCHES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_capped
 
 __all__ = ["spec_summary", "CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
 RENDER_SHAPES = SHAPES
 RENDER_MODELS = MODELS
-MAX_SWATCHES = 400
 #: Default multi-angle set: illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° (ASTM E2194 / E2539).
 DEFAULT_ASPECULAR_DEG = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
 
