@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 
-SECTIONS = ["render", "environment", "catalog", "explorer", "exports", "fit", "calibrate", "presets", "engine"]
+SECTIONS = ["render", "environment", "mesh", "catalog", "explorer", "exports", "fit", "calibrate", "presets", "engine"]
 
 
 def machine() -> str:

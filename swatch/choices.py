@@ -8,6 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "SHAPES",
+    "MESH_FORMATS",
     "MODELS",
     "DISTRIBUTIONS",
     "IMAGE_SPACES",
@@ -22,6 +23,8 @@ __all__ = [
 
 #: Swatch shapes of a render: flat plate, half cylinder (a bent sheet), sphere.
 SHAPES = ("flat", "cylinder", "sphere")
+#: Mesh files a render can show instead (``--mesh``; a .gltf only with embedded buffers).
+MESH_FORMATS = ("obj", "ply", "stl", "glb", "gltf")
 #: Intensity models: ``paper`` (the half-vector reflectance alone, facet probability constant) and
 #: ``microfacet`` (D G F / (4 cos θ_l cos θ_v)).
 MODELS = ("paper", "microfacet")

@@ -268,7 +268,7 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     if env is None:
         raise SwatchError("environment 'none' is the point light; call without an environment")
     light_deg, view_deg, view_azimuth_deg = camera
-    scene_key = (shape, float(light_deg), None if view_deg is None else float(view_deg), float(view_azimuth_deg))
+    scene_key = (getattr(scene.shape, "key", shape), float(light_deg), None if view_deg is None else float(view_deg), float(view_azimuth_deg))
     prep = prepared(scene, scene_key, size, env, roughness_alpha, background)
     tab = shading.facet_colour_table(d, coating, colorimeter, F_TABLE_NODES, (0.0, 1.0)).to_rgb(colorimeter, "srgb")
     linear, coverage, display = render_environment(prep, tab.values, background, space)
@@ -297,7 +297,10 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
         "wavelength_grid_nm": f"{coating.wavelength_nm[0]:g}:{coating.wavelength_nm[-1]:g}:"
                               f"{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
-    return render.SwatchImage(linear, coverage, display, meta, 1.0)
+    if shape == "mesh":
+        meta["lighting"] += "; not occluded by the mesh itself (no self-shadowing or interreflection)"
+    return render.SwatchImage(linear, coverage, display, meta | render.mesh_metadata(scene.shape if shape == "mesh"
+                                                                                      else None), 1.0)
 
 
 def resolve_lighting(environment: str | None, model: str, distribution: str, size_px: int, background: str,

@@ -11,7 +11,7 @@ __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX
            "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
            "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
            "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
-           "read_capped"]
+           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "read_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -81,6 +81,10 @@ MAX_TOLERANCE = 100.0
 MAX_REFLECTANCE = 1e5
 #: Most negative reflectance (as a fraction) accepted as measurement noise.
 MIN_REFLECTANCE = -0.05
+#: A mesh file (``swatch render --mesh``): bytes (a binary STL of 64 MB is 1.3 M triangles) and
+#: triangles (Embree's scene and the per-corner normals stay near 0.3 GB).
+MAX_MESH_BYTES = 64 * 1024 * 1024
+MAX_MESH_TRIANGLES = 2_000_000
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

@@ -193,7 +193,7 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
                   roughness_alpha: float = 0.3, model: str = "microfacet", coating=None, colorimeter=None,
                   space: str = "srgb", distribution: str = "ggx", workers: int | None = None,
                   environment=None, background: str = "grey", view_deg: float | None = None,
-                  view_azimuth_deg: float = 0.0) -> SwatchImage:
+                  view_azimuth_deg: float = 0.0, mesh=None) -> SwatchImage:
     """Render one swatch (see the module documentation for scene, units and exposure).
 
     Returns a :class:`SwatchImage`: ``linear_rgb`` (H, W, 3) float32 scene-referred linear RGB in
@@ -202,19 +202,20 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     ``environment``: None (the point light) or an environment (name, path or
     :class:`swatch.environment.Environment`), rendered by :mod:`swatch.env_render`;
     ``background``: grey, white or (with an environment) environment; ``view_deg`` and
-    ``view_azimuth_deg``: the camera (:func:`swatch.scene.make_scene`).
+    ``view_azimuth_deg``: the camera (:func:`swatch.scene.make_scene`); ``mesh``: a
+    :class:`swatch.mesh.MeshShape` rendered instead of ``shape`` (which is then ``"mesh"``).
     """
     from swatch.model import check_thickness_nm
 
     d = float(check_thickness_nm(float(thickness_nm)))
-    shape = check_shape(shape)
+    shape = "mesh" if mesh is not None else check_shape(shape)
     size = check_size_px(size_px)
     model = shading.check_model(model)
     roughness_alpha = microfacet.check_roughness_alpha(roughness_alpha)
     distribution = microfacet.check_distribution(distribution)
     space = check_rgb_space(space)
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
-    scene = make_scene(shape, light_deg, view_deg, view_azimuth_deg)
+    scene = make_scene(shape, light_deg, view_deg, view_azimuth_deg, mesh)
     from swatch import env_render
 
     background = env_render.check_background(background)
@@ -247,9 +248,19 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         "exposure": round(float(k), 9),
         "exposure_rule": rule,
         "cos_theta_d_range": [round(crange[0], 6), round(crange[1], 6)],
-        "lighting": f"one directional light at {float(light_deg):g} deg (the illuminant's spectrum)",
+        "lighting": f"one directional light at {float(light_deg):g} deg (the illuminant's spectrum)"
+                    + ("; the mesh shadows it (shadow rays)" if mesh is not None else ""),
         "display": f"sRGB-encoded PNG: linear x exposure, composited on {background} ({bg_linear:g}), "
                    "shoulder above 0.8",
         "wavelength_grid_nm": f"{coating.wavelength_nm[0]:g}:{coating.wavelength_nm[-1]:g}:{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
-    return SwatchImage(rgb, coverage, display, meta, float(k))
+    return SwatchImage(rgb, coverage, display, meta | mesh_metadata(mesh), float(k))
+
+
+def mesh_metadata(mesh) -> dict:
+    """The ``mesh`` entry of a mesh render's metadata (file name, SHA-256, triangles), or nothing."""
+    if mesh is None:
+        return {}
+    return {"mesh": {"file": mesh.file_name, "sha256": mesh.key.split(":", 1)[1], "triangles": mesh.triangles,
+                     "placement": "bounding-box centre at the origin, farthest vertex at 1, +y up as written",
+                     "shading_normals": "vertex normals interpolated; face normals across creases over 30 deg"}}

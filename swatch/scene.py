@@ -298,14 +298,17 @@ def _camera_position(dist: float, view_deg: float, view_azimuth_deg: float):
     return pos, up
 
 
-def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view_azimuth_deg: float = 0.0) -> Scene:
+def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view_azimuth_deg: float = 0.0,
+               mesh=None) -> Scene:
     """The camera, light and object of a swatch render (see the module documentation).
 
     ``view_deg``: the camera's polar angle to the plate's normal (world +y; 0 = straight down
     the normal), default :data:`DEFAULT_VIEW_DEG`; ``view_azimuth_deg`` turns the camera about
     the normal (0 = the +z side). The point light stays where the default camera puts it.
+    ``mesh``: a :class:`swatch.mesh.MeshShape` shown instead of ``shape``, placed, lit and seen
+    like the sphere (it is scaled into the unit sphere).
     """
-    shape = check_shape(shape)
+    shape = "sphere" if mesh is not None else check_shape(shape)
     light_deg = float(geometry.check_polar_deg(light_deg, "light"))
     view = DEFAULT_VIEW_DEG[shape] if view_deg is None else float(geometry.check_polar_deg(view_deg, "view"))
     azim = float(geometry.check_azimuth_deg(view_azimuth_deg, "view"))
@@ -320,7 +323,10 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
         cam_text = f"perspective camera {view:g} deg from the normal (azimuth {azim:g} deg) at 3.2 plate half-widths"
         desc = f"{what}; light {light_deg:g} deg from the normal on the far side; {cam_text}"
     else:
-        if shape == "cylinder":
+        if mesh is not None:
+            obj, dist = mesh, 4.0
+            what = f"mesh {mesh.file_name} ({mesh.triangles} triangles, scaled into the unit sphere, +y up)"
+        elif shape == "cylinder":
             obj, dist, what = HalfCylinder(1.1), 5.5, "half cylinder (sheet bent to radius 1, height 2.2, vertical axis)"
         else:
             obj, dist, what = Sphere(), 4.0, "unit sphere"

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, IMAGE_SPACES, MODELS, SHAPES
+from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, IMAGE_SPACES, MESH_FORMATS, MODELS, SHAPES
 from swatch.commands import common
 from swatch.metadata import file_stems, voltage_note, with_voltage
 
@@ -118,6 +118,8 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
 @common.thickness_options(multiple=True)
 @click.option("--shape", type=click.Choice(SHAPES), default="flat", show_default=True,
               help="flat plate, half cylinder (bent sheet) or sphere")
+@click.option("--mesh", "mesh_file", default=None, metavar="FILE", help="render this mesh instead of --shape ("
+              + ", ".join("." + f for f in MESH_FORMATS) + "; placed in the unit sphere, seen like the sphere)")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
 @click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
@@ -131,17 +133,20 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
 @click.option("--background", type=click.Choice(BACKGROUNDS), default="grey", show_default=True,
               help="display background (environment: the map behind the object, also in the EXR)")
 @_image_options
-def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, light_deg, environment, view_deg,
+def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, light_deg, environment, view_deg,
            view_azimuth_deg, background, model, roughness, distribution, space, force, film, substrate, illuminant,
            observer, wavelengths):
-    """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB)."""
+    """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh."""
     from swatch import geometry, imageio
     from swatch.env_render import resolve_lighting
     from swatch.fileio import check_new, check_writable_dir
+    from swatch.mesh import load_mesh
     from swatch.pngmeta import image_xmp
     from swatch.render import check_size_px, render_swatch
 
     roughness = _roughness(roughness, process)
+    mesh = None if mesh_file is None else load_mesh(mesh_file)
+    shape = "mesh" if mesh is not None else shape
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
     env = resolve_lighting(environment, model, distribution, size, background, view_deg, view_azimuth_deg)
@@ -155,7 +160,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, out_dir, size_px, li
         for i in it:
             img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution,
                                 environment=env, background=background, view_deg=view_deg,
-                                view_azimuth_deg=view_azimuth_deg)
+                                view_azimuth_deg=view_azimuth_deg, mesh=mesh)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
