@@ -14,7 +14,7 @@ import colour
 import numpy as np
 import pytest
 
-import swatch  # noqa: F401  (silences colour-science's plotting notice)
+import swatch  # (first: silences colour-science's plotting notice)
 from swatch.catalog import build as buildmod
 from swatch.catalog import sheets as sheetmod
 from swatch.catalog.build import META_DIR, build_catalog
@@ -144,6 +144,19 @@ def test_noop_rebuild_is_fast_and_touches_nothing(built):
     assert "up to date" in proc.stdout
     assert wall <= 2.0, wall
     assert {p.name: p.stat().st_mtime_ns for p in out.iterdir() if p.is_file()} == before
+
+
+def test_fingerprint_covers_every_engine_module_a_build_uses(built):
+    """Regression: the no-op check hashed a hand-kept list of modules, which missed the
+    environment-lighting, process and export modules, so changing them left a catalog 'up to
+    date'. Every top-level swatch module loaded by a build must be in the fingerprint."""
+    pkg = Path(swatch.__file__).resolve().parent
+    used = {Path(m.__file__).name for name, m in list(sys.modules.items())
+            if name.startswith("swatch.") and getattr(m, "__file__", None) and Path(m.__file__).parent == pkg}
+    code = buildmod.code_fingerprint()["code"]
+    assert used - set(code) == set()
+    # the tiles may be rendered in worker processes: every engine module counts
+    assert {p.name for p in pkg.glob("*.py")} - set(code) == set()
 
 
 def test_incremental_rebuilds_only_what_changed(tmp_path):

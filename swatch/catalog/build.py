@@ -67,10 +67,6 @@ __all__ = ["build_catalog", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
 FORMAT_VERSION = 1
 
-#: Modules whose code shapes the outputs (their source is hashed into the fingerprint).
-_CODE_MODULES = ("__init__", "choices", "limits", "optics", "model", "geometry", "colorimetry", "materials",
-                 "appearance", "tolerance", "microfacet", "shading", "scene", "display", "metadata", "angular",
-                 "render", "imageio")
 
 
 @dataclass
@@ -102,7 +98,9 @@ def code_fingerprint() -> dict:
     from swatch.materials import tables_dir
 
     pkg = Path(swatch.__file__).resolve().parent
-    files = [pkg / f"{m}.py" for m in _CODE_MODULES] + sorted((pkg / "catalog").glob("*.py"))
+    # every engine module (a hand-kept list missed the environment, process and export modules,
+    # so a change there left an existing catalog "up to date"), the catalog's own code, ...
+    files = sorted(pkg.glob("*.py")) + sorted((pkg / "catalog").glob("*.py"))
     files += sorted((pkg / "presets").glob("*.py"))  # 3-D material presets (fits, writers)
     files += sorted((pkg / "catalog" / "web").glob("*.*"))  # the page's script and style
     code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}

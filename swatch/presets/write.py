@@ -9,9 +9,10 @@ rounded to fixed digits). ``params`` is one row of :class:`swatch.presets.fit.Pr
   ``roughnessFactor`` = the catalog roughness, ``KHR_materials_iridescence`` with
   ``iridescenceFactor`` 1, ``iridescenceIor``, ``iridescenceThicknessMaximum`` = the fitted
   thickness and no thickness texture (so the thickness is the maximum), listed in ``extensionsUsed``.
-- Blender: a script for Blender ≥ 4.2 (Principled BSDF with Thin Film inputs). Run it from the
-  Text Editor or ``blender --python FILE``: it creates (or updates) the material and assigns it
-  to the selected mesh objects.
+- Blender: a script for Blender ≥ 5.0 (Principled BSDF with Thin Film inputs; 4.2–4.5 ignore the
+  thin film on a metal, so the script refuses them). Run it from the Text Editor or ``blender
+  --python FILE``: it creates (or updates) the material and assigns it to the selected mesh
+  objects (tests/presets_blender/mirror.py runs it in real Blender).
 - MaterialX: a 1.39 document with an ``open_pbr_surface`` (base_metalness 1, base_color,
   specular_roughness, thin_film_weight 1, thin_film_thickness in µm, thin_film_ior), built and
   validated with the MaterialX library against its standard data libraries.
@@ -95,11 +96,17 @@ def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None) 
     return (json.dumps(doc, indent=1, ensure_ascii=False) + "\n").encode("utf-8")
 
 
-_BLENDER = '''# Blender >= 4.2 material preset written by swatch (anodic-swatch): {title}
+_BLENDER = '''# Blender >= 5.0 (Cycles) material preset written by swatch (anodic-swatch): {title}
 # Run in Blender's Text Editor (Run Script) or:  blender --python {file}
 # Creates or updates material {name!r} (Principled BSDF, metallic, thin film) and assigns it to
-# the selected mesh objects. Fitted to the exact colour: {note}
+# the selected mesh objects. Fitted to Cycles' thin film on a metal against the exact colour: {note}
 import bpy
+
+# Blender 4.2-4.5 ignore Thin Film on a metallic Principled BSDF: there the material would render
+# as its bare Base Color, a different colour. Refuse rather than mislead.
+if bpy.app.version < (5, 0, 0):
+    raise RuntimeError("this swatch preset needs Blender 5.0 or later (Blender "
+                       + bpy.app.version_string + " ignores Thin Film on metals)")
 
 NAME = {name!r}
 INPUTS = {{
@@ -110,8 +117,7 @@ INPUTS = {{
     "Thin Film IOR": {eta},
 }}
 
-mat = bpy.data.materials.get(NAME) or bpy.data.materials.new(NAME)
-mat.use_nodes = True
+mat = bpy.data.materials.get(NAME) or bpy.data.materials.new(NAME)  # with a Principled BSDF node
 bsdf = next(n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
 for key, value in INPUTS.items():
     bsdf.inputs[key].default_value = value
