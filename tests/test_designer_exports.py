@@ -379,3 +379,47 @@ def test_chip_spec_limits():
         parse_spec(dict(base, chips={"size_mm": 300, "dpi": 1200}))
     with pytest.raises(SwatchError, match=r"chips\.dpi"):
         parse_spec(dict(base, chips={"dpi": 10}))
+
+
+# -- the files as other tools read them: exiftool (what Bridge/Lightroom-style XMP readers see) and
+# pngcheck (the PNG chunk checker); Debian packages, installed by .ci/run ---------------------------
+
+def _require_tool(name: str) -> str:
+    import os
+    import shutil
+
+    exe = shutil.which(name)
+    if exe:
+        return exe
+    if os.environ.get("SWATCH_REQUIRE_TOOLS") == "1":
+        pytest.fail(f"{name} is missing and SWATCH_REQUIRE_TOOLS=1 (.ci/run installs it)")
+    pytest.skip(f"{name} not installed (Debian: pngcheck, libimage-exiftool-perl)")
+
+
+def test_exiftool_and_pngcheck_read_the_exports(tiny_catalog):
+    exiftool, pngcheck = _require_tool("exiftool"), _require_tool("pngcheck")
+    doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
+    rec = doc["swatches"][1]
+    sheet, chip_png, chip_tif = (tiny_catalog / n for n in ("sheet_01.png", "chip_S002.png", "chip_S002.tif"))
+    for png in (sheet, chip_png):
+        check = subprocess.run([pngcheck, "-v", str(png)], capture_output=True, text=True, timeout=60)
+        assert check.returncode == 0 and "No errors detected" in check.stdout, check.stdout[-500:]
+    run = subprocess.run([exiftool, "-j", "-G1", "-a", "-charset", "utf8", str(sheet), str(chip_png), str(chip_tif)],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    s, p, t = json.loads(run.stdout)
+    # the sheet: UTF-8 text and XMP read exactly, perceptual intent, 150 dpi
+    assert s["XMP-dc:Title"] == "Tiny – 10° catalog — sheet 1 of 1"
+    assert json.loads(s["PNG:Swatchcatalog"]) == doc["catalog"]
+    assert s["PNG:SRGBRendering"] == "Perceptual"
+    assert s["PNG-pHYs:PixelsPerUnitX"] == round(150 / 0.0254) and s["PNG-pHYs:PixelUnits"] == "meters"
+    # the print chip PNG: 16 bits, 300 dpi, the swatch's numbers in XMP
+    assert p["PNG:BitDepth"] == 16 and p["PNG-pHYs:PixelsPerUnitX"] == round(300 / 0.0254)
+    assert p["XMP-dc:Title"] == f"S002 Ti 75.5 nm ({rec['voltage_V']:.1f} V)"
+    assert p["XMP-anodic:Lab"] == " ".join(f"{x:.2f}" for x in rec["Lab"])
+    assert p["XMP-anodic:Lab_D50_2"] == " ".join(f"{x:.2f}" for x in rec["Lab_D50_2"])
+    assert p["XMP-anodic:Srgb_hex"] == rec["srgb_hex"] and json.loads(p["PNG:Swatchrecord"]) == rec
+    # the print chip TIFF: 16 bits, 300 dpi, an embedded sRGB profile
+    assert t["IFD0:BitsPerSample"] == "16 16 16" and t["IFD0:XResolution"] == 300
+    assert t["IFD0:ResolutionUnit"] == "inches" and "sRGB" in t["ICC_Profile:ProfileDescription"]
+    assert t["IFD0:ImageDescription"].startswith("S002 Ti 75.5 nm")
