@@ -14,6 +14,7 @@ __all__ = [
     "IMAGE_SPACES",
     "ENVIRONMENTS",
     "BACKGROUNDS",
+    "LIGHTINGS",
     "SCALE_MODES",
     "DEFAULT_THICKNESS_RANGE_NM",
     "DEFAULT_FIT_STEP_NM",
@@ -36,6 +37,9 @@ IMAGE_SPACES = ("srgb", "acescg")
 #: Built-in lighting of renders (``--environment``; a path to an equirectangular .exr also works):
 #: ``none`` (one directional light), ``uniform`` (radiance 1 everywhere), ``studio`` (a light box).
 ENVIRONMENTS = ("none", "uniform", "studio")
+#: Lighting of the catalog page's live view: ``point`` (its one directional light, ``none`` above)
+#: and the built-in environments.
+LIGHTINGS = ("point", *(e for e in ENVIRONMENTS if e != "none"))
 #: Display backgrounds of renders (``environment``: the map seen behind the object, also in the EXR).
 BACKGROUNDS = ("grey", "white", "environment")
 #: Intensity corrections of the thickness fit: ``energy`` (the paper's mean-energy match per

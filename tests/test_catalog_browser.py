@@ -104,7 +104,7 @@ def test_spec_text_is_escaped(page):
     assert pg.locator("#catalog-name").text_content() == EVIL
     assert EVIL in pg.title()
     assert pg.locator("img").count() == 0  # the <img onerror> in the name is text, not an element
-    assert pg.locator("script").count() == 3  # the data blocks (catalog, colour table) and the page's own script
+    assert pg.locator("script").count() == 4  # the data blocks (catalog, colour table, environments), the page's script
     assert pg.locator("b").count() == 0
 
 

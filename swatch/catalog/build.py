@@ -375,7 +375,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         }
         outputs.update(preset_files)
         page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
-        outputs["index.html"] = _page(spec, data, page_doc).encode("utf-8")
+        outputs["index.html"] = _page(spec, data, page_doc, cache).encode("utf-8")
         for name, blob in outputs.items():
             (staging / name).write_bytes(blob)
         with _progress("composing sheets", len(todo), progress) as bar:
@@ -434,11 +434,13 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                        seconds=time.perf_counter() - t0, files=sorted(files))
 
 
-def _page(spec, data, page_doc: dict) -> str:
-    """index.html with the explorer's colour table, the tiles' places in the sheets and P3 chips."""
-    from swatch.catalog.explorer import chip_colours, explorer_data, tile_rects
+def _page(spec, data, page_doc: dict, cache: Path | None = None) -> str:
+    """index.html with the explorer's colour table, the tiles' places in the sheets, P3 chips and the live
+    view's environment lighting (cached in ``cache``)."""
+    from swatch.catalog.explorer import COS_NODES, chip_colours, explorer_data, tile_rects
+    from swatch.catalog.explorer_env import environment_data_cached
     from swatch.catalog.html import index_html
 
     return index_html(page_doc, explorer_data(spec, data.wavelength_nm), tile_rects(spec, page_doc["swatches"]),
-                      chip_colours(spec, data))
+                      chip_colours(spec, data), environment_data_cached(spec.roughness, COS_NODES, cache))
 

@@ -21,7 +21,10 @@ from importlib import resources
 __all__ = ["index_html", "embed_json", "page_script", "page_style"]
 
 #: The page's script files, concatenated in this order inside one strict-mode function.
-SCRIPTS = ("colour.js", "view.js", "page.js")
+SCRIPTS = ("colour.js", "envlight.js", "view.js", "page.js")
+#: Labels of the live view's lighting choices (swatch.choices.LIGHTINGS).
+LIGHTING_LABELS = {"point": "point light (light angle)", "uniform": "uniform (radiance 1 everywhere)",
+                   "studio": "studio light box (as the sheets' renders)"}
 #: Width (CSS px) of a render and of the angular map in a card.
 CARD_IMAGE_PX = 96
 
@@ -168,7 +171,16 @@ too).</p></details>
 </div>"""
 
 
-def _tools(c: dict) -> str:
+def _lighting_select(env: dict | None) -> str:
+    """The live view's lighting choice: the point light, and the environments the page embeds."""
+    from swatch.choices import LIGHTINGS
+
+    names = [n for n in LIGHTINGS if n == "point" or (env is not None and n in env["environments"])]
+    opts = "".join(f'<option value="{html.escape(n)}">{html.escape(LIGHTING_LABELS.get(n, n))}</option>' for n in names)
+    return f'<label>lighting<select id="lighting">{opts}</select></label>'
+
+
+def _tools(c: dict, env: dict | None = None) -> str:
     ref = c["reference_geometry"]
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
 <div class="stage"><canvas id="view" width="800" height="600" role="img" aria-label="live view of the swatch"></canvas>
@@ -184,6 +196,7 @@ thin-film physics of this catalog (embedded table), shaded with the microfacet m
 <option value="sphere">sphere</option></select></label>
 <label>shading<select id="model"><option value="microfacet">microfacet (D·G)</option>
 <option value="paper">paper (facet colour only)</option></select></label></div>
+<div class="pair">{_lighting_select(env)}</div>
 <label><span>light angle <strong id="l-out"></strong></span><input id="light" type="range" min="0" max="85" step="0.5"></label>
 <label><span>view angle <strong id="w-out"></strong></span><input id="view-deg" type="range" min="0" max="85" step="0.5"></label>
 </form>
@@ -213,12 +226,13 @@ thin-film physics of this catalog (embedded table), shaded with the microfacet m
 
 
 def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = None,
-               chips: list[dict] | None = None) -> str:
+               chips: list[dict] | None = None, env: dict | None = None) -> str:
     """The page for a catalog document (catalog.json plus ``hue_families``).
 
     ``table``: :func:`swatch.catalog.explorer.explorer_data` (without it the page is the grid
     only); ``tiles``: :func:`swatch.catalog.explorer.tile_rects`; ``chips``:
-    :func:`swatch.catalog.explorer.chip_colours` (Display P3 chips, multi-angle gamut flags).
+    :func:`swatch.catalog.explorer.chip_colours` (Display P3 chips, multi-angle gamut flags); ``env``:
+    :func:`swatch.catalog.explorer_env.environment_data` (the live view's environment lighting).
     """
     c = catalog["catalog"]
     e = html.escape
@@ -240,10 +254,12 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     families = "".join(f'<option value="{e(f)}">{e(f)}</option>' for f in catalog.get("hue_families", []))
     names = sorted({s.get("colour_name") for s in swatches if s.get("colour_name")})
     families += "".join(f'<option value="{e(n)}">{e(n)} (name)</option>' for n in names)
-    tools = _tools(c) if table is not None else ""
+    tools = _tools(c, env) if table is not None else ""
     blocks = f'<script type="application/json" id="catalog-data">{embed_json(catalog)}</script>\n'
     if table is not None:
         blocks += f'<script type="application/json" id="explorer-table">{embed_json(table)}</script>\n'
+        if env is not None:
+            blocks += f'<script type="application/json" id="explorer-env">{embed_json(env)}</script>\n'
         blocks += f"<script>{script}</script>\n"
     return f"""<!DOCTYPE html>
 <html lang="en">

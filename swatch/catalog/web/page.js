@@ -3,6 +3,8 @@
 
 const cat = JSON.parse(document.getElementById("catalog-data").textContent);
 const T = JSON.parse(document.getElementById("explorer-table").textContent);
+const envNode = document.getElementById("explorer-env");
+const ENV = envNode ? JSON.parse(envNode.textContent) : null;
 const C = makeColour(T);
 const swatches = cat.swatches;
 const $ = (id) => document.getElementById(id);
@@ -70,10 +72,10 @@ $("controls").addEventListener("submit", (e) => e.preventDefault());
 // -- live view -------------------------------------------------------------------------------
 const state = {thickness_nm: swatches.length ? swatches[0].thickness_nm : C.range[0], light_deg: ref.light_deg,
   view_deg: ref.view_deg, light_azimuth_deg: 0, view_azimuth_deg: ref.view_side === "light" ? 0 : 180,
-  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet"};
+  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point"};
 const canvas = $("view");
 let view = null;
-try { view = makeView(canvas, C, {roughness: T.render.roughness}); } catch (e) { view = null; console.warn(String(e)); }
+try { view = makeView(canvas, C, {roughness: T.render.roughness}, ENV); } catch (e) { view = null; console.warn(String(e)); }
 if (!view) $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
 const clampT = (d) => Math.min(Math.max(d, C.range[0]), C.range[1]);
 function readout() {
@@ -98,7 +100,8 @@ function draw() {
 function syncInputs() {
   $("thickness").value = state.thickness_nm; $("voltage").value = growth === null ? "" : fmt(toV(state.thickness_nm), 2);
   $("light").value = state.light_deg; $("view-deg").value = state.view_deg;
-  $("shape").value = state.shape; $("model").value = state.model;
+  $("shape").value = state.shape; $("model").value = state.model; $("lighting").value = state.lighting;
+  $("light").disabled = state.lighting !== "point"; // an environment lights from everywhere
 }
 function show(q) {
   q = q || {};
@@ -113,7 +116,15 @@ function show(q) {
   if (q.light_azimuth_deg !== undefined) state.light_azimuth_deg = n(q.light_azimuth_deg, -720, 720);
   if (q.view_azimuth_deg !== undefined) state.view_azimuth_deg = n(q.view_azimuth_deg, -720, 720);
   if (q.shape !== undefined && view && view.SHAPES.includes(q.shape)) state.shape = q.shape;
-  if (q.model === "paper" || q.model === "microfacet") state.model = q.model;
+  if (q.model === "paper" || q.model === "microfacet") {
+    state.model = q.model;
+    if (q.model === "paper") state.lighting = "point"; // environments integrate the microfacet BRDF
+  }
+  if (q.lighting !== undefined) {
+    if (!view || !view.lightings.includes(q.lighting)) throw new Error("show: lighting must be one of " + (view ? view.lightings.join(", ") : "point"));
+    state.lighting = q.lighting;
+    if (q.lighting !== "point") state.model = "microfacet";
+  }
   syncInputs();
   draw();
   return Object.assign({}, state);
@@ -127,6 +138,7 @@ $("live-form").addEventListener("input", (e) => {
   else if (id === "view-deg") show({view_deg: e.target.value});
   else if (id === "shape") show({shape: e.target.value});
   else if (id === "model") show({model: e.target.value});
+  else if (id === "lighting") show({lighting: e.target.value});
 });
 $("live-form").addEventListener("submit", (e) => e.preventDefault());
 let drag = null;
@@ -263,5 +275,14 @@ window.swatchCatalog = Object.freeze({
   colorAt: (q) => { const c = C.colorAt(q); return {Lab: c.Lab, hex: c.hex, in_srgb_gamut: c.in_srgb_gamut, theta_d_deg: c.theta_d_deg}; },
   match: (target, n) => C.match(target, n).map((h) => ({thickness_nm: h.thickness_nm, voltage_V: h.voltage_V, delta_E_00: h.delta_E_00})),
   show,
+  // the displayed sRGB at a canvas pixel ({x, y}: drawing-buffer pixels from the top-left corner)
+  pixel: (q) => {
+    if (!view) throw new Error("pixel: the live view needs WebGL2");
+    const x = Number(q && q.x), y = Number(q && q.y);
+    if (!(x >= 0 && x < canvas.width && y >= 0 && y < canvas.height)) throw new Error("pixel: x, y must lie on the canvas");
+    const rgb = view.pixel(x, y);
+    return {rgb, hex: "#" + rgb.map((c) => c.toString(16).padStart(2, "0")).join("")};
+  },
+  lightings: Object.freeze(view ? view.lightings.slice() : ["point"]),
   swatches: Object.freeze(swatches.map((s) => Object.freeze(s))),
 });

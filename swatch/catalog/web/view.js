@@ -1,7 +1,8 @@
-// view.js — the live WebGL2 view: a plate, a bent sheet or a sphere under one directional light.
-// Per pixel: cos(theta_d) = h.l picks the colour of the thin film from the embedded table (one
-// thickness row, linear sRGB from 2-degree XYZ, interpolated on the GPU); the microfacet model
-// multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G, as
+// view.js — the live WebGL2 view: a plate, a bent sheet or a sphere under one directional light
+// or an environment (envlight.js).
+// Point light, per pixel: cos(theta_d) = h.l picks the colour of the thin film from the embedded
+// table (one thickness row, linear sRGB from 2-degree XYZ, interpolated on the GPU); the microfacet
+// model multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G, as
 // swatch.microfacet.ggx_reflectance_factor_cos); then the display transform of swatch.render:
 // exposure k, per-channel shoulder above 0.8, sRGB encoding, background linear grey 0.18.
 
@@ -9,12 +10,13 @@ const VS = `#version 300 es
 in vec2 p; out vec2 uv;
 void main() { uv = p; gl_Position = vec4(p, 0.0, 1.0); }`;
 
-const FS = `#version 300 es
+// the scene (camera ray, plate / bent sheet / sphere) and the display transform, shared by the passes
+const GEOM = `#version 300 es
 precision highp float;
-in vec2 uv; out vec4 outColor;
-uniform sampler2D row; uniform int nodes;
-uniform vec3 eye, fwd, right, up, light;
-uniform float tanHalf, aspect, alpha, exposure, bendR, bendPhi;
+precision highp int;
+in vec2 uv;
+uniform vec3 eye, fwd, right, up;
+uniform float tanHalf, aspect, bendR, bendPhi;
 const float BG = 0.18;
 bool hitPlate(vec3 o, vec3 d, out float t, out vec3 n) {
   if (abs(d.z) < 1e-6) return false;
@@ -37,25 +39,35 @@ bool hitSphere(vec3 o, vec3 d, out float t, out vec3 n) {
   if (disc < 0.0) return false;
   t = -b - sqrt(disc); n = normalize(o + t * d); return t > 0.0;
 }
+bool surface(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d and, on a hit, the normal n
+  d = normalize(fwd + tanHalf * (p.x * aspect * right + p.y * up));
+  float t;
+#if SHAPE == 0
+  return hitPlate(eye, d, t, n);
+#elif SHAPE == 1
+  return hitBend(eye, d, t, n);
+#else
+  return hitSphere(eye, d, t, n);
+#endif
+}
+float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
+float enc(float c) { c = clamp(c, 0.0, 1.0); return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055; }
+`;
+
+const FS = `
+out vec4 outColor;
+uniform sampler2D row; uniform int nodes;
+uniform vec3 light;
+uniform float alpha, exposure;
 vec3 tableAt(float c) {
   float x = clamp(c, 0.0, 1.0) * float(nodes - 1);
   int i = min(int(x), nodes - 2); float f = x - float(i);
   return mix(texelFetch(row, ivec2(i, 0), 0).rgb, texelFetch(row, ivec2(i + 1, 0), 0).rgb, f);
 }
-float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
-float enc(float c) { c = clamp(c, 0.0, 1.0); return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055; }
 void main() {
-  vec3 d = normalize(fwd + tanHalf * (uv.x * aspect * right + uv.y * up));
-  float t; vec3 n; bool hit;
-#if SHAPE == 0
-  hit = hitPlate(eye, d, t, n);
-#elif SHAPE == 1
-  hit = hitBend(eye, d, t, n);
-#else
-  hit = hitSphere(eye, d, t, n);
-#endif
+  vec3 d, n;
   vec3 lin = vec3(BG);
-  if (hit) {
+  if (surface(uv, d, n)) {
     vec3 v = -d;
     if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
     float cl = dot(n, light), cv = max(dot(n, v), 0.0);
@@ -78,7 +90,7 @@ void main() {
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 
-function makeView(canvas, C, settings) {
+function makeView(canvas, C, settings, envData) {
   const DEG = Math.PI / 180;
   const gl = canvas.getContext("webgl2", {antialias: false, preserveDrawingBuffer: true});
   if (!gl) return null;
@@ -87,25 +99,29 @@ function makeView(canvas, C, settings) {
     if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
     return s;
   }
-  // one program per shape and shading model (no branching on them per pixel: software GL is faster)
+  // one program per pass, shape and shading model (no branching on them per pixel: software GL is faster)
   const programs = new Map();
   const vs = compile(gl.VERTEX_SHADER, VS);
-  function program(shape, model) {
-    const key = shape + "/" + model;
+  const UNIFORMS = ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
+    "bendR", "bendPhi"];
+  let env = null;  // the environment passes (envlight.js), when the page embeds them
+  function program(pass, shape, model) {
+    const key = pass + "/" + shape + "/" + model;
     if (programs.has(key)) return programs.get(key);
+    const body = pass === "point" ? FS : pass === "gather" ? env.gatherSource : env.shadeSource;
+    const src = GEOM.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model) + body;
     const prog = gl.createProgram();
-    const src = FS.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model);
     gl.attachShader(prog, vs);
     gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, src));
     gl.bindAttribLocation(prog, 0, "p");
     gl.linkProgram(prog);
     if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
     const U = {};
-    for (const name of ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
-      "bendR", "bendPhi"]) U[name] = gl.getUniformLocation(prog, name);
+    for (const name of UNIFORMS.concat(env ? env.uniforms : [])) U[name] = gl.getUniformLocation(prog, name);
     gl.useProgram(prog);
-    gl.uniform1i(U.row, 0);
-    gl.uniform1i(U.nodes, C.cosNodes);
+    if (pass === "point") { gl.uniform1i(U.row, 0); gl.uniform1i(U.nodes, C.cosNodes); }
+    else if (pass === "gather") env.setupGather(prog, U);
+    else env.setupShade(prog, U);
     const entry = {prog, U};
     programs.set(key, entry);
     return entry;
@@ -180,29 +196,64 @@ function makeView(canvas, C, settings) {
     return m > 0 ? 1 / m : 1;
   }
   const SHAPES = ["plate", "bent sheet", "sphere"];
+  if (envData) {
+    try { env = makeEnvLight(gl, envData, C); } catch (e) { env = null; console.warn("environment lighting is off: " + String(e)); }
+  }
+  let lastGather = null;
+  function setCamera(U, cam, aspect) {
+    gl.uniform3fv(U.eye, cam.eye); gl.uniform3fv(U.fwd, cam.fwd); gl.uniform3fv(U.right, cam.right);
+    gl.uniform3fv(U.up, cam.up);
+    gl.uniform1f(U.tanHalf, Math.tan(FOV / 2)); gl.uniform1f(U.aspect, aspect);
+    gl.uniform1f(U.bendR, BEND_R); gl.uniform1f(U.bendPhi, BEND_PHI);
+  }
+  // under an environment: the gather pass when the geometry or the lighting changed, then the shade pass
+  function drawEnvironment(st, cam, shape, w, h) {
+    const key = [shape, st.view_deg, st.view_azimuth_deg, st.lighting, w, h].join();
+    if (key !== lastGather) {
+      const g = program("gather", shape, 0);
+      gl.useProgram(g.prog);
+      setCamera(g.U, cam, w / h);
+      env.gather(st.lighting, g.U, w, h);
+      lastGather = key;
+    }
+    env.setThickness(st.thickness_nm);
+    const {prog} = program("shade", 0, 0);
+    gl.useProgram(prog);
+    gl.viewport(0, 0, w, h);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    return 1;  // exposure 1: the white diffuser under the same environment is display white
+  }
   function draw(st) {
     const w = canvas.width, h = canvas.height;
+    const cam = camera(st);
+    const shape = Math.max(0, SHAPES.indexOf(st.shape));
+    if (env && st.lighting !== "point" && env.names.includes(st.lighting)) return drawEnvironment(st, cam, shape, w, h);
     gl.viewport(0, 0, w, h);
     if (lastRowD !== st.thickness_nm) {
+      gl.activeTexture(gl.TEXTURE0);
+      gl.bindTexture(gl.TEXTURE_2D, tex);
       gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, C.cosNodes, 1, 0, gl.RGBA, gl.FLOAT, C.rowLinearSrgb(st.thickness_nm));
       lastRowD = st.thickness_nm;
     }
-    const cam = camera(st);
     const light = dir(st.light_deg, st.light_azimuth_deg);
     const aspect = w / h;
     // the exposure depends on the geometry only (as in swatch.render): cached across thicknesses
     const key = [st.shape, st.model, st.view_deg, st.view_azimuth_deg, st.light_deg, st.light_azimuth_deg, aspect].join();
     if (key !== lastKey) { lastK = exposure(st, cam, light, aspect); lastKey = key; }
     const k = lastK;
-    const {prog, U} = program(Math.max(0, SHAPES.indexOf(st.shape)), st.model === "paper" ? 1 : 0);
+    const {prog, U} = program("point", shape, st.model === "paper" ? 1 : 0);
     gl.useProgram(prog);
-    gl.uniform3fv(U.eye, cam.eye); gl.uniform3fv(U.fwd, cam.fwd); gl.uniform3fv(U.right, cam.right);
-    gl.uniform3fv(U.up, cam.up); gl.uniform3fv(U.light, light);
-    gl.uniform1f(U.tanHalf, Math.tan(FOV / 2)); gl.uniform1f(U.aspect, aspect);
+    setCamera(U, cam, aspect);
+    gl.uniform3fv(U.light, light);
     gl.uniform1f(U.alpha, settings.roughness); gl.uniform1f(U.exposure, k);
-    gl.uniform1f(U.bendR, BEND_R); gl.uniform1f(U.bendPhi, BEND_PHI);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     return k;
   }
-  return {draw, gl, SHAPES};
+  // the displayed sRGB (0-255) at a canvas pixel (x right, y down from the top-left corner)
+  function pixel(x, y) {
+    const p = new Uint8Array(4);
+    gl.readPixels(Math.floor(x), canvas.height - 1 - Math.floor(y), 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, p);
+    return [p[0], p[1], p[2]];
+  }
+  return {draw, pixel, gl, SHAPES, lightings: ["point"].concat(env ? env.names : [])};
 }

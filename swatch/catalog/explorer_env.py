@@ -1,0 +1,251 @@
+"""The explorer's environment lighting: what the page needs to integrate the thin-film BRDF over
+an environment, computed by the engine (:mod:`swatch.env_shading`, :mod:`swatch.environment`).
+
+The page's live view under ``studio`` or ``uniform`` is the method of
+:mod:`swatch.env_shading` ported to WebGL: per pixel a fixed set of GGX visible-normal samples
+(``SAMPLES`` per view bin, the renderer's own set), the environment blurred per sample
+(octahedral maps, the renderer's blur levels), ``F`` at every sample's own ``θ_d`` from the
+explorer's colour table and the per-bin, per-channel level ``c = A / Σ w F`` with the dense
+directional albedo ``A = H F`` (``H``: the renderer's dense sample set spread onto the table's
+``cos θ_d`` nodes, :func:`swatch.env_shading.directional_albedo`). The browser re-implements none
+of it: it reads the samples, ``H`` and the maps from here and only multiplies and adds.
+
+**The page's split (so that a thickness change is one cheap pass).** The radiance of a pixel in
+view bin ``j`` is ``c_j ⊙ Σ_i w_i F(x_i) E_i`` (``x_i = cos θ_d`` of sample ``i``, ``E_i`` the
+environment in its direction). The environment part does not depend on the thickness, ``F`` only
+through ``x_i``, which is fixed per bin. ``F`` is replaced by its weighted least-squares
+projection onto polynomials of degree ``BASIS − 1`` in ``x`` over the bin's samples (weights
+``w_i``; orthonormal basis ``q_k`` from a QR factorisation per bin, embedded as ``u_ik = w_i
+q_k(x_i)``), so
+
+    radiance ≈ c_j ⊙ Σ_k p_jk M_k,   M_k = Σ_i u_ik E_i (per pixel),   p_jk = Σ_i u_ik F(x_i) (per bin).
+
+The page stores the ``BASIS`` moments ``M_k`` per pixel when the view, the shape or the lighting
+changes (one pass over the samples) and, per thickness, computes ``c_j p_jk`` for the 256 bins
+in JavaScript (a few thousand products) and shades every pixel with ``BASIS`` products. Constant
+functions lie in the basis, so a uniform environment gives exactly the directional albedo (the
+furnace test holds as in the renderer). Measured against the renderer's per-sample sum on 4 000
+random normal/view pairs in the studio box, 20–300 nm (``tests/test_catalog_explorer_env.py``):
+ΔE2000 max 0.16 with ``BASIS = 4`` (α = 0.3; 0.62 with 3, 0.06 with 5).
+
+**Frames.** The page's world has the plate's normal along +z and its camera azimuth 180° at the
+renderer's azimuth 0 (the +z side of :mod:`swatch.scene`); a page direction ``(x, y, z)`` is the
+environment direction ``(−y, z, −x)`` (a rotation), so the studio's soft boxes sit where they
+sit in ``swatch render``.
+
+**Encodings** (base64, little-endian): sample directions as int16 (``code / 32767``, angle
+error < 4e-5 rad), ``cos θ_d`` and ``w`` as uint16 with a per-channel scale (< 1e-3 / 65 of
+their maximum), ``u`` as int16 with a per-channel scale, ``H`` as uint16 with a per-column
+scale, levels as uint8, maps as IEEE half floats (relative error < 4.9e-4; the page uploads them
+as they are). Only neutral (grey) environments are embedded (the built-ins are): one channel.
+"""
+from __future__ import annotations
+
+import base64
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+
+from swatch.choices import LIGHTINGS
+from swatch.errors import SwatchError
+
+__all__ = ["BASIS", "LIGHTINGS", "FORMAT", "environment_data", "environment_data_cached", "decode_block",
+           "moment_weights"]
+
+#: Polynomial degree + 1 of the per-bin projection of F (module doc).
+BASIS = 4
+FORMAT = "swatch-explorer-environment"
+_VERSION = 1
+
+
+# -- encodings ------------------------------------------------------------------------------
+def _b64(a: np.ndarray) -> str:
+    return base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")
+
+
+def _block(values, kind: str) -> dict:
+    """One array as a block: ``int16`` / ``uint16`` codes with a per-channel (last axis) scale,
+    ``uint8`` integers or ``float16`` bits."""
+    v = np.asarray(values, dtype=np.float64)
+    if not np.all(np.isfinite(v)):
+        raise SwatchError("explorer environment: values must be finite")
+    out: dict = {"type": kind, "shape": list(v.shape)}
+    if kind == "uint8":
+        out["data"] = _b64(v.astype(np.uint8))
+        return out
+    if kind == "float16":
+        out["data"] = _b64(v.astype("<f2"))
+        return out
+    top = np.abs(v.reshape(-1, v.shape[-1])).max(axis=0)
+    full = 32767.0 if kind == "int16" else 65535.0
+    scale = np.where(top > 0, top / full, 1.0)
+    codes = np.round(v / scale)
+    out["scale"] = [float(s) for s in scale]
+    out["data"] = _b64(codes.astype("<i2" if kind == "int16" else "<u2"))
+    return out
+
+
+def decode_block(block: dict) -> np.ndarray:
+    """The float64 array of a block (the page's decoder, in Python for tests and the cache check)."""
+    kind = block["type"]
+    dtype = {"int16": "<i2", "uint16": "<u2", "uint8": "u1", "float16": "<f2"}[kind]
+    a = np.frombuffer(base64.b64decode(block["data"], validate=True), dtype=dtype).astype(np.float64)
+    a = a.reshape([int(s) for s in block["shape"]])
+    if "scale" in block:
+        a = a * np.asarray(block["scale"], dtype=np.float64)
+    return a
+
+
+# -- the sample set and its projection ---------------------------------------------------------
+def moment_weights(cos_d: np.ndarray, w: np.ndarray, basis: int = BASIS) -> np.ndarray:
+    """``u`` (M, N, basis): ``w_i q_k(x_i)`` with ``q_k`` orthonormal polynomials of degree < basis
+    under the weights ``w`` over each bin's samples (``cos_d``, ``w`` (M, N); ``x`` = cos θ_d
+    mapped to [−1, 1] over the bin's range). ``Σ_k (Σ_i u_ik F_i) (Σ_i u_ik E_i)`` is the
+    weighted sum ``Σ_i w_i P(x_i) E_i`` of the weighted least-squares projection ``P`` of ``F``."""
+    cd = np.asarray(cos_d, dtype=np.float64)
+    wt = np.asarray(w, dtype=np.float64)
+    lo = cd.min(axis=1, keepdims=True)
+    span = np.maximum(cd.max(axis=1, keepdims=True) - lo, 1e-9)
+    x = 2.0 * (cd - lo) / span - 1.0
+    sw = np.sqrt(np.maximum(wt, 0.0))
+    A = sw[..., None] * x[..., None] ** np.arange(basis)  # (M, N, K)
+    Q, _ = np.linalg.qr(A)
+    return sw[..., None] * Q
+
+
+def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int) -> tuple[dict, list[int]]:
+    from swatch import env_shading
+
+    ss = env_shading.sample_set(roughness_alpha)
+    level = maps.level_for(ss.sigma_deg)  # (M, N) index into the environment's LEVELS
+    used = sorted(int(k) for k in np.unique(level))
+    local = np.searchsorted(np.asarray(used), level)  # index into the embedded levels
+    u = moment_weights(ss.cos_d, ss.w)
+    H = env_shading._albedo_matrix(ss, int(cos_nodes))  # (M, K): albedo = H @ F table
+    return {
+        "bins": int(ss.bins), "samples": int(ss.n), "basis": BASIS, "roughness": float(roughness_alpha),
+        "bin_rule": "bins uniform in theta_v over [0, 90] deg; bin j = bins - 1 - floor(theta_v / (90 deg / bins)) "
+                    "(increasing cos theta_v)",
+        "directions": _block(ss.l.astype(np.float64), "int16"),
+        "level": _block(local, "uint8"),
+        "cos_theta_d": _block(ss.cos_d[..., None], "uint16"),
+        "weight": _block(ss.w[..., None], "uint16"),
+        "moment_weights": _block(u, "int16"),
+        "albedo_matrix": _block(H, "uint16"),
+        "cos_theta_d_nodes": int(cos_nodes),
+    }, used
+
+
+def _environment_block(env, used: list[int]) -> dict:
+    """The environment's blur levels ``used`` as one half-float atlas (padded maps side by side)."""
+    from swatch.environment import LEVELS, levels
+
+    maps = levels(env)
+    rad = env.radiance.reshape(-1, 3)
+    if not np.all(rad == rad[:, :1]):
+        raise SwatchError(f"environment {env.name!r} is not neutral; the explorer embeds grey environments only")
+    parts, meta, x0 = [], [], 0
+    for k in used:
+        n = int(maps.res[k])
+        off = int(maps.offset[k])
+        flat = maps.flat[off:off + (n + 2) ** 2].view(np.float32).reshape(n + 2, n + 2, 4)
+        parts.append(flat[..., 0])
+        meta.append({"sigma_deg": float(LEVELS[k][0]), "res": n, "x0": x0})
+        x0 += n + 2
+    height = max(p.shape[0] for p in parts)
+    atlas = np.zeros((height, x0), dtype=np.float32)
+    for p, m in zip(parts, meta, strict=True):
+        atlas[:p.shape[0], m["x0"]:m["x0"] + p.shape[1]] = p
+    return {"name": env.name, "description": env.description, "levels": meta, "atlas": _block(atlas, "float16")}
+
+
+def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
+    """The JSON block the page reads for its environment lighting (module doc)."""
+    from swatch.environment import get_environment, levels
+
+    envs = {}
+    for name in LIGHTINGS[1:]:
+        env = get_environment(name)
+        assert env is not None, "LIGHTINGS[1:] are environments"
+        envs[name] = env
+    # the blur level of a sample depends on its footprint only, not on the map: any environment gives it
+    samples, used = _sample_blocks(roughness_alpha, levels(next(iter(envs.values()))), cos_nodes)
+    return {
+        "format": FORMAT, "format_version": _VERSION,
+        "method": "GGX visible-normal samples per view bin (swatch.env_shading), F at each sample's theta_d from the "
+                  "colour table, per-sample blurred environment, level fixed by the dense directional albedo; F "
+                  f"projected per bin on polynomials of degree {BASIS - 1} (weighted least squares)",
+        "frame": "page direction (x, y, z) -> environment direction (-y, z, -x); the environment's +y is the plate's "
+                 "normal",
+        "units": "radiance; 1 = white diffuser facing the normal under the same environment (exposure 1)",
+        "lightings": list(LIGHTINGS),
+        "samples": samples,
+        "environments": {name: _environment_block(env, used) for name, env in envs.items()},
+    }
+
+
+# -- the build cache ---------------------------------------------------------------------------
+def _key(roughness_alpha: float, cos_nodes: int) -> str:
+    from importlib import metadata
+
+    import swatch
+
+    pkg = Path(swatch.__file__).resolve().parent
+    code = {f: hashlib.sha256((pkg / f).read_bytes()).hexdigest()
+            for f in ("env_shading.py", "environment.py", "microfacet.py", "catalog/explorer_env.py")}
+    blob = {"alpha": float(roughness_alpha), "nodes": int(cos_nodes), "code": code,
+            "numpy": metadata.version("numpy")}
+    return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
+
+
+def _valid(doc) -> bool:
+    """Whether a cached document (untrusted: read back from the catalog folder) is well formed."""
+    try:
+        if doc["format"] != FORMAT or doc["format_version"] != _VERSION or doc["lightings"] != list(LIGHTINGS):
+            return False
+        s = doc["samples"]
+        m, n = int(s["bins"]), int(s["samples"])
+        want = {"directions": (m, n, 3), "level": (m, n), "cos_theta_d": (m, n, 1), "weight": (m, n, 1),
+                "moment_weights": (m, n, BASIS), "albedo_matrix": (m, int(s["cos_theta_d_nodes"]))}
+        for name, shape in want.items():
+            a = decode_block(s[name])
+            if a.shape != shape or not np.all(np.isfinite(a)):
+                return False
+        n_levels = int(decode_block(s["level"]).max()) + 1
+        for e in doc["environments"].values():
+            atlas = decode_block(e["atlas"])
+            if atlas.ndim != 2 or len(e["levels"]) != n_levels or not np.all(np.isfinite(atlas)):
+                return False
+            for lv in e["levels"]:
+                if lv["x0"] + lv["res"] + 2 > atlas.shape[1] or lv["res"] + 2 > atlas.shape[0]:
+                    return False
+        return set(doc["environments"]) == set(LIGHTINGS[1:])
+    except (KeyError, TypeError, ValueError):
+        return False
+
+
+def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path | None) -> dict:
+    """:func:`environment_data`, from the build cache (``explorer-env-<key>.json``) when it holds a
+    well-formed entry for the same inputs and code, else computed and stored there."""
+    from swatch.limits import MAX_CACHE_ENTRY_BYTES
+    from swatch.safepath import is_regular_file
+
+    if cache is None:
+        return environment_data(roughness_alpha, cos_nodes)
+    path = cache / f"explorer-env-{_key(roughness_alpha, cos_nodes)}.json"
+    if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES:
+        try:
+            doc = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            doc = None
+        if _valid(doc):
+            return doc
+    doc = environment_data(roughness_alpha, cos_nodes)
+    from swatch.fileio import atomic_write_text
+
+    for stale in cache.glob("explorer-env-*.json"):
+        stale.unlink(missing_ok=True)
+    atomic_write_text(path, json.dumps(doc, separators=(",", ":")))  # key order kept: the page is byte-identical
+    return doc
