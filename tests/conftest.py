@@ -8,6 +8,7 @@ from __future__ import annotations
 import pytest
 
 SLOW_FILES = {"test_catalog_build.py", "test_catalog_browser.py", "test_catalog_explorer_browser.py",
+              "test_catalog_explorer_env_browser.py",
               "test_hardening.py", "test_hardening_runs.py", "test_presets.py", "test_designer_exports.py"}
 
 

@@ -18,8 +18,7 @@ import pytest
 
 from swatch import env_shading, environment
 from swatch.catalog.explorer import COS_NODES
-from swatch.catalog.explorer_env import (BASIS, decode_block, environment_data, environment_data_cached,
-                                         moment_weights)
+from swatch.catalog.explorer_env import BASIS, decode_block, environment_data, environment_data_cached, moment_weights
 from swatch.choices import LIGHTINGS
 from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.model import get_coating
