@@ -5,6 +5,10 @@ decoded, cards and live view drawn, sheet images loaded), median of 3 loads from
 ``explorer_frame_ms``: median time of one live-view frame while the thickness slider moves
 (an ``input`` event on the slider, the frame drawn at 800 × 600 and read back so the GPU work is
 included), 60 steps across the range after 15 untimed ones (warm-up). Target: <= 33 ms (30 frames per second) in software WebGL.
+``explorer_env_frame_ms``: the same under the ``studio`` environment (the shade pass: four moments per
+pixel, per-bin coefficients computed in JavaScript per thickness). ``explorer_env_gather_ms``: median
+time of a geometry change under ``studio`` (the gather pass over the 24 samples per pixel, then a
+frame), the view angle of the sphere stepped 0–60°.
 Skipped (a line saying so) when /usr/bin/chromium or Playwright is missing.
 """
 from __future__ import annotations
@@ -13,6 +17,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -35,6 +40,29 @@ FRAMES_JS = """() => {
   return [times[times.length >> 1], c.width, c.height];
 }"""
 
+GATHER_JS = """() => {
+  const times = [];
+  swatchCatalog.show({lighting: 'studio', shape: 'sphere', view_deg: 0});
+  for (let i = 0; i < 13; i++) {
+    const t0 = performance.now();
+    swatchCatalog.show({view_deg: 5 * i});
+    swatchCatalog.pixel({x: 0, y: 0});  // read back: the GPU work is included
+    times.push(performance.now() - t0);
+  }
+  times.sort((a, b) => a - b);
+  return times[times.length >> 1];
+}"""
+
+
+def _wait_for_api(page, timeout_s: float = 30.0) -> None:
+    """Poll for window.swatchCatalog with page.evaluate (the page's CSP forbids the eval behind
+    Playwright's wait_for_function; see tests/browser.py)."""
+    deadline = time.monotonic() + timeout_s
+    while not page.evaluate("() => window.swatchCatalog !== undefined"):
+        if time.monotonic() > deadline:
+            raise RuntimeError("the catalog page did not start")
+        page.wait_for_timeout(50)
+
 
 def run() -> list[str]:
     if not Path(CHROMIUM).exists():
@@ -50,18 +78,23 @@ def run() -> list[str]:
         url = (out / "index.html").resolve().as_uri()
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-            loads, frames = [], []
+            loads, frames, env_frames, gathers = [], [], [], []
             for _ in range(3):
                 page = browser.new_page(viewport={"width": 1280, "height": 900})
                 page.goto(url, wait_until="load")
-                page.wait_for_function("window.swatchCatalog !== undefined")
+                _wait_for_api(page)
                 loads.append(page.evaluate("performance.getEntriesByType('navigation')[0].loadEventEnd"))
                 ms, w, h = page.evaluate(FRAMES_JS)
                 assert (w, h) == (800, 600)
                 frames.append(ms)
+                page.evaluate("swatchCatalog.show({lighting: 'studio'})")
+                env_frames.append(page.evaluate(FRAMES_JS)[0])
+                gathers.append(page.evaluate(GATHER_JS))
                 page.close()
             browser.close()
-    return [f"explorer_load_ms={statistics.median(loads):.0f} explorer_frame_ms={statistics.median(frames):.1f}"]
+    return [f"explorer_load_ms={statistics.median(loads):.0f} explorer_frame_ms={statistics.median(frames):.1f} "
+            f"explorer_env_frame_ms={statistics.median(env_frames):.1f} "
+            f"explorer_env_gather_ms={statistics.median(gathers):.0f}"]
 
 
 if __name__ == "__main__":
