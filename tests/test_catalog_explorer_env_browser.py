@@ -193,3 +193,29 @@ def test_lighting_and_model_stay_consistent(page):
     assert err and "lighting must be one of point, uniform, studio" in err
     err = pg.evaluate("() => { try { swatchCatalog.pixel({x: -1, y: 0}); return null; } catch (e) { return e.message; } }")
     assert err and "on the canvas" in err
+
+
+def test_dragging_under_an_environment_refines_when_let_go(page):
+    """While the view is dragged the environment is gathered at half resolution; letting go draws
+    the full picture (the same as showing that view afresh)."""
+    pg, events, _ = page
+    pg.evaluate("swatchCatalog.show({lighting: 'studio', shape: 'sphere', thickness_nm: 140, view_deg: 10, "
+                "view_azimuth_deg: 180})")
+    grid = [{"x": x, "y": y} for x in range(150, 651, 25) for y in (150, 300, 450)]
+    before = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    box = pg.locator("#view").bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    pg.mouse.move(x, y)
+    pg.mouse.down()
+    pg.mouse.move(x + 30, y + 60, steps=3)
+    during = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    pg.mouse.up()
+    after = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    assert during != after  # the coarse picture, then the refined one
+    st = pg.evaluate("swatchCatalog.show({})")
+    assert st["view_deg"] > 20 and after != before
+    pg.evaluate("swatchCatalog.show({view_deg: 0})")
+    pg.evaluate("q => swatchCatalog.show(q)", {"view_deg": st["view_deg"], "view_azimuth_deg": st["view_azimuth_deg"]})
+    fresh = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    assert after == fresh
+    assert events["errors"] == []

@@ -184,8 +184,11 @@ def _tools(c: dict, env: dict | None = None) -> str:
     ref = c["reference_geometry"]
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
 <div class="stage"><canvas id="view" width="800" height="600" role="img" aria-label="live view of the swatch"></canvas>
-<p class="hint" id="view-note">Drag the picture to turn the view; the light stays fixed. Colours are the
-thin-film physics of this catalog (embedded table), shaded with the microfacet model.</p></div>
+<p class="hint" id="view-note">Drag the picture to turn the view; the lighting stays fixed. Colours are the
+thin-film physics of this catalog (embedded table), shaded with the microfacet model. Lighting: one point light
+(its angle on the slider, exposure from the picture) or an environment, the studio light box of the sheets'
+renders or uniform white, integrated over the microfacet lobe at exposure 1 (a white diffuser would be white),
+as <code>swatch render --environment</code>.</p></div>
 <div class="panel">
 <h2>Live view</h2>
 <form id="live-form" autocomplete="off">

@@ -56,9 +56,10 @@ void main() {
 const ENV_SHADE = `
 uniform highp usampler2D mom;
 uniform sampler2D coef;
+uniform int lod;  // the moments at 1 / 2^lod of the resolution (while the view is dragged)
 out vec4 outColor;
 void main() {
-  uvec4 q = texelFetch(mom, ivec2(gl_FragCoord.xy), 0);
+  uvec4 q = texelFetch(mom, ivec2(gl_FragCoord.xy) >> lod, 0);
   vec3 lin = vec3(BG);
   if (q.w != 0u) {
     vec2 hw = unpackHalf2x16(q.w);
@@ -166,9 +167,11 @@ function makeEnvLight(gl, E, C) {
     gl.uniform1i(U.bins, M);
   }
   function setupShade(prog, U) { gl.uniform1i(U.mom, UNIT.mom); gl.uniform1i(U.coef, UNIT.coef); }
-  // the gather pass into the moments target (the caller has set the camera uniforms)
-  function gather(name, U, wd, h) {
+  // the gather pass into the moments target (the caller has set the camera uniforms), at 1 / 2^lod of
+  // the canvas resolution
+  function gather(name, U, wd, h, lod) {
     const env = maps[name];
+    wd = Math.max(1, wd >> lod); h = Math.max(1, h >> lod);
     target(wd, h);
     gl.activeTexture(gl.TEXTURE0 + UNIT.atlas);
     gl.bindTexture(gl.TEXTURE_2D, env.tex);
@@ -182,5 +185,5 @@ function makeEnvLight(gl, E, C) {
   }
   return {gather, setThickness, setupGather, setupShade, names: E.lightings.filter((n) => n in maps), samples: N,
     gatherSource: "#define NSAMPLES " + N + "\n" + ENV_GATHER, shadeSource: ENV_SHADE,
-    uniforms: ["samp", "wts", "atlas", "levels", "atlasSize", "bins", "mom", "coef"]};
+    uniforms: ["samp", "wts", "atlas", "levels", "atlasSize", "bins", "mom", "coef", "lod"]};
 }

@@ -93,8 +93,9 @@ function readout() {
   $("l-out").textContent = fmt(state.light_deg, 1) + "°";
   $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
 }
+let drag = null;
 function draw() {
-  if (view) state.exposure = view.draw(state);
+  if (view) state.exposure = view.draw(drag ? Object.assign({coarse: true}, state) : state); // coarse while dragged
   readout();
 }
 function syncInputs() {
@@ -141,13 +142,12 @@ $("live-form").addEventListener("input", (e) => {
   else if (id === "lighting") show({lighting: e.target.value});
 });
 $("live-form").addEventListener("submit", (e) => e.preventDefault());
-let drag = null;
 canvas.addEventListener("pointerdown", (e) => { drag = [e.clientX, e.clientY, state.view_azimuth_deg, state.view_deg]; canvas.setPointerCapture(e.pointerId); });
 canvas.addEventListener("pointermove", (e) => {
   if (!drag) return;
   show({view_azimuth_deg: drag[2] - (e.clientX - drag[0]) * 0.5, view_deg: drag[3] + (e.clientY - drag[1]) * 0.3});
 });
-canvas.addEventListener("pointerup", () => { drag = null; });
+canvas.addEventListener("pointerup", () => { drag = null; draw(); }); // refined when let go
 
 // -- names (swatch.catalog.names.NAME_RULES, embedded) -----------------------------------------
 function nameOf(lch) {

@@ -206,19 +206,22 @@ function makeView(canvas, C, settings, envData) {
     gl.uniform1f(U.tanHalf, Math.tan(FOV / 2)); gl.uniform1f(U.aspect, aspect);
     gl.uniform1f(U.bendR, BEND_R); gl.uniform1f(U.bendPhi, BEND_PHI);
   }
-  // under an environment: the gather pass when the geometry or the lighting changed, then the shade pass
+  // under an environment: the gather pass when the geometry or the lighting changed (at half the
+  // resolution while the view is dragged: a quarter of the work), then the shade pass
   function drawEnvironment(st, cam, shape, w, h) {
-    const key = [shape, st.view_deg, st.view_azimuth_deg, st.lighting, w, h].join();
+    const lod = st.coarse ? 1 : 0;
+    const key = [shape, st.view_deg, st.view_azimuth_deg, st.lighting, w, h, lod].join();
     if (key !== lastGather) {
       const g = program("gather", shape, 0);
       gl.useProgram(g.prog);
       setCamera(g.U, cam, w / h);
-      env.gather(st.lighting, g.U, w, h);
+      env.gather(st.lighting, g.U, w, h, lod);
       lastGather = key;
     }
     env.setThickness(st.thickness_nm);
-    const {prog} = program("shade", 0, 0);
+    const {prog, U} = program("shade", 0, 0);
     gl.useProgram(prog);
+    gl.uniform1i(U.lod, lod);
     gl.viewport(0, 0, w, h);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     return 1;  // exposure 1: the white diffuser under the same environment is display white
