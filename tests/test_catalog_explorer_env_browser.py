@@ -53,22 +53,27 @@ def built(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def page(built):
+def playwright(built):
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        ctx = browser.new_context(viewport={"width": 1280, "height": 900})
-        pg = ctx.new_page()
-        events: dict = {"errors": [], "requests": []}
-        pg.on("pageerror", lambda e: events["errors"].append(str(e)))
-        pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
-        pg.on("request", lambda r: events["requests"].append(r.url))
-        pg.goto((built / "index.html").resolve().as_uri())
-        wait_until(pg, "() => window.swatchCatalog !== undefined")
-        yield pg, events, built
-        ctx.close()
-        browser.close()
+        yield p
+
+
+@pytest.fixture(scope="module")
+def page(playwright, built):
+    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+    ctx = browser.new_context(viewport={"width": 1280, "height": 900})
+    pg = ctx.new_page()
+    events: dict = {"errors": [], "requests": []}
+    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
+    pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
+    pg.on("request", lambda r: events["requests"].append(r.url))
+    pg.goto((built / "index.html").resolve().as_uri())
+    wait_until(pg, "() => window.swatchCatalog !== undefined")
+    yield pg, events, built
+    ctx.close()
+    browser.close()
 
 
 def _centre(pg) -> np.ndarray:
@@ -220,3 +225,22 @@ def test_dragging_under_an_environment_refines_when_let_go(page):
     fresh = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
     assert after == fresh
     assert events["errors"] == []
+
+
+def test_without_webgl_only_the_point_light_is_offered(playwright, built):
+    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=[*ARGS, "--disable-3d-apis"])
+    pg = browser.new_page()
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto((built / "index.html").resolve().as_uri())
+    wait_until(pg, "() => window.swatchCatalog !== undefined")
+    assert pg.evaluate("swatchCatalog.lightings") == ["point"]
+    assert pg.locator("#lighting").is_disabled()
+    assert pg.locator("#lighting option").count() == 1
+    assert pg.evaluate("swatchCatalog.show({lighting: 'point', thickness_nm: 80}).lighting") == "point"
+    err = pg.evaluate("() => { try { swatchCatalog.show({lighting: 'studio'}); return null; } "
+                      "catch (e) { return e.message; } }")
+    assert err and "one of point" in err
+    assert "no WebGL2" in pg.locator("#view-note").text_content()
+    assert errors == []
+    browser.close()

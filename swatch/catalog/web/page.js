@@ -76,7 +76,11 @@ const state = {thickness_nm: swatches.length ? swatches[0].thickness_nm : C.rang
 const canvas = $("view");
 let view = null;
 try { view = makeView(canvas, C, {roughness: T.render.roughness}, ENV); } catch (e) { view = null; console.warn(String(e)); }
-if (!view) $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
+if (!view) {
+  $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
+  $("lighting").disabled = true;
+}
+for (const o of [...$("lighting").options]) if (!(view ? view.lightings : ["point"]).includes(o.value)) o.remove();
 const clampT = (d) => Math.min(Math.max(d, C.range[0]), C.range[1]);
 function readout() {
   const c = C.colorAt(state);
@@ -122,7 +126,8 @@ function show(q) {
     if (q.model === "paper") state.lighting = "point"; // environments integrate the microfacet BRDF
   }
   if (q.lighting !== undefined) {
-    if (!view || !view.lightings.includes(q.lighting)) throw new Error("show: lighting must be one of " + (view ? view.lightings.join(", ") : "point"));
+    const allowed = view ? view.lightings : ["point"];
+    if (!allowed.includes(q.lighting)) throw new Error("show: lighting must be one of " + allowed.join(", "));
     state.lighting = q.lighting;
     if (q.lighting !== "point") state.model = "microfacet";
   }
