@@ -143,5 +143,9 @@ def test_cache_is_reused_and_a_bad_entry_recomputed(tmp_path):
     entries[0].write_text(json.dumps(doc), encoding="utf-8")
     c = environment_data_cached(0.3, COS_NODES, tmp_path)
     assert json.dumps(c, separators=(",", ":")) == fresh
+    doc = json.loads(entries[0].read_text(encoding="utf-8"))
+    doc["environments"]["studio"]["levels"][0]["x0"] = -50  # would read outside its map
+    entries[0].write_text(json.dumps(doc), encoding="utf-8")
+    assert json.dumps(environment_data_cached(0.3, COS_NODES, tmp_path), separators=(",", ":")) == fresh
     entries[0].write_text("{not json", encoding="utf-8")
     assert json.dumps(environment_data_cached(0.3, COS_NODES, tmp_path), separators=(",", ":")) == fresh

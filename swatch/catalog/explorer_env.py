@@ -88,7 +88,19 @@ def _block(values, kind: str) -> dict:
 
 
 def decode_block(block: dict) -> np.ndarray:
-    """The float64 array of a block (the page's decoder, in Python for tests and the cache check)."""
+    """The values of an embedded block (the page's decoder, in Python for tests and the cache check).
+
+    Parameters
+    ----------
+    block : dict
+        ``{"type": "int16" | "uint16" | "uint8" | "float16", "shape", "data"`` (base64) and, for the
+        16-bit integer types, ``"scale"`` (one factor per channel of the last axis)``}``.
+
+    Returns
+    -------
+    numpy.ndarray of float64, shape ``block["shape"]``
+        ``code × scale`` (integer types) or the half floats' values, in the block's own units.
+    """
     kind = block["type"]
     dtype = {"int16": "<i2", "uint16": "<u2", "uint8": "u1", "float16": "<f2"}[kind]
     a = np.frombuffer(base64.b64decode(block["data"], validate=True), dtype=dtype).astype(np.float64)
@@ -100,10 +112,26 @@ def decode_block(block: dict) -> np.ndarray:
 
 # -- the sample set and its projection ---------------------------------------------------------
 def moment_weights(cos_d: np.ndarray, w: np.ndarray, basis: int = BASIS) -> np.ndarray:
-    """``u`` (M, N, basis): ``w_i q_k(x_i)`` with ``q_k`` orthonormal polynomials of degree < basis
-    under the weights ``w`` over each bin's samples (``cos_d``, ``w`` (M, N); ``x`` = cos θ_d
-    mapped to [−1, 1] over the bin's range). ``Σ_k (Σ_i u_ik F_i) (Σ_i u_ik E_i)`` is the
-    weighted sum ``Σ_i w_i P(x_i) E_i`` of the weighted least-squares projection ``P`` of ``F``."""
+    """The weights of the per-bin projection of F (module doc).
+
+    ``Σ_k (Σ_i u_ik F_i)(Σ_i u_ik E_i)`` is ``Σ_i w_i P(x_i) E_i`` with ``P`` the weighted
+    least-squares projection of ``F`` on polynomials of degree < ``basis`` in ``x`` (``cos θ_d``
+    mapped to [−1, 1] over each bin's samples).
+
+    Parameters
+    ----------
+    cos_d : array_like, shape (M, N)
+        ``cos θ_d`` of each bin's samples (dimensionless).
+    w : array_like, shape (M, N)
+        The samples' weights ``G2/G1 / N`` (≥ 0, dimensionless).
+    basis : int
+        Number of polynomials (degree + 1).
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, N, basis)
+        ``u_ik = w_i q_k(x_i)``, ``q_k`` orthonormal under the weights ``w`` (QR per bin).
+    """
     cd = np.asarray(cos_d, dtype=np.float64)
     wt = np.asarray(w, dtype=np.float64)
     lo = cd.min(axis=1, keepdims=True)
@@ -162,7 +190,24 @@ def _environment_block(env, used: list[int]) -> dict:
 
 
 def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
-    """The JSON block the page reads for its environment lighting (module doc)."""
+    """The JSON block the page reads for its environment lighting (module doc).
+
+    Parameters
+    ----------
+    roughness_alpha : float
+        GGX ``α`` of the catalog's renders (in (0, 1]).
+    cos_nodes : int
+        Nodes of the colour table's uniform ``cos θ_d`` axis on [0, 1]
+        (:data:`swatch.catalog.explorer.COS_NODES`): the albedo matrix maps the table's row to the
+        directional albedo per view bin.
+
+    Returns
+    -------
+    dict
+        ``samples`` (bins, samples, basis, the encoded sample set, projection weights and albedo
+        matrix) and ``environments`` (per built-in environment its blur levels and half-float
+        atlas, radiance with 1 = a white diffuser facing the normal reflects 1), JSON-ready.
+    """
     from swatch.environment import get_environment, levels
 
     envs = {}
@@ -219,7 +264,10 @@ def _valid(doc) -> bool:
             if atlas.ndim != 2 or len(e["levels"]) != n_levels or not np.all(np.isfinite(atlas)):
                 return False
             for lv in e["levels"]:
-                if lv["x0"] + lv["res"] + 2 > atlas.shape[1] or lv["res"] + 2 > atlas.shape[0]:
+                x0, res = lv["x0"], lv["res"]
+                if not (isinstance(x0, int) and isinstance(res, int) and x0 >= 0 and res >= 1):
+                    return False
+                if x0 + res + 2 > atlas.shape[1] or res + 2 > atlas.shape[0]:
                     return False
         return set(doc["environments"]) == set(LIGHTINGS[1:])
     except (KeyError, TypeError, ValueError):
@@ -227,8 +275,23 @@ def _valid(doc) -> bool:
 
 
 def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path | None) -> dict:
-    """:func:`environment_data`, from the build cache (``explorer-env-<key>.json``) when it holds a
-    well-formed entry for the same inputs and code, else computed and stored there."""
+    """:func:`environment_data`, from the build cache when it holds a well-formed entry.
+
+    Parameters
+    ----------
+    roughness_alpha, cos_nodes
+        As :func:`environment_data`.
+    cache : pathlib.Path or None
+        The catalog's cache folder (``explorer-env-<key>.json``, the key a hash of the inputs,
+        the code it depends on and numpy's version); None computes without caching.
+
+    Returns
+    -------
+    dict
+        The same document as :func:`environment_data` (read back with its key order, so the page
+        is byte-identical whether computed or cached). An entry that does not decode to the
+        expected shapes (the folder is untrusted) is recomputed and replaced.
+    """
     from swatch.limits import MAX_CACHE_ENTRY_BYTES
     from swatch.safepath import is_regular_file
 
