@@ -1,6 +1,8 @@
 """The explorer's embedded colour table against the direct spectral computation."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import colour
 import numpy as np
 import pytest
@@ -118,3 +120,28 @@ def test_cards_flag_out_of_gamut_chips_and_carry_p3():
     assert np.allclose([c["p3"] for c in chips], want, atol=1e-4)
     n_multi_out = sum(not v for c in chips for v in c["multi_in_srgb_gamut"].values())
     assert page.count('<span class="out-of-gamut"') == n_multi_out
+
+
+def test_table_follows_the_process_film_index_scale(tmp_path):
+    """Regression: the table ignored the process profile's film index scale, so for a calibrated
+    line the page's colours and matches differed from the cards (catalog.json records)."""
+    from swatch.catalog.records import compute
+
+    profile = (Path("tables/processes/titanium-fujii2019.toml").read_text(encoding="utf-8")
+               .replace('name = "titanium-fujii2019"', 'name = "scaled-line"')
+               .replace("film_index_scale = 1.0", "film_index_scale = 1.12"))
+    (tmp_path / "line.toml").write_text(profile, encoding="utf-8")
+    (tmp_path / "spec.toml").write_text('name = "scaled"\nprocess = "line.toml"\n[thickness]\nlist_nm = [60, 140]\n',
+                                        encoding="utf-8")
+    spec, _ = load_spec(tmp_path / "spec.toml")
+    assert spec.film_index_scale == pytest.approx(1.12)
+    wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
+    t = explorer_data(spec, wl)
+    ref = t["reference"]
+    col = decode(ref["values"])
+    d = ref["thickness_nm"]["start"] + ref["thickness_nm"]["step"] * np.arange(ref["thickness_nm"]["count"])
+    cm = get_colorimeter(wl, spec.illuminant, spec.observer)
+    for rec in compute(spec).records:
+        i = int(np.argmin(np.abs(d - rec["thickness_nm"])))
+        assert d[i] == pytest.approx(rec["thickness_nm"])
+        assert float(delta_E_00(cm.Lab(col[i, :3]), np.asarray(rec["Lab"]))) < 0.02
