@@ -54,6 +54,7 @@ __all__ = [
     "shade",
     "shade_reference",
     "directional_albedo",
+    "albedo_matrix",
     "local_frame",
 ]
 
@@ -161,7 +162,7 @@ def _lookup_table(table, cos_d):
     return table[i] * (1.0 - f) + table[i + 1] * f
 
 
-def _albedo_matrix(samples: SampleSet, k: int) -> np.ndarray:
+def albedo_matrix(samples: SampleSet, k: int) -> np.ndarray:
     """(M, K): the dense set's weights spread onto the K nodes of a uniform cos θ_d table by the
     linear-interpolation weights, so that the level is one product with any table (cached)."""
     key = ("albedo", int(k))
@@ -180,7 +181,7 @@ def directional_albedo(samples: SampleSet, f_table) -> np.ndarray:
     """``∫ f cos θ_l dω_l`` (M, 3) per view bin, from the dense set, for ``F``'s RGB table
     ``f_table`` (K, 3) uniform over cos θ_d in [0, 1] (linear interpolation)."""
     f_table = np.asarray(f_table, dtype=np.float64)
-    return _albedo_matrix(samples, f_table.shape[0]) @ f_table
+    return albedo_matrix(samples, f_table.shape[0]) @ f_table
 
 
 def band_weights(samples: SampleSet, f_table) -> np.ndarray:

@@ -423,3 +423,25 @@ def test_exiftool_and_pngcheck_read_the_exports(tiny_catalog):
     assert t["IFD0:BitsPerSample"] == "16 16 16" and t["IFD0:XResolution"] == 300
     assert t["IFD0:ResolutionUnit"] == "inches" and "sRGB" in t["ICC_Profile:ProfileDescription"]
     assert t["IFD0:ImageDescription"].startswith("S002 Ti 75.5 nm")
+
+
+def test_cards_link_their_print_chips(tiny_catalog):
+    """Each card links its print chip (PNG and TIFF), and the links name files in the catalog."""
+    import html.parser
+
+    class Links(html.parser.HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.hrefs = []
+
+        def handle_starttag(self, tag, attrs):
+            if tag == "a":
+                self.hrefs.append(dict(attrs).get("href"))
+
+    doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
+    parser = Links()
+    parser.feed((tiny_catalog / "index.html").read_text(encoding="utf-8"))
+    for rec in doc["swatches"]:
+        for key in ("png", "tiff"):
+            name = rec["print_chip"][key]
+            assert name in parser.hrefs and (tiny_catalog / name).is_file()

@@ -151,7 +151,7 @@ def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int) -> tuple[dict, 
     used = sorted(int(k) for k in np.unique(level))
     local = np.searchsorted(np.asarray(used), level)  # index into the embedded levels
     u = moment_weights(ss.cos_d, ss.w)
-    H = env_shading._albedo_matrix(ss, int(cos_nodes))  # (M, K): albedo = H @ F table
+    H = env_shading.albedo_matrix(ss, int(cos_nodes))  # (M, K): albedo = H @ F table
     return {
         "bins": int(ss.bins), "samples": int(ss.n), "basis": BASIS, "roughness": float(roughness_alpha),
         "bin_rule": "bins uniform in theta_v over [0, 90] deg; bin j = bins - 1 - floor(theta_v / (90 deg / bins)) "

@@ -124,6 +124,10 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
         out.append("</tbody></table></details>")
     out.append(f'<div class="links"><a href="{e(s["sheet_png"])}">sheet {s["sheet"]} (PNG)</a>'
                f'<a href="{e(s["sheet_exr"])}">EXR</a></div>')
+    chip = s.get("print_chip")
+    if chip:  # the swatch's print chip: 16-bit sRGB, at print size
+        out.append(f'<div class="links chips"><span>print chip {_fmt(chip["size_mm"], 0)} mm, {chip["dpi"]} dpi:</span>'
+                   f'<a href="{e(chip["png"])}">PNG</a><a href="{e(chip["tiff"])}">TIFF</a></div>')
     p = s.get("presets")
     if p:  # 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°; title: 0–45°)
         kinds = (("gltf", "glTF", "gltf_max_delta_E_00"), ("blender", "Blender", "blender_max_delta_E_00"),
