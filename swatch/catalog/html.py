@@ -208,7 +208,7 @@ as <code>swatch render --environment</code>.</p></div>
 <label><span>view angle <strong id="w-out"></strong></span><input id="view-deg" type="range" min="0" max="85" step="0.5"></label>
 </form>
 <div class="readout">
-<div class="chip" id="state-chip"></div><div><strong>this light and view</strong> <span id="state-gamut" class="gamut-note">(outside sRGB)</span><br><span id="state-text" class="num"></span></div>
+<div class="chip" id="state-chip"></div><div><strong id="state-label">this light and view</strong> <span id="state-gamut" class="gamut-note">(outside sRGB)</span><br><span id="state-text" class="num"></span></div>
 <div class="chip" id="ref-chip"></div><div><strong>reference {html.escape(ref["name"])}</strong><br><span id="ref-text" class="num"></span></div>
 </div>
 <div><button type="button" id="pin">pin for comparison</button></div>

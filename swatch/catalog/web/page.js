@@ -87,6 +87,10 @@ function readout() {
   paint($("state-chip"), c);
   $("state-gamut").hidden = c.in_srgb_gamut;
   const lch = C.LCh(c.Lab);
+  // under an environment there is no one light: the readout is the facet colour of the point-light
+  // geometry the (greyed) light slider still sets, and says so
+  $("state-label").textContent = state.lighting === "point" ? "this light and view"
+    : "facet at light " + fmt(state.light_deg, 0) + "°, view " + fmt(state.view_deg, 0) + "° (no single light under " + state.lighting + ")";
   $("state-text").textContent = "L*a*b* " + c.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + c.hex +
     " · θd " + fmt(c.theta_d_deg, 1) + "° · " + nameOf(lch);
   const r = C.refColour(state.thickness_nm);
