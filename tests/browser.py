@@ -38,3 +38,50 @@ def wait_until(page, function_js: str, timeout_s: float = 30.0) -> None:
         if time.monotonic() > deadline:
             raise AssertionError(f"timed out after {timeout_s} s waiting for {function_js}")
         page.wait_for_timeout(50)
+
+
+#: Chromium flags for the WebGL pages: headless, SwiftShader WebGL2, nothing fetched in the background.
+WEBGL_ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
+              "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+
+
+#: A small catalog for the page tests (20–300 nm every 70 nm, 64 px renders, one sheet of 4); ``{name}``.
+SMALL_CATALOG_SPEC = """
+name = "{name}"
+[thickness]
+start_nm = 20
+stop_nm = 300
+step_nm = 70
+[render]
+size_px = 64
+[sheet]
+columns = 4
+rows = 1
+"""
+
+
+def build_test_catalog(tmp_path_factory, name: str, spec_text: str) -> Path:
+    """Build a catalog from ``spec_text`` in a fresh temporary folder (skipping without Chromium)."""
+    from swatch.catalog.build import build_catalog
+
+    require_chromium()
+    root = tmp_path_factory.mktemp(name)
+    spec = root / "spec.toml"
+    spec.write_text(spec_text, encoding="utf-8")
+    build_catalog(spec, root / "out", jobs=1)
+    return root / "out"
+
+
+def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900)):
+    """A new context and page on ``out/index.html``: (context, page, events) where events collects
+    page errors, console errors and warnings, and every request URL."""
+    ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]})
+    pg = ctx.new_page()
+    events: dict = {"errors": [], "requests": []}
+    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
+    pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
+    pg.on("request", lambda r: events["requests"].append(r.url))
+    pg.goto((out / "index.html").resolve().as_uri())
+    if js:
+        wait_until(pg, "() => window.swatchCatalog !== undefined")
+    return ctx, pg, events

@@ -13,42 +13,23 @@ import numpy as np
 import pytest
 
 import swatch  # noqa: F401
-from swatch.catalog.build import build_catalog
 from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.materials import wavelength_grid
 from swatch.model import get_coating
-from tests.browser import CHROMIUM, require_chromium, wait_until
+from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, build_test_catalog, open_catalog_page
 from tests.cli_helpers import run_json
 
-ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
-        "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+ARGS = WEBGL_ARGS
 
 pytestmark = pytest.mark.browser
 
-SPEC = """
-name = "explorer test"
-[thickness]
-start_nm = 20
-stop_nm = 300
-step_nm = 70
-[render]
-size_px = 64
-[sheet]
-columns = 4
-rows = 1
-"""
+SPEC = SMALL_CATALOG_SPEC.format(name="explorer test")
 RANGE = (20.0, 300.0)
 
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    require_chromium()
-    root = tmp_path_factory.mktemp("explorer")
-    spec = root / "explorer.toml"
-    spec.write_text(SPEC, encoding="utf-8")
-    out = root / "out"
-    build_catalog(spec, out, jobs=1)
-    return out
+    return build_test_catalog(tmp_path_factory, "explorer", SPEC)
 
 
 @pytest.fixture(scope="module")
@@ -61,17 +42,7 @@ def browser():
         b.close()
 
 
-def _open(browser, out, js=True, viewport=(1280, 900)):
-    ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]})
-    pg = ctx.new_page()
-    events = {"errors": [], "requests": []}
-    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
-    pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
-    pg.on("request", lambda r: events["requests"].append(r.url))
-    pg.goto((out / "index.html").resolve().as_uri())
-    if js:
-        wait_until(pg, "() => window.swatchCatalog !== undefined")
-    return ctx, pg, events
+_open = open_catalog_page
 
 
 @pytest.fixture(scope="module")

@@ -15,26 +15,13 @@ import OpenImageIO as oiio
 import pytest
 from test_environment import _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal_view
 
-from swatch.catalog.build import build_catalog
 from swatch.colorimetry import delta_E_00
 from swatch.display import KNEE, tone
-from tests.browser import CHROMIUM, require_chromium, wait_until
+from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, build_test_catalog, open_catalog_page, wait_until
 from tests.cli_helpers import run_swatch
 
-ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
-        "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
-SPEC = """
-name = "environment test"
-[thickness]
-start_nm = 20
-stop_nm = 300
-step_nm = 70
-[render]
-size_px = 64
-[sheet]
-columns = 4
-rows = 1
-"""
+ARGS = WEBGL_ARGS
+SPEC = SMALL_CATALOG_SPEC.format(name="environment test")
 THICKNESSES = (30.0, 80.0, 160.0)
 BG = (118, 118, 118)  # linear grey 0.18, sRGB-encoded
 
@@ -43,13 +30,7 @@ pytestmark = pytest.mark.browser
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    require_chromium()
-    root = tmp_path_factory.mktemp("explorer-env")
-    spec = root / "spec.toml"
-    spec.write_text(SPEC, encoding="utf-8")
-    out = root / "out"
-    build_catalog(spec, out, jobs=1)
-    return out
+    return build_test_catalog(tmp_path_factory, "explorer-env", SPEC)
 
 
 @pytest.fixture(scope="module")
@@ -63,14 +44,7 @@ def playwright(built):
 @pytest.fixture(scope="module")
 def page(playwright, built):
     browser = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-    ctx = browser.new_context(viewport={"width": 1280, "height": 900})
-    pg = ctx.new_page()
-    events: dict = {"errors": [], "requests": []}
-    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
-    pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
-    pg.on("request", lambda r: events["requests"].append(r.url))
-    pg.goto((built / "index.html").resolve().as_uri())
-    wait_until(pg, "() => window.swatchCatalog !== undefined")
+    ctx, pg, events = open_catalog_page(browser, built)
     yield pg, events, built
     ctx.close()
     browser.close()
