@@ -134,6 +134,12 @@ def test_slider_moves_the_live_view_with_the_physics(page):
     want_rgb = [int(want[i:i + 2], 16) for i in (1, 3, 5)]
     assert max(abs(a - b) for a, b in zip(pink, want_rgb, strict=True)) <= 3
     assert pg.locator("#t-out").text_content() == "140.0 nm"
+    # the voltage slider: 25 V is 50.8 nm through the process's growth law (2.032 nm/V), blue again
+    assert pg.eval_on_selector("#voltage-range", "e => Number(e.value)") == pytest.approx(140 / 2.032, abs=0.05)
+    pg.eval_on_selector("#voltage-range", "e => { e.value = 25; e.dispatchEvent(new Event('input', {bubbles: true})); }")
+    assert pg.locator("#t-out").text_content() == "50.8 nm" and pg.locator("#v-out").text_content() == "25.0 V"
+    assert _canvas_centre(pg) == blue
+    pg.eval_on_selector("#thickness", "e => { e.value = 140; e.dispatchEvent(new Event('input', {bubbles: true})); }")
     for shape in ("bent sheet", "sphere"):
         pg.select_option("#shape", shape)
         assert _canvas_centre(pg) != [118, 118, 118]  # something drawn over the grey background

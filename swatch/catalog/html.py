@@ -197,7 +197,9 @@ as <code>swatch render --environment</code>.</p></div>
 <h2>Live view</h2>
 <form id="live-form" autocomplete="off">
 <label><span>thickness <strong id="t-out"></strong> · voltage <strong id="v-out"></strong></span>
-<input id="thickness" type="range" step="0.1"></label>
+<input id="thickness" type="range" step="0.1" aria-label="thickness (nm)"></label>
+<label id="voltage-range-label"><span>voltage (through the process's growth law)</span>
+<input id="voltage-range" type="range" step="0.05" aria-label="voltage (V)"></label>
 <div class="pair"><label>voltage V<input id="voltage" type="number" step="0.1"></label>
 <label>shape<select id="shape"><option value="plate">plate</option><option value="bent sheet">bent sheet</option>
 <option value="sphere">sphere</option></select></label>

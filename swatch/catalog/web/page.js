@@ -108,6 +108,7 @@ function draw() {
 }
 function syncInputs() {
   $("thickness").value = state.thickness_nm; $("voltage").value = growth === null ? "" : fmt(toV(state.thickness_nm), 2);
+  if (growth !== null) $("voltage-range").value = toV(state.thickness_nm);
   $("light").value = state.light_deg; $("view-deg").value = state.view_deg;
   $("shape").value = state.shape; $("model").value = state.model; $("lighting").value = state.lighting;
   $("light").disabled = state.lighting !== "point"; // an environment lights from everywhere
@@ -140,9 +141,13 @@ function show(q) {
   return Object.assign({}, state);
 }
 $("thickness").min = C.range[0]; $("thickness").max = C.range[1];
+// finishers set a voltage: a second slider over the same range through the growth law
+if (growth === null) $("voltage-range-label").hidden = true;
+else { $("voltage-range").min = Math.min(toV(C.range[0]), toV(C.range[1])); $("voltage-range").max = Math.max(toV(C.range[0]), toV(C.range[1])); }
 $("live-form").addEventListener("input", (e) => {
   const id = e.target.id;
   if (id === "thickness") show({thickness_nm: e.target.value});
+  else if (id === "voltage-range") show({voltage_V: e.target.value});
   else if (id === "voltage") { if (e.target.value !== "" && growth !== null) { state.thickness_nm = clampT(fromV(Number(e.target.value))); $("thickness").value = state.thickness_nm; draw(); } }
   else if (id === "light") show({light_deg: e.target.value});
   else if (id === "view-deg") show({view_deg: e.target.value});
