@@ -139,6 +139,14 @@ def test_slider_moves_the_live_view_with_the_physics(page):
     pg.eval_on_selector("#voltage-range", "e => { e.value = 25; e.dispatchEvent(new Event('input', {bubbles: true})); }")
     assert pg.locator("#t-out").text_content() == "50.8 nm" and pg.locator("#v-out").text_content() == "25.0 V"
     assert _canvas_centre(pg) == blue
+    # the light azimuth slider: the light swings round the normal; the readout's θd follows colorAt
+    pg.evaluate("swatchCatalog.show({view_deg: 30})")
+    pg.eval_on_selector("#light-azimuth", "e => { e.value = 90; e.dispatchEvent(new Event('input', {bubbles: true})); }")
+    assert pg.locator("#la-out").text_content() == "90°"
+    turned = pg.evaluate("swatchCatalog.colorAt({thickness_nm: 50.8, light_deg: 45, view_deg: 30, light_azimuth_deg: 90, "
+                         "view_azimuth_deg: 180}).hex")
+    assert turned in pg.locator("#state-text").text_content()
+    pg.evaluate("swatchCatalog.show({view_deg: 0, light_azimuth_deg: 0})")
     pg.eval_on_selector("#thickness", "e => { e.value = 140; e.dispatchEvent(new Event('input', {bubbles: true})); }")
     for shape in ("bent sheet", "sphere"):
         pg.select_option("#shape", shape)

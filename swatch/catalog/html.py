@@ -207,6 +207,7 @@ as <code>swatch render --environment</code>.</p></div>
 <option value="paper">paper (facet colour only)</option></select></label></div>
 <div class="pair">{_lighting_select(env)}</div>
 <label><span>light angle <strong id="l-out"></strong></span><input id="light" type="range" min="0" max="85" step="0.5"></label>
+<label><span>light azimuth <strong id="la-out"></strong></span><input id="light-azimuth" type="range" min="-180" max="180" step="1"></label>
 <label><span>view angle <strong id="w-out"></strong></span><input id="view-deg" type="range" min="0" max="85" step="0.5"></label>
 </form>
 <div class="readout">

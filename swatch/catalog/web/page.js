@@ -99,6 +99,7 @@ function readout() {
   $("t-out").textContent = fmt(state.thickness_nm, 1) + " nm";
   $("v-out").textContent = fmt(toV(state.thickness_nm), 1) + " V";
   $("l-out").textContent = fmt(state.light_deg, 1) + "°";
+  $("la-out").textContent = fmt(state.light_azimuth_deg, 0) + "°";
   $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
 }
 let drag = null;
@@ -112,6 +113,8 @@ function syncInputs() {
   $("light").value = state.light_deg; $("view-deg").value = state.view_deg;
   $("shape").value = state.shape; $("model").value = state.model; $("lighting").value = state.lighting;
   $("light").disabled = state.lighting !== "point"; // an environment lights from everywhere
+  $("light-azimuth").value = ((state.light_azimuth_deg + 540) % 360) - 180;
+  $("light-azimuth").disabled = state.lighting !== "point";
 }
 function show(q) {
   q = q || {};
@@ -150,6 +153,7 @@ $("live-form").addEventListener("input", (e) => {
   else if (id === "voltage-range") show({voltage_V: e.target.value});
   else if (id === "voltage") { if (e.target.value !== "" && growth !== null) { state.thickness_nm = clampT(fromV(Number(e.target.value))); $("thickness").value = state.thickness_nm; draw(); } }
   else if (id === "light") show({light_deg: e.target.value});
+  else if (id === "light-azimuth") show({light_azimuth_deg: e.target.value});
   else if (id === "view-deg") show({view_deg: e.target.value});
   else if (id === "shape") show({shape: e.target.value});
   else if (id === "model") show({model: e.target.value});
