@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_COUPON_BYTES, MAX_COUPON_ROWS, MAX_COUPONS, MAX_VOLTAGE_V, read_capped
+from swatch.limits import MAX_COUPON_BYTES, MAX_COUPON_ROWS, MAX_COUPONS, MAX_VOLTAGE_V, read_text_capped
 
 __all__ = ["Coupons", "read_coupons", "MAX_COUPON_BYTES", "MAX_COUPONS"]
 
@@ -66,18 +66,7 @@ def _number(text: str, where: str, what: str, lo: float, hi: float) -> float:
 
 
 def _rows(path: Path, source: str):
-    if path.is_dir():
-        raise SwatchError(f"coupon file {source} is a folder; give a .csv file")
-    try:
-        raw = read_capped(path, MAX_COUPON_BYTES, "coupon file")
-    except FileNotFoundError:
-        raise SwatchError(f"coupon file {source} does not exist") from None
-    except OSError as exc:
-        raise SwatchError(f"cannot read coupon file {source}: {exc.strerror}") from None
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        raise SwatchError(f"{source}: not UTF-8 text; a coupon file is a CSV file") from None
+    text = read_text_capped(path, MAX_COUPON_BYTES, "coupon file", "CSV", source, encoding="utf-8-sig")
     out: list[tuple[int, list[str]]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):

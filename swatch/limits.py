@@ -11,7 +11,7 @@ __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX
            "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
            "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
            "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
-           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "read_capped"]
+           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "read_capped", "read_text_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -103,6 +103,28 @@ def read_capped(path, limit: int, what: str) -> bytes:
     if len(data) > limit:
         raise SwatchError(f"{path}: larger than {_size(limit)}; a {what} is at most {_size(limit)}")
     return data
+
+
+def read_text_capped(path, limit: int, what: str, kind: str, source: str | None = None,
+                     encoding: str = "utf-8") -> str:
+    """The text of ``path`` through :func:`read_capped`, with the one-line errors of a user's file:
+    missing, a folder (``give a .{kind} file``), unreadable, or not UTF-8 (``a {what} is a {kind}
+    file``). ``source`` names the file in the messages (default ``path``)."""
+    from swatch.errors import SwatchError
+
+    source = str(path) if source is None else source
+    try:
+        raw = read_capped(path, limit, what)
+    except FileNotFoundError:
+        raise SwatchError(f"{what} {source} does not exist") from None
+    except IsADirectoryError:
+        raise SwatchError(f"{what} {source} is a folder; give a .{kind.lower()} file") from None
+    except OSError as exc:
+        raise SwatchError(f"cannot read {what} {source}: {exc.strerror}") from None
+    try:
+        return raw.decode(encoding)
+    except UnicodeDecodeError:
+        raise SwatchError(f"{source}: not UTF-8 text; a {what} is a {kind} file") from None
 
 
 def _size(n: int) -> str:

@@ -19,7 +19,7 @@ from typing import NoReturn
 
 from swatch.choices import MODELS, SHAPES
 from swatch.errors import SwatchError
-from swatch.limits import MAX_SPEC_BYTES, MAX_SWATCHES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_capped
+from swatch.limits import MAX_SPEC_BYTES, MAX_SWATCHES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_text_capped
 
 __all__ = ["spec_summary", "CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
@@ -426,18 +426,7 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
     """Read and validate a spec file; returns the spec and the file's bytes."""
     p = Path(path)
     source = str(path)
-    try:
-        raw = read_capped(p, MAX_SPEC_BYTES, "catalog spec")
-    except FileNotFoundError:
-        raise SwatchError(f"catalog spec {source} does not exist") from None
-    except IsADirectoryError:
-        raise SwatchError(f"catalog spec {source} is a folder; give a .toml file") from None
-    except OSError as exc:
-        raise SwatchError(f"cannot read catalog spec {source}: {exc.strerror}") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SwatchError(f"{source}: not UTF-8 text; a catalog spec is a TOML file") from None
+    text = read_text_capped(p, MAX_SPEC_BYTES, "catalog spec", "TOML", source)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -445,7 +434,7 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
     except RecursionError:
         raise SwatchError(f"{source}: tables or lists nested too deeply; a catalog spec nests at most "
                           "three levels") from None
-    return parse_spec(data, source, p.parent), raw
+    return parse_spec(data, source, p.parent), text.encode("utf-8")  # valid UTF-8: the file's bytes again
 
 
 def spec_summary(s: CatalogSpec) -> str:
