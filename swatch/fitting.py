@@ -54,6 +54,7 @@ the local minima of ΔE2000 to the target (one per interference order), each ref
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -110,7 +111,14 @@ def film_at_angles(coating: Coating, cos_u: np.ndarray, wl_index: np.ndarray | N
 
 def sweep_reflectance(coating: Coating, start: float, step: float, count: int, cos_u: np.ndarray,
                       wl_index: np.ndarray | None = None) -> np.ndarray:
-    """Unpolarised reflectance (count, U, W') for thicknesses ``start + step j`` in one sweep."""
+    """Unpolarised reflectance (count, U, W') for thicknesses ``start + step j`` in one sweep
+    (a film with a thickness spread: averaged over it, through the coating)."""
+    if not coating.spread.is_zero:
+        sub = coating if wl_index is None else dataclasses.replace(
+            coating, wavelength_nm=coating.wavelength_nm[wl_index], n_film=coating.n_film[wl_index],
+            n_substrate=coating.n_substrate[wl_index])
+        d = float(start) + float(step) * np.arange(int(count))
+        return sub.reflectance_cos(d[:, None], cos_u).R
     return film_at_angles(coating, cos_u, wl_index).sweep(start, step, count).R
 
 
@@ -120,11 +128,15 @@ class FacetModel:
 
     def __init__(self, coating: Coating, cos_u: np.ndarray):
         self.film = film_at_angles(coating, cos_u)
+        self.coating = coating
+        self.cos_u = cos_u
 
     def __call__(self, thickness_nm) -> np.ndarray:
         d = np.asarray(thickness_nm, dtype=np.float64)
         if not np.all(np.isfinite(d)) or np.any(d < 0):
             raise SwatchError("film thickness must be finite and >= 0 nm")
+        if not self.coating.spread.is_zero:  # averaged over the thickness spread
+            return self.coating.reflectance_cos(d[..., None], self.cos_u).R
         return self.film.reflectance(d[..., None]).R
 
 

@@ -54,12 +54,14 @@ def fit_lab(
     observer: str = "10",
     scheme: str = DEFAULT_SCHEME,
     film_index_scale: float = 1.0,
+    spread=None,
 ) -> FitResult:
     """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring);
-    ``film_index_scale`` is a process profile's scale of the film's real index."""
+    ``film_index_scale`` is a process profile's scale of the film's real index, ``spread`` its thickness
+    spread (:class:`swatch.spread.ThicknessSpread`; the model's colours are averaged over it)."""
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
-    coating = get_coating(film, substrate, wavelength_nm, film_index_scale)
+    coating = get_coating(film, substrate, wavelength_nm, film_index_scale, spread)
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     cos_d, theta_d, mirror = geometry_arrays(measurement)
     used = used_geometries(mirror, exclude_mirror_deg)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
-           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
+           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SPREAD_NM", "MAX_SPREAD_FRACTION", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
            "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
            "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
            "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
@@ -43,6 +43,10 @@ MAX_RUN_BYTES = 2 * 1024 ** 3
 MAX_THICKNESS_NM = 1000.0
 #: Largest anodising voltage accepted.
 MAX_VOLTAGE_V = 300.0
+#: A film's thickness spread (1σ of the local thickness, swatch.spread): the absolute part, nm, and the part
+#: proportional to the thickness. Beyond them every interference colour is washed out to grey.
+MAX_SPREAD_NM = 50.0
+MAX_SPREAD_FRACTION = 0.3
 #: Largest render size (pixels per side): a 4096² render peaks at ~1.2 GB (8192² would need ~4.5 GB).
 MAX_SIZE_PX = 4096
 #: Largest angular map, in cells × wavelengths: its spectral array (8 bytes a sample) and the

@@ -72,8 +72,8 @@ def common_metadata(d: float, coating, colorimeter, model: str, distribution: st
 
 def voltage_note(proc, given: bool, known: bool) -> str:
     """How an image's voltage was obtained, by the process profile ``proc``'s growth law."""
-    law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.name})" if proc.has_growth_law
-           else f"process {proc.name}")
+    law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.label})" if proc.has_growth_law
+           else f"process {proc.label}")
     if given:
         return f"given; thickness from it at {law}"
     return f"estimated from the thickness at {law}" if known else f"no growth rate in {law}"

@@ -16,6 +16,7 @@ from swatch import geometry, optics
 from swatch.errors import SwatchError
 from swatch.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, DEFAULT_WAVELENGTHS_NM, list_materials, load_material
+from swatch.spread import NO_SPREAD, ThicknessSpread, spread_average
 
 __all__ = [
     "DEFAULT_NM_PER_V",
@@ -126,27 +127,57 @@ class _HalfVector:
 
 @dataclass(frozen=True)
 class Coating(_HalfVector):
-    """Ambient (air) / film / substrate with tabulated complex indices on a wavelength grid."""
+    """Ambient (air) / film / substrate with tabulated complex indices on a wavelength grid.
+
+    ``spread`` is the film's thickness non-uniformity (:mod:`swatch.spread`): with one, every
+    reflectance is the incoherent average over the local thicknesses around the given (mean)
+    thickness; without (the default) the uniform film's code path runs unchanged.
+    """
 
     film: str
     substrate: str
     wavelength_nm: np.ndarray
     n_film: np.ndarray
     n_substrate: np.ndarray
+    spread: ThicknessSpread = NO_SPREAD
 
     def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
         """Reflectance for thicknesses and incidence cosines broadcast together (shape S + (W,))."""
-        return optics.film_reflectance_cos(
-            check_thickness_nm(thickness_nm), cos_incidence, self.wavelength_nm,
-            self.n_film, self.n_substrate, amplitudes=amplitudes,
-        )
+        d = check_thickness_nm(thickness_nm)
+        if self.spread.is_zero:
+            return optics.film_reflectance_cos(d, cos_incidence, self.wavelength_nm,
+                                               self.n_film, self.n_substrate, amplitudes=amplitudes)
+        _no_amplitudes(amplitudes)
+        film = optics.FilmAtAngles(cos_incidence, self.wavelength_nm, self.n_film, self.n_substrate)
+
+        def reflect(t):
+            r = film.reflectance(t)
+            return r.R_s, r.R_p
+
+        return _averaged(reflect, d, self)
 
     def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
         """Reflectance at incidence angles in degrees (on the facet)."""
-        return optics.film_reflectance(
-            check_thickness_nm(thickness_nm), incidence_deg, self.wavelength_nm,
-            self.n_film, self.n_substrate, amplitudes=amplitudes,
-        )
+        if self.spread.is_zero:
+            return optics.film_reflectance(
+                check_thickness_nm(thickness_nm), incidence_deg, self.wavelength_nm,
+                self.n_film, self.n_substrate, amplitudes=amplitudes,
+            )
+        theta = np.asarray(incidence_deg, dtype=np.float64)
+        geometry.check_polar_deg(theta, "incidence")
+        return self.reflectance_cos(thickness_nm, np.cos(np.radians(theta)), amplitudes)
+
+
+def _no_amplitudes(amplitudes: bool) -> None:
+    if amplitudes:
+        raise SwatchError("a film with a thickness spread has no single complex amplitude (its local "
+                          "reflectances add incoherently); ask for reflectances, or set the spread to 0")
+
+
+def _averaged(reflect, d: np.ndarray, base: Coating) -> optics.Reflectance:
+    R_s, R_p = spread_average(reflect, d, base.spread, float(np.max(base.n_film.real)),
+                              float(np.min(base.wavelength_nm)))
+    return optics.Reflectance(R_s=R_s, R_p=R_p)
 
 
 @dataclass(frozen=True)
@@ -178,12 +209,28 @@ class OvercoatedCoating(_HalfVector):
     def wavelength_nm(self) -> np.ndarray:
         return self.base.wavelength_nm
 
-    def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
+    @property
+    def spread(self) -> ThicknessSpread:
+        return self.base.spread
+
+    def _stack(self, thickness_nm, incidence_deg) -> optics.Reflectance:
         return optics.stack_reflectance(
-            [o.thickness_nm for o in self.overcoats] + [check_thickness_nm(thickness_nm)],
+            [o.thickness_nm for o in self.overcoats] + [thickness_nm],
             [o.n for o in self.overcoats] + [self.base.n_film],
             self.base.n_substrate, incidence_deg, self.base.wavelength_nm,
         )
+
+    def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
+        d = check_thickness_nm(thickness_nm)
+        if self.base.spread.is_zero:
+            return self._stack(d, incidence_deg)
+        _no_amplitudes(amplitudes)
+
+        def reflect(t):
+            r = self._stack(t, incidence_deg)
+            return r.R_s, r.R_p
+
+        return _averaged(reflect, d, self.base)
 
     def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
         theta = np.degrees(np.arccos(np.clip(np.asarray(cos_incidence, dtype=np.float64), 0.0, 1.0)))
@@ -236,7 +283,8 @@ def overcoat_text(coating) -> str:
 
 
 @functools.lru_cache(maxsize=64)
-def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1.0) -> Coating:
+def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1.0,
+             spread: ThicknessSpread = NO_SPREAD) -> Coating:
     wl = np.array(grid, dtype=np.float64)
     f = load_material(film)
     s = load_material(substrate)
@@ -247,18 +295,19 @@ def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1
     n_film = f.nk(wl)
     if film_index_scale != 1.0:
         n_film = film_index_scale * n_film.real + 1j * n_film.imag
-    return Coating(f.name, s.name, wl, n_film, s.nk(wl))
+    return Coating(f.name, s.name, wl, n_film, s.nk(wl), spread)
 
 
 def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wavelength_nm=None,
-                film_index_scale: float = 1.0) -> Coating:
+                film_index_scale: float = 1.0, spread: ThicknessSpread | None = None) -> Coating:
     """A cached :class:`Coating` for material names and a grid (default 380–780 nm, 5 nm).
 
     ``film_index_scale`` multiplies the real part of the film's index (an anodic film's density
-    differs from any tabulated film's; a process profile sets it), from 0.5 to 1.5.
+    differs from any tabulated film's; a process profile sets it), from 0.5 to 1.5. ``spread``:
+    the film's thickness spread (:class:`swatch.spread.ThicknessSpread`; None or zero: uniform).
     """
     scale = float(film_index_scale)
     if not (math.isfinite(scale) and 0.5 <= scale <= 1.5):
         raise SwatchError("film index scale must be from 0.5 to 1.5")
     wl = DEFAULT_WAVELENGTHS_NM if wavelength_nm is None else np.asarray(wavelength_nm, dtype=np.float64)
-    return _coating(film, substrate, tuple(wl.tolist()), scale)
+    return _coating(film, substrate, tuple(wl.tolist()), scale, spread or NO_SPREAD)

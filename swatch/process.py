@@ -20,8 +20,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_PROFILE_BYTES, MAX_PROFILE_TEXT_CHARS, read_capped
+from swatch.limits import MAX_PROFILE_BYTES, MAX_PROFILE_TEXT_CHARS, MAX_SPREAD_FRACTION, MAX_SPREAD_NM, read_capped
 from swatch.materials import list_materials, tables_dir
+from swatch.spread import NO_SPREAD, ThicknessSpread
 
 if TYPE_CHECKING:
     import numpy as np
@@ -34,8 +35,9 @@ RATE_RANGE = (0.1, 10.0)  # nm per volt
 OFFSET_RANGE = (-50.0, 100.0)  # nm at 0 V
 SCALE_RANGE = (0.5, 1.5)
 _TOP_KEYS = ("name", "description", "film", "substrate", "nm_per_V", "offset_nm", "film_index_scale", "roughness",
-             "sources", "calibration")
-_SOURCE_KEYS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness", "film", "substrate")
+             "spread_nm", "spread_fraction", "sources", "calibration")
+_SOURCE_KEYS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness", "film", "substrate", "spread_nm",
+                "spread_fraction")
 _CALIBRATION_NUMBERS = ("coupons", "outliers", "mean_delta_E_00", "max_delta_E_00", "nm_per_V_uncertainty",
                         "offset_nm_uncertainty", "film_index_scale_uncertainty")
 _CALIBRATION_TEXT = ("source", "measured", "geometry", "illuminant", "observer")
@@ -53,6 +55,7 @@ class Process:
     offset_nm: float = 0.0
     film_index_scale: float = 1.0
     roughness: float | None = None
+    spread: ThicknessSpread = NO_SPREAD  # the film's thickness non-uniformity (swatch.spread)
     sources: tuple[tuple[str, str], ...] = ()
     calibration: tuple[tuple[str, object], ...] = ()
     origin: str = "preset"  # "preset", a file name, or "overridden"
@@ -62,6 +65,11 @@ class Process:
             raise SwatchError(f"process {self.name!r} has no growth rate (none published that we could cite); "
                               "give --nm-per-volt, or calibrate the line from coupons (swatch calibrate)")
         return self.nm_per_V
+
+    @property
+    def label(self) -> str:
+        """The name, with the thickness spread when there is one (for text reports)."""
+        return self.name + (f", thickness spread{self.spread.text()}" if not self.spread.is_zero else "")
 
     @property
     def has_growth_law(self) -> bool:
@@ -85,12 +93,14 @@ class Process:
         """The :class:`swatch.model.Coating` of this profile on a wavelength grid (nm)."""
         from swatch.model import get_coating
 
-        return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale)
+        return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
 
     def with_overrides(self, film: str | None = None, substrate: str | None = None,
-                       nm_per_V: float | None = None) -> Process:
-        """The profile with command-line overrides (``--film``, ``--substrate``, ``--nm-per-volt``)."""
+                       nm_per_V: float | None = None, spread: ThicknessSpread | None = None) -> Process:
+        """The profile with command-line overrides (``--film``, ``--substrate``, ``--nm-per-volt``, ``--spread``)."""
         changes: dict = {}
+        if spread is not None and spread != self.spread:
+            changes["spread"] = spread
         if film is not None and film != self.film:
             changes["film"] = film
         if substrate is not None and substrate != self.substrate:
@@ -107,6 +117,7 @@ class Process:
         return {
             "process": self.name, "process_origin": self.origin, "film": self.film, "substrate": self.substrate,
             "nm_per_V": self.nm_per_V, "offset_nm": self.offset_nm, "film_index_scale": self.film_index_scale,
+            **self.spread.metadata(),
         }
 
 
@@ -178,6 +189,9 @@ def _from_dict(data: dict, source: str, origin: str) -> Process:
         offset_nm=_number(data.get("offset_nm", 0.0), "offset_nm", *OFFSET_RANGE, source),
         film_index_scale=_number(data.get("film_index_scale", 1.0), "film_index_scale", *SCALE_RANGE, source),
         roughness=None if rough is None else _number(rough, "roughness", 0.001, 1.0, source),
+        spread=ThicknessSpread(_number(data.get("spread_nm", 0.0), "spread_nm", 0.0, MAX_SPREAD_NM, source),
+                               _number(data.get("spread_fraction", 0.0), "spread_fraction", 0.0,
+                                       MAX_SPREAD_FRACTION, source)),
         sources=tuple((k, _text(v, f"sources.{k}", source)) for k, v in sources.items()),
         calibration=tuple(cal),
         origin=origin,
@@ -246,6 +260,7 @@ def process_toml(p: Process, header: str = "") -> str:
               f"film_index_scale = {_toml_value(float(p.film_index_scale))}"]
     if p.roughness is not None:
         lines.append(f"roughness = {_toml_value(float(p.roughness))}")
+    lines += [f"{k} = {_toml_value(v)}" for k, v in p.spread.metadata().items()]
     for table, items in (("sources", p.sources), ("calibration", p.calibration)):
         if items:
             lines += ["", f"[{table}]"] + [f"{k} = {_toml_value(v)}" for k, v in items]

@@ -91,14 +91,16 @@ def fit_spectra(
     observer: str = "10",
     scheme: str = DEFAULT_SCHEME,
     film_index_scale: float = 1.0,
+    spread=None,
 ) -> FitResult:
     """Least-squares thickness of spectral measurements (see the module docstring); ``film_index_scale``
-    is a process profile's scale of the film's real index."""
+    is a process profile's scale of the film's real index, ``spread`` its thickness spread
+    (:class:`swatch.spread.ThicknessSpread`; the model's spectra are averaged over it)."""
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
     check_in_tables(measurement, film, substrate)
     wl = measurement.wavelength_nm
-    coating = get_coating(film, substrate, wl, film_index_scale)
+    coating = get_coating(film, substrate, wl, film_index_scale, spread)
     cos_d, theta_d, mirror = geometry_arrays(measurement)
     used = used_geometries(mirror, exclude_mirror_deg)
     M = measurement.reflectance[used]
@@ -136,7 +138,7 @@ def fit_spectra(
     cm = get_colorimeter(cwl, illuminant, observer)
     if interpolated:
         M_col = interp_rows(cwl, wl, measurement.reflectance)
-        S_col = get_coating(film, substrate, cwl, film_index_scale).reflectance_cos(d_best, cos_d).R
+        S_col = get_coating(film, substrate, cwl, film_index_scale, spread).reflectance_cos(d_best, cos_d).R
     else:
         M_col = measurement.reflectance
         S_col = S_all

@@ -160,7 +160,7 @@ def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
         "film": spec.film,
         "substrate": spec.substrate,
         "process": {"name": spec.process, "origin": spec.process_origin, "nm_per_V": spec.nm_per_V,
-                    "offset_nm": spec.offset_nm, "film_index_scale": spec.film_index_scale,
+                    "offset_nm": spec.offset_nm, "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
                     "growth_law": ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None
                                    else "thickness_nm = offset_nm + nm_per_V * voltage_V")},
         "illuminant": data.illuminant,

@@ -92,10 +92,9 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
     from swatch.catalog.names import NAME_RULES
     from swatch.colorimetry import get_colorimeter
     from swatch.matching import MATCH_MIN_SEPARATION_NM
-    from swatch.model import get_coating
 
     wl = np.asarray(wavelength_nm, dtype=np.float64)
-    coating = get_coating(spec.film, spec.substrate, wl, spec.film_index_scale)  # as the records and tiles
+    coating = spec.coating(wl)  # as the records and tiles
     cm = get_colorimeter(wl, spec.illuminant, spec.observer)
     cm2 = cm.display_colorimeter  # display RGB from CIE 1931 2° colorimetry
     ref = spec.reference

@@ -151,10 +151,9 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
 def compute(spec: CatalogSpec) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
     from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
-    from swatch.model import get_coating
 
     wl = wavelengths(spec)
-    coating = get_coating(spec.film, spec.substrate, wl, spec.film_index_scale)
+    coating = spec.coating(wl)
     cm = _colorimeter(spec, wl)
     d = np.asarray(spec.thickness_nm, dtype=np.float64)
     n = d.size

@@ -87,7 +87,7 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
         "illuminant": spec.illuminant, "observer": spec.observer, "d": float(thickness_nm),
         "shapes": list(spec.shapes), "size": spec.size_px, "model": spec.model, "roughness": spec.roughness,
         "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
-        "environment": tile_environment(spec),
+        "environment": tile_environment(spec), **spec.spread.metadata(),
     }
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
@@ -96,7 +96,7 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
 
 def _render_job(args):
     """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
-    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap) = args
+    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap, spread) = args
     from swatch.angular import angular_map
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
@@ -104,7 +104,7 @@ def _render_job(args):
     from swatch.render import render_swatch
 
     wl = wavelength_grid(380.0, 780.0, wl_step)
-    coating = get_coating(film, substrate, wl, scale)
+    coating = get_coating(film, substrate, wl, scale, spread)
     cm = get_colorimeter(wl, illuminant, observer)
     out: dict[str, Any] = {}
     for i, shape in enumerate(shapes):
@@ -130,7 +130,7 @@ def _render_job(args):
 def _job_args(spec: CatalogSpec, d: float):
     return (float(d), spec.film, spec.substrate, spec.film_index_scale, spec.wavelength_step_nm, spec.illuminant,
             spec.observer,
-            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map)
+            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map, spec.spread)
 
 
 def _save_npz(path: Path, arrays: dict) -> None:
@@ -231,10 +231,9 @@ def _warm(spec: CatalogSpec, parent_pid: int) -> None:
     ignore_interrupts()  # Ctrl-C: the build reports it once and shuts the pool down
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import wavelength_grid
-    from swatch.model import get_coating
 
     wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
-    get_coating(spec.film, spec.substrate, wl, spec.film_index_scale)
+    spec.coating(wl)
     get_colorimeter(wl, spec.illuminant, spec.observer)
 
 

@@ -96,6 +96,8 @@ class CatalogSpec:
     offset_nm: float = 0.0  # growth law: thickness_nm = offset_nm + nm_per_V × voltage_V
     film_index_scale: float = 1.0
     process_origin: str = "preset"
+    spread_nm: float = 0.0  # the profile's thickness spread (swatch.spread): 1σ = spread_nm + spread_fraction × d
+    spread_fraction: float = 0.0
     extra: dict = field(default_factory=dict)
     chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
     chip_size_mm: float = 50.0
@@ -121,10 +123,26 @@ class CatalogSpec:
     def per_sheet(self) -> int:
         return self.columns * self.rows
 
+    @property
+    def spread(self):
+        """The film's :class:`swatch.spread.ThicknessSpread`."""
+        from swatch.spread import ThicknessSpread
+
+        return ThicknessSpread(self.spread_nm, self.spread_fraction)
+
+    def coating(self, wavelength_nm):
+        """The spec's :class:`swatch.model.Coating` on a wavelength grid (nm): film, substrate, index scale, spread."""
+        from swatch.model import get_coating
+
+        return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
+
     def canonical(self) -> dict:
         """Everything that affects the outputs, JSON-ready (used for content hashes)."""
         d = asdict(self)
         d.pop("source")
+        if d["spread_nm"] == 0.0 and d["spread_fraction"] == 0.0:  # a uniform film: the hashes of before
+            d.pop("spread_nm")
+            d.pop("spread_fraction")
         return d
 
 
@@ -418,7 +436,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         roughness=rough, angular_map=amap, scheme=scheme, grade=grade, metric=metric, max_delta_E=max_dE,
         search_nm=search, columns=columns, rows=rows, chips=chips, chip_size_mm=chip_size, chip_dpi=chip_dpi,
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
-        process_origin=proc.origin,
+        process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
     )
 
 

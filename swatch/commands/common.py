@@ -12,9 +12,38 @@ from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
 from swatch.model import check_thickness_nm
 from swatch.ranges import parse_grid, parse_range
 
+_SPREAD_META = "swatch.spread"
+
+
+def _spread_callback(ctx, param, value):
+    from swatch.spread import parse_spread
+
+    ctx.meta[_SPREAD_META] = parse_spread(value)
+    return value
+
+
+def spread_option(f):
+    """``--spread NM[,FRACTION]``: the film's thickness spread (1σ), overriding the process profile's.
+
+    The value is kept in the click context (no parameter for the command); :func:`resolve_process`
+    applies it, so every command that takes a process takes it the same way.
+    """
+    return click.option("--spread", "spread", default=None, metavar="NM[,FRACTION]", expose_value=False,
+                        callback=_spread_callback,
+                        help="thickness spread of the film, 1σ = NM + FRACTION × thickness (e.g. 4 or 3,0.02; "
+                             "colours are averaged over it), overriding the process profile's [default: the "
+                             "profile's; 0: a uniform film]")(f)
+
+
+def given_spread():
+    """The ``--spread`` of the running command (None when not given or outside a command)."""
+    ctx = click.get_current_context(silent=True)
+    return None if ctx is None else ctx.meta.get(_SPREAD_META)
+
 
 def process_options(f):
-    """``--process NAME|FILE`` and its growth-rate override ``--nm-per-volt``."""
+    """``--process NAME|FILE`` and its overrides ``--nm-per-volt`` and ``--spread``."""
+    f = spread_option(f)
     f = click.option("--nm-per-volt", type=float, default=None,
                      help="anodic growth rate, nm/V, overriding the process profile's")(f)
     f = click.option("--process", "process", default=None, metavar="NAME|FILE",
@@ -25,10 +54,11 @@ def process_options(f):
 
 def resolve_process(process: str | None, film: str | None = None, substrate: str | None = None,
                     nm_per_volt: float | None = None):
-    """The :class:`swatch.process.Process` for ``--process`` with ``--film``/``--substrate``/``--nm-per-volt``."""
+    """The :class:`swatch.process.Process` for ``--process`` with ``--film``/``--substrate``/``--nm-per-volt``
+    and ``--spread``."""
     from swatch.process import DEFAULT_PROCESS, load_process
 
-    return load_process(process or DEFAULT_PROCESS).with_overrides(film, substrate, nm_per_volt)
+    return load_process(process or DEFAULT_PROCESS).with_overrides(film, substrate, nm_per_volt, given_spread())
 
 
 def thickness_options(multiple: bool):

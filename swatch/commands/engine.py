@@ -37,7 +37,7 @@ def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimut
     if as_json:
         common.echo_json(out)
         return
-    click.echo("\n".join(report.spectrum_text(out, overcoat_text(coating), proc.name)))
+    click.echo("\n".join(report.spectrum_text(out, overcoat_text(coating), proc.label)))
 
 
 @click.command()
@@ -70,7 +70,7 @@ def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, 
             "theta_d_deg": table.theta_d_deg, **overcoat_json(coating), "process": proc.metadata(), "rows": rows,
         })
         return
-    click.echo("\n".join(report.colour_table_text(rows, coating, cm, light, view, table.theta_d_deg, proc.name)))
+    click.echo("\n".join(report.colour_table_text(rows, coating, cm, light, view, table.theta_d_deg, proc.label)))
 
 
 @click.group()

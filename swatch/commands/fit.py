@@ -58,7 +58,7 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     paths = report.report_paths(report_dir, measurements, force) if report_dir is not None else None
     options = dict(scale=scale, exclude_mirror_deg=exclude_mirror, thickness_range=rng, step_nm=step,
                    illuminant=illuminant, observer=observer, scheme=scheme, wavelength_nm=common.resolve_grid(wavelengths),
-                   film_index_scale=proc.film_index_scale)
+                   film_index_scale=proc.film_index_scale, spread=proc.spread)
     given = click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT
     results = [fit_measurement(read_measurement(p, percent, **geom), film, substrate, grid_given=given, source=p,
                                **options) for p in measurements]
@@ -136,4 +136,4 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     if as_json:
         common.echo_json(out)
         return
-    click.echo("\n".join(match_text(res, out.get("target_hex"), thickness_range, cm, coating, proc.name, tol)))
+    click.echo("\n".join(match_text(res, out.get("target_hex"), thickness_range, cm, coating, proc.label, tol)))

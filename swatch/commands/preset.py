@@ -30,6 +30,7 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
     path = check_writable_dir(out) / preset_file_name(f"{float(d[0]):g}nm", fmt)
     check_new([path], force)
-    data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness)
+    data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness,
+                                  proc.spread)
     atomic_write_bytes(path, data)
     click.echo(f"{path}: {summary}")

@@ -56,10 +56,10 @@ def fit_key(spec, extra_angles) -> str:
 
     pkg = Path(swatch.__file__).resolve().parent
     code = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted((pkg / "presets").glob("*.py"))}
-    for m in ("optics", "model", "materials", "colorimetry"):
+    for m in ("optics", "model", "spread", "materials", "colorimetry"):
         code[m] = hashlib.sha256((pkg / f"{m}.py").read_bytes()).hexdigest()
     blob = {"d": [float(x) for x in spec.thickness_nm], "per_sheet": spec.per_sheet, "film": spec.film,
-            "film_index_scale": spec.film_index_scale,
+            "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
             "substrate": spec.substrate,
             "angles": [float(a) for a in extra_angles], "code": code,
             "versions": [metadata.version(x) for x in ("numpy", "scipy", "colour-science")]}
@@ -106,12 +106,12 @@ def _fits(spec, cache: Path | None) -> dict:
         model = FORMAT_MODEL[fmt]
         groups = np.arange(len(spec.thickness_nm)) // spec.per_sheet  # coupled within a sheet only
         fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale,
-                          groups)
+                          groups, spec.spread)
         written = round_params(fit.params)
         from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
 
         dE = errors_delta_E_00(model, written, fit.thickness_nm, FIT_ANGLES_DEG, spec.film, spec.substrate,
-                               spec.film_index_scale)
+                               spec.film_index_scale, spec.spread)
         out[model] = (written, dE.max(axis=1), dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1))
     if path is not None and cache is not None:
         from swatch.fileio import atomic_write_text
@@ -159,7 +159,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, 
 
 
 def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,
-                  roughness_alpha: float) -> tuple[bytes, str]:
+                  roughness_alpha: float, spread=None) -> tuple[bytes, str]:
     """One thickness's preset in ``fmt``, fitted to its exact colour (``swatch preset``): the file's
     bytes and a line saying what was fitted and its largest ΔE2000 (D65, CIE 1931 2°)."""
     from swatch.presets import FORMAT_MODEL
@@ -167,9 +167,9 @@ def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film
 
     d = np.array([float(thickness_nm)])
     model = FORMAT_MODEL[fmt]
-    fit = fit_presets(d, model, (22.5,), film, substrate, film_index_scale)
+    fit = fit_presets(d, model, (22.5,), film, substrate, film_index_scale, spread=spread)
     params = round_params(fit.params)
-    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale)[0]
+    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale, spread)[0]
     data = preset_bytes(fmt, f"{d[0]:g}nm", f"anodised {d[0]:g} nm", params[0], roughness_alpha, float(dE.max()),
                         float(d[0]))
     p = params[0]

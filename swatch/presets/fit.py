@@ -80,15 +80,16 @@ def model_Lab(model: str, params, angles_deg) -> np.ndarray:
 
 
 def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str | None = None,
-              film_index_scale: float = 1.0) -> np.ndarray:
+              film_index_scale: float = 1.0, spread=None) -> np.ndarray:
     """The exact colour (N, A, 3): Airy reflectance at facet angle θ_d, CIELAB under D65, 2°
-    (``film_index_scale``: a process profile's scale of the film's real index)."""
+    (``film_index_scale``: a process profile's scale of the film's real index; ``spread``: its
+    :class:`swatch.spread.ThicknessSpread`, the colour averaged over it)."""
     from swatch.colorimetry import get_colorimeter
     from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
     from swatch.model import get_coating
 
     wl = wavelength_grid(380.0, 780.0, 5.0)
-    coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl, film_index_scale)
+    coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl, film_index_scale, spread)
     cm = get_colorimeter(wl, "D65", "2")
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     R = coating.reflectance(d[:, None], np.asarray(angles_deg, dtype=np.float64)[None, :]).R
@@ -96,12 +97,12 @@ def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str 
 
 
 def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DEG, film=None,
-                      substrate=None, film_index_scale: float = 1.0) -> np.ndarray:
+                      substrate=None, film_index_scale: float = 1.0, spread=None) -> np.ndarray:
     """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour."""
     from swatch.colorimetry import delta_E_00
 
     return delta_E_00(model_Lab(model, params, angles_deg),
-                      exact_Lab(thickness_nm, angles_deg, film, substrate, film_index_scale))
+                      exact_Lab(thickness_nm, angles_deg, film, substrate, film_index_scale, spread))
 
 
 @dataclass
@@ -219,10 +220,12 @@ def _smooth_choice(d, ps, cs, ms, groups) -> np.ndarray:
 
 
 def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
-                substrate: str | None = None, film_index_scale: float = 1.0, groups=None) -> PresetFit:
+                substrate: str | None = None, film_index_scale: float = 1.0, groups=None,
+                spread=None) -> PresetFit:
     """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring.
 
-    ``film_index_scale``: a process profile's scale of the film's real index (the exact colour).
+    ``film_index_scale``: a process profile's scale of the film's real index (the exact colour);
+    ``spread``: its thickness spread (:class:`swatch.spread.ThicknessSpread`; the exact colour averaged over it).
 
     ``groups`` (N,) confines the continuity coupling: a swatch's preset depends only on the
     thicknesses of its own group (the catalog passes its sheets, so that changing one swatch
@@ -234,7 +237,7 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     angles = np.concatenate([SEARCH_ANGLES_DEG, extra])
     beyond_45, power = _OBJECTIVE[model]
     weights = np.concatenate([np.where(SEARCH_ANGLES_DEG <= 45.0, 1.0, beyond_45), np.full(extra.size, 2.0)])
-    target = exact_Lab(d, angles, film, substrate, film_index_scale)
+    target = exact_Lab(d, angles, film, substrate, film_index_scale, spread)
     prob = _Problem(model, target, weights, angles, power)
     n = d.size
     rows = np.arange(n)
@@ -283,4 +286,5 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
             cost[i[take]] = cw[take]
             worst[i[take]] = ww[take]
     report = np.unique(np.concatenate([FIT_ANGLES_DEG, extra]))
-    return PresetFit(model, d, p, report, errors_delta_E_00(model, p, d, report, film, substrate, film_index_scale))
+    return PresetFit(model, d, p, report, errors_delta_E_00(model, p, d, report, film, substrate, film_index_scale,
+                                                                     spread))
