@@ -15,8 +15,6 @@ memory is spent, and every error is one line naming the file, the line and what 
 """
 from __future__ import annotations
 
-import csv
-import io
 import itertools
 import math
 from dataclasses import dataclass
@@ -26,8 +24,9 @@ import numpy as np
 
 from swatch.errors import SwatchError
 from swatch.limits import MAX_COUPON_BYTES, MAX_COUPON_ROWS, MAX_COUPONS, MAX_VOLTAGE_V, read_text_capped
+from swatch.tabular import split_table
 
-__all__ = ["Coupons", "read_coupons", "MAX_COUPON_BYTES", "MAX_COUPONS"]
+__all__ = ["Coupons", "read_coupons", "coupons_from_samples", "MAX_COUPON_BYTES", "MAX_COUPONS"]
 
 _LAB = ("voltage_V", "L", "a", "b")
 _SPECTRAL = ("voltage_V", "wavelength_nm", "reflectance")
@@ -67,18 +66,8 @@ def _number(text: str, where: str, what: str, lo: float, hi: float) -> float:
 
 def _rows(path: Path, source: str):
     text = read_text_capped(path, MAX_COUPON_BYTES, "coupon file", "CSV", source, encoding="utf-8-sig")
-    out: list[tuple[int, list[str]]] = []
-    for number, line in enumerate(text.splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        if len(out) > MAX_COUPON_ROWS:
-            raise SwatchError(f"{source}: more than {MAX_COUPON_ROWS} rows; a coupon file has at most {MAX_COUPON_ROWS}")
-        try:
-            cells = next(csv.reader(io.StringIO(line)))
-        except (csv.Error, StopIteration):
-            raise SwatchError(f"{source}:{number}: not a CSV row") from None
-        out.append((number, [c.strip() for c in cells]))
-    return out
+    table = split_table(text, source, max_rows=MAX_COUPON_ROWS)
+    return [(table.header_line, table.header), *table.rows]
 
 
 def read_coupons(path) -> Coupons:
@@ -168,3 +157,38 @@ def _spectra(source, groups, volts_V, thick_nm, labels, lines) -> Coupons:
     if refl.max() > 1.5:  # percent
         refl = refl / 100.0
     return Coupons(source, volts_V, thick_nm, labels, wavelength_nm=grid, reflectance=refl, lines=lines)
+
+
+def coupons_from_samples(source: str, samples) -> Coupons:
+    """Coupons from an instrument file's samples (:class:`swatch.instruments.Sample`, e.g. CGATS with
+    a ``VOLTAGE_V`` field or CxF3 objects tagged ``voltage_V``): one geometry per coupon."""
+    if len(samples) > MAX_COUPONS:
+        raise SwatchError(f"{source}: more than {MAX_COUPONS} coupons")
+    missing = [s.id for s in samples if s.voltage_V is None]
+    if missing:
+        raise SwatchError(f"{source}: sample {missing[0]!r} has no voltage; coupons need a VOLTAGE_V field (CGATS) "
+                          "or a voltage_V tag (CxF3)")
+    for s in samples:
+        if s.measurement.n_geometries != 1:
+            raise SwatchError(f"{source}: coupon {s.id!r} has {s.measurement.n_geometries} geometries; calibrate "
+                              "reads one geometry per coupon")
+        if float(s.measurement.view_azimuth_deg[0]) == float(s.measurement.light_azimuth_deg[0]) \
+                and float(s.measurement.view_deg[0]) > 0:
+            raise SwatchError(f"{source}: coupon {s.id!r} is viewed on the light's side; calibrate reads an in-plane "
+                              "geometry with the view across the normal (e.g. 45/0)")
+        if not (math.isfinite(s.voltage_V) and 0 <= s.voltage_V <= MAX_VOLTAGE_V):
+            raise SwatchError(f"{source}: coupon {s.id!r}: voltage_V {s.voltage_V:g} is out of range; allowed 0 to "
+                              f"{MAX_VOLTAGE_V:g}")
+    volts = np.array([s.voltage_V for s in samples], dtype=np.float64)
+    thick = np.array([math.nan if s.thickness_nm is None else s.thickness_nm for s in samples], dtype=np.float64)
+    labels = tuple(s.id for s in samples)
+    first = samples[0].measurement
+    if hasattr(first, "Lab"):
+        return Coupons(source, volts, thick, labels, Lab=np.stack([s.measurement.Lab[0] for s in samples]))
+    wl = first.wavelength_nm
+    steps = np.diff(wl)
+    if wl.size < 3 or not np.allclose(steps, steps[0]) or round(float(steps[0]), 6) not in (1.0, 5.0, 10.0, 20.0):
+        raise SwatchError(f"{source}: coupon spectra must be evenly spaced by 1, 5, 10 or 20 nm (ASTM E308 "
+                          "intervals), at least three wavelengths")
+    return Coupons(source, volts, thick, labels, wavelength_nm=wl,
+                   reflectance=np.stack([s.measurement.reflectance[0] for s in samples]))

@@ -11,7 +11,8 @@ __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX
            "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
            "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
            "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
-           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "read_capped", "read_text_capped"]
+           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_INSTRUMENT_SAMPLES",
+           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "read_capped", "read_text_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -25,7 +26,7 @@ MAX_CACHE_ENTRY_BYTES = 64 * 1024 * 1024
 MAX_WAVELENGTHS = 10_001
 #: Values in one ``A:B:STEP`` range of the command line (thicknesses, voltages, angles).
 MAX_RANGE_POINTS = 100_000
-#: A measurement CSV: an sBRDF set of ~7000 geometries at 5 nm (86 × 86 angles) is ~15 MB, and
+#: A measurement file (CSV, CGATS, CxF3): an sBRDF set of ~7000 geometries at 5 nm (86 × 86 angles) is ~15 MB, and
 #: reading and fitting it peaks near 1 GB.
 MAX_MEASUREMENT_BYTES = 16 * 1024 * 1024
 #: A catalog spec (TOML; the shipped ones are ~1 kB).
@@ -89,6 +90,12 @@ MIN_REFLECTANCE = -0.05
 #: triangles (Embree's scene and the per-corner normals stay near 0.3 GB).
 MAX_MESH_BYTES = 64 * 1024 * 1024
 MAX_MESH_TRIANGLES = 2_000_000
+#: An instrument file (CGATS text, CxF3 XML, CSV; ``fit``, ``calibrate``, ``check``; its bytes are
+#: capped by MAX_MEASUREMENT_BYTES): samples, fields of a CGATS table (a 1 nm spectrum 360–830 nm
+#: has 471) and geometries of one sample.
+MAX_INSTRUMENT_SAMPLES = 10_000
+MAX_INSTRUMENT_FIELDS = 2_000
+MAX_INSTRUMENT_GEOMETRIES = 32
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

@@ -22,8 +22,6 @@ Every error names the file, the line and what is wrong (:class:`~swatch.errors.S
 """
 from __future__ import annotations
 
-import csv
-import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,7 +31,6 @@ import numpy as np
 from swatch import geometry
 from swatch.errors import SwatchError
 from swatch.limits import (
-    MAX_CSV_FIELD_CHARS,
     MAX_LAB_AB,
     MAX_MEASUREMENT_BYTES,
     MAX_REFLECTANCE,
@@ -42,6 +39,7 @@ from swatch.limits import (
     read_capped,
 )
 from swatch.materials import load_material
+from swatch.tabular import Table, split_table
 
 __all__ = [
     "PERCENT_THRESHOLD",
@@ -51,6 +49,7 @@ __all__ = [
     "read_spectral_csv",
     "read_lab_csv",
     "parse_measurement_text",
+    "parse_measurement_table",
     "check_in_tables",
 ]
 
@@ -112,31 +111,15 @@ class LabMeasurement:
 
 # -- parsing helpers ------------------------------------------------------------------------------
 class _Rows:
-    """Header and numbered data rows of a CSV text (comments and blank lines skipped)."""
+    """Header and numbered data rows of a CSV text (comments and blank lines skipped; the separator
+    and decimal mark detected by :func:`swatch.tabular.split_table`)."""
 
-    def __init__(self, text: str, source: str):
+    def __init__(self, text: str, source: str, table: Table | None = None):
         self.source = source
-        self.rows: list[tuple[int, list[str]]] = []
-        header: list[str] | None = None
-        header_line = 0
-        for line_no, line in enumerate(text.splitlines(), start=1):
-            stripped = line.strip()
-            if not stripped or stripped.startswith("#"):
-                continue
-            try:
-                fields = [f.strip() for f in next(csv.reader(io.StringIO(line)))]
-            except csv.Error:
-                raise SwatchError(f"{source}: line {line_no}: not a CSV row (a field longer than "
-                                  f"{MAX_CSV_FIELD_CHARS} characters, or a stray quote or NUL)") from None
-            if header is None:
-                header = [f.lower() for f in fields]
-                header_line = line_no
-            else:
-                self.rows.append((line_no, fields))
-        if header is None:
-            raise SwatchError(f"{source}: the file is empty; give a CSV header row and data rows")
-        self.header: list[str] = header
-        self.header_line = header_line
+        table = table if table is not None else split_table(text, source)
+        self.rows: list[tuple[int, list[str]]] = table.rows
+        self.header: list[str] = [f.lower() for f in table.header]
+        self.header_line = table.header_line
 
     def error(self, line_no: int, message: str) -> SwatchError:
         return SwatchError(f"{self.source}: line {line_no}: {message}")
@@ -231,7 +214,16 @@ def parse_measurement_text(text: str, source: str = "<text>", percent: bool | No
     ``percent``: True/False state the reflectance unit; None detects it (percent if any value
     exceeds :data:`PERCENT_THRESHOLD`). The geometry arguments apply to files without angle columns.
     """
-    rows = _Rows(text, source)
+    return parse_measurement_table(split_table(text, source), percent, light_deg, view_deg, light_azimuth_deg,
+                                   view_azimuth_deg)
+
+
+def parse_measurement_table(table: Table, percent: bool | None = None, light_deg: float = 45.0,
+                            view_deg: float = 0.0, light_azimuth_deg: float = 0.0,
+                            view_azimuth_deg: float | None = None):
+    """:func:`parse_measurement_text` of a table already split (:func:`swatch.tabular.split_table`);
+    extra columns (e.g. a sample id) are ignored."""
+    rows = _Rows("", table.source, table)
     if not rows.rows:
         raise rows.error(rows.header_line, "no data rows after the header")
     if rows.has("l", "a", "b"):

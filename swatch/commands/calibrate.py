@@ -5,7 +5,24 @@ from pathlib import Path
 
 import click
 
-from swatch.commands.common import colour_options, echo_json, resolve_process
+from swatch.commands.common import colour_options, echo_json, instrument_request, resolve_process
+
+
+def _read(path: str, light: float, view: float, illuminant: str, observer: str):
+    """Coupons from a coupon CSV, or from a CGATS / CxF3 file (with its geometry and colorimetry)."""
+    from swatch.coupons import coupons_from_samples, read_coupons
+    from swatch.instrument_files import read_instrument_file
+    from swatch.limits import MAX_COUPON_BYTES, read_capped
+
+    try:
+        head = read_capped(path, MAX_COUPON_BYTES, "coupon file")
+    except OSError:
+        return read_coupons(path), light, view, illuminant, observer  # its own one-line errors
+    if not (head.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<") or b"BEGIN_DATA_FORMAT" in head):
+        return read_coupons(path), light, view, illuminant, observer
+    f = read_instrument_file(path, instrument_request())
+    m = f.samples[0].measurement
+    return coupons_from_samples(path, f.samples), float(m.light_deg[0]), float(m.view_deg[0]), f.illuminant, f.observer
 
 
 @click.command()
@@ -31,7 +48,9 @@ def calibrate(coupons, out_path, process, film, substrate, name, light, view, il
               as_json, report_dir, force):
     """Fit growth rate, offset and film index scale of a line from its coupons (CSV).
 
-    COUPONS: a header row, then voltage_V,L,a,b (CIELAB measured at --light/--view, --illuminant,
+    COUPONS: a CGATS file with a VOLTAGE_V field or a CxF3 file with voltage_V tags (geometry,
+    illuminant and observer from the file), or a CSV file (',', ';' or tab separated; decimal commas
+    with ';' or tab): a header row, then voltage_V,L,a,b (CIELAB measured at --light/--view, --illuminant,
     --observer) or voltage_V,wavelength_nm,reflectance (spectra, long form); optional columns
     thickness_nm (measured) and coupon (a label). The interference order is searched globally, a
     robust loss keeps a mislabelled coupon from pulling the line (it is flagged as an outlier), and
@@ -39,11 +58,10 @@ def calibrate(coupons, out_path, process, film, substrate, name, light, view, il
     """
     from swatch.calibration import calibrate as fit
     from swatch.calibration_report import calibration_paths, calibration_text, write_calibration
-    from swatch.coupons import read_coupons
 
     out, png = calibration_paths(out_path, report_dir, force)
     base = resolve_process(process, film, substrate)
-    data = read_coupons(coupons)
+    data, light, view, illuminant, observer = _read(coupons, light, view, illuminant, observer)
     cal = fit(data, base, light, view, illuminant, observer, fit_scale, name)
     write_calibration(cal, out, png, f"{Path(coupons).name} ({len(data)} coupons)")
     d = cal.to_dict()

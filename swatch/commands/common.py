@@ -148,3 +148,26 @@ def colour_options(f):
 
 def echo_json(obj) -> None:
     click.echo(json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False))
+
+
+def instrument_request(percent=None):
+    """The :class:`swatch.instruments.Request` of the running command: its geometry, illuminant and
+    observer options, and which of them the user gave (those must agree with a measurement file)."""
+    from click.core import ParameterSource
+
+    from swatch.instruments import Request
+
+    ctx = click.get_current_context()
+    p = ctx.params
+
+    def given(name):
+        return name in p and ctx.get_parameter_source(name) not in (ParameterSource.DEFAULT, None)
+
+    keys = set()
+    if any(given(n) for n in ("light", "view", "light_azimuth", "view_azimuth")):
+        keys.add("geometry")
+    keys |= {n for n in ("illuminant", "observer") if given(n)}
+    return Request(light_deg=p.get("light", 45.0), view_deg=p.get("view", 0.0),
+                   light_azimuth_deg=p.get("light_azimuth", 0.0) or 0.0, view_azimuth_deg=p.get("view_azimuth"),
+                   illuminant=p.get("illuminant", "D65"), observer=p.get("observer", "10"), percent=percent,
+                   given=frozenset(keys))

@@ -40,28 +40,36 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
         report_dir, force):
     """Estimate oxide thickness from measured spectra (or CIELAB) and report ΔE per geometry.
 
-    MEASUREMENTS: CSV files, each one of: wavelength_nm,reflectance (one spectrum at --light/--view);
-    light_deg,view_deg[,light_azimuth_deg,view_azimuth_deg],wavelength_nm,reflectance (sBRDF set, long
-    form; negative view_deg = on the light's side); light_deg,view_deg,L,a,b (CIELAB: fitted by ΔE2000).
+    MEASUREMENTS: CxF3 or CGATS files as instruments export them (each sample fitted; the file's
+    geometry, illuminant and observer are used and must agree with options given), or CSV files
+    (',', ';' or tab separated; decimal commas with ';' or tab), each one of: wavelength_nm,reflectance
+    (one spectrum at --light/--view); light_deg,view_deg[,light_azimuth_deg,view_azimuth_deg],
+    wavelength_nm,reflectance (sBRDF set, long form; negative view_deg = on the light's side);
+    light_deg,view_deg,L,a,b (CIELAB: fitted by ΔE2000); an id column splits a file into samples.
     The fit minimises the mean squared spectral error over all geometries outside the mirror region
     (global search over the range, then local refinement) and reports the best thickness, an
     uncertainty, the next-best minimum, ΔE*ab and ΔE2000 per geometry, their means and the grade.
     """
     from swatch import report
-    from swatch.measurements import read_measurement
+    from swatch.instrument_files import read_instrument_file
     from swatch.spectral_fit import fit_measurement
 
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     film, substrate = proc.film, proc.substrate
     rng = parse_pair(thickness_range, "--range")
-    geom = dict(light_deg=light, view_deg=view, light_azimuth_deg=light_azimuth, view_azimuth_deg=view_azimuth)
-    paths = report.report_paths(report_dir, measurements, force) if report_dir is not None else None
+    request = common.instrument_request(percent)
     options = dict(scale=scale, exclude_mirror_deg=exclude_mirror, thickness_range=rng, step_nm=step,
-                   illuminant=illuminant, observer=observer, scheme=scheme, wavelength_nm=common.resolve_grid(wavelengths),
+                   scheme=scheme, wavelength_nm=common.resolve_grid(wavelengths),
                    film_index_scale=proc.film_index_scale, spread=proc.spread)
     given = click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT
-    results = [fit_measurement(read_measurement(p, percent, **geom), film, substrate, grid_given=given, source=p,
-                               **options) for p in measurements]
+    files = [read_instrument_file(p, request) for p in measurements]
+    names = [p if len(f.samples) == 1 else f"{p}#{s.id}" for p, f in zip(measurements, files, strict=True)
+             for s in f.samples]
+    paths = report.report_paths(report_dir, [n.replace("#", "_") for n in names], force) \
+        if report_dir is not None else None
+    results = [fit_measurement(s.measurement, film, substrate, grid_given=given, source=p,
+                               illuminant=f.illuminant, observer=f.observer, **options)
+               for p, f in zip(measurements, files, strict=True) for s in f.samples]
     dicts = [report.with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]
     if paths:
         from swatch.fileio import check_writable_dir
