@@ -28,6 +28,7 @@ COMMANDS = {
     "match": "swatch.commands.fit:match",
     "preset": "swatch.commands.preset:preset",
     "calibrate": "swatch.commands.calibrate:calibrate",
+    "spec": "swatch.commands.spec:spec",
 }
 
 

@@ -1,0 +1,91 @@
+"""``swatch spec``: a finish specification (spec.json and a one-page PDF spec card) from a target."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from swatch.commands import common
+from swatch.errors import SwatchError
+
+
+@click.command()
+@click.option("--hex", "hex_code", default=None, help="target sRGB colour RRGGBB (matched at 45:0 under CIE 1931 2°)")
+@click.option("--lab", "lab", default=None, help="target CIELAB L,a,b (under --illuminant/--observer, at 45:0)")
+@click.option("--thickness", type=float, default=None, help="nominal oxide thickness in nm")
+@click.option("--voltage", type=float, default=None, help="nominal anodising voltage in V (through the process's growth law)")
+@common.process_options
+@click.option("--roughness", type=float, default=None,
+              help="the finish's GGX roughness, recorded with the spec [default: the process profile's, else 0.3]")
+@click.option("--tolerance", "tolerance", default="dE00:2", show_default=True, metavar="METRIC:MAX|SCHEME:GRADE",
+              help="the tolerance, judged in its own metric at 45:0 (e.g. dE00:2, dEab:3.2, csaj:C)")
+@common.colour_options
+@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False, path_type=str),
+              help="folder for spec.json and spec.pdf")
+@click.option("--force", is_flag=True, help="overwrite an existing spec.json / spec.pdf")
+@click.option("--json", "as_json", is_flag=True, help="also print spec.json")
+def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tolerance, illuminant, observer,
+         out_dir, force, as_json):
+    """A finish specification for a fabricator: nominal thickness and voltage, CIELAB at 45:0 and the
+    ASTM E2194 / E2539 multi-angle geometries, the flop (ΔE00 view 0° vs 60°), the tolerance and the
+    process window it allows (nm, V); for a colour target, the closest reachable colour and how far.
+    Writes DIR/spec.json (stable keys, README) and DIR/spec.pdf (one page: chips, multi-angle table,
+    window, process profile, how to measure, sign-off box).
+    """
+    from swatch.colorimetry import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
+    from swatch.finish_spec import finish_spec
+    from swatch.materials import wavelength_grid
+    from swatch.model import check_thickness_nm
+    from swatch.spec_card import write_spec_card
+    from swatch.tolerance import parse_tolerance
+
+    given = [n for n, v in (("--hex", hex_code), ("--lab", lab), ("--thickness", thickness), ("--voltage", voltage))
+             if v is not None]
+    if len(given) != 1:
+        raise SwatchError("give exactly one of --hex, --lab, --thickness or --voltage")
+    if not str(out_dir).strip():
+        raise SwatchError("--out is an empty string; give a folder path")
+    tol = parse_tolerance(tolerance)
+    proc = common.resolve_process(process, None, None, nm_per_volt)
+    rough = roughness if roughness is not None else (proc.roughness if proc.roughness is not None else 0.3)
+    if not 0.01 <= rough <= 1.0:
+        raise SwatchError(f"--roughness must be from 0.01 to 1 (got {rough:g})")
+    wl = wavelength_grid(380.0, 780.0, 5.0)
+    cm = get_colorimeter(wl, illuminant, observer)
+    if hex_code is not None:
+        target = {"kind": "hex", "value": "#" + hex_code.strip().lstrip("#").lower(),
+                  "Lab": [float(v) for v in hex_to_Lab(hex_code, cm.display_colorimeter)]}
+    elif lab is not None:
+        target = {"kind": "lab", "value": lab, "Lab": [float(v) for v in parse_Lab(lab, "--lab")]}
+    elif thickness is not None:
+        target = {"kind": "thickness", "value": thickness,
+                  "thickness_nm": float(check_thickness_nm([thickness])[0])}
+    else:
+        if proc.nm_per_V is None:
+            raise SwatchError(f"process {proc.name} has no growth rate; give --thickness or --nm-per-volt")
+        target = {"kind": "voltage", "value": voltage,
+                  "thickness_nm": float(check_thickness_nm(proc.thickness_nm([voltage]))[0])}
+    out = Path(out_dir)
+    paths = [out / "spec.json", out / "spec.pdf"]
+    check_new([p for p in paths if out.exists()], force)
+    data = finish_spec(target, proc, tol, illuminant=illuminant, observer=observer, wavelength_nm=wl,
+                       roughness=rough)
+    text = json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+    check_writable_dir(out)
+    with atomic_path(paths[1]) as tmp:
+        write_spec_card(data, tmp)
+    atomic_write_text(paths[0], text)
+    if as_json:
+        click.echo(text, nl=False)
+        return
+    nom, pw = data["nominal"], data["process_window"]
+    volts = f" at {nom['voltage_V']} V" if nom["voltage_V"] is not None else ""
+    click.echo(f"nominal {nom['thickness_nm']} nm{volts}; window -{pw['thickness_minus_nm']}/+{pw['thickness_plus_nm']} nm "
+               f"({pw['metric']} <= {pw['max']:g} at 45:0); flop dE00 {data['flop']['delta_E_00']}")
+    if data["reach"] is not None and not data["reach"]["within_tolerance"]:
+        r = data["reach"]
+        click.echo(f"the target cannot be reached within the tolerance: closest {r['closest_thickness_nm']} nm, "
+                   f"{r['metric']} {r['delta_E']}")
+    click.echo(f"written {paths[0]} and {paths[1]}")
