@@ -29,6 +29,7 @@ COMMANDS = {
     "preset": "swatch.commands.preset:preset",
     "calibrate": "swatch.commands.calibrate:calibrate",
     "spec": "swatch.commands.spec:spec",
+    "check": "swatch.commands.check:check",
 }
 
 

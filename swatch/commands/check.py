@@ -1,0 +1,116 @@
+"""``swatch check``: measured parts against a finish specification; exit 0 all pass, 1 any fails."""
+from __future__ import annotations
+
+import click
+
+
+def _figure(results: list[dict], spec: dict):
+    """Measured vs specified chips per angle (rows: parts, columns: geometries); failing cells framed red.
+    Both chips of a cell go through the same CIELAB → sRGB conversion (display only, clipped)."""
+    from PIL import Image, ImageDraw
+
+    from swatch.colorimetry import get_colorimeter
+    from swatch.materials import wavelength_grid
+
+    cm = get_colorimeter(wavelength_grid(380.0, 780.0, 5.0), spec["colorimetry"]["illuminant"],
+                         spec["colorimetry"]["observer"])
+    geoms = [e["geometry"] for e in [spec["reference"], *spec["multi_angle"]]]
+    spec_hex = {e["geometry"]: _hex_of(e["Lab"], cm) for e in [spec["reference"], *spec["multi_angle"]]}
+    rows = results[:60]
+    cell, pad, head, label = 44, 6, 28, 150
+    img = Image.new("RGB", (label + len(geoms) * (2 * cell + pad) + pad, head + len(rows) * (cell + pad) + pad),
+                    "white")
+    dr = ImageDraw.Draw(img)
+    for j, g in enumerate(geoms):
+        dr.text((label + j * (2 * cell + pad), 8), f"{g}  spec | part", fill=(30, 30, 30))
+    tol = spec["tolerance"]["max"]
+    for i, r in enumerate(rows):
+        y = head + i * (cell + pad)
+        dr.text((6, y + 14), f"{r['id'][:18]} {'PASS' if r['pass'] else 'FAIL'}", fill=(30, 30, 30) if r["pass"]
+                else (200, 0, 0))
+        for j, g in enumerate(geoms):
+            if g not in r["Lab"]:
+                continue
+            x = label + j * (2 * cell + pad)
+            dr.rectangle([x, y, x + cell, y + cell], fill=spec_hex[g])
+            dr.rectangle([x + cell, y, x + 2 * cell, y + cell], fill=_hex_of(r["Lab"][g], cm))
+            bad = r["delta_E"][g] > tol
+            dr.rectangle([x, y, x + 2 * cell, y + cell], outline=(200, 0, 0) if bad else (120, 120, 120),
+                         width=3 if bad else 1)
+    return img
+
+
+def _hex_of(Lab, cm) -> str:
+    """sRGB of a CIELAB (under the spec's illuminant/observer) for display, through XYZ (clipped)."""
+    import colour
+    import numpy as np
+
+    XYZ = cm.Lab_to_XYZ(np.asarray(Lab, dtype=np.float64)) / 100.0
+    rgb = np.clip(colour.XYZ_to_sRGB(XYZ, illuminant=cm.white_xy), 0.0, 1.0)
+    return "#" + "".join(f"{round(float(v) * 255):02x}" for v in rgb)
+
+
+@click.command()
+@click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False, path_type=str))
+@click.option("--spec", "spec_path", required=True, type=click.Path(dir_okay=False, path_type=str),
+              help="the spec.json written by swatch spec")
+@click.option("--percent/--fraction", "percent", default=None,
+              help="reflectance unit of spectra [default: percent if any value > 1.5, else fraction]")
+@click.option("--json", "as_json", is_flag=True, help="print JSON instead of text")
+@click.option("--report", "report_dir", default=None, type=click.Path(file_okay=False, path_type=str),
+              help="write check.png (specified vs measured chips per angle) and check.json into this folder")
+@click.option("--force", is_flag=True, help="overwrite existing report files")
+def check(files, spec_path, percent, as_json, report_dir, force):
+    """Judge measured parts against a finish specification, per geometry, in the tolerance's metric.
+
+    FILES: CxF3, CGATS or CSV measurement files (one or many parts each, CIELAB or spectra, one or
+    many geometries of the spec). Prints per part the ΔE at each geometry, pass/fail, the fitted
+    thickness and the voltage correction that would bring the line back. Exit status 0 when every
+    part passes, 1 when any fails, 2 for bad input.
+    """
+    import json
+    from pathlib import Path
+
+    from swatch.errors import SwatchError
+    from swatch.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
+    from swatch.instrument_files import read_instrument_file
+    from swatch.instruments import Request
+    from swatch.qc import check_file, load_spec_json
+
+    spec = load_spec_json(spec_path)
+    col = spec["colorimetry"]
+    ref = spec["reference"]
+    request = Request(light_deg=ref["light_deg"], view_deg=ref["view_deg"], illuminant=col["illuminant"],
+                      observer=col["observer"], percent=percent)
+    if report_dir is not None:
+        if not str(report_dir).strip():
+            raise SwatchError("--report is an empty string; give a folder path")
+        out = Path(report_dir)
+        paths = [out / "check.png", out / "check.json"]
+        check_new([p for p in paths if out.exists()], force)
+    results = [r for p in files for r in check_file(read_instrument_file(p, request), spec)]
+    ids = [r["id"] for r in results]
+    if len(set(ids)) != len(ids):
+        for r in results:
+            r["id"] = f"{Path(r['source']).name}#{r['id']}"
+    doc = {"spec": str(spec_path), "pass": all(r["pass"] for r in results),
+           "tolerance": {k: spec["tolerance"][k] for k in ("metric", "max", "label")},
+           "colorimetry": {"illuminant": col["illuminant"], "observer": col["observer"]},
+           "nominal": spec["nominal"], "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
+           "measurements": results}
+    text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+    if report_dir is not None:
+        check_writable_dir(out)
+        with atomic_path(paths[0]) as tmp:
+            _figure(results, spec).save(tmp, format="PNG")
+        atomic_write_text(paths[1], text)
+    if as_json:
+        click.echo(text, nl=False)
+    else:
+        for r in results:
+            dv = "" if r["voltage_correction_V"] is None else f", voltage {r['voltage_correction_V'] + 0.0:+.1f} V"
+            worst = max(r["delta_E"], key=r["delta_E"].get)
+            click.echo(f"{r['id']}: {'PASS' if r['pass'] else 'FAIL'}  max {r['metric']} {r['max_delta_E']:.2f} "
+                       f"({worst})  thickness {r['thickness_nm']:.1f} nm ({r['thickness_offset_nm']:+.1f}){dv}")
+        click.echo(f"{doc['n_parts'] - doc['n_failed']} of {doc['n_parts']} parts pass ({spec['tolerance']['label']})")
+    return 0 if doc["pass"] else 1
