@@ -35,7 +35,8 @@ DISTRIBUTIONS = ("ggx", "beckmann")
 #: :data:`swatch.colorimetry.RGB_SPACES`; these are the ones with an EXR ``chromaticities`` tag).
 IMAGE_SPACES = ("srgb", "acescg")
 #: Built-in lighting of renders (``--environment``; a path to an equirectangular .exr also works):
-#: ``none`` (one directional light), ``uniform`` (radiance 1 everywhere), ``studio`` (a light box).
+#: ``none`` (one directional light), ``uniform`` (radiance 1 everywhere), ``studio`` (a photographic
+#: studio: soft boxes, dark walls, a floor and horizon).
 ENVIRONMENTS = ("none", "uniform", "studio")
 #: Lighting of the catalog page's live view: ``point`` (its one directional light, ``none`` above)
 #: and the built-in environments.

@@ -306,7 +306,7 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
 def resolve_lighting(environment: str | None, model: str, distribution: str, size_px: int, background: str,
                      view_deg: float | None = None, view_azimuth_deg: float = 0.0):
     """The lighting of ``swatch render``: ``--environment``'s map (or None for one directional light),
-    by default the studio light box for the GGX microfacet model and none otherwise; checked against
+    by default the studio for the GGX microfacet model and none otherwise; checked against
     the model, the image size, the background and the camera angles."""
     from swatch import geometry
     from swatch.environment import get_environment

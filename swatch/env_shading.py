@@ -15,14 +15,15 @@ Normals"), for which ``f cos θ_l / pdf = F(θ_d) G2(l, v) / G1(v)``. The sample
 Fibonacci lattice of ``N`` points per bin of ``θ_v`` (:data:`VIEW_BINS` bins uniform in θ_v), laid out in
 the local frame (normal = z, view in the xz plane) and rotated into each pixel's frame. Then
 
-    L(n, v) ≈ Σ_i a_i(cos θ_v) ⊙ E(R_{n,v} l_i),   a_i = (1/N) G2/G1 · RGB(F(θ_d,i)) · c(cos θ_v)
+    L(n, v) ≈ Σ_i a_i(cos θ_v) ⊙ E(R_{n,v} l_i),   a_i = w_i (RGB(F(θ_d,i)) + δ(cos θ_v)),  w_i = G2/G1 / N
 
 with ``E`` the environment blurred on the sphere by the samples' footprint (σ from the lobe's
 solid angle / N, so a few samples give a smooth image: filtered importance sampling, Křivánek &
-Colbert 2008), looked up bilinearly. ``c`` (per colour channel) rescales the weights so that
-under a uniform environment the sum equals the directional albedo ``∫ f cos θ_l dω_l`` computed
-with :data:`DENSE_SAMPLES` samples: the few-sample set only distributes the light, the dense set
-fixes the level (exact in the furnace test).
+Colbert 2008), looked up bilinearly. A correction (per colour channel, spread over the samples
+in proportion to their weights, :func:`band_weights`) makes the sum under a uniform environment
+equal the directional albedo ``∫ f cos θ_l dω_l`` computed with :data:`DENSE_SAMPLES` samples:
+the few-sample set only distributes the light, the dense set fixes the level (exact in the
+furnace test).
 
 Because ``E(R l_i)`` does not depend on the thickness, a series of thicknesses rendered with one
 scene (a catalog) gathers the environment once (:func:`gather`) and re-weights it per thickness
@@ -185,12 +186,18 @@ def directional_albedo(samples: SampleSet, f_table) -> np.ndarray:
 
 
 def band_weights(samples: SampleSet, f_table) -> np.ndarray:
-    """The per-bin, per-sample RGB weights ``a`` (M, N, 3) for one thickness (module doc)."""
+    """The per-bin, per-sample RGB weights ``a`` (M, N, 3) for one thickness (module doc).
+
+    ``a_i = w_i F(θ_d,i) + w_i (A − Σ_i w_i F(θ_d,i)) / Σ_i w_i`` per bin and channel, ``A`` the
+    dense directional albedo: the few samples' sum is moved to the dense level by an amount spread
+    in proportion to the samples' weights (additive, so it stays finite where a channel of F's
+    linear RGB changes sign across the lobe, as saturated cyans' red does; a ratio would blow up).
+    """
     a = samples.w[..., None] * _lookup_table(f_table, samples.cos_d)
     level = directional_albedo(samples, f_table)
-    s = a.sum(axis=1)
-    scale = np.where(s > 1e-12, level / np.where(s > 1e-12, s, 1.0), 0.0)
-    return (a * scale[:, None, :]).astype(np.float32)
+    W = samples.w.sum(axis=1)
+    delta = np.where(W[:, None] > 0, (level - a.sum(axis=1)) / np.where(W > 0, W, 1.0)[:, None], 0.0)
+    return (a + samples.w[..., None] * delta[:, None, :]).astype(np.float32)
 
 
 def local_frame(n, v):

@@ -11,22 +11,25 @@ directional albedo ``A = H F`` (``H``: the renderer's dense sample set spread on
 of it: it reads the samples, ``H`` and the maps from here and only multiplies and adds.
 
 **The page's split (so that a thickness change is one cheap pass).** The radiance of a pixel in
-view bin ``j`` is ``c_j ⊙ Σ_i w_i F(x_i) E_i`` (``x_i = cos θ_d`` of sample ``i``, ``E_i`` the
-environment in its direction). The environment part does not depend on the thickness, ``F`` only
+view bin ``j`` is ``Σ_i w_i (F(x_i) + δ_j) E_i`` (``x_i = cos θ_d`` of sample ``i``, ``E_i`` the
+environment in its direction, ``δ_j`` the level correction of
+:func:`swatch.env_shading.band_weights`). The environment part does not depend on the thickness, ``F`` only
 through ``x_i``, which is fixed per bin. ``F`` is replaced by its weighted least-squares
 projection onto polynomials of degree ``BASIS − 1`` in ``x`` over the bin's samples (weights
 ``w_i``; orthonormal basis ``q_k`` from a QR factorisation per bin, embedded as ``u_ik = w_i
 q_k(x_i)``), so
 
-    radiance ≈ c_j ⊙ Σ_k p_jk M_k,   M_k = Σ_i u_ik E_i (per pixel),   p_jk = Σ_i u_ik F(x_i) (per bin).
+    radiance ≈ Σ_k (p_jk + δ_j s_jk) M_k,   M_k = Σ_i u_ik E_i (per pixel),   p_jk = Σ_i u_ik F(x_i),
+    s_jk = Σ_i u_ik (per bin; Σ_i w_i E_i = Σ_k s_jk M_k exactly, the constants lying in the basis).
 
 The page stores the ``BASIS`` moments ``M_k`` per pixel when the view, the shape or the lighting
-changes (one pass over the samples) and, per thickness, computes ``c_j p_jk`` for the 256 bins
+changes (one pass over the samples) and, per thickness, computes ``p_jk + δ_j s_jk`` for the 256 bins
 in JavaScript (a few thousand products) and shades every pixel with ``BASIS`` products. Constant
 functions lie in the basis, so a uniform environment gives exactly the directional albedo (the
 furnace test holds as in the renderer). Measured against the renderer's per-sample sum on 4 000
-random normal/view pairs in the studio box, 20–300 nm (``tests/test_catalog_explorer_env.py``):
-ΔE2000 max 0.16 with ``BASIS = 4`` (α = 0.3; 0.62 with 3, 0.06 with 5).
+random normal/view pairs in the studio, 20–300 nm (``tests/test_catalog_explorer_env.py``):
+ΔE2000 max 0.16 with ``BASIS = 4`` in the first (bright-walled) studio (α = 0.3; 0.62 with 3, 0.06
+with 5); see docs/catalog.md for the figures in the present one.
 
 **Frames.** The page's world has the plate's normal along +z and its camera azimuth 180° at the
 renderer's azimuth 0 (the +z side of :mod:`swatch.scene`); a page direction ``(x, y, z)`` is the

@@ -24,7 +24,7 @@ __all__ = ["index_html", "embed_json", "page_script", "page_style"]
 SCRIPTS = ("colour.js", "envlight.js", "view.js", "page.js")
 #: Labels of the live view's lighting choices (swatch.choices.LIGHTINGS).
 LIGHTING_LABELS = {"point": "point light (light angle)", "uniform": "uniform (radiance 1 everywhere)",
-                   "studio": "studio light box (as the sheets' renders)"}
+                   "studio": "studio: soft boxes, dark walls, floor and horizon (as the sheets' renders)"}
 #: Width (CSS px) of a render and of the angular map in a card.
 CARD_IMAGE_PX = 96
 
@@ -190,7 +190,7 @@ def _tools(c: dict, env: dict | None = None) -> str:
 <div class="stage"><canvas id="view" width="800" height="600" role="img" aria-label="live view of the swatch"></canvas>
 <p class="hint" id="view-note">Drag the picture to turn the view; the lighting stays fixed. Colours are the
 thin-film physics of this catalog (embedded table), shaded with the microfacet model. Lighting: one point light
-(its angle on the slider, exposure from the picture) or an environment, the studio light box of the sheets'
+(its angle on the slider, exposure from the picture) or an environment, the studio of the sheets'
 renders or uniform white, integrated over the microfacet lobe at exposure 1 (a white diffuser would be white),
 as <code>swatch render --environment</code>.</p></div>
 <div class="panel">

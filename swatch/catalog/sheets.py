@@ -43,7 +43,7 @@ LIGHT_DEG = 45.0
 #: Resolution written into sheet PNGs (pHYs): the page prints about 30 × 23 cm.
 SHEET_DPI = 150
 
-#: Lighting of the tile renders for the microfacet model (GGX): the studio light box, exposure 1
+#: Lighting of the tile renders for the microfacet model (GGX): the studio, exposure 1
 #: (swatch.env_render), so a render and its chip are on one scale; the paper model keeps the light.
 ENVIRONMENT = "studio"
 
@@ -54,7 +54,7 @@ def tile_environment(spec: CatalogSpec) -> str | None:
 
 def lighting_caption(spec: CatalogSpec) -> str:
     if tile_environment(spec):
-        return "studio light box at exposure 1 (white diffuser = white, as for the chip)"
+        return "studio (soft boxes, dark walls, floor and horizon) at exposure 1 (white diffuser = white, as for the chip)"
     return f"one light at {LIGHT_DEG:g}°, display exposure per render"
 
 

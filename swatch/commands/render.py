@@ -124,7 +124,7 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
 @click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
 @click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
 @click.option("--environment", default=None, metavar="NAME|FILE.exr",
-              help="lighting: studio (light box; the default for the GGX microfacet model), uniform (white, radiance 1), "
+              help="lighting: studio (soft boxes, floor, horizon; the default for the GGX microfacet model), uniform (white, radiance 1), "
                    "an equirectangular EXR, or none (one directional light at --light; the default otherwise)")
 @click.option("--view", "view_deg", type=float, default=None,
               help="camera angle from the plate's normal in degrees [0, 90) (default 36 flat, 70 cylinder/sphere)")

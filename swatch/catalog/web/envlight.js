@@ -1,12 +1,13 @@
-// envlight.js — the live view under an environment (the studio light box, uniform): the thin-film
+// envlight.js — the live view under an environment (the studio, uniform): the thin-film
 // GGX BRDF integrated over the environment as swatch.env_shading does it. Everything physical
 // comes from the build (swatch.catalog.explorer_env): per view bin the renderer's fixed GGX
 // visible-normal samples, the environment's blurred octahedral maps, the dense directional albedo
 // matrix and the weights of the per-bin projection of F. Two passes (explorer_env's module doc):
 //  * gather, when the view, the shape or the lighting changes: per pixel the moments
 //    M_k = sum_i u_ik E_i of the environment over the pixel's samples (an RGBA32UI target);
-//  * shade, every frame: radiance = c_j * sum_k p_jk M_k, with p_jk = sum_i u_ik F(x_i) and the
-//    level c_j = (H F)_j / sum_i w_i F(x_i) computed here per thickness from the colour table's row;
+//  * shade, every frame: radiance = sum_k (p_jk + d_j q_jk) M_k, with p_jk = sum_i u_ik F(x_i),
+//    q_jk = sum_i u_ik and the level d_j = ((H F)_j - sum_i w_i F(x_i)) / sum_i w_i computed here per
+//    thickness from the colour table's row;
 //    then exposure 1 (the white diffuser under the same environment is white), the shoulder above
 //    0.8 and sRGB encoding, as swatch render's PNG.
 
@@ -130,26 +131,30 @@ function makeEnvLight(gl, E, C) {
     gl.activeTexture(gl.TEXTURE0);
     size = [wd, h];
   }
-  // per thickness: c_j * p_jk for every bin (12 floats: four RGB coefficients), from the table's row
+  // per thickness: p_jk + d_j q_jk for every bin (12 floats: four RGB coefficients), from the table's row
   function coefficients(row) {
-    const out = new Float32Array(M * 12), kk = nc - 1, F = [0, 0, 0], p = new Float64Array(12);
+    const out = new Float32Array(M * 12), kk = nc - 1, F = [0, 0, 0], p = new Float64Array(12), q = new Float64Array(4);
     for (let j = 0; j < M; j++) {
-      let s0 = 0, s1 = 0, s2 = 0;
+      let s0 = 0, s1 = 0, s2 = 0, W = 0;
       p.fill(0);
+      q.fill(0);
       for (let i = 0; i < N; i++) {
         const o = j * N + i;
         const x = Math.min(Math.max(cd[o] * kk, 0), kk), a = Math.min(Math.floor(x), kk - 1), f = x - a;
         for (let ch = 0; ch < 3; ch++) F[ch] = row[4 * a + ch] * (1 - f) + row[4 * a + 4 + ch] * f;
-        s0 += w[o] * F[0]; s1 += w[o] * F[1]; s2 += w[o] * F[2];
+        s0 += w[o] * F[0]; s1 += w[o] * F[1]; s2 += w[o] * F[2]; W += w[o];
         for (let k = 0; k < 4; k++) {
           const uk = u[4 * o + k];
+          q[k] += uk;
           p[3 * k] += uk * F[0]; p[3 * k + 1] += uk * F[1]; p[3 * k + 2] += uk * F[2];
         }
       }
       let a0 = 0, a1 = 0, a2 = 0; // the dense directional albedo of this bin
       for (let m = 0; m < nc; m++) { const hm = H[j * nc + m]; a0 += hm * row[4 * m]; a1 += hm * row[4 * m + 1]; a2 += hm * row[4 * m + 2]; }
-      const c = [s0 > 1e-12 ? a0 / s0 : 0, s1 > 1e-12 ? a1 / s1 : 0, s2 > 1e-12 ? a2 / s2 : 0];
-      for (let k = 0; k < 12; k++) out[12 * j + k] = c[k % 3] * p[k];
+      // the level: (A - sum_i w_i F_i) / sum_i w_i added to F over the bin's samples (as the renderer's
+      // band_weights); sum_i w_i E_i = sum_k q_k M_k with q_k = sum_i u_ik (the constants lie in the basis)
+      const dl = W > 0 ? [(a0 - s0) / W, (a1 - s1) / W, (a2 - s2) / W] : [0, 0, 0];
+      for (let k = 0; k < 12; k++) out[12 * j + k] = p[k] + dl[k % 3] * q[(k / 3) | 0];
     }
     return out;
   }
