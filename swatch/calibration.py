@@ -66,6 +66,9 @@ class Calibration:
     observer: str
     runner_up: dict | None  # the best other interference order: nm_per_V, offset_nm, median ΔE2000
     model: _Model | None = dataclasses.field(default=None, repr=False)
+    #: per coupon: for an outlier, the voltage on the fitted line whose colour is closest to its colour
+    #: (a mislabelled coupon shows up here) and that ΔE2000; None for the others
+    outlier_match: tuple = ()
     measured_R: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
     def figure(self) -> np.ndarray:
@@ -86,9 +89,12 @@ class Calibration:
             "nm_per_V": p.nm_per_V, "offset_nm": p.offset_nm, "film_index_scale": p.film_index_scale,
             "uncertainty": self.uncertainty,
             "samples": [{"coupon": lab, "voltage_V": float(v), "thickness_nm": round(float(d), 3),
-                         "delta_E_00": round(float(e), 3), "outlier": bool(o)}
-                        for lab, v, d, e, o in zip(self.labels, self.voltage_V, self.thickness_nm, self.delta_E_00,
-                                                   self.outlier, strict=True)],
+                         "delta_E_00": round(float(e), 3), "outlier": bool(o),
+                         "matches_voltage_V": None if m is None else m[0],
+                         "matches_delta_E_00": None if m is None else m[1]}
+                        for lab, v, d, e, o, m in zip(self.labels, self.voltage_V, self.thickness_nm, self.delta_E_00,
+                                                      self.outlier, self.outlier_match or (None,) * len(self.labels),
+                                                      strict=True)],
             "mean_delta_E_00": round(float(self.delta_E_00[inl].mean()), 3),
             "max_delta_E_00": round(float(self.delta_E_00[inl].max()), 3),
             "outliers": int(self.outlier.sum()),
@@ -334,12 +340,39 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
         description=(f"{base.film} on {base.substrate}, calibrated from {len(coupons)} coupons of {src}"),
         sources=tuple(sources.items()), calibration=calibration,
     )
+    match = _outlier_matches(model, Lab_m, outlier, rate, offset, scale, float(V.max()))
     return Calibration(
-        process=proc, uncertainty=uncertainty, voltage_V=V, thickness_nm=d_fit, Lab_measured=Lab_m,
+        outlier_match=match, process=proc, uncertainty=uncertainty, voltage_V=V, thickness_nm=d_fit, Lab_measured=Lab_m,
         Lab_predicted=Lab_p, delta_E_00=dE, outlier=outlier, labels=coupons.labels,
         geometry={"light_deg": light_deg, "view_deg": view_deg}, illuminant=cm.illuminant,
         observer=cm.observer, runner_up=runner_up, model=model, measured_R=coupons.reflectance,
     )
+
+
+#: Voltage step of the search for the voltage an outlier's colour matches.
+MATCH_STEP_V = 0.1
+
+
+def _outlier_matches(model, Lab_m, outlier, rate, offset, scale, v_max) -> tuple:
+    """For each outlier, (voltage_V, ΔE2000) of the closest colour on the fitted line over
+    0 … 1.5 × the largest coupon voltage (at most MAX_VOLTAGE_V); None for the other coupons."""
+    from swatch.colorimetry import delta_E_00
+    from swatch.limits import MAX_VOLTAGE_V
+
+    if not outlier.any():
+        return (None,) * outlier.size
+    grid = np.arange(0.0, min(1.5 * v_max, MAX_VOLTAGE_V) + MATCH_STEP_V / 2, MATCH_STEP_V)
+    d = np.clip(offset + rate * grid, 0.0, 1000.0)
+    table = model.Lab(d, scale)  # (K, 3)
+    out = []
+    for i in range(outlier.size):
+        if not outlier[i]:
+            out.append(None)
+            continue
+        dE = delta_E_00(table, np.broadcast_to(Lab_m[i], table.shape))
+        k = int(np.argmin(dE))
+        out.append((round(float(grid[k]), 1), round(float(dE[k]), 2)))
+    return tuple(out)
 
 
 def _round(x, nd):

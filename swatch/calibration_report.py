@@ -141,7 +141,11 @@ def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
                      f"(median ΔE2000 {r['mean_delta_E_00']:.2f})")
     lines.append(f"{'coupon':>16} {'voltage_V':>9} {'thickness_nm':>12} {'ΔE2000':>7}")
     for s in d["samples"]:
-        flag = "  outlier" if s["outlier"] else ""
+        flag = ""
+        if s["outlier"]:
+            m = s.get("matches_voltage_V")
+            flag = ("  outlier" if m is None else f"  outlier: its colour matches {m:g} V on the fitted line "
+                    f"(ΔE2000 {s['matches_delta_E_00']:.2f}; mislabelled?)")
         lines.append(f"{s['coupon'][:16]:>16} {s['voltage_V']:9g} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f}{flag}")
     return lines
 

@@ -170,3 +170,12 @@ def test_endless_coupon_file_is_refused_without_reading_it_all(tmp_path):
     """A device that never ends (``/dev/zero``) is read up to the cap, then refused (it used to be
     read whole before the cap was applied: the size of a device is 0)."""
     assert_one_line_error(run_swatch("calibrate", "/dev/zero", "--out", tmp_path / "p.toml"), "at most 8 MB")
+
+
+def test_outlier_names_the_voltage_its_colour_matches(lab_coupons):
+    """Issue 21: an outlier coupon was flagged with no hint of the voltage its colour matches (the
+    mislabelled coupon was anodised at 20 V and labelled 45 V)."""
+    d = calibrate(read_coupons(lab_coupons), load_process("titanium-fujii2019")).to_dict()
+    s = d["samples"][MISLABELLED]
+    assert s["outlier"] and abs(s["matches_voltage_V"] - 20.0) <= 1.0 and s["matches_delta_E_00"] < 2.0
+    assert all(x["matches_voltage_V"] is None for x in d["samples"] if not x["outlier"])
