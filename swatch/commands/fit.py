@@ -106,10 +106,18 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
 @common.process_options
 @click.option("--match-lightness", is_flag=True,
               help="scale the simulated colour to the target's lightness (compare hue and chroma only)")
+@click.option("--angles", default=None, metavar="L:V,...|LasA,...",
+              help="match at several geometries, e.g. 45:0,45:60 or 45as15,45as45,45as110 (ASTM E2194 aspecular); "
+                   "candidates ranked by --rank over them")
+@click.option("--rank", type=click.Choice(("worst", "mean")), default="worst", show_default=True,
+              help="with --angles or --measurement: rank by the worst or the mean ΔE2000 over the geometries")
+@click.option("--measurement", "measurement", default=None, type=click.Path(dir_okay=False, path_type=str),
+              help="a multi-angle measurement (CxF3, CGATS or CSV; its first sample) as the target, one colour per "
+                   "geometry")
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of a table")
 def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substrate, illuminant, observer,
           wavelengths, thickness_range, step, top, grade, scheme, tolerance, process, nm_per_volt, match_lightness,
-          as_json):
+          angles, rank, measurement, as_json):
     """Thicknesses (and voltages) whose colour matches a target, across interference orders.
 
     The geometry defaults to the catalog's reference 45°:0° (light at 45°, view along the normal).
@@ -123,6 +131,9 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
 
     tol = parse_tolerance(tolerance) if tolerance is not None else get_tolerance(scheme, grade)
 
+    if angles is not None or measurement is not None:
+        return _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, substrate, nm_per_volt,
+                             wavelengths, illuminant, observer, thickness_range, step, top, as_json)
     if (lab is None) == (hex_code is None):
         raise SwatchError("give exactly one of --lab L,a,b or --hex RRGGBB")
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
@@ -145,3 +156,57 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
         common.echo_json(out)
         return
     click.echo("\n".join(match_text(res, out.get("target_hex"), thickness_range, cm, coating, proc.label, tol)))
+
+
+def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, substrate, nm_per_volt, wavelengths,
+                  illuminant, observer, thickness_range, step, top, as_json):
+    """``swatch match --angles`` / ``--measurement``: ranked by the worst or mean ΔE2000 over the geometries."""
+    from swatch.colorimetry import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.fitting import colour_grid, interp_rows
+    from swatch.instrument_files import read_instrument_file
+    from swatch.measurements import LabMeasurement
+    from swatch.multi_match import match_angles, parse_angles
+
+    if sum(x is not None for x in (lab, hex_code, measurement)) != 1:
+        raise SwatchError("give exactly one of --lab L,a,b, --hex RRGGBB or --measurement FILE")
+    proc = common.resolve_process(process, film, substrate, nm_per_volt)
+    coating = proc.coating(common.resolve_grid(wavelengths))
+    cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
+    if measurement is not None:
+        f = read_instrument_file(measurement, common.instrument_request())
+        m = f.samples[0].measurement
+        cm = get_colorimeter(coating.wavelength_nm, f.illuminant, f.observer)
+        side = (m.view_azimuth_deg == m.light_azimuth_deg) & (m.view_deg > 0)
+        geoms = [(f"{lt:g}:{-v if s else v:g}", float(lt), float(-v if s else v))
+                 for lt, v, s in zip(m.light_deg, m.view_deg, side, strict=True)]
+        if angles is not None:
+            raise SwatchError("--measurement gives its own geometries; leave out --angles")
+        if isinstance(m, LabMeasurement):
+            target = m.Lab
+        else:
+            wl, interp = colour_grid(m.wavelength_nm)
+            R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
+            mcm = get_colorimeter(wl, f.illuminant, f.observer)
+            target = mcm.Lab(mcm.XYZ(R))
+    else:
+        geoms = parse_angles(angles)
+        if hex_code is not None:  # sRGB is defined on CIE 1931 2° colorimetry: match in it
+            cm = cm.display_colorimeter
+        target = parse_Lab(lab, "--lab") if lab is not None else hex_to_Lab(hex_code, cm)
+    out = match_angles(target, geoms, coating, cm, tol, rank=rank, thickness_range=parse_pair(thickness_range, "--range"),
+                       step_nm=step, top=top, voltage_of=proc.voltage_V)
+    out.update({"illuminant": cm.illuminant, "observer": cm.observer, "tolerance": tol.to_json(),
+                "process": proc.metadata()})
+    if as_json:
+        common.echo_json(out)
+        return
+    names = [g["name"] for g in out["geometries"]]
+    click.echo(f"# ranked by the {rank} ΔE2000 over {', '.join(names)}; {cm.illuminant}, {cm.observer}° observer; "
+               f"process {proc.name}; within = every geometry within {tol.text}")
+    click.echo(f"{'rank':>4} {'d_nm':>8} {'volt_V':>7} {'worst':>6} {'mean':>6}  " + " ".join(f"{n:>9}" for n in names)
+               + "  within")
+    for k, c in enumerate(out["candidates"], start=1):
+        volts = "" if c["voltage_V"] is None else f"{c['voltage_V']:7.1f}"
+        per = " ".join(f"{c['geometries'][n]['delta_E_00']:9.2f}" for n in names)
+        click.echo(f"{k:4d} {c['thickness_nm']:8.2f} {volts:>7} {c['worst_delta_E_00']:6.2f} {c['mean_delta_E_00']:6.2f}  "
+                   f"{per}  {'yes' if c['within_tolerance'] else 'no'}")
