@@ -364,7 +364,7 @@ def _outlier_matches(model, Lab_m, outlier, rate, offset, scale, v_max) -> tuple
     grid = np.arange(0.0, min(1.5 * v_max, MAX_VOLTAGE_V) + MATCH_STEP_V / 2, MATCH_STEP_V)
     d = np.clip(offset + rate * grid, 0.0, 1000.0)
     table = model.Lab(d, scale)  # (K, 3)
-    out = []
+    out: list[tuple[float, float] | None] = []
     for i in range(outlier.size):
         if not outlier[i]:
             out.append(None)

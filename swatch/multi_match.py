@@ -10,6 +10,7 @@ within the tolerance when its *worst* geometry is within it, in the tolerance's 
 from __future__ import annotations
 
 import re
+from typing import Any
 
 import numpy as np
 
@@ -98,7 +99,7 @@ def match_angles(targets_Lab, angles, coating, cm, tolerance, *, rank: str = "wo
     kept, _, _ = multimodal_search(lambda: objective(sweep_reflectance(coating, lo, step, count, cu)),
                                    lambda d: float(objective(facets(d))), lo, hi, step, count,
                                    min_separation=MATCH_MIN_SEPARATION_NM, n_refine=max(top, N_REFINE) + 2)
-    cands = []
+    cands: list[dict[str, Any]] = []
     for d, _f in kept[:top]:
         Lab = cm.Lab(cm.XYZ(model_reflectance(coating, np.array([d]), cu)[0][inv]))
         d00 = np.atleast_1d(delta_E_00(Lab, target))
