@@ -26,6 +26,30 @@ BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 PY = BIN / "python"
 
 
+def ensure_libllvm() -> None:
+    """Mitsuba's LLVM backend (render --engine mitsuba) loads a system libLLVM 17+: on Debian/Ubuntu,
+    as root, install libllvm19 when none is there (swatch then finds it); otherwise say what to do."""
+    import glob
+    import re
+    import shutil
+
+    libs = glob.glob("/usr/lib/*/libLLVM*.so*") + glob.glob("/usr/lib/llvm-*/lib/libLLVM*.so*")
+    if any(int(m.group(1)) >= 17 for p in libs if (m := re.search(r"(?:LLVM\.so\.|LLVM-|llvm-)(\d+)", p))):
+        return
+    if os.environ.get("DRJIT_LIBLLVM_PATH") or not sys.platform.startswith("linux"):
+        return
+    if hasattr(os, "geteuid") and os.geteuid() == 0 and shutil.which("apt-get"):
+        print("dev.py: installing libllvm19 (Mitsuba's JIT) with apt-get", file=sys.stderr)
+        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        ok = subprocess.run(["apt-get", "update", "-qq"], env=env).returncode == 0 and subprocess.run(
+            ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "libllvm19"], env=env,
+            stdout=subprocess.DEVNULL).returncode == 0
+        if ok:
+            return
+    print("dev.py: no libLLVM 17+ found; `swatch render --engine mitsuba` needs one (apt-get install libllvm19)",
+          file=sys.stderr)
+
+
 def ensure_env() -> None:
     stamp = VENV / ".swatch-stamp"
     want = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
@@ -37,6 +61,7 @@ def ensure_env() -> None:
     print("dev.py: installing the project and its test dependencies", file=sys.stderr)
     subprocess.run([str(PY), "-m", "pip", "install", "-q", "--upgrade", "pip"], check=True)
     subprocess.run([str(PY), "-m", "pip", "install", "-q", "-e", f"{ROOT}[test]"], check=True)
+    ensure_libllvm()
     stamp.write_text(want)
 
 

@@ -14,6 +14,7 @@ __all__ = [
     "IMAGE_SPACES",
     "ENVIRONMENTS",
     "BACKGROUNDS",
+    "ENGINES",
     "LIGHTINGS",
     "SCALE_MODES",
     "DEFAULT_THICKNESS_RANGE_NM",
@@ -43,6 +44,9 @@ ENVIRONMENTS = ("none", "uniform", "studio")
 LIGHTINGS = ("point", *(e for e in ENVIRONMENTS if e != "none"))
 #: Display backgrounds of renders (``environment``: the map seen behind the object, also in the EXR).
 BACKGROUNDS = ("grey", "white", "environment")
+#: Render engines: ``builtin`` (the table-lookup renderer, the default and the sheets' fast path) and
+#: ``mitsuba`` (Mitsuba 3's spectral path tracer with the ``anodic_film`` plugin, docs/mitsuba.md).
+ENGINES = ("builtin", "mitsuba")
 #: Intensity corrections of the thickness fit: ``energy`` (the paper's mean-energy match per
 #: geometry), ``lsq`` (least-squares scale per geometry), ``global`` (one scale), ``none``.
 SCALE_MODES = ("energy", "lsq", "global", "none")

@@ -7,7 +7,7 @@ camera of a swatch render on the +z side). Three kinds:
 * ``studio``: a photographic studio for metal, defined here in code: a large overhead soft box,
   two tall strip boxes at the sides standing on the floor, dark-grey walls and a light floor
   meeting them in a horizon (:func:`studio_radiance`), so that metal shows reflections;
-* a user's **equirectangular** (latitude–longitude) EXR, read with OpenImageIO: row 0 is the
+* a user's **equirectangular** (latitude–longitude) EXR or Radiance HDR, read with OpenImageIO: row 0 is the
   zenith (+y), the centre column looks along −z (away from the camera) and longitude grows
   towards +x (``u = 0.5 + atan2(x, −z)/2π``, ``v = acos(y)/π``). Untrusted input: the size
   is checked from the header before any pixel is read (:data:`MAX_ENV_PIXELS`), the values must
@@ -328,12 +328,12 @@ def _studio(res: int = MAP_RES, sub: int = 4) -> Environment:
 
 # -- user maps -----------------------------------------------------------------------------------
 def read_equirect(path) -> np.ndarray:
-    """An equirectangular EXR (H, W, 3) float32, checked (module doc); SwatchError on bad input."""
+    """An equirectangular EXR or Radiance HDR (H, W, 3) float32, checked (module doc); SwatchError on bad input."""
     import OpenImageIO as oiio
 
     p = Path(path)
     if not p.is_file():
-        raise SwatchError(f"environment map {str(p)!r} is not a file; give an equirectangular .exr "
+        raise SwatchError(f"environment map {str(p)!r} is not a file; give an equirectangular .exr or .hdr "
                           f"or one of {', '.join(ENVIRONMENT_CHOICES)}")
     if p.stat().st_size > MAX_ENV_FILE_BYTES:
         raise SwatchError(f"environment map {p.name!r} is larger than {MAX_ENV_FILE_BYTES >> 20} MiB")
@@ -341,8 +341,9 @@ def read_equirect(path) -> np.ndarray:
     if inp is None:
         raise SwatchError(f"cannot read environment map {p.name!r}: {oiio.geterror().strip() or 'unknown format'}")
     try:
-        if inp.format_name() != "openexr":
-            raise SwatchError(f"environment map {p.name!r} is not an OpenEXR file; give an equirectangular .exr")
+        if inp.format_name() not in ("openexr", "hdr"):
+            raise SwatchError(f"environment map {p.name!r} is not an OpenEXR or Radiance HDR file; give an "
+                              "equirectangular .exr or .hdr")
         spec = inp.spec()
         w, h, nch = int(spec.width), int(spec.height), int(spec.nchannels)
         if w < 2 or h < 1 or w > MAX_ENV_SIDE or h > MAX_ENV_SIDE or w * h > MAX_ENV_PIXELS:
@@ -429,9 +430,9 @@ def get_environment(name_or_path) -> Environment | None:
         return None
     if key.lower() in BUILTIN:
         return _builtin(key.lower())
-    if not key.lower().endswith(".exr"):
+    if not key.lower().endswith((".exr", ".hdr")):
         raise SwatchError(f"unknown environment {key!r}; use one of {', '.join(ENVIRONMENT_CHOICES)} "
-                          "or an equirectangular .exr file")
+                          "or an equirectangular .exr or .hdr file")
     img = read_equirect(key)
     octa = _equirect_to_octa(img)
     return _normalised(Path(key).name, octa, f"equirectangular map {Path(key).name} ({img.shape[1]}x{img.shape[0]}), "

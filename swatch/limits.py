@@ -12,7 +12,9 @@ __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX
            "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
            "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
            "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_INSTRUMENT_SAMPLES",
-           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "read_capped", "read_text_capped"]
+           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED",
+           "MAX_MITSUBA_PX", "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY",
+           "MAX_TURBIDITY", "read_capped", "read_text_capped"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -96,6 +98,20 @@ MAX_MESH_TRIANGLES = 2_000_000
 MAX_INSTRUMENT_SAMPLES = 10_000
 MAX_INSTRUMENT_FIELDS = 2_000
 MAX_INSTRUMENT_GEOMETRIES = 32
+
+#: ``swatch render --engine mitsuba``: samples per pixel, the seed, the image side, and the total
+#: samples (size² × spp; 512² at 256 spp is 6.7e7, about a minute on 2 cores), which bound the time.
+MAX_SPP = 16384
+MAX_SEED = 2**31 - 1
+MAX_MITSUBA_PX = 4096
+MAX_MITSUBA_SAMPLES = 4 * 1024**3
+#: Samples one Mitsuba pass traces at once (its wavefront state is a few hundred bytes a lane:
+#: ~1 GB at this count); a render is split into passes of at most this many.
+MAX_PASS_LANES = 1 << 22
+#: ``--sun-date``: the years the solar-position model is stated for (and sane), and the sky
+#: model's turbidity range (Hosek–Wilkie's fit covers 1–10).
+MIN_YEAR, MAX_YEAR = 1900, 2100
+MIN_TURBIDITY, MAX_TURBIDITY = 1.0, 10.0
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

@@ -211,6 +211,11 @@ class MeshShape:
             cos_l[lit[blocked]] = 0.0
         return hit.reshape(shape), cos_l.astype(t).reshape(shape), cos_v.astype(t).reshape(shape)
 
+    def triangle_soup(self) -> tuple[np.ndarray, np.ndarray]:
+        """The placed triangles' corners (F, 3, 3) and their shading normals (F, 3, 3) (creases split),
+        for renderers that take a mesh of their own (``--engine mitsuba``)."""
+        return np.asarray(self._mesh.triangles), self._corner_normals
+
     def points(self) -> np.ndarray:
         """Vertices (at most about 50 000, evenly strided) to frame the camera."""
         v = np.asarray(self._mesh.vertices)

@@ -8,8 +8,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, IMAGE_SPACES, MESH_FORMATS, MODELS, SHAPES
+from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, ENGINES, IMAGE_SPACES, MESH_FORMATS, MODELS, SHAPES
 from swatch.commands import common
+from swatch.errors import SwatchError
 from swatch.metadata import file_stems, voltage_note, with_voltage
 
 ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view angle, first value at the "
@@ -114,6 +115,103 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
         click.echo(p)
 
 
+def _sun_options(f):
+    """The sun of ``--engine mitsuba --environment sun``: by angles, or by place, date and time."""
+    for deco in (
+        click.option("--turbidity", type=float, default=None, help="sun: sky turbidity 1-10 [default: 3]"),
+        click.option("--sun-timezone", type=float, default=None, help="sun: hours from UTC of --sun-time [default: 0]"),
+        click.option("--sun-time", default=None, metavar="HH:MM", help="sun: local time [default: 12:00]"),
+        click.option("--sun-date", default=None, metavar="YYYY-MM-DD", help="sun: date [default: 2026-06-21]"),
+        click.option("--sun-place", default=None, metavar="LAT,LON",
+                     help="sun: latitude and longitude in degrees (north, east positive); with --sun-date/--sun-time"),
+        click.option("--sun-azimuth", type=float, default=None,
+                     help="sun: azimuth in degrees about the vertical, from the camera side (+z) towards +x [default: 0]"),
+        click.option("--sun-elevation", type=float, default=None,
+                     help="sun: elevation above the horizon in degrees [0, 90] [default: 45]"),
+    ):
+        f = deco(f)
+    return f
+
+
+def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
+    """The :class:`swatch.mitsuba.scene.Sun` of the sun options, or None when none is given (checked later)."""
+    if all(v is None for v in (elevation, azimuth, place, date, time, timezone, turbidity)):
+        return None
+    import re
+
+    from swatch.mitsuba.scene import Sun
+
+    kw: dict = {"turbidity": 3.0 if turbidity is None else turbidity, "azimuth_deg": azimuth or 0.0}
+    if place is None:
+        if date is not None or time is not None or timezone is not None:
+            raise SwatchError("--sun-date, --sun-time and --sun-timezone need --sun-place LAT,LON")
+        return Sun(elevation_deg=45.0 if elevation is None else elevation, **kw)
+    if elevation is not None or azimuth is not None:
+        raise SwatchError("give the sun by --sun-elevation/--sun-azimuth or by --sun-place, not both")
+    try:
+        lat, lon = (float(x) for x in place.split(","))
+    except ValueError:
+        raise SwatchError(f"--sun-place {place!r}: give LAT,LON in degrees, e.g. 48.86,2.35") from None
+    m = re.fullmatch(r"(\d{4})-(\d{1,2})-(\d{1,2})", (date or "2026-06-21").strip())
+    if m is None:
+        raise SwatchError(f"--sun-date {date!r}: give YYYY-MM-DD")
+    t = re.fullmatch(r"(\d{1,2}):(\d{2})", (time or "12:00").strip())
+    if t is None or int(t.group(2)) > 59:
+        raise SwatchError(f"--sun-time {time!r}: give HH:MM from 00:00 to 23:59")
+    return Sun(elevation_deg=None, latitude_deg=lat, longitude_deg=lon, timezone_h=timezone or 0.0,
+               year=int(m.group(1)), month=int(m.group(2)), day=int(m.group(3)),
+               hour=int(t.group(1)) + int(t.group(2)) / 60.0, **kw)
+
+
+def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, environment,
+                    view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
+                    force, film, substrate, illuminant, observer, wavelengths):
+    """``swatch render --engine mitsuba``: everything checked before the first pass, then one render a thickness."""
+    from swatch import geometry, imageio
+    from swatch.fileio import check_new, check_writable_dir
+    from swatch.mesh import load_mesh
+    from swatch.pngmeta import image_xmp
+
+    if model != "microfacet":
+        raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
+    if str(illuminant).strip().upper() != "D65":
+        raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
+    from swatch.mitsuba import engine as mit
+
+    mit.check_spp(spp)
+    mit.check_seed(seed)
+    if view_deg is not None:
+        geometry.check_polar_deg(view_deg, "view")
+    geometry.check_azimuth_deg(view_azimuth_deg, "view")
+    env = (environment or "studio").strip()
+    if env.lower() == "none":
+        raise SwatchError("the mitsuba engine has no point light; use --environment studio, sun, uniform or a map")
+    light = mit.resolve_lighting(env, sun)
+    if sun is not None and light.kind != "sun":
+        raise SwatchError("the sun options need --environment sun")
+    mesh = None if mesh_file is None else load_mesh(mesh_file)
+    shape = "mesh" if mesh is not None else shape
+    d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
+                                               observer, wavelengths)
+    stems = file_stems(shape, d)
+    check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
+    # the first render checks size, spp, background and the setup before anything is written
+    out = None
+    written = []
+    for i in range(d.size):
+        img = mit.render_swatch_mitsuba(d[i], shape, size_px, spp, seed, light, None, roughness, distribution,
+                                        proc.film, proc.substrate, proc.film_index_scale, coating, cm, space,
+                                        background, view_deg, view_azimuth_deg, mesh, progress=True)
+        out = out or check_writable_dir(out_dir)
+        meta = with_voltage(img.metadata, volts[i], note, proc)
+        exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
+        imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
+        imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm (Mitsuba)", meta))
+        written += [str(exr), str(png)]
+    for p in written:
+        click.echo(p)
+
+
 @click.command()
 @common.thickness_options(multiple=True)
 @click.option("--shape", type=click.Choice(SHAPES), default="flat", show_default=True,
@@ -130,13 +228,24 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
               help="camera angle from the plate's normal in degrees [0, 90) (default 36 flat, 70 cylinder/sphere)")
 @click.option("--view-azimuth", "view_azimuth_deg", type=float, default=0.0, show_default=True,
               help="camera azimuth about the normal in degrees")
-@click.option("--background", type=click.Choice(BACKGROUNDS), default="grey", show_default=True,
-              help="display background (environment: the map behind the object, also in the EXR)")
+@click.option("--background", type=click.Choice(BACKGROUNDS), default=None,
+              help="display background (environment: the map behind the object, also in the EXR) [default: grey; "
+                   "mitsuba: environment under studio and sun]")
+@click.option("--engine", type=click.Choice(ENGINES), default="builtin", show_default=True,
+              help="builtin (table lookup, fast) or mitsuba (Mitsuba 3 spectral path tracing, docs/mitsuba.md)")
+@click.option("--spp", type=int, default=64, show_default=True, help="mitsuba: samples per pixel")
+@click.option("--seed", type=int, default=0, show_default=True, help="mitsuba: random seed (same seed, same image)")
+@_sun_options
 @_image_options
 def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, light_deg, environment, view_deg,
-           view_azimuth_deg, background, model, roughness, distribution, space, force, film, substrate, illuminant,
+           view_azimuth_deg, background, engine, spp, seed, sun_elevation, sun_azimuth, sun_place, sun_date, sun_time,
+           sun_timezone, turbidity, model, roughness, distribution, space, force, film, substrate, illuminant,
            observer, wavelengths):
-    """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh."""
+    """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh.
+
+    --engine mitsuba path-traces them with Mitsuba 3 and the exact thin-film BSDF (lighting studio, sun,
+    uniform, or an .exr/.hdr map; --spp, --seed; docs/mitsuba.md).
+    """
     from swatch import geometry, imageio
     from swatch.env_render import resolve_lighting
     from swatch.fileio import check_new, check_writable_dir
@@ -145,6 +254,15 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch.render import check_size_px, render_swatch
 
     roughness = _roughness(roughness, process)
+    sun = _sun(sun_elevation, sun_azimuth, sun_place, sun_date, sun_time, sun_timezone, turbidity)
+    if engine == "mitsuba":
+        _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, environment,
+                        view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
+                        force, film, substrate, illuminant, observer, wavelengths)
+        return
+    if sun is not None or (environment or "").strip().lower() == "sun":
+        raise SwatchError("sun and sky lighting is the mitsuba engine's; add --engine mitsuba")
+    background = background or "grey"
     mesh = None if mesh_file is None else load_mesh(mesh_file)
     shape = "mesh" if mesh is not None else shape
     size = check_size_px(size_px)

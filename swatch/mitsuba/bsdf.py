@@ -1,0 +1,236 @@
+"""The ``anodic_film`` BSDF for Mitsuba 3: the exact thin film on a rough metal.
+
+A rough conductor whose facets carry the anodic film: on the facet of the half vector ``m``, the
+Fresnel factor is the Airy reflectance (:func:`swatch.mitsuba.film.airy_reflectance`) of air /
+film / substrate with the tables' complex dispersive indices at each sampled wavelength (the
+film's real part times ``film_index_scale``), s and p averaged — the physics of
+:mod:`swatch.optics` and the built-in renderer. The microfacet part is Mitsuba's own
+:class:`mitsuba.MicrofacetDistribution` (GGX or Beckmann, isotropic or anisotropic, visible-normal
+sampling), with Smith shadowing either height-correlated (``shadowing = "correlated"``, the
+default: the built-in renderer's ``G₂ = 1 / (1 + Λ_i + Λ_o)``, with ``Λ = 1/G₁ − 1`` from Mitsuba's
+own ``G₁``) or separable (``"separable"``: ``G₁(i) G₁(o)``, what Mitsuba's ``roughconductor`` uses).
+
+Parameters (scene-dictionary keys)
+----------------------------------
+``thickness_nm``
+    Film thickness in nm, a float or a texture (``eval_1``; give bitmaps ``raw = True``), default 0.
+``film``, ``substrate``
+    Table names as in ``swatch materials list`` (defaults TiO2-Siefke, Ti-Johnson).
+``film_index_scale``
+    Factor on the film's real index, 0.5–1.5 (default 1; a process profile's ``film_index_scale``).
+``distribution``
+    ``"ggx"`` (default) or ``"beckmann"``.
+``alpha``, or ``alpha_u`` and ``alpha_v``
+    Roughness (float or texture); default ``alpha = 0.3``.
+``shadowing``
+    ``"correlated"`` (default) or ``"separable"``.
+
+Wavelengths outside a table's range are clamped to its end (the tables cover the visible range
+that matters; Mitsuba samples 360–830 nm). Directions below the horizon (either side, of the
+surface or of the facet) give 0, never NaN.
+"""
+from __future__ import annotations
+
+import math
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from swatch.choices import DISTRIBUTIONS
+from swatch.errors import SwatchError
+from swatch.limits import MAX_THICKNESS_NM
+from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
+from swatch.mitsuba.film import airy_reflectance
+from swatch.mitsuba.setup import SPECTRAL_VARIANTS
+
+__all__ = ["PLUGIN_NAME", "SHADOWING", "register", "table_texture", "index_textures", "check_parameters"]
+
+PLUGIN_NAME = "anodic_film"
+SHADOWING = ("correlated", "separable")
+#: Table rows kept around the wavelengths Mitsuba samples (360–830 nm), in nm.
+_TABLE_SPAN_NM = (300.0, 900.0)
+_REGISTERED: set[str] = set()
+
+
+def _span(wl: np.ndarray) -> slice:
+    lo = max(0, int(np.searchsorted(wl, _TABLE_SPAN_NM[0], side="right")) - 1)
+    hi = min(wl.size, int(np.searchsorted(wl, _TABLE_SPAN_NM[1], side="left")) + 1)
+    return slice(lo, hi)
+
+
+def table_texture(wavelength_nm: np.ndarray, values: np.ndarray):
+    """An ``irregular`` spectrum texture of tabulated values (linear between nodes, like ``np.interp``)."""
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    v = np.asarray(values, dtype=np.float64)
+    keep = _span(wl)
+    return mi.load_dict({"type": "irregular", "wavelengths": ", ".join(f"{x:.9g}" for x in wl[keep]),
+                         "values": ", ".join(f"{x:.9g}" for x in v[keep])})
+
+
+def index_textures(film: str, substrate: str, film_index_scale: float = 1.0):
+    """(n, k) textures of the film (real part scaled) and of the substrate, and the clamp range (nm)."""
+    f, s = load_material(film), load_material(substrate)
+    for mat, role in ((f, "film"), (s, "substrate")):
+        if mat.role != role:
+            raise SwatchError(f"{mat.name} is a {mat.role} table, not a {role}; see `swatch materials list`")
+    lo = max(f.wavelength_range_nm[0], s.wavelength_range_nm[0])
+    hi = min(f.wavelength_range_nm[1], s.wavelength_range_nm[1])
+    tex = (table_texture(f.wavelength_nm, f.n * film_index_scale), table_texture(f.wavelength_nm, f.k),
+           table_texture(s.wavelength_nm, s.n), table_texture(s.wavelength_nm, s.k))
+    return tex, (lo, hi)
+
+
+def check_parameters(thickness_nm: float, film_index_scale: float, distribution: str, shadowing: str) -> None:
+    """SwatchError for a thickness outside [0, MAX], a scale outside [0.5, 1.5] or an unknown choice."""
+    if not (math.isfinite(thickness_nm) and 0.0 <= thickness_nm <= MAX_THICKNESS_NM):
+        raise SwatchError(f"anodic_film: thickness_nm must be from 0 to {MAX_THICKNESS_NM:g}, got {thickness_nm!r}")
+    if not (math.isfinite(film_index_scale) and 0.5 <= film_index_scale <= 1.5):
+        raise SwatchError(f"anodic_film: film_index_scale must be from 0.5 to 1.5, got {film_index_scale!r}")
+    if distribution not in DISTRIBUTIONS:
+        raise SwatchError(f"anodic_film: distribution must be one of {', '.join(DISTRIBUTIONS)}, got {distribution!r}")
+    if shadowing not in SHADOWING:
+        raise SwatchError(f"anodic_film: shadowing must be one of {', '.join(SHADOWING)}, got {shadowing!r}")
+
+
+def _float_or_texture(props, name: str, default: float):
+    """A float property as a texture (validated when it is a number), or the texture given."""
+    if name in props:
+        value = props.get(name)
+        if isinstance(value, int | float):
+            return float(value), props.get_unbounded_texture(name, float(value))
+        return None, props.get_unbounded_texture(name, default)
+    return default, props.get_unbounded_texture(name, default)
+
+
+def _define_class():
+    """The plugin class for the current variant (Mitsuba's base classes are per variant)."""
+
+    class AnodicFilmBSDF(mi.BSDF):
+        """See the module documentation of :mod:`swatch.mitsuba.bsdf`."""
+
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            film = str(props.get("film", DEFAULT_FILM))
+            substrate = str(props.get("substrate", DEFAULT_SUBSTRATE))
+            scale = float(props.get("film_index_scale", 1.0))
+            distribution = str(props.get("distribution", "ggx")).lower()
+            shadowing = str(props.get("shadowing", "correlated")).lower()
+            d0, self.thickness = _float_or_texture(props, "thickness_nm", 0.0)
+            check_parameters(0.0 if d0 is None else d0, scale, distribution, shadowing)
+            if ("alpha_u" in props) or ("alpha_v" in props):
+                if not (("alpha_u" in props) and ("alpha_v" in props)) or ("alpha" in props):
+                    raise SwatchError("anodic_film: give alpha, or both alpha_u and alpha_v")
+                a_u, self.alpha_u = _float_or_texture(props, "alpha_u", 0.3)
+                a_v, self.alpha_v = _float_or_texture(props, "alpha_v", 0.3)
+                alphas = [a for a in (a_u, a_v) if a is not None]
+            else:
+                a, self.alpha_u = _float_or_texture(props, "alpha", 0.3)
+                self.alpha_v = self.alpha_u
+                alphas = [] if a is None else [a]
+            for a in alphas:
+                if not (math.isfinite(a) and 1e-4 <= a <= 1.0):
+                    raise SwatchError(f"anodic_film: roughness alpha must be from 0.0001 to 1, got {a!r}")
+            (self.n1, self.k1, self.n2, self.k2), (lo, hi) = index_textures(film, substrate, scale)
+            self.wl_range = (float(lo), float(hi))
+            self.film, self.substrate, self.scale = film, substrate, scale
+            self.type = mi.MicrofacetType.GGX if distribution == "ggx" else mi.MicrofacetType.Beckmann
+            self.distribution_name, self.shadowing = distribution, shadowing
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        # -- the pieces ---------------------------------------------------------------------------
+        def _distr(self, si, active):
+            return mi.MicrofacetDistribution(self.type, self.alpha_u.eval_1(si, active),
+                                             self.alpha_v.eval_1(si, active), True)
+
+        def _fresnel(self, si, cos_m, active):
+            """Airy reflectance on the facet at the sampled wavelengths (clamped into the tables)."""
+            look = dr.zeros(mi.SurfaceInteraction3f)
+            look.uv = si.uv
+            look.wavelengths = dr.clip(si.wavelengths, self.wl_range[0], self.wl_range[1])
+            n1, k1 = self.n1.eval(look, active), self.k1.eval(look, active)
+            n2, k2 = self.n2.eval(look, active), self.k2.eval(look, active)
+            d = dr.maximum(self.thickness.eval_1(si, active), 0.0)
+            return airy_reflectance(mi.UnpolarizedSpectrum(cos_m), si.wavelengths, n1, k1, n2, k2, d)
+
+        def _shadowing(self, distr, wi, wo, m):
+            g_i, g_o = distr.smith_g1(wi, m), distr.smith_g1(wo, m)
+            if self.shadowing == "separable":
+                return g_i * g_o, g_i
+            den = g_i + g_o - g_i * g_o  # 1 / (1 + Λi + Λo) with Λ = 1/G1 − 1
+            return dr.select(den > 0, g_i * g_o * dr.rcp(dr.maximum(den, 1e-30)), 0.0), g_i
+
+        # -- the interface ------------------------------------------------------------------------
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            cos_i = mi.Frame3f.cos_theta(si.wi)
+            active = mi.Bool(active) & (cos_i > 0)
+            bs = dr.zeros(mi.BSDFSample3f)
+            distr = self._distr(si, active)
+            m, pdf = distr.sample(si.wi, sample2)
+            bs.wo = mi.reflect(si.wi, m)
+            bs.eta = 1.0  # type: ignore[assignment]
+            bs.sampled_component = 0  # type: ignore[assignment]
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)  # type: ignore[assignment]
+            dot_om = dr.dot(bs.wo, m)
+            active &= (pdf > 0) & (mi.Frame3f.cos_theta(bs.wo) > 0) & (dot_om > 0)
+            bs.pdf = dr.select(active, pdf * dr.rcp(dr.maximum(4.0 * dot_om, 1e-30)), 0.0)
+            G, g_i = self._shadowing(distr, si.wi, bs.wo, m)
+            weight = dr.select(g_i > 0, G * dr.rcp(dr.maximum(g_i, 1e-30)), 0.0)  # G / G1(wi) (VNDF)
+            F = self._fresnel(si, dr.dot(si.wi, m), active)
+            enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+            return bs, dr.select(active & enabled, mi.Spectrum(F * weight), mi.Spectrum(0.0))
+
+        def _eval_pdf(self, si, wo, active):
+            cos_i, cos_o = mi.Frame3f.cos_theta(si.wi), mi.Frame3f.cos_theta(wo)
+            active = mi.Bool(active) & (cos_i > 0) & (cos_o > 0)
+            m = dr.normalize(wo + si.wi)
+            active &= (dr.dot(si.wi, m) > 0) & (dr.dot(wo, m) > 0)
+            distr = self._distr(si, active)
+            D = distr.eval(m)
+            G, g_i = self._shadowing(distr, si.wi, wo, m)
+            inv4 = dr.rcp(dr.maximum(4.0 * cos_i, 1e-30))
+            F = self._fresnel(si, dr.dot(si.wi, m), active)
+            value = dr.select(active, mi.Spectrum(F * (D * G * inv4)), mi.Spectrum(0.0))
+            pdf = dr.select(active, D * g_i * inv4, 0.0)
+            return value, pdf
+
+        def eval(self, ctx, si, wo, active=True):
+            value, _ = self._eval_pdf(si, wo, active)
+            return dr.select(ctx.is_enabled(mi.BSDFFlags.GlossyReflection), value, mi.Spectrum(0.0))
+
+        def pdf(self, ctx, si, wo, active=True):
+            _, pdf = self._eval_pdf(si, wo, active)
+            return dr.select(ctx.is_enabled(mi.BSDFFlags.GlossyReflection), pdf, 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            value, pdf = self._eval_pdf(si, wo, active)
+            on = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+            return dr.select(on, value, mi.Spectrum(0.0)), dr.select(on, pdf, 0.0)
+
+        def traverse(self, callback):
+            callback.put("thickness_nm", self.thickness, mi.ParamFlags.NonDifferentiable)
+
+        def to_string(self):
+            return (f"AnodicFilmBSDF[film={self.film}, substrate={self.substrate}, film_index_scale={self.scale:g}, "
+                    f"distribution={self.distribution_name}, shadowing={self.shadowing}]")
+
+    return AnodicFilmBSDF
+
+
+def register() -> None:
+    """Register BSDF type ``anodic_film`` for Mitsuba's current variant (a spectral one; idempotent).
+
+    Call after ``mitsuba.set_variant(...)``; registering again after switching variants defines
+    the plugin for the new variant.
+    """
+    variant = mi.variant()
+    if variant not in SPECTRAL_VARIANTS:
+        raise SwatchError(f"anodic_film needs a spectral Mitsuba variant ({', '.join(SPECTRAL_VARIANTS)}); "
+                          f"the current one is {variant!r}: call mitsuba.set_variant('llvm_ad_spectral') first")
+    if variant in _REGISTERED:
+        return
+    cls = _define_class()
+    mi.register_bsdf(PLUGIN_NAME, cls)
+    _REGISTERED.add(variant)

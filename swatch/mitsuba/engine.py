@@ -1,0 +1,401 @@
+"""``swatch render --engine mitsuba``: a swatch rendered by Mitsuba 3's spectral path tracer.
+
+The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the exact thin film,
+:mod:`swatch.mitsuba.bsdf`) and is seen by the built-in renderer's camera
+(:mod:`swatch.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
+Mitsuba's ``path`` integrator (up to :data:`MAX_DEPTH` bounces: meshes shadow and reflect
+themselves). Rendering is split into passes of at most :data:`swatch.limits.MAX_PASS_LANES`
+samples (bounded memory, a progress bar, Ctrl-C/SIGTERM between passes), each with its own seed
+derived from ``seed``: the same seed and spp give byte-identical images.
+
+Units: linear Rec.709/sRGB (Mitsuba's film: CIE 1931 2° XYZ to sRGB), scaled so that **1.0 = a
+perfect white diffuser facing up (+y) at the origin under the same lighting** (the built-in
+environment renders' unit): by a Mitsuba irradiance meter for ``studio`` and ``sun``, by
+quadrature of the map for an HDRI; ``uniform`` is radiance 1. Emitters are D65 white (the sun
+and sky are their own spectra); the display PNG is exposure 1 through the renderer's shoulder.
+"""
+from __future__ import annotations
+
+import datetime as dt
+import math
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from swatch import microfacet
+from swatch.choices import BACKGROUNDS, DISTRIBUTIONS
+from swatch.display import BACKGROUND_LINEAR, display_encode
+from swatch.environment import read_equirect
+from swatch.errors import SwatchError
+from swatch.limits import (
+    MAX_MITSUBA_PX,
+    MAX_MITSUBA_SAMPLES,
+    MAX_PASS_LANES,
+    MAX_SEED,
+    MAX_SPP,
+    MAX_TURBIDITY,
+    MAX_YEAR,
+    MIN_TURBIDITY,
+    MIN_YEAR,
+)
+from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
+from swatch.metadata import coating_and_colorimeter, common_metadata
+from swatch.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
+from swatch.mitsuba.scene import SUNSKY_TO_WORLD, Sun, camera_dict, lighting, object_shapes
+from swatch.mitsuba.setup import DEFAULT_VARIANT, ENV_VAR, INSTALL_HINT, MIN_LLVM_MAJOR, check_variant, llvm_major
+from swatch.model import check_thickness_nm
+from swatch.render import SwatchImage, mesh_metadata
+from swatch.scene import check_shape, make_scene
+
+__all__ = ["MITSUBA_LIGHTINGS", "MAX_DEPTH", "Sun", "use_variant", "check_spp", "check_seed", "check_sun",
+           "resolve_lighting", "render_swatch_mitsuba", "Lighting"]
+
+#: Built-in lightings of the Mitsuba engine (a path to an .exr or .hdr map also works).
+MITSUBA_LIGHTINGS = ("studio", "sun", "uniform")
+MAX_DEPTH = 12
+_WHITE_BG = 2.0  # the built-in renderer's white background (display white)
+_REC709_Y = np.array([0.2126, 0.7152, 0.0722])
+
+
+def use_variant(variant: str = DEFAULT_VARIANT) -> str:
+    """Set Mitsuba's ``variant`` (spectral) and register the plugin; SwatchError with what to install."""
+    import os
+
+    variant = check_variant(variant)
+    if variant.startswith("llvm"):
+        path = os.environ.get(ENV_VAR)
+        if not path:
+            raise SwatchError(INSTALL_HINT)
+        major = llvm_major(path)
+        if 0 < major < MIN_LLVM_MAJOR:
+            raise SwatchError(f"{ENV_VAR} points at {os.path.basename(path)}; libLLVM {major} fails in Mitsuba's "
+                              "JIT. " + INSTALL_HINT)
+    try:
+        mi.set_variant(variant)
+    except (ImportError, AttributeError) as exc:
+        raise SwatchError(f"Mitsuba variant {variant} is unavailable ({str(exc).splitlines()[0][:120]}). "
+                          + INSTALL_HINT) from None
+    mi.set_log_level(mi.LogLevel.Error)  # warnings are said as SwatchError lines where they matter
+    register()
+    return variant
+
+
+def check_spp(spp) -> int:
+    try:
+        ok = float(spp) == int(spp)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 1 <= int(spp) <= MAX_SPP:
+        raise SwatchError(f"samples per pixel must be a whole number from 1 to {MAX_SPP}, got {spp!r}")
+    return int(spp)
+
+
+def check_seed(seed) -> int:
+    try:
+        ok = float(seed) == int(seed)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 0 <= int(seed) <= MAX_SEED:
+        raise SwatchError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
+    return int(seed)
+
+
+def _finite_in(value, lo: float, hi: float, what: str, unit: str = "") -> float:
+    v = float(value)
+    if not (math.isfinite(v) and lo <= v <= hi):
+        raise SwatchError(f"{what} must be from {lo:g} to {hi:g}{unit}, got {value!r}")
+    return v
+
+
+def check_sun(sun: Sun) -> Sun:
+    """The sun, checked: angles, place, a real calendar date in [MIN_YEAR, MAX_YEAR], hour, turbidity."""
+    _finite_in(sun.turbidity, MIN_TURBIDITY, MAX_TURBIDITY, "sun turbidity")
+    _finite_in(sun.azimuth_deg, -360.0, 360.0, "sun azimuth", " deg")
+    if sun.by_place:
+        if sun.longitude_deg is None:
+            raise SwatchError("a sun by place needs both latitude and longitude")
+        _finite_in(sun.latitude_deg, -90.0, 90.0, "latitude", " deg")
+        _finite_in(sun.longitude_deg, -180.0, 180.0, "longitude", " deg")
+        _finite_in(sun.timezone_h, -12.0, 14.0, "time zone", " h from UTC")
+        if not MIN_YEAR <= int(sun.year) <= MAX_YEAR:
+            raise SwatchError(f"sun date: the year must be from {MIN_YEAR} to {MAX_YEAR}, got {sun.year}")
+        try:
+            dt.date(int(sun.year), int(sun.month), int(sun.day))
+        except ValueError as exc:
+            raise SwatchError(f"sun date {sun.year}-{sun.month}-{sun.day} is not a calendar date ({exc})") from None
+        h = float(sun.hour)
+        if not (math.isfinite(h) and 0.0 <= h < 24.0):
+            raise SwatchError(f"sun time must be from 00:00 to 23:59, got hour {sun.hour!r}")
+    else:
+        _finite_in(sun.elevation_deg, 0.0, 90.0, "sun elevation", " deg above the horizon")
+    return sun
+
+
+@dataclass(frozen=True)
+class Lighting:
+    """A resolved lighting: ``kind`` (studio, sun, uniform, map), the sun, a map's pixels and name."""
+
+    kind: str
+    sun: Sun | None = None
+    hdri: np.ndarray | None = None
+    name: str = ""
+
+    def description(self) -> str:
+        if self.kind == "studio":
+            return ("photographic studio (Mitsuba): light-grey cyclorama (albedo 0.6), overhead key soft box, strip "
+                    "boxes left and right (rectangular area lights, D65), ambient fill 0.05")
+        if self.kind == "sun":
+            assert self.sun is not None
+            return self.sun.description() + "; mid-grey ground (albedo 0.2)"
+        if self.kind == "uniform":
+            return "uniform: radiance 1 (D65) from every direction"
+        assert self.hdri is not None
+        return (f"equirectangular map {self.name} ({self.hdri.shape[1]}x{self.hdri.shape[0]}), y up, Rec.709 "
+                "primaries assumed (Mitsuba envmap)")
+
+
+def resolve_lighting(lighting_name: str | None, sun: Sun | None = None) -> Lighting:
+    """``studio`` (default), ``sun`` (with ``sun``, default 45° elevation), ``uniform``, or a map file
+    (.exr / .hdr, read and checked by :func:`swatch.environment.read_equirect`)."""
+    key = "studio" if lighting_name is None else str(lighting_name).strip()
+    low = key.lower()
+    if low in MITSUBA_LIGHTINGS:
+        if low == "sun":
+            return Lighting("sun", check_sun(sun if sun is not None else Sun()))
+        return Lighting(low)
+    if not low.endswith((".exr", ".hdr")):
+        raise SwatchError(f"unknown lighting {key!r} for the mitsuba engine; use one of "
+                          f"{', '.join(MITSUBA_LIGHTINGS)} or an equirectangular .exr or .hdr file")
+    return Lighting("map", hdri=read_equirect(key), name=Path(key).name)
+
+
+def _map_scale(img: np.ndarray) -> float:
+    """π / E_up of an equirectangular map (the white diffuser facing up reflects 1), by the midpoint rule."""
+    h, w, _ = img.shape
+    theta = (np.arange(h) + 0.5) * (math.pi / h)
+    weight = np.sin(theta) * np.maximum(np.cos(theta), 0.0) * (math.pi / h) * (2.0 * math.pi / w)
+    E = float((img.astype(np.float64) @ _REC709_Y).sum(axis=1) @ weight)
+    if not (math.isfinite(E) and E > 0):
+        raise SwatchError("the environment map sends no light onto an upward-facing surface; give a map with "
+                          "positive radiance above the horizon")
+    return math.pi / E
+
+
+def _irradiance_scale(light_entries: dict) -> float:
+    """π / E_up at the origin (a white diffuser facing up there reflects 1), by Mitsuba's irradiance meter."""
+    meter = {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([0.0, 1e-3, 0.0])
+             @ mi.ScalarTransform4f().rotate([1.0, 0.0, 0.0], -90.0) @ mi.ScalarTransform4f().scale(1e-3),
+             "sensor": {"type": "irradiancemeter",
+                        "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "rgb",
+                                 "rfilter": {"type": "box"}},
+                        "sampler": {"type": "independent", "sample_count": 16384}}}
+    scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": MAX_DEPTH},
+                          "meter": meter, **light_entries})
+    image = mi.render(scene, seed=0)  # type: ignore[arg-type]
+    E = float(np.asarray(image, dtype=np.float64).reshape(-1)[:3] @ _REC709_Y)
+    if not (math.isfinite(E) and E > 0):
+        raise SwatchError("the lighting sends no light onto an upward-facing surface at the object")
+    return math.pi / E
+
+
+def _sun_above_horizon(entry: dict) -> None:
+    emitter = mi.load_dict(entry)
+    local = np.asarray(mi.traverse(emitter)["sun_direction"], dtype=np.float64).reshape(-1)[:3]
+    world = SUNSKY_TO_WORLD[:3, :3] @ local
+    if world[1] <= 0.0:
+        raise SwatchError("the sun is below the horizon at that place, date and time; choose a daytime hour "
+                          "(local time of the --sun-timezone)")
+
+
+def _floor_y(shape: str, mesh) -> float:
+    if shape == "flat":
+        return -0.02
+    if shape == "cylinder":
+        return -1.1
+    if shape == "sphere":
+        return -1.0
+    return float(mesh.points()[:, 1].min())
+
+
+def _pass_seeds(seed: int, passes: int) -> list[int]:
+    return [int((seed * 2654435761 + 97 * i + 1) % (2**32)) for i in range(passes)]
+
+
+def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: int = 256, spp: int = 64,
+                          seed: int = 0, lighting_name: str | Lighting | None = "studio", sun: Sun | None = None,
+                          roughness_alpha: float | tuple[float, float] = 0.3, distribution: str = "ggx",
+                          film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE,
+                          film_index_scale: float = 1.0, coating=None, colorimeter=None, space: str = "srgb",
+                          background: str | None = None, view_deg: float | None = None,
+                          view_azimuth_deg: float = 0.0, mesh=None, variant: str = DEFAULT_VARIANT,
+                          progress: Callable[[int, int], None] | bool | None = None,
+                          bsdf_override: dict | None = None) -> SwatchImage:
+    """Render one swatch with Mitsuba (module documentation): the public function of the engine.
+
+    Parameters
+    ----------
+    thickness_nm : float, nm
+        Film thickness, 0 to :data:`swatch.limits.MAX_THICKNESS_NM`.
+    shape : str
+        ``flat``, ``cylinder`` or ``sphere`` (ignored with ``mesh``).
+    size_px, spp, seed : int
+        Image side (≤ :data:`swatch.limits.MAX_MITSUBA_PX`), samples per pixel (≤ MAX_SPP; size² × spp ≤
+        MAX_MITSUBA_SAMPLES) and the seed (0 … MAX_SEED): equal values give byte-identical images.
+    lighting_name : str or Lighting
+        ``studio``, ``sun``, ``uniform``, an .exr/.hdr path, or a :class:`Lighting` from
+        :func:`resolve_lighting` (reuse it across thicknesses: the map is read once).
+    sun : Sun, optional
+        The sun of ``sun`` lighting (default: 45° elevation, azimuth 0, turbidity 3).
+    roughness_alpha : float or (float, float)
+        Isotropic α, or (α_u, α_v) for an anisotropic (brushed) finish, each in (0, 1].
+    distribution : str
+        ``ggx`` or ``beckmann``.
+    film, substrate, film_index_scale
+        Table names and the film's real-index factor (a process profile's).
+    coating, colorimeter
+        Used for the metadata's reference Lab (default: the default grid, D65, 10°).
+    space : str
+        RGB primaries of ``linear_rgb``: ``srgb`` or ``acescg``.
+    background : str, optional
+        ``environment`` (the scene as photographed, opaque; the default and the only choice for
+        studio and sun), ``grey`` or ``white`` (uniform and maps: the object alone, premultiplied).
+    view_deg, view_azimuth_deg : float
+        The camera, as in :func:`swatch.scene.make_scene`.
+    mesh : swatch.mesh.MeshShape, optional
+    variant : str
+        Mitsuba variant (spectral), default ``llvm_ad_spectral``.
+    progress : callable(done, total) or bool, optional
+        Called after each pass; True draws a bar on stderr when it is a terminal.
+    bsdf_override : dict, optional
+        Another BSDF for the object (tests and benchmarks: Mitsuba's own ``roughconductor``).
+
+    Returns
+    -------
+    swatch.render.SwatchImage
+        ``linear_rgb`` (H, W, 3) float32 (module units), ``coverage`` (H, W), ``display_rgb`` uint8, metadata.
+    """
+    from swatch.colorimetry import RGB_SPACES, check_rgb_space
+
+    d = float(check_thickness_nm(float(thickness_nm)))
+    shape = "mesh" if mesh is not None else check_shape(shape)
+    size = int(size_px)
+    if not (float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX):
+        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
+    spp = check_spp(spp)
+    seed = check_seed(seed)
+    if size * size * spp > MAX_MITSUBA_SAMPLES:
+        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
+                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower --spp or --size)")
+    if distribution not in DISTRIBUTIONS:
+        raise SwatchError(f"unknown distribution {distribution!r}; use one of {', '.join(DISTRIBUTIONS)}")
+    alphas = tuple(roughness_alpha) if isinstance(roughness_alpha, tuple | list) else (roughness_alpha,)
+    if len(alphas) not in (1, 2):
+        raise SwatchError("roughness is one alpha or (alpha_u, alpha_v)")
+    alphas = tuple(microfacet.check_roughness_alpha(a) for a in alphas)
+    check_parameters(d, float(film_index_scale), distribution, "correlated")
+    space = check_rgb_space(space)
+    light = lighting_name if isinstance(lighting_name, Lighting) else resolve_lighting(lighting_name, sun)
+    photo_only = light.kind in ("studio", "sun")
+    background = ("environment" if photo_only else "grey") if background is None else str(background).lower()
+    if background not in BACKGROUNDS:
+        raise SwatchError(f"unknown background {background!r}; use one of {', '.join(BACKGROUNDS)}")
+    if photo_only and background != "environment":
+        raise SwatchError(f"{light.kind} lighting shows its set behind the object; use --background environment "
+                          "(or uniform lighting or a map for a grey or white background)")
+    coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
+    if getattr(colorimeter, "illuminant", "D65") not in ("D65", None):
+        raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
+    variant = use_variant(variant)
+
+    scene_geo = make_scene("sphere" if shape == "mesh" else shape, 45.0, view_deg, view_azimuth_deg, mesh)
+    bsdf = {"type": PLUGIN_NAME, "thickness_nm": d, "film": film, "substrate": substrate,
+            "film_index_scale": float(film_index_scale), "distribution": distribution}
+    if len(alphas) == 1:
+        bsdf["alpha"] = alphas[0]
+    else:
+        bsdf["alpha_u"], bsdf["alpha_v"] = alphas
+    if bsdf_override is not None:
+        bsdf = bsdf_override
+    lights = lighting(light.kind, _floor_y(shape, mesh), light.sun, light.hdri)
+    if light.kind == "sun":
+        _sun_above_horizon(lights["light"])
+    scale = 1.0 if light.kind == "uniform" else (_map_scale(light.hdri) if light.hdri is not None
+                                                  else _irradiance_scale(lights))
+    passes = max(1, -(-size * size * spp // MAX_PASS_LANES))
+    while spp % passes:
+        passes += 1
+    per = spp // passes
+    sensor = camera_dict(scene_geo.camera, size, per)
+    scene = mi.load_dict({"type": "scene",
+                          "integrator": {"type": "path", "max_depth": MAX_DEPTH,
+                                         "hide_emitters": background != "environment"},
+                          "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
+    bar = None
+    if progress is True and sys.stderr.isatty() and passes > 1:
+        import click
+
+        bar = click.progressbar(length=passes, label=f"mitsuba {shape}", file=sys.stderr)
+    acc = np.zeros((size, size, 4), dtype=np.float64)
+    try:
+        for i, s in enumerate(_pass_seeds(seed, passes)):
+            acc += np.asarray(mi.render(scene, seed=s, spp=per), dtype=np.float64)  # type: ignore[arg-type]
+            dr.sync_thread()
+            if bar is not None:
+                bar.update(1)
+            elif callable(progress):
+                progress(i + 1, passes)
+    finally:
+        if bar is not None:
+            bar.render_finish()
+    acc /= passes
+    rgb = (acc[..., :3] * scale).astype(np.float32)
+    alpha = np.clip(acc[..., 3], 0.0, 1.0).astype(np.float32)
+    if background == "environment":
+        coverage = np.ones((size, size), dtype=np.float32)
+        display = display_encode(rgb, 1.0)
+    else:
+        coverage = alpha
+        bg = BACKGROUND_LINEAR if background == "grey" else _WHITE_BG
+        display = display_encode(rgb + (1.0 - coverage)[..., None] * np.float32(bg), 1.0)
+    linear = rgb
+    if space != "srgb":
+        import colour
+
+        m = np.asarray(colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["sRGB"],
+                                                colour.RGB_COLOURSPACES[RGB_SPACES[space]], "Bradford"))
+        linear = np.einsum("ij,...j->...i", m.astype(np.float32), rgb).astype(np.float32)
+
+    rough = alphas[0] if len(alphas) == 1 else float(math.sqrt(alphas[0] * alphas[1]))
+    meta = common_metadata(d, coating, colorimeter, "microfacet", distribution, rough)
+    meta.update({
+        "engine": f"mitsuba {mi.__version__} {variant}",
+        "bsdf": (f"{PLUGIN_NAME} (swatch.mitsuba): Airy film {film} (index scale {float(film_index_scale):g}) on "
+                 f"{substrate}, per sampled wavelength on the half-vector facet; {distribution} "
+                 + (f"alpha {alphas[0]:g}" if len(alphas) == 1 else f"alpha_u {alphas[0]:g}, alpha_v {alphas[1]:g}")
+                 + ", visible-normal sampling") if bsdf_override is None else f"override: {bsdf['type']}",
+        "shadowing": "Smith height-correlated",
+        "shape": shape,
+        "geometry": scene_geo.camera_description,
+        "size_px": size,
+        "spp": spp,
+        "seed": seed,
+        "integrator": f"Mitsuba path tracer, up to {MAX_DEPTH} bounces, {passes} pass(es) of {per} spp",
+        "rgb_space": space,
+        "lighting": light.description(),
+        "environment": light.kind if light.kind != "map" else light.name,
+        "units": ("scene-referred linear; 1.0 = perfect white diffuser facing up (+y) at the origin under the same "
+                  "lighting; " + ("the scene behind the object included (opaque)" if background == "environment"
+                                  else "RGB premultiplied by alpha (coverage)")),
+        "colour": "Mitsuba spectral film: CIE 1931 2 deg XYZ to linear sRGB; emitters D65 (sun and sky: their own)",
+        "exposure": 1.0,
+        "exposure_rule": "k = 1: the white diffuser under the same lighting is display white",
+        "display": f"sRGB-encoded PNG: linear x 1, composited on {background}, shoulder above 0.8",
+    })
+    if alphas and len(alphas) == 2:
+        meta["roughness_alpha_uv"] = [alphas[0], alphas[1]]
+    return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh), 1.0)

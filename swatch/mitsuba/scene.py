@@ -1,0 +1,204 @@
+"""Mitsuba scene dictionaries of a swatch render: the built-in renderer's camera and shapes, and the lighting.
+
+Geometry is that of :mod:`swatch.scene` (world y up, the camera on the +z side): the same pinhole
+camera and framing (its off-centre window becomes Mitsuba's principal-point offset), the 2 × 2
+plate, the unit sphere, the half cylinder (a tessellated sheet, both faces the finish) and a
+designer's mesh (placed as by :class:`swatch.mesh.MeshShape`, creases split). Every object's
+BSDF is wrapped in ``twosided`` (a sheet's inner face and a mesh's back faces are the finish too).
+
+Lighting (:func:`lighting`)
+---------------------------
+* ``studio``: a photographic studio: a light-grey cyclorama (floor sweeping up into a back wall,
+  diffuse albedo 0.6) under the object, an overhead key soft box, a tall strip box on the camera's
+  left and a weaker one on the right (rectangular area lights, neutral D65), and a dim ambient
+  fill (0.05) so nothing is pitch black;
+* ``sun``: Mitsuba's ``sunsky`` (Hosek–Wilkie sky and sun, spectral) over a mid-grey ground
+  (albedo 0.2); the sun by elevation and azimuth, or by latitude, longitude, date and time
+  (the scene's −z is north, +x west: a wall facing the camera faces south);
+* ``uniform``: radiance 1 (D65) from every direction, nothing else in the scene;
+* a user's HDRI (equirectangular EXR or Radiance HDR, as :func:`swatch.environment.read_equirect`
+  orients it: row 0 the zenith, the centre column looking along −z).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mitsuba as mi
+import numpy as np
+
+from swatch.scene import Camera
+
+__all__ = ["Sun", "camera_dict", "object_shapes", "lighting", "triangle_mesh", "half_cylinder_arrays",
+           "SUNSKY_TO_WORLD"]
+
+#: sunsky's frame (z up, x south, y west) into the world (y up, +z south, +x west, −z north).
+SUNSKY_TO_WORLD = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+
+
+@dataclass(frozen=True)
+class Sun:
+    """The sun and sky of ``sun`` lighting: by angles (``elevation_deg``, ``azimuth_deg`` about +y from
+    +z towards +x) or by place and time (``latitude_deg``, ``longitude_deg``, ``timezone_h``, the
+    local ``year``, ``month``, ``day``, ``hour``); ``turbidity`` 1–10 (Hosek–Wilkie)."""
+
+    elevation_deg: float | None = 45.0
+    azimuth_deg: float = 0.0
+    latitude_deg: float | None = None
+    longitude_deg: float | None = None
+    timezone_h: float = 0.0
+    year: int = 2026
+    month: int = 6
+    day: int = 21
+    hour: float = 12.0
+    turbidity: float = 3.0
+
+    @property
+    def by_place(self) -> bool:
+        return self.latitude_deg is not None
+
+    def description(self) -> str:
+        if self.by_place:
+            return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie) at latitude {self.latitude_deg:g}, longitude "
+                    f"{self.longitude_deg:g}, {self.year:04d}-{self.month:02d}-{self.day:02d} {self.hour:g} h "
+                    f"(UTC{self.timezone_h:+g}), turbidity {self.turbidity:g}; -z north")
+        return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie), sun {self.elevation_deg:g} deg above the horizon at "
+                f"azimuth {self.azimuth_deg:g} deg, turbidity {self.turbidity:g}")
+
+
+def _transform(matrix) -> mi.ScalarTransform4f:
+    return mi.ScalarTransform4f(np.asarray(matrix, dtype=np.float64).tolist())
+
+
+def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
+    """Mitsuba's perspective sensor for a :class:`swatch.scene.Camera` (same rays through pixel centres)."""
+    m = np.eye(4)
+    # Mitsuba's camera looks along +z with +x to the image's left and +y up.
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = -cam.right, cam.up, cam.forward, cam.position
+    return {
+        "type": "perspective",
+        "fov": math.degrees(2.0 * math.atan(cam.half)),
+        "fov_axis": "x",
+        "principal_point_offset_x": cam.cx / (2.0 * cam.half),
+        "principal_point_offset_y": -cam.cy / (2.0 * cam.half),
+        "near_clip": 0.01,
+        "far_clip": 1000.0,
+        "to_world": _transform(m),
+        "film": {"type": "hdrfilm", "width": int(size_px), "height": int(size_px), "pixel_format": "rgba",
+                 "component_format": "float32", "rfilter": {"type": "gaussian"}},
+        "sampler": {"type": "independent", "sample_count": int(spp)},
+    }
+
+
+def triangle_mesh(name: str, positions: np.ndarray, faces: np.ndarray, normals: np.ndarray | None, bsdf):
+    """A ``mitsuba.Mesh`` from arrays (positions (N, 3), faces (F, 3), optional normals (N, 3))."""
+    props = mi.Properties()
+    props["bsdf"] = bsdf
+    pos = np.ascontiguousarray(positions, dtype=np.float32)
+    tri = np.ascontiguousarray(faces, dtype=np.uint32)
+    mesh = mi.Mesh(name, pos.shape[0], tri.shape[0], props=props, has_vertex_normals=normals is not None)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = mi.Float(pos.reshape(-1))
+    params["faces"] = mi.UInt32(tri.reshape(-1))
+    if normals is not None:
+        params["vertex_normals"] = mi.Float(np.ascontiguousarray(normals, dtype=np.float32).reshape(-1))
+    params.update()
+    return mesh
+
+
+def half_cylinder_arrays(half_height: float = 1.1, segments: int = 256):
+    """The half cylinder of :class:`swatch.scene.HalfCylinder` (radius 1, |y| ≤ h, z ≥ 0) as a strip:
+    positions, faces, outward normals."""
+    ph = np.linspace(-math.pi / 2, math.pi / 2, segments + 1)
+    x, z = np.sin(ph), np.cos(ph)
+    pos = np.concatenate([np.stack([x, np.full_like(x, -half_height), z], -1),
+                          np.stack([x, np.full_like(x, half_height), z], -1)])
+    nrm = np.concatenate([np.stack([x, 0 * x, z], -1)] * 2)
+    i = np.arange(segments)
+    n = segments + 1
+    faces = np.concatenate([np.stack([i, i + 1, i + n], -1), np.stack([i + 1, i + 1 + n, i + n], -1)])
+    return pos, faces, nrm
+
+
+def object_shapes(shape: str, bsdf: dict, mesh=None) -> dict:
+    """The swatch object(s) of ``shape`` (flat, cylinder, sphere) or ``mesh``, with ``bsdf`` on both faces."""
+    two = {"type": "twosided", "material": bsdf}
+    if shape == "flat":
+        # rectangle: [-1, 1]² in z = 0, normal +z; turned to y = 0, normal +y
+        return {"object": {"type": "rectangle", "bsdf": two,
+                           "to_world": mi.ScalarTransform4f().rotate([1.0, 0.0, 0.0], -90.0)}}
+    if shape == "sphere":
+        return {"object": {"type": "sphere", "radius": 1.0, "bsdf": two}}
+    loaded = mi.load_dict(two)
+    if shape == "cylinder":
+        pos, faces, nrm = half_cylinder_arrays()
+        return {"object": triangle_mesh("cylinder", pos, faces, nrm, loaded)}
+    corners, normals = mesh.triangle_soup()
+    f = corners.shape[0]
+    return {"object": triangle_mesh("mesh", corners.reshape(-1, 3), np.arange(3 * f).reshape(f, 3),
+                                    normals.reshape(-1, 3), loaded)}
+
+
+def _cyclorama(floor_y: float, bsdf) -> mi.Mesh:
+    """A floor at ``floor_y`` from z = +8 to −3, a quarter-circle cove (radius 2) and a back wall to y = 8."""
+    r, z_wall = 2.0, -5.0
+    a = np.linspace(0.0, math.pi / 2, 17)
+    prof = [(floor_y, 8.0), (floor_y, z_wall + r)]
+    prof += [(floor_y + r - r * math.cos(t), z_wall + r - r * math.sin(t)) for t in a[1:]]
+    prof += [(floor_y + 10.0, z_wall)]
+    yz = np.array(prof)
+    nrm_yz = np.array([(1.0, 0.0), (1.0, 0.0)] + [(math.cos(t), math.sin(t)) for t in a[1:]] + [(0.0, 1.0)])
+    k = yz.shape[0]
+    xs = (-10.0, 10.0)
+    pos = np.concatenate([np.stack([np.full(k, x), yz[:, 0], yz[:, 1]], -1) for x in xs])
+    nrm = np.concatenate([np.stack([np.zeros(k), nrm_yz[:, 0], nrm_yz[:, 1]], -1)] * 2)
+    i = np.arange(k - 1)
+    faces = np.concatenate([np.stack([i, i + k, i + 1], -1), np.stack([i + 1, i + k, i + k + 1], -1)])
+    return triangle_mesh("cyclorama", pos, faces, nrm, bsdf)
+
+
+def _box(centre, normal_to, size, radiance: float) -> dict:
+    """A rectangular soft box (one-sided area light) at ``centre`` facing the point ``normal_to``."""
+    t = mi.ScalarTransform4f().look_at(origin=list(centre), target=list(normal_to), up=[0.0, 1.0, 0.0]
+                                       if abs(centre[1] - normal_to[1]) < 0.9 * math.dist(centre, normal_to)
+                                       else [0.0, 0.0, -1.0])
+    return {"type": "rectangle", "to_world": t @ mi.ScalarTransform4f().scale([size[0] / 2, size[1] / 2, 1.0]),
+            "emitter": {"type": "area", "radiance": float(radiance)},
+            "bsdf": {"type": "diffuse", "reflectance": 0.0}}
+
+
+def lighting(kind: str, floor_y: float, sun: Sun | None = None, hdri: np.ndarray | None = None) -> dict:
+    """Scene entries of a lighting ``kind`` (module doc): emitters, and the studio's cyclorama or the ground.
+
+    ``floor_y``: the height of the floor or ground (just under the object); ``hdri``: the
+    equirectangular radiance (H, W, 3) of a user map, already checked.
+    """
+    if kind == "uniform":
+        return {"light": {"type": "constant", "radiance": 1.0}}
+    if kind == "studio":
+        return {
+            "cyclorama": _cyclorama(floor_y, mi.load_dict({"type": "diffuse", "reflectance": 0.6})),
+            "key": _box((0.0, 3.2, -0.4), (0.0, 0.0, 0.0), (3.0, 2.0), 6.0),
+            "strip_left": _box((-3.2, 0.8, 0.6), (0.0, 0.0, 0.0), (0.8, 3.0), 5.0),
+            "strip_right": _box((3.2, 0.8, -0.8), (0.0, 0.0, 0.0), (0.8, 3.0), 2.5),
+            "fill": {"type": "constant", "radiance": 0.05},
+        }
+    if kind == "sun":
+        assert sun is not None, "sun lighting needs a Sun"
+        d: dict = {"type": "sunsky", "turbidity": float(sun.turbidity), "to_world": _transform(SUNSKY_TO_WORLD)}
+        if sun.by_place:
+            d.update(latitude=float(sun.latitude_deg or 0.0), longitude=float(sun.longitude_deg or 0.0),
+                     timezone=float(sun.timezone_h), year=int(sun.year), month=int(sun.month), day=int(sun.day),
+                     hour=float(sun.hour))
+        else:
+            el, az = math.radians(float(sun.elevation_deg or 0.0)), math.radians(sun.azimuth_deg)
+            world = np.array([math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)])
+            d["sun_direction"] = (SUNSKY_TO_WORLD[:3, :3].T @ world).tolist()
+        ground = {"type": "rectangle", "bsdf": {"type": "diffuse", "reflectance": 0.2},
+                  "to_world": mi.ScalarTransform4f().translate([0.0, floor_y, 0.0])
+                  @ mi.ScalarTransform4f().rotate([1.0, 0.0, 0.0], -90.0) @ mi.ScalarTransform4f().scale(200.0)}
+        return {"light": d, "ground": ground}
+    assert hdri is not None, "a user map needs its pixels"
+    bitmap = mi.Bitmap(np.ascontiguousarray(hdri, dtype=np.float32), mi.Bitmap.PixelFormat.RGB)
+    # Mitsuba's envmap centre column looks along +z; the map's (swatch's) along -z: half a turn about y.
+    return {"light": {"type": "envmap", "bitmap": bitmap, "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], 180)}}

@@ -1,0 +1,23 @@
+"""Shared setup of the Mitsuba tests (#23): the LLVM variant, or a skip where no libLLVM 17+ is installed
+(unless SWATCH_REQUIRE_MITSUBA=1, as in CI, where that is a failure)."""
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from swatch.mitsuba.setup import configure_llvm
+
+
+def mitsuba_variant(variant: str = "llvm_ad_spectral"):
+    """Set ``variant`` and register the plugin; returns the ``mitsuba`` module (or skips)."""
+    if configure_llvm() is None and variant.startswith("llvm"):
+        if os.environ.get("SWATCH_REQUIRE_MITSUBA") == "1":
+            pytest.fail("no libLLVM 17+ for Mitsuba's LLVM variant (apt-get install libllvm19)")
+        pytest.skip("no libLLVM 17+ for Mitsuba's LLVM variant (apt-get install libllvm19)")
+    import mitsuba as mi
+
+    from swatch.mitsuba.engine import use_variant
+
+    use_variant(variant)
+    return mi
