@@ -193,6 +193,9 @@ def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, 
     shape = "mesh" if mesh is not None else shape
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
+    if not proc.spread.is_zero:
+        raise SwatchError("the mitsuba engine renders a uniform film; a thickness spread is not modelled there "
+                          "(use the built-in engine, or a profile without spread)")
     stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
     # the first render checks size, spp, background and the setup before anything is written
