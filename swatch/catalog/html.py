@@ -129,8 +129,8 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
         out.append(f'<div class="links chips"><span>print chip {_fmt(chip["size_mm"], 0)} mm, {chip["dpi"]} dpi:</span>'
                    f'<a href="{e(chip["png"])}">PNG</a><a href="{e(chip["tiff"])}">TIFF</a></div>')
     p = s.get("presets")
-    if p:  # 3-D material presets, each with its max ΔE2000 (D65, 2°, facet angles 0–60°; title: 0–45°)
-        kinds = (("gltf", "glTF", "gltf_max_delta_E_00"), ("blender", "Blender", "blender_max_delta_E_00"),
+    if p:  # 3-D material presets, each with its max ΔE2000 in its renderer (glTF: three.js; D65, 2°, 0–60°; title: 0–45°)
+        kinds = (("gltf", "glTF", "threejs_max_delta_E_00"), ("blender", "Blender", "blender_max_delta_E_00"),
                  ("materialx", "OpenPBR", "openpbr_max_delta_E_00"))
         title = ("3-D material presets; max " + str(p.get("conditions", "")) + "; at 0–45°: "
                  + ", ".join(f"{label} {_fmt(p.get(dk + '_45'), 1)}" for _, label, dk in kinds))

@@ -6,7 +6,9 @@ their specifications and sources (numpy, one module per model), their parameters
 per swatch to the exact Airy colour of the catalog (``fit``), and the fitted materials are
 written as files (``write``):
 
-- :mod:`swatch.presets.gltf` — glTF 2.0 ``KHR_materials_iridescence`` on a metal base;
+- :mod:`swatch.presets.threejs` — what three.js r187 shows of that glTF (the film at N·V, its
+  direct-light multiscatter factor): the glTF presets are fitted to it;
+- :mod:`swatch.presets.gltf` — glTF 2.0 ``KHR_materials_iridescence`` on a metal base, as specified;
 - :mod:`swatch.presets.cycles` — Blender Cycles' Principled BSDF thin film on a metallic base;
 - :mod:`swatch.presets.openpbr` — OpenPBR Surface thin film (Belcour–Barla, Gulbrandsen metal);
 - :mod:`swatch.presets.spectral` — the Fourier-space colour-matching sensitivities they share.
@@ -20,6 +22,6 @@ from __future__ import annotations
 #: The preset formats, one name per target renderer model.
 PRESET_FORMATS = ("gltf", "blender", "materialx")
 #: Which ported model each format is judged with.
-FORMAT_MODEL = {"gltf": "gltf", "blender": "cycles", "materialx": "openpbr"}
+FORMAT_MODEL = {"gltf": "threejs", "blender": "cycles", "materialx": "openpbr"}
 
 __all__ = ["PRESET_FORMATS", "FORMAT_MODEL"]

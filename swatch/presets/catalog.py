@@ -27,9 +27,18 @@ from swatch.presets import FORMAT_MODEL, PRESET_FORMATS
 
 __all__ = ["catalog_presets", "single_preset", "preset_file_name", "round_params", "roughness_factor", "ERROR_KEYS"]
 
-#: catalog.json key of each format's error (max ΔE2000 over 0–60°).
-ERROR_KEYS = {"gltf": "gltf_max_delta_E_00", "blender": "blender_max_delta_E_00",
+#: catalog.json key of each format's headline error: max ΔE2000 over mirror geometries 0–60° in the
+#: renderer the preset targets (``_45``: 0–45°). glTF: what three.js r187 shows (``threejs_*``);
+#: ``gltf_max_delta_E_00`` is the same file judged by the extension's own reference model.
+ERROR_KEYS = {"gltf": "threejs_max_delta_E_00", "blender": "blender_max_delta_E_00",
               "materialx": "openpbr_max_delta_E_00"}
+#: The model each figure is computed with (swatch.presets.fit), by key prefix.
+FIGURE_MODELS = {"threejs": "threejs", "gltf": "gltf", "blender": "cycles", "openpbr": "openpbr"}
+#: Which figures each format's record carries (key prefixes).
+FORMAT_FIGURES = {"gltf": ("threejs", "gltf"), "blender": ("blender",), "materialx": ("openpbr",)}
+#: The catalog's reference geometry 45:0 as (facet angle, the angle the model is evaluated at):
+#: three.js evaluates the film at N·V (0°), the others at the half vector (22.5°).
+GEOMETRY_45_0 = {"threejs": (22.5, 0.0), "gltf": (22.5, 22.5), "cycles": (22.5, 22.5), "openpbr": (22.5, 22.5)}
 _DIGITS = (3, 4, 4, 4, 4)  # thickness nm, IOR, base R G B, as written
 
 
@@ -58,7 +67,9 @@ def fit_key(spec, extra_angles) -> str:
     code = {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted((pkg / "presets").glob("*.py"))}
     for m in ("optics", "model", "spread", "materials", "colorimetry"):
         code[m] = hashlib.sha256((pkg / f"{m}.py").read_bytes()).hexdigest()
+    code["threejs_dfg_lut"] = hashlib.sha256((pkg / "tables" / "renderers" / "threejs_dfg_lut.csv").read_bytes()).hexdigest()
     blob = {"d": [float(x) for x in spec.thickness_nm], "per_sheet": spec.per_sheet, "film": spec.film,
+            "roughness": float(spec.roughness),
             "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
             "substrate": spec.substrate,
             "angles": [float(a) for a in extra_angles], "code": code,
@@ -73,70 +84,114 @@ def _cache_entry_ok(path: Path) -> bool:
     return is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES
 
 
+def _figures(model: str, params, spec, rough: float) -> dict[str, np.ndarray]:
+    """The errors (N,) of ``params`` as written under ``model``: max over 0–60° and 0–45°, and 45:0."""
+    from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
+
+    d = np.asarray(spec.thickness_nm, dtype=np.float64)
+    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, spec.film, spec.substrate, spec.film_index_scale,
+                           spec.spread, rough)
+    facet, at = GEOMETRY_45_0[model]
+    e450 = errors_delta_E_00(model, params, d, [facet], spec.film, spec.substrate, spec.film_index_scale,
+                             spec.spread, rough, [at])[:, 0]
+    return {"60": dE.max(axis=1), "45": dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1), "45_0": e450}
+
+
 def _read_cache(path: Path, n: int) -> dict | None:
     """The cached fits if the file is well formed for n swatches (it is read back: untrusted)."""
-    from swatch.presets.fit import MODELS
-
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
-        out = {m: (np.asarray(data[m]["params"], dtype=np.float64), np.asarray(data[m]["dE60"], dtype=np.float64),
-                   np.asarray(data[m]["dE45"], dtype=np.float64)) for m in MODELS}
-    except (OSError, ValueError, KeyError, TypeError):
+        out = {}
+        for fmt in PRESET_FORMATS:
+            entry = data[fmt]
+            figures = {prefix: {k: np.asarray(entry["figures"][prefix][k], dtype=np.float64)
+                                for k in ("60", "45", "45_0")} for prefix in FORMAT_FIGURES[fmt]}
+            out[fmt] = (np.asarray(entry["params"], dtype=np.float64), figures)
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
-    for p, e60, e45 in out.values():
-        if p.shape != (n, 5) or e60.shape != (n,) or e45.shape != (n,):
+    for p, figures in out.values():
+        arrays = [a for f in figures.values() for a in f.values()]
+        if p.shape != (n, 5) or any(a.shape != (n,) for a in arrays):
             return None
-        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(e60)) and np.all(np.isfinite(e45))):
+        if not (np.all(np.isfinite(p)) and all(np.all(np.isfinite(a)) for a in arrays)):
             return None
     return out
 
 
-def _fits(spec, cache: Path | None) -> dict:
+def _geometries(spec) -> list[float]:
+    return sorted({g.theta_d_deg for g in (spec.reference, *spec.multi_angle) if g.theta_d_deg <= 60.0})
+
+
+def fit_format(spec, fmt: str):
+    """Fit the model of preset format ``fmt`` for every swatch of ``spec`` (no cache): a PresetFit.
+
+    The catalog's geometries (facet angles ≤ 60°) weigh in; three.js, which evaluates the film at
+    N·V, is fitted at the reference 45:0 with its own N·V instead.
+    """
     from swatch.presets.fit import fit_presets
 
-    extra = sorted({g.theta_d_deg for g in (spec.reference, *spec.multi_angle) if g.theta_d_deg <= 60.0})
-    key = fit_key(spec, extra)
+    model = FORMAT_MODEL[fmt]
+    groups = np.arange(len(spec.thickness_nm)) // spec.per_sheet  # coupled within a sheet only
+    if model == "threejs":
+        extra, at = [GEOMETRY_45_0[model][0]], [GEOMETRY_45_0[model][1]]
+    else:
+        extra, at = _geometries(spec), None
+    return fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale,
+                       groups, spec.spread, roughness_factor(spec.roughness), at)
+
+
+def _fits(spec, cache: Path | None) -> dict:
+    key = fit_key(spec, _geometries(spec))
     path = cache / f"presets-{key}.json" if cache is not None else None
     if path is not None and _cache_entry_ok(path):  # the cache is untrusted: checked, else refitted
         cached = _read_cache(path, len(spec.thickness_nm))
         if cached is not None:
             return cached
+    rough = roughness_factor(spec.roughness)
     out = {}
     for fmt in PRESET_FORMATS:
-        model = FORMAT_MODEL[fmt]
-        groups = np.arange(len(spec.thickness_nm)) // spec.per_sheet  # coupled within a sheet only
-        fit = fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale,
-                          groups, spec.spread)
-        written = round_params(fit.params)
-        from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
-
-        dE = errors_delta_E_00(model, written, fit.thickness_nm, FIT_ANGLES_DEG, spec.film, spec.substrate,
-                               spec.film_index_scale, spec.spread)
-        out[model] = (written, dE.max(axis=1), dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1))
+        written = round_params(fit_format(spec, fmt).params)
+        out[fmt] = (written, {prefix: _figures(FIGURE_MODELS[prefix], written, spec, rough)
+                              for prefix in FORMAT_FIGURES[fmt]})
     if path is not None and cache is not None:
         from swatch.fileio import atomic_write_text
 
         for stale in path.parent.glob("presets-*.json"):
             stale.unlink(missing_ok=True)
-        atomic_write_text(path, json.dumps({m: {"params": v[0].tolist(), "dE60": v[1].tolist(),
-                                                "dE45": v[2].tolist()} for m, v in out.items()}))
+        atomic_write_text(path, json.dumps({fmt: {"params": p.tolist(), "figures": {
+            prefix: {k: v.tolist() for k, v in f.items()} for prefix, f in figures.items()}}
+            for fmt, (p, figures) in out.items()}))
     return out
 
 
-def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE: float, thickness_nm: float) -> bytes:
+def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE: float, thickness_nm: float,
+                 extension_dE: float | None = None) -> bytes:
+    """One preset file. ``max_dE``: the largest ΔE2000 over 0–60° in the targeted renderer;
+    ``extension_dE`` (glTF): the same under the extension's reference model."""
     from swatch.presets import write
 
     rough = roughness_factor(alpha)
-    note = (f"oxide {thickness_nm:g} nm; max ΔE2000 {max_dE:.2f} over facet angles 0–60° "
-            "(D65, CIE 1931 2°)")
     if fmt == "gltf":
-        return write.gltf_bytes(title, params, rough, extras={"swatch": {"thickness_nm": thickness_nm,
-                                                                       "max_delta_E_00": round(max_dE, 2),
-                                                                       "illuminant": "D65", "observer": "2",
-                                                                       "facet_angles_deg": [0, 60]}})
+        info = {"thickness_nm": thickness_nm, "threejs_max_delta_E_00": round(max_dE, 2),
+                "renderer": "three.js r187 (direct light; the film is evaluated at N.V)",
+                "illuminant": "D65", "observer": "2", "mirror_angles_deg": [0, 60]}
+        if extension_dE is not None:
+            info["extension_max_delta_E_00"] = round(extension_dE, 2)
+        return write.gltf_bytes(title, params, rough, extras={"swatch": info})
     if fmt == "blender":
+        note = (f"oxide {thickness_nm:g} nm; max ΔE2000 {max_dE:.2f} over mirror angles 0–60° "
+                "as Cycles renders it with GGX (D65, CIE 1931 2°)")
         return write.blender_bytes(title, params, rough, preset_file_name(ident, fmt), note)
     return write.materialx_bytes(title, params, rough)
+
+
+#: What each figure prefix is measured in, for the record's ``conditions``.
+RENDERERS = {
+    "threejs": "three.js r187 MeshPhysicalMaterial via GLTFLoader, direct light, relative to a white metal",
+    "gltf": "KHR_materials_iridescence reference model (the extension text)",
+    "blender": "Blender 5.0-5.2 Cycles, Principled BSDF, GGX",
+    "openpbr": "OpenPBR Surface (Belcour-Barla, Gulbrandsen metal; not checked in a renderer)",
+}
 
 
 def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, bytes]:
@@ -146,14 +201,22 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, 
     for i, rec in enumerate(records):
         entry: dict = {}
         for fmt in PRESET_FORMATS:
-            params, dE60, dE45 = (a[i] for a in fits[FORMAT_MODEL[fmt]])
+            params, figures = fits[fmt]
             name = preset_file_name(rec["id"], fmt)
             title = f"{rec['id']} anodised {rec['thickness_nm']:g} nm"
-            files[name] = preset_bytes(fmt, rec["id"], title, params, spec.roughness, float(dE60), rec["thickness_nm"])
+            head = ERROR_KEYS[fmt].removesuffix("_max_delta_E_00")
+            ext = float(figures["gltf"]["60"][i]) if "gltf" in figures and head != "gltf" else None
+            files[name] = preset_bytes(fmt, rec["id"], title, params[i], spec.roughness,
+                                       float(figures[head]["60"][i]), rec["thickness_nm"], ext)
             entry[fmt] = name
-            entry[ERROR_KEYS[fmt]] = round(float(dE60), 2)
-            entry[ERROR_KEYS[fmt] + "_45"] = round(float(dE45), 2)
-        entry["conditions"] = "ΔE2000 vs exact colour, D65, CIE 1931 2°, facet angles 0–60° (_45: 0–45°)"
+            for prefix in FORMAT_FIGURES[fmt]:
+                f = figures[prefix]
+                entry[f"{prefix}_max_delta_E_00"] = round(float(f["60"][i]), 2)
+                entry[f"{prefix}_max_delta_E_00_45"] = round(float(f["45"][i]), 2)
+                entry[f"{prefix}_delta_E_00_45_0"] = round(float(f["45_0"][i]), 2)
+        entry["conditions"] = ("ΔE2000 vs exact colour, D65, CIE 1931 2°: *_max_delta_E_00 over mirror geometries "
+                               "0–60° (_45: 0–45°), *_delta_E_00_45_0 at 45:0")
+        entry["renderers"] = {p: RENDERERS[p] for f in PRESET_FORMATS for p in FORMAT_FIGURES[f]}
         rec["presets"] = entry
     return files
 
@@ -167,11 +230,16 @@ def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film
 
     d = np.array([float(thickness_nm)])
     model = FORMAT_MODEL[fmt]
-    fit = fit_presets(d, model, (22.5,), film, substrate, film_index_scale, spread=spread)
+    rough = roughness_factor(roughness_alpha)
+    facet, at = GEOMETRY_45_0[model]
+    fit = fit_presets(d, model, (facet,), film, substrate, film_index_scale, None, spread, rough, (at,))
     params = round_params(fit.params)
-    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale, spread)[0]
+    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale, spread, rough)[0]
+    ext = (float(errors_delta_E_00("gltf", params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale,
+                                   spread).max())
+           if model == "threejs" else None)
     data = preset_bytes(fmt, f"{d[0]:g}nm", f"anodised {d[0]:g} nm", params[0], roughness_alpha, float(dE.max()),
-                        float(d[0]))
+                        float(d[0]), ext)
     p = params[0]
     summary = (f"{model} model, thickness {p[0]:g} nm, film IOR {p[1]:g}, base colour {p[2]:g} {p[3]:g} {p[4]:g} "
                f"(linear Rec.709); max ΔE2000 {dE.max():.2f} at 0–60°, {dE[FIT_ANGLES_DEG <= 45].max():.2f} at "

@@ -55,27 +55,39 @@ _CONTINUITY_ROUNDS = 2
 #: Per model: (weight of the angles past 45°, power p of the residual ΔE2000**p). The catalog's
 #: geometries weigh 2, the other angles up to 45° weigh 1; p > 1 leans towards the largest errors.
 #: glTF cannot follow the exact colour far past 45° (its metal is a real index): it weighs them less.
-_OBJECTIVE = {"gltf": (0.2, 1.0), "cycles": (0.5, 1.5), "openpbr": (0.5, 1.5)}
+_OBJECTIVE = {"gltf": (0.2, 1.0), "threejs": (0.2, 1.0), "cycles": (0.5, 1.5), "openpbr": (0.5, 1.5)}
+#: The roughness (glTF ``roughnessFactor``) a model is evaluated at when it depends on it and none is given.
+DEFAULT_ROUGHNESS = 0.5477
 
 
 def _model(name: str):
-    from swatch.presets import cycles, gltf, openpbr
+    from swatch.presets import cycles, gltf, openpbr, threejs
 
-    return {"gltf": gltf.iridescent_fresnel, "cycles": cycles.principled_metal_fresnel,
-            "openpbr": openpbr.thin_film_metal_fresnel}[name]
+    plain = {"gltf": gltf.iridescent_fresnel, "cycles": cycles.principled_metal_fresnel,
+             "openpbr": openpbr.thin_film_metal_fresnel}
+    if name == "threejs":
+        return threejs.displayed_fresnel
+    f = plain[name]
+    return lambda c, d, eta, base, roughness: f(c, d, eta, base)
 
 
-#: Model names (swatch.presets.FORMAT_MODEL maps formats to them).
-MODELS = ("gltf", "cycles", "openpbr")
+#: Model names (swatch.presets.FORMAT_MODEL maps formats to them). ``threejs`` is what three.js
+#: shows of a glTF preset (swatch.presets.threejs); ``gltf`` is the extension as specified.
+MODELS = ("gltf", "threejs", "cycles", "openpbr")
 
 
-def model_Lab(model: str, params, angles_deg) -> np.ndarray:
-    """CIELAB (D65, 2°) of ``model`` with ``params`` (..., 5) at facet angles (A,): (..., A, 3)."""
+def model_Lab(model: str, params, angles_deg, roughness: float | None = None) -> np.ndarray:
+    """CIELAB (D65, 2°) of ``model`` with ``params`` (..., 5) at angles (A,): (..., A, 3).
+
+    The angle is the facet angle (the model's cos θ argument; N·V for ``threejs``, which is the
+    facet angle at mirror geometries). ``roughness``: the glTF roughnessFactor (``threejs`` only).
+    """
     from swatch.presets.spectral import rgb_to_Lab
 
     p = np.asarray(params, dtype=np.float64)
     c = np.cos(np.radians(np.asarray(angles_deg, dtype=np.float64)))
-    F = _model(model)(c, p[..., 0:1], p[..., 1:2], p[..., None, 2:5])
+    rough = DEFAULT_ROUGHNESS if roughness is None else float(roughness)
+    F = _model(model)(c, p[..., 0:1], p[..., 1:2], p[..., None, 2:5], rough)
     return rgb_to_Lab(F)
 
 
@@ -97,11 +109,15 @@ def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str 
 
 
 def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DEG, film=None,
-                      substrate=None, film_index_scale: float = 1.0, spread=None) -> np.ndarray:
-    """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour."""
+                      substrate=None, film_index_scale: float = 1.0, spread=None, roughness: float | None = None,
+                      model_angles_deg=None) -> np.ndarray:
+    """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour at facet angles
+    ``angles_deg``; the model is evaluated at ``model_angles_deg`` (default the same angles: mirror
+    geometries; e.g. 0 for three.js at 45:0, whose N·V is 0° where the facet angle is 22.5°)."""
     from swatch.colorimetry import delta_E_00
 
-    return delta_E_00(model_Lab(model, params, angles_deg),
+    at = angles_deg if model_angles_deg is None else model_angles_deg
+    return delta_E_00(model_Lab(model, params, at, roughness),
                       exact_Lab(thickness_nm, angles_deg, film, substrate, film_index_scale, spread))
 
 
@@ -142,11 +158,13 @@ def _bare_metal_rgb(substrate: str | None) -> np.ndarray:
 
 
 class _Problem:
-    def __init__(self, model, target_Lab, weights, angles_deg, power: float = 1.0):
+    def __init__(self, model, target_Lab, weights, angles_deg, power: float = 1.0, model_angles_deg=None,
+                 roughness: float | None = None):
         from swatch.colorimetry import delta_E_00
 
         self.model, self.target, self.w, self.angles = model, target_Lab, np.sqrt(weights), angles_deg
-        self.power = power
+        self.model_angles = angles_deg if model_angles_deg is None else model_angles_deg
+        self.power, self.roughness = power, roughness
         self._dE = delta_E_00
 
     def max_45(self, residuals) -> np.ndarray:
@@ -156,7 +174,8 @@ class _Problem:
 
     def residuals(self, p, rows):
         """Weighted ΔE2000**power (len(rows), A) for parameter rows p matched to swatch ``rows``."""
-        return self._dE(model_Lab(self.model, p, self.angles), self.target[rows]) ** self.power * self.w
+        return self._dE(model_Lab(self.model, p, self.model_angles, self.roughness),
+                        self.target[rows]) ** self.power * self.w
 
 
 def _levenberg_marquardt(prob: _Problem, p0, rows, lo, hi, iterations: int = _LM_ITERATIONS):
@@ -220,12 +239,15 @@ def _smooth_choice(d, ps, cs, ms, groups) -> np.ndarray:
 
 
 def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None = None,
-                substrate: str | None = None, film_index_scale: float = 1.0, groups=None,
-                spread=None) -> PresetFit:
+                substrate: str | None = None, film_index_scale: float = 1.0, groups=None, spread=None,
+                roughness: float | None = None, extra_model_angles_deg=None) -> PresetFit:
     """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring.
 
     ``film_index_scale``: a process profile's scale of the film's real index (the exact colour);
     ``spread``: its thickness spread (:class:`swatch.spread.ThicknessSpread`; the exact colour averaged over it).
+    ``extra_angles_deg``: the catalog's geometries as facet angles (weight 2), at which the model is
+    evaluated at ``extra_model_angles_deg`` (same length; default the same angles). ``roughness``:
+    the glTF roughnessFactor (models that depend on it: ``threejs``).
 
     ``groups`` (N,) confines the continuity coupling: a swatch's preset depends only on the
     thicknesses of its own group (the catalog passes its sheets, so that changing one swatch
@@ -233,12 +255,16 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     """
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     groups = np.zeros(d.size, dtype=np.int64) if groups is None else np.asarray(groups, dtype=np.int64)
-    extra = np.unique(np.asarray([a for a in extra_angles_deg if 0.0 <= a <= 60.0], dtype=np.float64))
+    extra_model = extra_angles_deg if extra_model_angles_deg is None else extra_model_angles_deg
+    pairs = sorted({(float(a), float(b)) for a, b in zip(extra_angles_deg, extra_model, strict=True)
+                    if 0.0 <= a <= 60.0})
+    extra = np.array([a for a, _ in pairs], dtype=np.float64)
     angles = np.concatenate([SEARCH_ANGLES_DEG, extra])
+    model_angles = np.concatenate([SEARCH_ANGLES_DEG, np.array([b for _, b in pairs], dtype=np.float64)])
     beyond_45, power = _OBJECTIVE[model]
     weights = np.concatenate([np.where(SEARCH_ANGLES_DEG <= 45.0, 1.0, beyond_45), np.full(extra.size, 2.0)])
     target = exact_Lab(d, angles, film, substrate, film_index_scale, spread)
-    prob = _Problem(model, target, weights, angles, power)
+    prob = _Problem(model, target, weights, angles, power, model_angles, roughness)
     n = d.size
     rows = np.arange(n)
     lo, hi = _bounds(d)
@@ -285,6 +311,6 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
             p[i[take]] = pw[take]
             cost[i[take]] = cw[take]
             worst[i[take]] = ww[take]
-    report = np.unique(np.concatenate([FIT_ANGLES_DEG, extra]))
+    report = FIT_ANGLES_DEG
     return PresetFit(model, d, p, report, errors_delta_E_00(model, p, d, report, film, substrate, film_index_scale,
-                                                                     spread))
+                                                            spread, roughness))

@@ -9,8 +9,8 @@ rounded to fixed digits). ``params`` is one row of :class:`swatch.presets.fit.Pr
   ``roughnessFactor`` = the catalog roughness, ``KHR_materials_iridescence`` with
   ``iridescenceFactor`` 1, ``iridescenceIor``, ``iridescenceThicknessMaximum`` = the fitted
   thickness and no thickness texture (so the thickness is the maximum), listed in ``extensionsUsed``.
-- Blender: a script for Blender ≥ 5.0 (Principled BSDF with Thin Film inputs; 4.2–4.5 ignore the
-  thin film on a metal, so the script refuses them). Run it from the Text Editor or ``blender
+- Blender: a script for Blender ≥ 5.0 (Principled BSDF with Thin Film inputs and the GGX
+  distribution it was fitted for; 4.2–4.5 ignore the thin film on a metal, so the script refuses them). Run it from the Text Editor or ``blender
   --python FILE``: it creates (or updates) the material and assigns it to the selected mesh
   objects (tests/presets_blender/mirror.py runs it in real Blender).
 - MaterialX: a 1.39 document with an ``open_pbr_surface`` (base_metalness 1, base_color,
@@ -103,7 +103,8 @@ _BLENDER = '''# Blender >= 5.0 (Cycles) material preset written by swatch (anodi
 import bpy
 
 # Blender 4.2-4.5 ignore Thin Film on a metallic Principled BSDF: there the material would render
-# as its bare Base Color, a different colour. Refuse rather than mislead.
+# as its bare Base Color, a different colour. Refuse rather than mislead. Checked in Blender 5.0
+# and 5.2 (bpy 5.0.1 and 5.2.3).
 if bpy.app.version < (5, 0, 0):
     raise RuntimeError("this swatch preset needs Blender 5.0 or later (Blender "
                        + bpy.app.version_string + " ignores Thin Film on metals)")
@@ -119,6 +120,9 @@ INPUTS = {{
 
 mat = bpy.data.materials.get(NAME) or bpy.data.materials.new(NAME)  # with a Principled BSDF node
 bsdf = next(n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+# The fit assumes single-scatter GGX. Blender's default, Multiscatter GGX, adds the energy of
+# inter-reflections between microfacets and renders these colours up to ~2 L* off at this roughness.
+bsdf.distribution = "GGX"
 for key, value in INPUTS.items():
     bsdf.inputs[key].default_value = value
 for obj in bpy.context.selected_objects:

@@ -1,0 +1,226 @@
+"""The exact colour a preset should show at the geometries the real renderers are checked at (#18).
+
+Exact: the Airy reflectance of the film on the substrate (``swatch.model``) through the CIE 1931
+2° observer under D65 (swatch's colorimeter, itself pinned to ``colour.sd_to_XYZ`` by
+tests/test_presets.py), CIELAB relative to the perfect white. A renderer's measured colour is its
+linear Rec.709 ratio to a white metal plate rendered in the same light, converted with
+colour-science's sRGB matrix. Geometries:
+
+- ``mirror`` θ: the facet angle θ (roughness 0, or the specular direction);
+- ``sun`` light L, view 0: the facet angle L/2 (single-scatter GGX: D and G cancel in the ratio);
+- ``furnace`` view θ: the Fresnel averaged over the single-scatter GGX lobe (GGX D, height-
+  correlated Smith G, as Cycles evaluates them) of a uniform white world — an independent
+  Gauss–Legendre quadrature (scipy) over the reflected directions.
+"""
+from __future__ import annotations
+
+import functools
+import http.server
+import shutil
+import threading
+from pathlib import Path
+
+import colour
+import numpy as np
+from scipy.special import roots_legendre
+
+from swatch.colorimetry import delta_E_00, get_colorimeter
+from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+from swatch.model import get_coating
+from tests.browser import CHROMIUM, WEBGL_ARGS, wait_until
+
+HERE = Path(__file__).resolve().parent
+VENDOR = HERE / "vendor"
+_SRGB = colour.RGB_COLOURSPACES["sRGB"]
+_D65 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+
+
+def rgb_to_Lab(rgb) -> np.ndarray:
+    """CIELAB (D65, 2°) of a linear Rec.709 reflectance (..., 3), 1 = perfect white."""
+    return colour.XYZ_to_Lab(colour.RGB_to_XYZ(np.asarray(rgb, dtype=np.float64), _SRGB, illuminant=_D65), _D65)
+
+
+@functools.lru_cache(maxsize=4)
+def _setup(film: str, substrate: str, scale: float):
+    wl = wavelength_grid(380.0, 780.0, 5.0)
+    return get_coating(film, substrate, wl, scale), get_colorimeter(wl, "D65", "2")
+
+
+def exact_XYZ(thickness_nm: float, theta_d_deg, film=DEFAULT_FILM, substrate=DEFAULT_SUBSTRATE,
+              film_index_scale: float = 1.0) -> np.ndarray:
+    """XYZ (A, 3), white Y = 100, of the exact reflectance at facet angles θ_d (degrees)."""
+    coating, cm = _setup(film, substrate, float(film_index_scale))
+    R = coating.reflectance(np.array([[float(thickness_nm)]]), np.asarray(theta_d_deg, dtype=np.float64)[None, :]).R[0]
+    return cm.XYZ(R)
+
+
+def exact_Lab(thickness_nm: float, theta_d_deg, **kw) -> np.ndarray:
+    _, cm = _setup(kw.get("film", DEFAULT_FILM), kw.get("substrate", DEFAULT_SUBSTRATE),
+                   float(kw.get("film_index_scale", 1.0)))
+    return cm.Lab(exact_XYZ(thickness_nm, theta_d_deg, **kw))
+
+
+def ggx_lobe_weights(view_deg: float, alpha: float, n: int = 256) -> tuple[np.ndarray, np.ndarray]:
+    """Facet angles θ_d (M,) and weights (M,) of single-scatter GGX under a uniform world seen at
+    ``view_deg``: ∫ D·G2/(4 cos θ_v) dω_l over the reflected directions (sum of weights = the white
+    plate's albedo). Integrated over half vectors with the GGX mapping tan²θ_h = α²u/(1 − u)
+    (D cos θ_h dω_h = du dφ/2π, dω_l = 4 (v·h) dω_h), Gauss–Legendre in u and φ."""
+    x, w = roots_legendre(n)
+    u, wu = 0.5 * (x + 1.0), 0.5 * w
+    phi, wphi = np.pi * (x + 1.0), np.pi * w
+    U, PHI = np.meshgrid(u, phi, indexing="ij")
+    W = wu[:, None] * wphi[None, :] / (2.0 * np.pi)
+    cos_h = 1.0 / np.sqrt(1.0 + alpha ** 2 * U / (1.0 - U))
+    sin_h = np.sqrt(1.0 - cos_h ** 2)
+    hx, hz = sin_h * np.cos(PHI), cos_h  # (hy does not enter: v lies in the x-z plane)
+    tv = np.radians(view_deg)
+    vx, vz = np.sin(tv), np.cos(tv)
+    vh = hx * vx + hz * vz
+    lz = 2.0 * vh * hz - vz  # l = 2 (v·h) h − v
+    a2 = alpha ** 2
+
+    def lam(c):
+        c = np.clip(c, 1e-9, 1.0)
+        return 0.5 * (-1.0 + np.sqrt(1.0 + a2 * (1.0 - c ** 2) / c ** 2))
+
+    ok = (lz > 0.0) & (vh > 0.0)
+    G2 = np.where(ok, 1.0 / (1.0 + lam(vz) + lam(lz)), 0.0)
+    weight = W * G2 * np.clip(vh, 0.0, 1.0) / (vz * cos_h)
+    return np.degrees(np.arccos(np.clip(vh, 0.0, 1.0))).ravel(), weight.ravel()
+
+
+def furnace_Lab(thickness_nm: float, view_deg: float, alpha: float, **kw) -> np.ndarray:
+    """The exact colour of a rough plate in a white furnace relative to a white plate (Lab, D65, 2°)."""
+    theta, weight = ggx_lobe_weights(view_deg, alpha)
+    bins = np.linspace(0.0, 90.0, 181)
+    hist, _ = np.histogram(theta, bins=bins, weights=weight)
+    centres = 0.5 * (bins[1:] + bins[:-1])
+    XYZ = (hist[:, None] * exact_XYZ(thickness_nm, centres, **kw)).sum(axis=0) / hist.sum()
+    _, cm = _setup(kw.get("film", DEFAULT_FILM), kw.get("substrate", DEFAULT_SUBSTRATE),
+                   float(kw.get("film_index_scale", 1.0)))
+    return cm.Lab(XYZ)
+
+
+def renderer_delta_E(thickness_nm: float, kind: str, angle_deg: float, ratio_rgb, alpha: float, **kw) -> float:
+    """ΔE2000 between a renderer's measured ratio (linear Rec.709) and the exact colour there."""
+    if kind == "mirror":
+        ref = exact_Lab(thickness_nm, [angle_deg], **kw)[0]
+    elif kind == "sun":
+        ref = exact_Lab(thickness_nm, [angle_deg / 2.0], **kw)[0]
+    elif kind == "furnace":
+        ref = furnace_Lab(thickness_nm, angle_deg, alpha, **kw)
+    else:
+        raise ValueError(kind)
+    return float(delta_E_00(rgb_to_Lab(ratio_rgb), ref))
+
+
+class _Quiet(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, *args):
+        pass
+
+
+#: three.js geometries VIEW:LIGHT (degrees from the normal, opposite sides): 45:0 and mirror 0–60°.
+THREEJS_GEOMETRIES = ((0.0, 45.0), (0.0, 0.0), (30.0, 30.0), (45.0, 45.0), (60.0, 60.0))
+
+
+def render_in_threejs(gltf_paths, tmp_path, geometries=THREEJS_GEOMETRIES) -> dict:
+    """Render glTF files with the vendored three.js (GLTFLoader, MeshPhysicalMaterial) in headless
+    Chromium (SwiftShader WebGL) through tests/presets_page/render.html; its ``window.result``."""
+    from playwright.sync_api import sync_playwright
+
+    site = tmp_path / "site"
+    site.mkdir()
+    shutil.copy(HERE / "presets_page" / "render.html", site / "render.html")
+    (site / "three").symlink_to(VENDOR / "three")
+    names = []
+    for i, path in enumerate(gltf_paths):
+        shutil.copy(path, site / f"p{i}.gltf")
+        names.append(f"p{i}.gltf")
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(site)))
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    geo = ",".join(f"{v:g}:{li:g}" for v, li in geometries)
+    try:
+        with sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=CHROMIUM, args=WEBGL_ARGS)
+            page = browser.new_page()
+            page.goto(f"http://127.0.0.1:{server.server_address[1]}/render.html?gltf={','.join(names)}"
+                      f"&geometries={geo}&intensity=1")
+            wait_until(page, "() => window.result !== undefined", timeout_s=120.0)
+            result = page.evaluate("window.result")
+            page.screenshot(path=str(tmp_path / "threejs.png"))
+            browser.close()
+    finally:
+        server.shutdown()
+    assert "error" not in result, result
+    return result
+
+
+def _blender_rows(doc: dict, records: dict) -> list[tuple[str, str, float, float]]:
+    import re
+
+    rows = []
+    for r in doc["results"]:
+        rec = records[re.search(r"preset_(S\d+)_blender", r["preset"]).group(1)]
+        for m in r["measurements"]:
+            ratio = np.asarray(m["rgb"]) / (np.asarray(m["white_rgb"]) if "white_rgb" in m else 1.0)
+            dE = renderer_delta_E(rec["thickness_nm"], m["kind"], m["angle_deg"], ratio, 0.3)
+            p = rec["presets"]
+            single = m["kind"] == "sun" or (m["kind"] == "mirror" and m["angle_deg"] <= 45.0)
+            stated = p["blender_max_delta_E_00_45"] if single else p["blender_max_delta_E_00"]
+            rows.append((rec["id"], f"{m['kind']}:{m['angle_deg']:g} ({m['distribution']})", dE, stated))
+    return rows
+
+
+def _threejs_rows(result: dict, records: list[dict]) -> list[tuple[str, str, float, float]]:
+    rows = []
+    for rec, got in zip(records, result["presets"], strict=True):
+        p = rec["presets"]
+        for row in got["rows"]:
+            shown = np.asarray(row["preset"]) / np.asarray(row["reference"])
+            facet = (row["view"] + row["light"]) / 2.0
+            dE = float(delta_E_00(rgb_to_Lab(shown), exact_Lab(rec["thickness_nm"], [facet])[0]))
+            if row["view"] != row["light"]:
+                geo, stated = "45:0", p.get("threejs_delta_E_00_45_0", p.get("gltf_max_delta_E_00_45"))
+            else:
+                geo = f"mirror {row['view']:g}"
+                key = "max_delta_E_00_45" if row["view"] <= 45.0 else "max_delta_E_00"
+                stated = p.get(f"threejs_{key}", p.get(f"gltf_{key}"))
+            rows.append((rec["id"], geo, dE, stated))
+    return rows
+
+
+def main(argv: list[str]) -> None:
+    """``python -m tests.preset_reference threejs|blender CATALOG_DIR [PYTHON_WITH_BPY] [PRESET_DIR]``:
+    every preset of a built catalog in the real renderer; per geometry the median / max ΔE2000
+    against the exact colour and how many exceed the stated figure + 0.5 (#18's figures)."""
+    import json
+    import subprocess
+    import tempfile
+
+    what, folder = argv[0], Path(argv[1])
+    records = json.loads((folder / "catalog.json").read_text(encoding="utf-8"))["swatches"]
+    presets = Path(argv[3]) if len(argv) > 3 else folder
+    with tempfile.TemporaryDirectory() as tmp:
+        if what == "threejs":
+            result = render_in_threejs([presets / r["presets"]["gltf"] for r in records], Path(tmp))
+            rows = _threejs_rows(result, records)
+            print(f"three.js r{result['revision']}")
+        else:
+            files = [str(presets / r["presets"]["blender"]) for r in records]
+            measure = ("mirror:0", "mirror:30", "mirror:45", "mirror:60", "sun:45", "furnace:0", "furnace:45")
+            run = subprocess.run([argv[2], str(HERE / "presets_blender" / "mirror.py"), tmp, *measure, "--", *files],
+                                 capture_output=True, text=True, check=True)
+            doc = json.loads(next(ln for ln in run.stdout.splitlines() if ln.startswith("SWATCH-JSON "))[12:])
+            rows = _blender_rows(doc, {r["id"]: r for r in records})
+            print(f"Blender {doc['blender']}")
+    for geo in sorted({g for _, g, _, _ in rows}):
+        dE = np.array([d for _, g, d, _ in rows if g == geo])
+        over = sum(d > s + 0.5 for _, g, d, s in rows if g == geo)
+        print(f"{geo}: ΔE00 median {np.median(dE):.2f} max {dE.max():.2f}; over stated + 0.5: {over} of {dE.size}")
+
+
+if __name__ == "__main__":
+    import sys
+
+    main(sys.argv[1:])
