@@ -164,7 +164,8 @@ def _blender_rows(doc: dict, records: dict) -> list[tuple[str, str, float, float
         rec = records[re.search(r"preset_(S\d+)_blender", r["preset"]).group(1)]
         for m in r["measurements"]:
             ratio = np.asarray(m["rgb"]) / (np.asarray(m["white_rgb"]) if "white_rgb" in m else 1.0)
-            dE = renderer_delta_E(rec["thickness_nm"], m["kind"], m["angle_deg"], ratio, 0.3)
+            alpha = m["inputs"]["Roughness"] ** 2  # the preset's own (GGX α = roughness²)
+            dE = renderer_delta_E(rec["thickness_nm"], m["kind"], m["angle_deg"], ratio, alpha)
             p = rec["presets"]
             single = m["kind"] == "sun" or (m["kind"] == "mirror" and m["angle_deg"] <= 45.0)
             stated = p["blender_max_delta_E_00_45"] if single else p["blender_max_delta_E_00"]
