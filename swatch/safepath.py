@@ -9,6 +9,7 @@ would redirect writes elsewhere), :func:`is_regular_file` before reading a file 
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
 from pathlib import Path
@@ -16,7 +17,7 @@ from pathlib import Path
 from swatch.errors import SwatchError
 from swatch.limits import MAX_NAME_CHARS
 
-__all__ = ["plain_name", "real_folder", "is_regular_file"]
+__all__ = ["plain_name", "real_folder", "make_real_folder", "is_regular_file", "inside", "entry_kind"]
 
 
 def plain_name(name, what: str) -> str:
@@ -53,3 +54,39 @@ def is_regular_file(path) -> bool:
         return stat.S_ISREG(os.lstat(path).st_mode)
     except OSError:
         return False
+
+
+def make_real_folder(path, what: str) -> Path:
+    """Create ``path`` (one level) unless it exists; it must then be a real folder, not a link.
+
+    ``Path.mkdir(exist_ok=True)`` accepts a symbolic link to a folder anywhere; this does not.
+    """
+    p = Path(path)
+    with contextlib.suppress(FileExistsError):
+        os.mkdir(p)
+    real_folder(p, what)
+    return p
+
+
+def inside(path, folder, what: str) -> Path:
+    """``path`` if, with every link resolved, it lies inside ``folder`` (resolved too)."""
+    p, root = Path(path), os.path.realpath(folder)
+    real = os.path.realpath(p)
+    if real != root and not real.startswith(root.rstrip(os.sep) + os.sep):
+        raise SwatchError(f"{what} {p} resolves outside {folder}; refused (nothing was moved)")
+    return p
+
+
+def entry_kind(path) -> str | None:
+    """What ``path`` is, links not followed: None (absent), ``file``, ``dir``, ``link`` or ``other``."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return None
+    except NotADirectoryError:
+        return None
+    if stat.S_ISREG(mode):
+        return "file"
+    if stat.S_ISDIR(mode):
+        return "dir"
+    return "link" if stat.S_ISLNK(mode) else "other"

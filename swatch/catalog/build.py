@@ -47,23 +47,24 @@ from swatch.catalog.folder import (
     check_targets,
     commit,
     file_matches,
-    fsync_dir,
     intact,
+    is_catalog,
     load_manifest,
     locked,
     meta_folder,
+    prepare_commit,
     recover,
     remove_tree,
     rollback,
     sha256_file,
     signals_held,
-    write_journal,
 )
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.errors import SwatchError
 from swatch.fileio import check_writable_dir
+from swatch.safepath import make_real_folder
 
-__all__ = ["build_catalog", "BuildResult", "FORMAT_VERSION", "META_DIR"]
+__all__ = ["build_catalog", "check_buildable", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
 FORMAT_VERSION = 1
 
@@ -128,15 +129,12 @@ def _prepare_out_dir(out: Path) -> Path:
     if out.exists() and not out.is_dir():
         raise SwatchError(f"output folder {out} is a file; give a folder")
     meta = meta_folder(out)
-    if out.exists():
-        entries = [p for p in out.iterdir() if p.name != META_DIR]
-        if entries and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
-            raise SwatchError(
-                f"output folder {out} is not empty and is not a swatch catalog (no {META_DIR}/{MANIFEST}); "
-                "give an empty or new folder, or a folder a previous catalog build wrote")
+    if out.exists() and not is_catalog(out, meta):  # before any journal is acted on
+        raise SwatchError(
+            f"output folder {out} is not empty and is not a swatch catalog (no {META_DIR}/{MANIFEST}); "
+            "give an empty or new folder, or a folder a previous catalog build wrote")
     check_writable_dir(out)
-    meta.mkdir(exist_ok=True)
-    return meta
+    return make_real_folder(meta, "catalog metadata folder")
 
 
 def _remove_first_build(out: Path, meta: Path) -> None:
@@ -279,7 +277,7 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
 
 
 def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildResult:
-    recover(out, meta)
+    recover(out, meta, say)
     fp = code_fingerprint()
     fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
     old = load_manifest(meta)
@@ -288,6 +286,17 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
         return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
     return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
+
+
+def check_buildable(spec: CatalogSpec) -> None:
+    """Refuse, without building, what the build would refuse beyond the spec parser (``catalog validate``
+    and the build run the same checks): the colorimetry, and the explorer's thickness axes."""
+    from swatch.catalog.explorer import GRID_STEP_NM, MATCH_STEP_NM, thickness_axis
+    from swatch.catalog.records import check_colorimetry
+
+    check_colorimetry(spec)
+    for step in (GRID_STEP_NM, MATCH_STEP_NM):
+        thickness_axis(spec.thickness_nm, step)
 
 
 def _check_jobs(jobs) -> int:
@@ -305,6 +314,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     from swatch.catalog.exports import ase_bytes, cxf_bytes
     from swatch.catalog.records import HUE_FAMILIES, compute
 
+    check_buildable(spec)  # (here, not before the no-op check: it imports colour-science)
     data = compute(spec)
     header = _catalog_header(spec, data, spec_name)
     records = data.records
@@ -398,14 +408,14 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         manifest = {"format": "swatch-catalog-manifest", "format_version": FORMAT_VERSION,
                     "fingerprint": fingerprint, "spec_file": spec_name, "name": spec.name,
                     "files": files, "sheet_keys": {f: sh["key"] for sh in sheet_list for f in (sh["png"], sh["exr"])}}
-        removed = sorted(set(old_files) - set(files))
+        # retired: the previous build's files no longer produced, if still as it wrote them (a user's edit stays)
+        removed = sorted(f for f in set(old_files) - set(files) if file_matches(out / f, old_files[f]))
         staged = sorted(p.name for p in staging.iterdir())
         check_targets(out, staged)
         journal = {"phase": "commit", "staging": staging.name, "files": staged, "remove": removed,
                    "manifest": manifest}
         with signals_held():
-            fsync_dir(staging)
-            write_journal(meta, journal)
+            prepare_commit(meta, staging, journal)
             try:
                 commit(out, meta, journal)
             except (OSError, SwatchError) as exc:
@@ -418,7 +428,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         keep = {f"{k}.npz" for k in tile_keys}
         for p in cache.glob("*.npz"):
             if p.name not in keep:
-                p.unlink(missing_ok=True)
+                remove_tree(p)
     except BaseException:
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)

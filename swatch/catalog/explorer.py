@@ -33,7 +33,7 @@ import math
 import numpy as np
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_GRID_NODES
+from swatch.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
 
 __all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "explorer_data", "decode", "grid_lookup",
            "tile_rects", "chip_colours"]
@@ -78,7 +78,11 @@ def thickness_axis(thickness_nm, step_nm: float) -> tuple[float, float, int]:
     lo, hi = float(d.min()), float(d.max())
     if hi - lo < 1e-9:
         lo, hi = max(0.0, lo - SINGLE_MARGIN_NM), hi + SINGLE_MARGIN_NM
+    hi = min(hi, MAX_THICKNESS_NM)  # the margin never reaches past the thickest film the model takes
     count = math.ceil((hi - lo) / step_nm - 1e-9) + 1
+    if lo + (count - 1) * step_nm > MAX_THICKNESS_NM + 1e-9:  # shift the axis down (or end it) at the limit
+        lo = max(0.0, MAX_THICKNESS_NM - (count - 1) * step_nm)
+        count = min(count, math.floor((MAX_THICKNESS_NM - lo) / step_nm + 1e-9) + 1)
     if count > MAX_GRID_NODES:
         raise SwatchError(f"explorer table: {count} thickness nodes exceed {MAX_GRID_NODES}")
     return lo, lo + (count - 1) * step_nm, count

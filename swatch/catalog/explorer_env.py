@@ -295,23 +295,18 @@ def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path 
         is byte-identical whether computed or cached). An entry that does not decode to the
         expected shapes (the folder is untrusted) is recomputed and replaced.
     """
-    from swatch.limits import MAX_CACHE_ENTRY_BYTES
-    from swatch.safepath import is_regular_file
+    from swatch.catalog.folder import read_cache_json, remove_tree
 
     if cache is None:
         return environment_data(roughness_alpha, cos_nodes)
     path = cache / f"explorer-env-{_key(roughness_alpha, cos_nodes)}.json"
-    if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES:
-        try:
-            doc = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            doc = None
-        if _valid(doc):
-            return doc
+    doc = read_cache_json(path)
+    if doc is not None and _valid(doc):
+        return doc
     doc = environment_data(roughness_alpha, cos_nodes)
     from swatch.fileio import atomic_write_text
 
     for stale in cache.glob("explorer-env-*.json"):
-        stale.unlink(missing_ok=True)
+        remove_tree(stale)
     atomic_write_text(path, json.dumps(doc, separators=(",", ":")))  # key order kept: the page is byte-identical
     return doc

@@ -8,11 +8,22 @@ metadata files are size-capped and must be regular files. Anything else is refus
 (:class:`~swatch.errors.SwatchError`) before anything is moved or deleted: a build never writes
 or deletes outside its folder.
 
+Every path a journal names (its staging folder, the staging folder's ``.previous``, the files in
+both) is checked before anything moves: real folders, no link anywhere in the chain, resolving
+inside the metadata folder, regular files in them. A folder without a manifest is a catalog only
+if it is empty or holds nothing but files a first build's journal proves it wrote (their hashes),
+so a crafted journal in a folder of the user's moves and deletes nothing. A file is retired only if
+the previous manifest lists it with its hash; a rollback takes a file back only if its hash is the
+new build's.
+
 Commit protocol (idempotent, so a run killed at any step is finished by the next one): the journal
-lists the staged files and the files to retire and holds the new manifest. Each file in the way
-is first moved into ``<staging>/.previous``, then the staged file takes its place. A commit that
-fails (not killed) is rolled back from ``.previous``: the previous catalog comes back as it was.
-The journal's ``phase`` says which way a later run must finish it (``commit`` or ``rollback``).
+lists the staged files and the files to retire and holds the new manifest. Before it is written,
+``.previous``, the new manifest (in the staging folder) and the rollback's journal are created, so
+the commit and the rollback are renames and unlinks only (out of inodes or space, a rename can fail,
+the rollback cannot). Each file in the way is first moved into ``<staging>/.previous``, then the
+staged file takes its place. A commit that fails (not killed) is rolled back from ``.previous``: the
+previous catalog comes back as it was. The journal's ``phase`` says which way a later run must
+finish it (``commit`` or ``rollback``).
 """
 from __future__ import annotations
 
@@ -24,17 +35,20 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_METADATA_BYTES
-from swatch.safepath import is_regular_file, plain_name, real_folder
+from swatch.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
+from swatch.safepath import entry_kind, inside, is_regular_file, make_real_folder, plain_name, real_folder
 
 __all__ = ["META_DIR", "MANIFEST", "JOURNAL", "PREVIOUS", "locked", "signals_held", "meta_folder", "cache_folder",
-           "load_manifest", "write_journal", "commit", "rollback", "recover", "intact", "file_matches",
-           "write_json_atomic", "fsync_dir", "sha256_file", "remove_tree", "check_targets"]
+           "load_manifest", "load_journal", "write_journal", "prepare_commit", "commit", "rollback", "recover",
+           "is_catalog", "intact", "file_matches", "STAGED_MANIFEST", "ROLLBACK_JOURNAL",
+           "write_json_atomic", "read_cache_json", "fsync_dir", "sha256_file", "remove_tree", "check_targets"]
 
 META_DIR = ".swatch-catalog"
 MANIFEST = "manifest.json"
 JOURNAL = "journal.json"
 PREVIOUS = ".previous"  # inside a staging folder: the files a commit replaced or retired
+STAGED_MANIFEST = ".manifest.json"  # inside a staging folder: the new manifest, renamed into place
+ROLLBACK_JOURNAL = "journal-rollback.json"  # the rollback's journal, written before the commit begins
 
 
 # -- small file helpers ------------------------------------------------------------------------
@@ -99,9 +113,7 @@ def meta_folder(out: Path) -> Path:
 
 
 def cache_folder(meta: Path) -> Path:
-    cache = real_folder(meta / "cache", "catalog cache folder")
-    cache.mkdir(exist_ok=True)
-    return cache
+    return make_real_folder(meta / "cache", "catalog cache folder")
 
 
 @contextmanager
@@ -164,6 +176,20 @@ def _read_metadata(path: Path):
         raise SwatchError(f"{what} is not valid JSON; remove it or use a new folder") from None
 
 
+def read_cache_json(path: Path):
+    """A cache entry's JSON, or None when it is absent or not one we can use (not a regular file, larger
+    than :data:`~swatch.limits.MAX_CACHE_ENTRY_BYTES`, not UTF-8 JSON, nested too deep to parse): the
+    cache is ours to rebuild, so a damaged entry is recomputed, never an error."""
+    if not is_regular_file(path):
+        return None
+    try:
+        if path.stat().st_size > MAX_CACHE_ENTRY_BYTES:
+            return None
+        return json.loads(path.read_bytes().decode("utf-8"))
+    except (OSError, ValueError, RecursionError, MemoryError):
+        return None
+
+
 def _check_manifest(doc, what: str) -> dict:
     bad = SwatchError(f"{what}: not a swatch catalog manifest (a table with 'files' of name -> sha256, size)")
     if not isinstance(doc, dict):
@@ -191,11 +217,16 @@ def load_manifest(meta: Path) -> dict:
     return {} if doc is None else _check_manifest(doc, str(path))
 
 
-def _load_journal(meta: Path) -> dict | None:
+def load_journal(meta: Path) -> tuple[dict | None, bool]:
+    """The journal (None if none), every name checked, and whether its staging folder is missing.
+
+    Reading it acts on nothing: recovery (:func:`recover`) and the "not a catalog" guard
+    (:func:`is_catalog`) decide what to do with it.
+    """
     path = meta / JOURNAL
     doc = _read_metadata(path)
     if doc is None:
-        return None
+        return None, False
     what = str(path)
     if not (isinstance(doc, dict) and isinstance(doc.get("files"), list) and isinstance(doc.get("remove"), list)
             and isinstance(doc.get("staging"), str) and doc.get("phase", "commit") in ("commit", "rollback")):
@@ -208,7 +239,7 @@ def _load_journal(meta: Path) -> dict | None:
         for name in doc[key]:
             plain_name(name, f"{what} '{key}'")
     _check_manifest(doc.get("manifest"), f"{what} 'manifest'")
-    return doc
+    return doc, entry_kind(meta / staging) is None
 
 
 def write_journal(meta: Path, journal: dict) -> None:
@@ -223,78 +254,183 @@ def check_targets(out: Path, names) -> None:
                               "build again (the previous catalog is unchanged)")
 
 
+def is_catalog(out: Path, meta: Path) -> bool:
+    """Whether ``out`` may be written as a catalog: empty, or holding a manifest, or holding only what a
+    first build's journal proves it moved there (each file's hash in the journal's manifest).
+
+    A journal alone proves nothing (it is untrusted): a folder of the user's with a crafted journal
+    is not a catalog, and nothing it names is moved or deleted.
+    """
+    entries = [p for p in out.iterdir() if p.name != META_DIR] if _is_dir(out) else []
+    if not entries or _lexists(meta / MANIFEST):
+        return True
+    try:
+        doc, missing = load_journal(meta)
+    except SwatchError:
+        return False
+    if doc is None or missing or doc["remove"]:
+        return False
+    info = doc["manifest"].get("files", {})
+    staged = set(doc["files"])
+    return all(p.name in staged and file_matches(p, info.get(p.name)) for p in entries)
+
+
+def prepare_commit(meta: Path, staging: Path, journal: dict) -> None:
+    """Create what the commit and its rollback need, then write the journal (the commit has begun).
+
+    ``.previous``, the new manifest (in the staging folder) and the rollback's journal are created
+    here, so that moving the build into place and undoing it are renames and unlinks only: a file
+    system out of inodes or space during the commit can fail a rename, never the rollback.
+    """
+    make_real_folder(staging / PREVIOUS, "staging folder's .previous")
+    write_json_atomic(staging / STAGED_MANIFEST, journal["manifest"])
+    write_json_atomic(meta / ROLLBACK_JOURNAL, dict(journal, phase="rollback"))
+    fsync_dir(staging)
+    write_journal(meta, journal)
+
+
 # -- commit, rollback, recovery ----------------------------------------------------------------
 
-def commit(out: Path, meta: Path, journal: dict) -> None:
-    """Move the staged files into place (idempotent: safe to replay after a crash)."""
+def _checked(out: Path, meta: Path, journal: dict, phase: str) -> tuple[Path, Path | None]:
+    """The staging folder and its ``.previous`` (None if absent), after every path the journal names is
+    checked: real folders (no link anywhere in the chain) resolving inside the metadata folder, regular
+    files (or nothing) inside them, and (commit) files to retire that the previous catalog wrote.
+    Raises SwatchError before anything is moved."""
+    what = f"catalog journal {meta / JOURNAL}"
     staging = meta / journal["staging"]
+    if entry_kind(staging) != "dir":
+        raise SwatchError(f"{what}: its staging folder {staging} is not a folder (a link or a file); "
+                          "remove the journal and build again")
+    inside(staging, meta, f"{what}: staging folder")
     prev = staging / PREVIOUS
-    prev.mkdir(exist_ok=True)
+    kind = entry_kind(prev)
+    if kind not in (None, "dir"):
+        raise SwatchError(f"{what}: {prev} is a symbolic link or a file; it must be a real folder inside the "
+                          "catalog folder (a link would move files outside it); remove the journal and build again")
+    if kind == "dir":
+        inside(prev, staging, f"{what}: .previous")
+    named = [staging / n for n in journal["files"]]
+    if kind == "dir":
+        named += [prev / n for n in journal["files"] + journal["remove"]]
+    for path in named:
+        if entry_kind(path) not in (None, "file"):
+            raise SwatchError(f"{what}: {path} is not a regular file (a link, folder or device); "
+                              "remove the journal and build again")
+    for name in journal["files"] + journal["remove"]:
+        if entry_kind(out / name) == "other":
+            raise SwatchError(f"{out / name} is a device, pipe or socket where the catalog writes a file; move it away")
+    if phase == "commit":  # (a replay after the manifest was written finds these files gone already)
+        old = load_manifest(meta).get("files", {})
+        for name in journal["remove"]:
+            if entry_kind(out / name) == "file" and not file_matches(out / name, old.get(name)):
+                raise SwatchError(f"{what} would retire {out / name}, which the previous catalog did not write "
+                                  "(not in its manifest, or changed since); remove the journal and build again")
+    return staging, prev if kind == "dir" else None
+
+
+def commit(out: Path, meta: Path, journal: dict) -> None:
+    """Move the staged files into place (idempotent: safe to replay after a crash); renames and unlinks only."""
+    staging, prev = _checked(out, meta, journal, "commit")
+    if prev is None:  # a journal written before .previous was made in advance
+        prev = make_real_folder(staging / PREVIOUS, "staging folder's .previous")
     for name in journal["files"]:
         src, dst = staging / name, out / name
         if not _lexists(src):
             continue  # already in place
-        if _is_dir(dst):
+        kind = entry_kind(dst)
+        if kind == "dir":
             raise SwatchError(f"{dst} is a folder where the catalog writes a file; move it away")
-        if _lexists(dst) and not _lexists(prev / name):
+        if kind == "link":
+            dst.unlink()  # a link is no catalog output: dropped, never followed
+        elif kind == "file" and not _lexists(prev / name):
             os.replace(dst, prev / name)
         os.replace(src, dst)
     for name in journal["remove"]:
         dst = out / name
-        if _lexists(dst) and not _is_dir(dst):
-            if _lexists(prev / name):
-                dst.unlink()
-            else:
-                os.replace(dst, prev / name)
-    write_json_atomic(meta / MANIFEST, journal["manifest"])
+        kind = entry_kind(dst)
+        if kind == "link" or (kind == "file" and _lexists(prev / name)):
+            dst.unlink()
+        elif kind == "file":
+            os.replace(dst, prev / name)
+    _put_manifest(meta, staging, journal["manifest"])
     fsync_dir(out)
+    _finish(meta, staging)
+
+
+def _put_manifest(meta: Path, staging: Path, manifest: dict) -> None:
+    staged = staging / STAGED_MANIFEST
+    try:
+        ready = is_regular_file(staged) and _read_metadata(staged) == manifest
+    except SwatchError:
+        ready = False
+    if ready:
+        os.replace(staged, meta / MANIFEST)
+    elif load_manifest(meta) != manifest:
+        write_json_atomic(meta / MANIFEST, manifest)
+
+
+def _finish(meta: Path, staging: Path) -> None:
+    (meta / ROLLBACK_JOURNAL).unlink(missing_ok=True)
     (meta / JOURNAL).unlink(missing_ok=True)
     fsync_dir(meta)
     remove_tree(staging)
 
 
 def rollback(out: Path, meta: Path, journal: dict) -> None:
-    """Undo a commit that failed part-way: the previous files come back (idempotent)."""
-    journal = dict(journal, phase="rollback")
-    write_journal(meta, journal)
-    staging = meta / journal["staging"]
-    prev = staging / PREVIOUS
+    """Undo a commit that failed part-way: the previous files come back (idempotent; renames only).
+
+    A file is taken back from the catalog folder only if its hash is the journal's (this build wrote it).
+    """
+    staging, prev = _checked(out, meta, journal, "rollback")
+    if journal.get("phase") != "rollback":  # the journal now says: finish the rollback
+        if is_regular_file(meta / ROLLBACK_JOURNAL):
+            os.replace(meta / ROLLBACK_JOURNAL, meta / JOURNAL)
+        else:
+            write_journal(meta, dict(journal, phase="rollback"))
+    info = journal["manifest"].get("files", {})
     for name in journal["files"]:
         src, dst = staging / name, out / name
-        if not _lexists(src) and _lexists(dst) and not _is_dir(dst):
+        if not _lexists(src) and entry_kind(dst) == "file" and file_matches(dst, info.get(name)):
             os.replace(dst, src)  # take the new file back
-        if _lexists(prev / name) and not _lexists(dst):
+        if prev is not None and _lexists(prev / name) and not _lexists(dst):
             os.replace(prev / name, dst)
     for name in journal["remove"]:
-        if _lexists(prev / name) and not _lexists(out / name):
+        if prev is not None and _lexists(prev / name) and not _lexists(out / name):
             os.replace(prev / name, out / name)
     fsync_dir(out)
-    (meta / JOURNAL).unlink(missing_ok=True)
-    fsync_dir(meta)
-    remove_tree(staging)
+    _finish(meta, staging)
 
 
-def recover(out: Path, meta: Path) -> None:
-    """Finish what a killed build left (its journal), then clear stale staging and temp files.
+def recover(out: Path, meta: Path, log=None) -> None:
+    """Finish what a killed build left (its journal), then clear stale staging and temp files and heal the
+    cache (anything in it that is not a regular file is removed: the cache is ours to rebuild).
 
     Called with the lock held, so nothing found here belongs to a running build.
     """
-    journal = _load_journal(meta)
-    if journal is not None:
+    journal, missing = load_journal(meta)
+    if journal is not None and missing:  # nothing to restore from: the manifest and the files decide
+        if log is not None:
+            log(f"note: {meta / JOURNAL} named a staging folder that is gone; journal dropped, "
+                "files not matching the manifest are rebuilt")
+        (meta / ROLLBACK_JOURNAL).unlink(missing_ok=True)
+        (meta / JOURNAL).unlink()
+    elif journal is not None:
         if journal.get("phase") == "rollback":
             rollback(out, meta, journal)
         else:
+            _checked(out, meta, journal, "commit")  # crafted metadata is refused, not rolled back
             try:
                 commit(out, meta, journal)
             except (OSError, SwatchError):
                 rollback(out, meta, journal)
+    (meta / ROLLBACK_JOURNAL).unlink(missing_ok=True)
     for p in meta.iterdir():
         if p.name.startswith("staging-") or (p.name.startswith(".") and ".tmp" in p.name):
             remove_tree(p)
     cache = meta / "cache"
     if _is_dir(cache):
         for p in cache.iterdir():
-            if p.name.startswith(".") and ".tmp" in p.name:
+            if (p.name.startswith(".") and ".tmp" in p.name) or not is_regular_file(p):
                 remove_tree(p)
 
 

@@ -155,6 +155,32 @@ def _tile_shapes(spec: CatalogSpec) -> dict:
     return want
 
 
+def npz_fits(path: Path, want: dict) -> bool:
+    """Whether the ``.npz`` at ``path`` holds exactly the arrays ``want`` (name -> (shape, dtype)), judged
+    from its zip directory and each member's ``.npy`` header before any array is decompressed: a small
+    file that would inflate to gigabytes is refused unread (zipfile stops at the declared size)."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as zf:
+            infos = {i.filename: i for i in zf.infolist()}
+            if sorted(infos) != sorted(f"{k}.npy" for k in want):
+                return False
+            for k, (shape, dtype) in want.items():
+                info = infos[f"{k}.npy"]
+                if info.file_size > int(np.prod(shape)) * np.dtype(dtype).itemsize + 4096:
+                    return False
+                with zf.open(info) as fh:
+                    major, _minor = np.lib.format.read_magic(fh)
+                    read = np.lib.format.read_array_header_1_0 if major == 1 else np.lib.format.read_array_header_2_0
+                    got_shape, _fortran, got_dtype = read(fh)
+                if tuple(got_shape) != tuple(shape) or got_dtype != np.dtype(dtype):
+                    return False
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, RuntimeError):
+        return False
+    return True
+
+
 def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> dict:
     """A tile's arrays from the cache; an entry that does not read back intact is rendered again.
 
@@ -169,7 +195,7 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
 
     path = cache / f"{key}.npz"
     want = _tile_shapes(spec)
-    if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES:
+    if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES and npz_fits(path, want):
         try:
             with np.load(path, allow_pickle=False) as z:
                 if sorted(z.files) == sorted(want):

@@ -45,9 +45,9 @@ def build(spec, out, jobs, quiet):
 @click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
 def validate(spec):
     """Check a catalog spec and summarise it (nothing is written)."""
-    from swatch.catalog.records import check_colorimetry
+    from swatch.catalog.build import check_buildable
     from swatch.catalog.spec import load_spec, spec_summary
 
     s, _ = load_spec(spec)
-    check_colorimetry(s)  # validate refuses what build refuses
+    check_buildable(s)  # validate refuses what build refuses, by the same checks
     click.echo(f"{spec}: ok — {spec_summary(s)}")

@@ -77,13 +77,6 @@ def fit_key(spec, extra_angles) -> str:
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
 
 
-def _cache_entry_ok(path: Path) -> bool:
-    from swatch.limits import MAX_CACHE_ENTRY_BYTES
-    from swatch.safepath import is_regular_file
-
-    return is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES
-
-
 def _figures(model: str, params, spec, rough: float) -> dict[str, np.ndarray]:
     """The errors (N,) of ``params`` as written under ``model``: max over 0–60° and 0–45°, and 45:0."""
     from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
@@ -99,8 +92,12 @@ def _figures(model: str, params, spec, rough: float) -> dict[str, np.ndarray]:
 
 def _read_cache(path: Path, n: int) -> dict | None:
     """The cached fits if the file is well formed for n swatches (it is read back: untrusted)."""
+    from swatch.catalog.folder import read_cache_json
+
+    data = read_cache_json(path)
+    if not isinstance(data, dict):
+        return None
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
         out = {}
         for fmt in PRESET_FORMATS:
             entry = data[fmt]
@@ -143,7 +140,7 @@ def fit_format(spec, fmt: str):
 def _fits(spec, cache: Path | None) -> dict:
     key = fit_key(spec, _geometries(spec))
     path = cache / f"presets-{key}.json" if cache is not None else None
-    if path is not None and _cache_entry_ok(path):  # the cache is untrusted: checked, else refitted
+    if path is not None:  # the cache is untrusted: checked, else refitted
         cached = _read_cache(path, len(spec.thickness_nm))
         if cached is not None:
             return cached
@@ -154,10 +151,11 @@ def _fits(spec, cache: Path | None) -> dict:
         out[fmt] = (written, {prefix: _figures(FIGURE_MODELS[prefix], written, spec, rough)
                               for prefix in FORMAT_FIGURES[fmt]})
     if path is not None and cache is not None:
+        from swatch.catalog.folder import remove_tree
         from swatch.fileio import atomic_write_text
 
         for stale in path.parent.glob("presets-*.json"):
-            stale.unlink(missing_ok=True)
+            remove_tree(stale)
         atomic_write_text(path, json.dumps({fmt: {"params": p.tolist(), "figures": {
             prefix: {k: v.tolist() for k, v in f.items()} for prefix, f in figures.items()}}
             for fmt, (p, figures) in out.items()}))
