@@ -117,13 +117,20 @@ MIN_TURBIDITY, MAX_TURBIDITY = 1.0, 10.0
 def read_capped(path, limit: int, what: str) -> bytes:
     """The bytes of ``path``, refused (SwatchError) beyond ``limit`` bytes before they are all read.
 
-    Works for devices and pipes too (``/dev/zero``): at most ``limit + 1`` bytes are read.
+    Works for devices too (``/dev/zero``): at most ``limit + 1`` bytes are read. A pipe or socket
+    is refused before it is opened (reading one blocks until a writer comes, maybe never).
     """
     import os
     import stat
 
     from swatch.errors import SwatchError
 
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        mode = 0  # (open reports it)
+    if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):  # opening a pipe would wait for a writer forever
+        raise SwatchError(f"{path}: a pipe or socket, not a file; a {what} must be a regular file")
     with open(path, "rb") as fh:
         st = os.fstat(fh.fileno())
         data = b"x" * (limit + 1) if stat.S_ISREG(st.st_mode) and st.st_size > limit else fh.read(limit + 1)
@@ -133,10 +140,11 @@ def read_capped(path, limit: int, what: str) -> bytes:
 
 
 def read_text_capped(path, limit: int, what: str, kind: str, source: str | None = None,
-                     encoding: str = "utf-8") -> str:
+                     encoding: str = "utf-8-sig") -> str:
     """The text of ``path`` through :func:`read_capped`, with the one-line errors of a user's file:
     missing, a folder (``give a .{kind} file``), unreadable, or not UTF-8 (``a {what} is a {kind}
-    file``). ``source`` names the file in the messages (default ``path``)."""
+    file``). ``source`` names the file in the messages (default ``path``). A UTF-8 byte-order mark
+    (Windows editors write one) is dropped."""
     from swatch.errors import SwatchError
 
     source = str(path) if source is None else source

@@ -212,7 +212,7 @@ def _parse(path: Path, source: str, origin: str) -> Process:
     except OSError:
         raise _fail(source, "cannot read the profile file") from None
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
+        data = tomllib.loads(raw.decode("utf-8-sig"))  # (a byte-order mark is dropped)
     except UnicodeDecodeError:
         raise _fail(source, "profile is not UTF-8 text") from None
     except tomllib.TOMLDecodeError as exc:
