@@ -13,7 +13,8 @@ import sys
 
 import numpy as np
 
-SECTIONS = ["render", "environment", "mesh", "catalog", "explorer", "exports", "fit", "calibrate", "presets", "engine"]
+SECTIONS = ["render", "environment", "mesh", "catalog", "explorer", "exports", "fit", "calibrate", "qc", "presets",
+            "engine"]
 
 
 def machine() -> str:

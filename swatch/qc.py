@@ -6,9 +6,10 @@ multi-angle geometry; a geometry the spec does not give is refused), in the tole
 metric and under the spec's illuminant and observer (spectra are integrated under them; CIELAB
 must have been computed under them). A part passes when every geometry is within the tolerance.
 
-The part's thickness is fitted to its measurement near the nominal (±:data:`FIT_SPAN_NM`, so the
-fit stays on the spec's interference order) with no intensity scaling: the spec's colours are the
-half-vector model's absolute reflectance factor. The voltage correction is the voltage change that
+The part's thickness is fitted to its CIELAB at the measured geometries (spectra integrated first)
+by least squares in ΔE2000 near the nominal (±:data:`FIT_SPAN_NM`, so the fit stays on the spec's
+interference order), with no intensity scaling: the spec's colours are the half-vector model's
+absolute reflectance factor. The fit is vectorised over the parts of a file (one thickness table). The voltage correction is the voltage change that
 would grow the nominal thickness instead: ``(nominal − fitted) / nm_per_V`` (positive: raise it).
 """
 from __future__ import annotations
@@ -18,13 +19,14 @@ from pathlib import Path
 
 import numpy as np
 
+from swatch import geometry
 from swatch.errors import SwatchError
 from swatch.fitting import colour_grid, interp_rows
 from swatch.instruments import InstrumentFile
-from swatch.lab_fit import fit_lab
 from swatch.limits import MAX_SPEC_BYTES, read_text_capped
+from swatch.materials import wavelength_grid
 from swatch.measurements import LabMeasurement
-from swatch.spectral_fit import fit_spectra
+from swatch.model import get_coating
 from swatch.spread import ThicknessSpread
 from swatch.tolerance import get_tolerance
 
@@ -32,6 +34,9 @@ __all__ = ["load_spec_json", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
 FIT_SPAN_NM = 40.0
+#: The thickness fit's grids (nm): the table's step and the step of the first search over it.
+FINE_STEP_NM = 0.01
+COARSE_STEP_NM = 0.25
 #: A measured geometry is the spec's when light and view agree within this (degrees).
 GEOMETRY_MATCH_DEG = 0.5
 
@@ -76,6 +81,30 @@ def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
                       f"{' (light side)' if same_side else ''}, a geometry the spec does not give ({names})")
 
 
+def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coating, cm, lo: float,
+                      hi: float) -> np.ndarray:
+    """Thickness (P,) of P parts whose CIELAB at G geometries is ``Lab_meas`` (P, G, 3): least squares in
+    ΔE2000 on one thickness → CIELAB table (every FINE_STEP_NM on [lo, hi], one sweep for all parts),
+    searched every COARSE_STEP_NM, then finely within one coarse step of each part's minimum.
+    Vectorised over parts; no intensity scaling."""
+    from swatch.colorimetry import delta_E_00
+    from swatch.fitting import sweep_reflectance, unique_geometry
+
+    cos_d = np.atleast_1d(geometry.cos_theta_d(light_deg, view_deg, 0.0, np.where(same_side, 0.0, 180.0)))
+    cu, inv = unique_geometry(cos_d)
+    count = int(np.floor((hi - lo) / FINE_STEP_NM + 1e-9)) + 1
+    table = cm.Lab(cm.XYZ(sweep_reflectance(coating, lo, FINE_STEP_NM, count, cu)))[:, inv]  # (K, G, 3)
+    every = round(COARSE_STEP_NM / FINE_STEP_NM)
+    coarse = table[::every]  # (Kc, G, 3)
+    P = Lab_meas.shape[0]
+    cost = np.sum(delta_E_00(coarse[None], np.broadcast_to(Lab_meas[:, None], (P, *coarse.shape))) ** 2, axis=-1)
+    k0 = np.argmin(cost, axis=1) * every  # (P,) index into the fine table
+    idx = np.clip(k0[:, None] + np.arange(-every, every + 1)[None, :], 0, count - 1)  # (P, F)
+    near = table[idx]  # (P, F, G, 3)
+    cost_f = np.sum(delta_E_00(near, np.broadcast_to(Lab_meas[:, None], near.shape)) ** 2, axis=-1)
+    return lo + FINE_STEP_NM * idx[np.arange(P), np.argmin(cost_f, axis=1)]
+
+
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     """Judge every sample of ``f`` against ``spec`` (see the module docstring)."""
     from swatch.colorimetry import get_colorimeter
@@ -86,31 +115,33 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     rate = proc.get("nm_per_V")
     lo, hi = max(0.0, d0 - FIT_SPAN_NM), d0 + FIT_SPAN_NM
     spread = ThicknessSpread(float(proc.get("spread_nm", 0.0)), float(proc.get("spread_fraction", 0.0)))
+    coating = get_coating(proc["film"], proc["substrate"], wavelength_grid(380.0, 780.0, 5.0),
+                          float(proc["film_index_scale"]), spread)
+    cm = get_colorimeter(coating.wavelength_nm, ill, obs)
     if f.kind == "colour" and (f.illuminant.upper(), str(f.observer)) != (str(ill).upper(), str(obs)):
         raise SwatchError(f"{f.source}: its CIELAB is under {f.illuminant}/{f.observer}°, the spec's under "
                           f"{ill}/{obs}°; export spectra or CIELAB under the spec's illuminant and observer")
-    out = []
-    for s in f.samples:
+    m0 = f.samples[0].measurement
+    same = (m0.view_azimuth_deg == m0.light_azimuth_deg) & (m0.view_deg > 0)
+    targets = [_match_geometry(spec, float(a), float(b), bool(c), f.source, f.samples[0].id)
+               for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)]
+    measured = []
+    for s in f.samples:  # same geometries in every sample of a file (instruments.same_geometries)
         m = s.measurement
-        same = (m.view_azimuth_deg == m.light_azimuth_deg) & (m.view_deg > 0)
-        targets = [_match_geometry(spec, float(a), float(b), bool(c), f.source, s.id)
-                   for a, b, c in zip(m.light_deg, m.view_deg, same, strict=True)]
         if isinstance(m, LabMeasurement):
-            Lab = m.Lab
-            fit = fit_lab(m, proc["film"], proc["substrate"], scale="none", exclude_mirror_deg=0.0,
-                          thickness_range=(lo, hi), step_nm=0.5, illuminant=ill, observer=obs,
-                          film_index_scale=float(proc["film_index_scale"]), spread=spread)
+            measured.append(m.Lab)
         else:
             wl, interp = colour_grid(m.wavelength_nm)
             R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
-            cm = get_colorimeter(wl, ill, obs)
-            Lab = cm.Lab(cm.XYZ(R))
-            fit = fit_spectra(m, proc["film"], proc["substrate"], scale="none", exclude_mirror_deg=0.0,
-                              thickness_range=(lo, hi), step_nm=0.5, illuminant=ill, observer=obs,
-                              film_index_scale=float(proc["film_index_scale"]), spread=spread)
-        ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
-        dE = np.atleast_1d(tol.delta_E(Lab, ref))
-        d = float(fit.thickness_nm)
+            mcm = get_colorimeter(wl, ill, obs)
+            measured.append(mcm.Lab(mcm.XYZ(R)))
+    Lab_all = np.stack(measured)  # (P, G, 3)
+    d_fit = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
+    ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
+    dE_all = np.atleast_2d(tol.delta_E(Lab_all, np.broadcast_to(ref, Lab_all.shape)))
+    out = []
+    for s, Lab, dE, d in zip(f.samples, Lab_all, dE_all, d_fit, strict=True):
+        d = float(d)
         out.append({
             "id": s.id, "source": f.source,
             "pass": bool(np.all(dE <= tol.max)),
