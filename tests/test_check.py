@@ -58,3 +58,85 @@ def test_check_exit_status_zero_when_all_pass_and_two_for_bad_input(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text("{}", encoding="utf-8")
     assert_one_line_error(run_swatch("check", p, "--spec", bad), "not a swatch spec.json")
+
+
+CC = "http://colorexchangeformat.com/CxF3-core"
+
+
+def _multi_angle_cxf(path, parts: dict[str, float], aspecular=(-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)):
+    """A CxF3 file written here with lxml (schema-validated against the official XSD), spectra by tmm
+    at each multi-angle geometry (light 45°, aspecular angle): an instrument's multi-angle export."""
+    from pathlib import Path
+
+    from lxml import etree
+
+    def el(parent, tag, text=None, **attrib):
+        e = etree.SubElement(parent, f"{{{CC}}}{tag}", {k: str(v) for k, v in attrib.items()})
+        if text is not None:
+            e.text = str(text)
+        return e
+
+    wl = np.arange(380.0, 731.0, 10.0)
+    root = etree.Element(f"{{{CC}}}CxF", nsmap={"cc": CC})
+    info = el(root, "FileInformation")
+    el(info, "Creator", "tests (lxml)")
+    el(info, "CreationDate", "2026-12-01T00:00:00")
+    res = el(root, "Resources")
+    objs = el(res, "ObjectCollection")
+    for name, d in parts.items():
+        o = el(objs, "Object", ObjectType="Sample", Name=name, Id=name)
+        el(o, "CreationDate", "2026-12-01T00:00:00")
+        cv = el(o, "ColorValues")
+        for k, a in enumerate(aspecular):
+            view = 45.0 - a
+            R = tmm_half_vector_reflectance(d, [45.0], [abs(view)], wl, view_azimuth_deg=None if view >= 0 else 0.0)[0]
+            el(cv, "ReflectanceSpectrum", " ".join(f"{x:.6f}" for x in R), ColorSpecification=f"CS{k}", StartWL=380)
+    specs = el(res, "ColorSpecificationCollection")
+    for k, a in enumerate(aspecular):
+        cs = el(specs, "ColorSpecification", Id=f"CS{k}")
+        ts = el(cs, "TristimulusSpec")
+        el(ts, "Illuminant", "D65")
+        el(ts, "Observer", "10_Degree")
+        el(ts, "Method", "E308_Table6")
+        ms = el(cs, "MeasurementSpec")
+        el(ms, "MeasurementType", "Spectrum_Reflectance")
+        ma = el(el(ms, "GeometryChoice"), "MultiAngle")
+        b = el(ma, "BRDFAngle", Notation=f"45as{a:g}")
+        el(b, "IlluminationAngle", 45.0)
+        el(b, "Aspecular", a)
+        el(ms, "WavelengthRange", StartWL=380, Increment=10)
+    schema = etree.XMLSchema(etree.parse(str(Path(__file__).parent / "data" / "cxf3" / "CxF3_Core.xsd")))
+    assert schema.validate(root), schema.error_log
+    path.write_bytes(etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True))
+    return path
+
+
+def test_multi_angle_cxf_parts_are_judged_at_every_angle(tmp_path):
+    assert run_swatch("spec", "--thickness", "150", "--tolerance", "dE00:2", "--out", tmp_path / "s").returncode == 0
+    spec = json.loads((tmp_path / "s" / "spec.json").read_text(encoding="utf-8"))
+    cxf = _multi_angle_cxf(tmp_path / "line.cxf", {"A": 150.0, "B": 151.5, "C": 147.0})
+    proc = run_swatch("check", cxf, "--spec", tmp_path / "s" / "spec.json", "--json")
+    out = json.loads(proc.stdout)
+    by_id = {r["id"]: r for r in out["measurements"]}
+    # 45as45 is the reference geometry 45:0 itself: reported under the reference's name
+    names = {("45:0" if e["geometry"] == "45as45" else e["geometry"]): e for e in spec["multi_angle"]}
+    for pid, d in (("A", 150.0), ("B", 151.5), ("C", 147.0)):
+        r = by_id[pid]
+        assert set(r["delta_E"]) == set(names)
+        expect = {g: colour.delta_E(_lab(d, 45.0, abs(45.0 - e["aspecular_deg"])) if 45.0 - e["aspecular_deg"] >= 0
+                                    else _lab_light_side(d, abs(45.0 - e["aspecular_deg"])), e["Lab"],
+                                    method="CIE 2000") for g, e in names.items()}
+        for g in names:  # the 10 nm 380–730 spectra integrate to within 0.1 of the 5 nm spec
+            assert abs(r["delta_E"][g] - expect[g]) < 0.15
+        assert r["pass"] == all(v <= 2.0 for v in r["delta_E"].values())
+        assert abs(r["voltage_correction_V"] - (150.0 - d) / 2.032) <= 0.2
+    assert by_id["A"]["pass"] and not by_id["C"]["pass"]
+    assert proc.returncode == 1
+
+
+def _lab_light_side(d, view):
+    wl = np.arange(380.0, 781.0, 5.0)
+    R = tmm_half_vector_reflectance(d, [45.0], [view], wl, view_azimuth_deg=0.0)[0]
+    sd = colour.SpectralDistribution(dict(zip(wl, R, strict=True)))
+    XYZ = colour.sd_to_XYZ(sd, colour.MSDS_CMFS[O10], colour.SDS_ILLUMINANTS["D65"]) / 100
+    return colour.XYZ_to_Lab(XYZ, colour.CCS_ILLUMINANTS[O10]["D65"])
