@@ -147,6 +147,7 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
             "minus_capped": bool(mcap[0]), "plus_capped": bool(pcap[0]),
         },
         "process": proc.metadata(),
+        "process_sources": {str(k): str(v) for k, v in proc.sources},
         "finish": {"roughness": None if roughness is None else float(roughness),
                    "note": "colours are the half-vector reflectance factor: independent of roughness"},
         "provenance": {"swatch_version": __version__},

@@ -125,6 +125,13 @@ def write_spec_card(spec: dict, path: Path) -> None:
                  f"finish roughness {_s(spec['finish']['roughness'])} (GGX; {spec['finish']['note']})"):
         y -= 11
         c.drawString(left, y, line[:150])
+    c.setFont("Helvetica", 7)
+    c.setFillColor(_MUTED)
+    for key, text in spec.get("process_sources", {}).items():
+        y -= 9
+        line = f"{key}: {text}"
+        c.drawString(left, y, line if len(line) <= 160 else line[:159] + "…")
+    c.setFillColor(_INK)
     y -= 18
     c.setFont("Helvetica-Bold", 9.5)
     c.drawString(left, y, "How to measure")
