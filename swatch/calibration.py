@@ -28,8 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch import geometry, optics
+from swatch.colorimetry import delta_E_00
 from swatch.coupons import Coupons
 from swatch.errors import SwatchError
+from swatch.limits import MAX_VOLTAGE_V
 from swatch.process import OFFSET_RANGE, RATE_RANGE, SCALE_RANGE, Process
 
 __all__ = ["Calibration", "calibrate", "OUTLIER_MIN_DE00", "THICKNESS_SIGMA_NM"]
@@ -356,9 +358,6 @@ MATCH_STEP_V = 0.1
 def _outlier_matches(model, Lab_m, outlier, rate, offset, scale, v_max) -> tuple:
     """For each outlier, (voltage_V, ΔE2000) of the closest colour on the fitted line over
     0 … 1.5 × the largest coupon voltage (at most MAX_VOLTAGE_V); None for the other coupons."""
-    from swatch.colorimetry import delta_E_00
-    from swatch.limits import MAX_VOLTAGE_V
-
     if not outlier.any():
         return (None,) * outlier.size
     grid = np.arange(0.0, min(1.5 * v_max, MAX_VOLTAGE_V) + MATCH_STEP_V / 2, MATCH_STEP_V)

@@ -18,6 +18,8 @@ from __future__ import annotations
 import re
 
 import numpy as np
+from colour_cxf import read_cxf
+from xsdata.exceptions import ParserError
 
 from swatch.errors import SwatchError
 from swatch.instruments import (
@@ -46,9 +48,6 @@ def is_cxf(data: bytes) -> bool:
 
 
 def _parse(data: bytes, source: str):
-    from colour_cxf import read_cxf
-    from xsdata.exceptions import ParserError
-
     if re.search(rb"<!\s*(DOCTYPE|ENTITY)", data[:65536], re.IGNORECASE):
         raise SwatchError(f"{source}: the XML declares a document type or entities; a CxF3 file has neither "
                           "(refused: it could pull in other files or expand without bound)")

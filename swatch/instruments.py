@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swatch import geometry
+from swatch.colorimetry import illuminant_names
 from swatch.errors import SwatchError
 from swatch.limits import MAX_LAB_AB, MAX_REFLECTANCE, MIN_PEAK_REFLECTANCE, MIN_REFLECTANCE
 from swatch.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMeasurement
@@ -111,8 +112,6 @@ def parse_observer(text: str, source: str) -> str:
 
 def parse_illuminant(text: str, source: str) -> str:
     """A CIE illuminant name as files write it (``D50``, ``Illuminant D65``, ``F11`` → ``FL11``)."""
-    from swatch.colorimetry import illuminant_names
-
     t = str(text).strip().upper().replace("ILLUMINANT", "").replace("CIE", "").strip(" ,_")
     m = re.fullmatch(r"F(\d+)", t)
     if m:

@@ -20,8 +20,9 @@ from pathlib import Path
 import numpy as np
 
 from swatch import geometry
+from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.errors import SwatchError
-from swatch.fitting import colour_grid, interp_rows
+from swatch.fitting import colour_grid, interp_rows, sweep_reflectance, unique_geometry
 from swatch.instruments import InstrumentFile
 from swatch.limits import MAX_SPEC_BYTES, read_text_capped
 from swatch.materials import wavelength_grid
@@ -87,9 +88,6 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
     ΔE2000 on one thickness → CIELAB table (every FINE_STEP_NM on [lo, hi], one sweep for all parts),
     searched every COARSE_STEP_NM, then finely within one coarse step of each part's minimum.
     Vectorised over parts; no intensity scaling."""
-    from swatch.colorimetry import delta_E_00
-    from swatch.fitting import sweep_reflectance, unique_geometry
-
     cos_d = np.atleast_1d(geometry.cos_theta_d(light_deg, view_deg, 0.0, np.where(same_side, 0.0, 180.0)))
     cu, inv = unique_geometry(cos_d)
     count = int(np.floor((hi - lo) / FINE_STEP_NM + 1e-9)) + 1
@@ -107,8 +105,6 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
 
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     """Judge every sample of ``f`` against ``spec`` (see the module docstring)."""
-    from swatch.colorimetry import get_colorimeter
-
     col, proc, tol = spec["colorimetry"], spec["process"], spec["_tolerance"]
     ill, obs = col["illuminant"], col["observer"]
     d0 = float(spec["nominal"]["thickness_nm"])
