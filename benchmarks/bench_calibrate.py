@@ -1,4 +1,5 @@
-"""Calibration benchmark: ``swatch calibrate`` on 16 coupons (the issue's figure, budget 2000 ms).
+"""Calibration benchmarks: ``swatch calibrate`` on 16 coupons with the profile's tables (budget 2000 ms), and
+the full search over the shipped tables on 30 coupons (issue 19, budget 10 s).
 
 Data: 16 CIELAB coupons at 10–85 V (5 V steps) of a line growing 2.45 nm/V from 6 nm of
 TiO2-Franta on Ti-Johnson (evaluated by the model on the half-vector facet at 45°:0°, D65, 10°),
@@ -7,8 +8,14 @@ TiO2-Franta on Ti-Johnson (evaluated by the model on the half-vector facet at 45
 (global search over the interference order, robust refinements, outlier refit, uncertainties;
 no CSV parsing), median of repeats. Lines:
 
-* ``calibrate_ms=T`` — the 16-coupon calibration;
-* ``calibrate_rate_nm_per_V=R calibrate_scale=S calibrate_outliers=N`` — what it found.
+* ``calibrate_ms=T`` — the 16-coupon calibration, tables fixed (``search_tables=False``);
+* ``calibrate_rate_nm_per_V=R calibrate_scale=S calibrate_outliers=N`` — what it found;
+* ``calibrate_tables_ms=T`` — the full search of issue 19 on the simulated line of
+  tests/data/simulated-line-coupons.csv (30 coupons from tmm: TiO2-Franta on Ti-Palm, a knee at
+  45 V, 3.5 % spread, one mislabelled): 25 film × substrate pairs screened, the best three through
+  the nested models with leave-one-out refits; one call, median of repeats (CSV parsed once);
+* ``calibrate_tables_held_out_dE00=M/X calibrate_tables_pair=F/S calibrate_tables_knee_V=K
+  calibrate_tables_spread=F`` — what it found.
 """
 from __future__ import annotations
 
@@ -35,8 +42,20 @@ def run() -> list[str]:
     coupons = Coupons("bench.csv", volts, np.full(volts.size, np.nan), tuple(f"c{i}" for i in range(volts.size)),
                       Lab=Lab)
     base = load_process("titanium-fujii2019")
-    cal = calibrate(coupons, base)
-    t = median_seconds(lambda: calibrate(coupons, base), repeats=5)
-    return [f"calibrate_ms={1000 * t:.0f}",
-            f"calibrate_rate_nm_per_V={cal.process.nm_per_V:.4f} calibrate_scale={cal.process.film_index_scale:.4f} "
-            f"calibrate_outliers={int(cal.outlier.sum())}"]
+    cal = calibrate(coupons, base, search_tables=False)
+    t = median_seconds(lambda: calibrate(coupons, base, search_tables=False), repeats=5)
+    lines = [f"calibrate_ms={1000 * t:.0f}",
+             f"calibrate_rate_nm_per_V={cal.process.nm_per_V:.4f} calibrate_scale={cal.process.film_index_scale:.4f} "
+             f"calibrate_outliers={int(cal.outlier.sum())}"]
+    from pathlib import Path
+
+    from swatch.coupons import read_coupons
+
+    line = read_coupons(Path(__file__).resolve().parents[1] / "tests" / "data" / "simulated-line-coupons.csv")
+    full = calibrate(line, base)
+    t = median_seconds(lambda: calibrate(line, base), repeats=3)
+    d = full.to_dict()
+    return [*lines, f"calibrate_tables_ms={1000 * t:.0f}",
+                    f"calibrate_tables_held_out_dE00={d['held_out_mean_delta_E_00']:.2f}/{d['held_out_max_delta_E_00']:.2f} "
+                    f"calibrate_tables_pair={d['film']}/{d['substrate']} calibrate_tables_knee_V={d.get('knee_V')} "
+                    f"calibrate_tables_spread={d.get('spread_fraction')}"]

@@ -61,7 +61,9 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
     img = draw_text(img, f"Calibration: {p.name}  ({p.film} on {p.substrate})", MARGIN, 32, 22, INK,
                     font="DroidSans-Bold")
     line = (f"thickness = {_fmt(p.offset_nm, u['offset_nm'], 2)} nm + {_fmt(p.nm_per_V, u['nm_per_V'], 4)} nm/V × V"
-            f"   ·   film index × {_fmt(p.film_index_scale, u['film_index_scale'], 4)}"
+            + (f" (to {p.knee_V:g} V, then {p.nm_per_V_above_knee:g} nm/V)" if p.knee_V is not None else "")
+            + (f"   ·   spread {100 * p.spread.spread_fraction:.1f} %" if not p.spread.is_zero else "")
+            + f"   ·   film index × {_fmt(p.film_index_scale, u['film_index_scale'], 4)}"
             + ("" if u["film_index_scale"] is not None else " (not determined: kept)"))
     img = draw_text(img, line, MARGIN, 58, 16, INK)
     line = (f"{n} coupons, {int(cal.outlier.sum())} outlier(s) set aside   ·   mean dE00 "
@@ -118,35 +120,61 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
 
 
 def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
-    """The lines ``swatch calibrate`` prints: the fitted parameters ± one standard error, the
-    residual ΔE2000, the runner-up order and one line per coupon (``d`` =
+    """The lines ``swatch calibrate`` prints: the tables, the fitted parameters ± one standard error,
+    what each added parameter bought (held-out ΔE2000), what was fixed and why, the ranking of the
+    table pairs, the residual ΔE2000, the runner-up order and one line per coupon (``d`` =
     :meth:`swatch.calibration.Calibration.to_dict`)."""
     lines = []
     u = d["uncertainty"]
 
     def pm(key, nd):
-        return f"{d[key]:.{nd}f}" + ("" if u[key] is None else f" ± {u[key]:.{nd}f}")
+        return f"{d[key]:.{nd}f}" + ("" if u.get(key) is None else f" ± {u[key]:.{nd}f}")
 
-    lines.append(f"# {d['process']['process']}: {base.film} on {base.substrate}; light {light:g}°, view {view:g}°, "
-                 f"{d['illuminant']}, CIE {d['observer']}° observer")
-    lines.append(f"nm_per_V          {pm('nm_per_V', 4)}")
+    lines.append(f"# {d['process']['process']}: {d['film']} on {d['substrate']} (from {base.name}: {base.film} on "
+                 f"{base.substrate}); light {light:g}°, view {view:g}°, {d['illuminant']}, CIE {d['observer']}° observer")
+    lines.append(f"nm_per_V          {pm('nm_per_V', 4)}" + ("  (up to the knee)" if "knee_V" in d else ""))
     lines.append(f"offset_nm         {pm('offset_nm', 2)}")
-    scale = pm("film_index_scale", 4) + ("" if u["film_index_scale"] is not None else " (kept: not determined)")
+    if "knee_V" in d:
+        lines.append(f"knee_V            {pm('knee_V', 2)}")
+        lines.append(f"nm_per_V above    {pm('nm_per_V_above_knee', 4)}")
+    scale = pm("film_index_scale", 4) + ("" if u["film_index_scale"] is not None else " (kept: not fitted)")
     lines.append(f"film_index_scale  {scale}")
+    if "spread_fraction" in d:
+        lines.append(f"spread_fraction   {pm('spread_fraction', 4)}  (1σ of the local thickness / thickness)")
     lines.append(f"mean ΔE2000 {d['mean_delta_E_00']:.2f}, max {d['max_delta_E_00']:.2f} over "
-                 f"{len(d['samples']) - d['outliers']} coupons; {d['outliers']} outlier(s)")
+                 f"{len(d['samples']) - d['outliers']} coupons; {d['outliers']} outlier(s)"
+                 + (f"; held out (leave-one-out) mean {d['held_out_mean_delta_E_00']:.2f}, max "
+                    f"{d['held_out_max_delta_E_00']:.2f}" if "held_out_mean_delta_E_00" in d else ""))
+    if d.get("steps"):
+        lines.append("what each parameter bought (held-out ΔE2000 mean / max, coupons left out one at a time):")
+        for st in d["steps"]:
+            fig = (f"{st['held_out_mean_delta_E_00']:.2f} / {st['held_out_max_delta_E_00']:.2f}"
+                   if "held_out_mean_delta_E_00" in st else "not fitted")
+            lines.append(f"  {st['model']:<28} {fig:>14}  " + ("kept" if st["kept"] else f"not kept: {st.get('why', '')}"))
+    for key, why in d.get("fixed", {}).items():
+        lines.append(f"fixed: {key}: {why}")
+    if len(d.get("ranking", [])) > 1:
+        lines.append("table pairs, best first (held-out ΔE2000 mean / max; screened out: in-sample mean at a fixed scale):")
+        for k, r in enumerate(d["ranking"][:8], start=1):
+            fig = (f"{r['held_out_mean_delta_E_00']:.2f} / {r['held_out_max_delta_E_00']:.2f}  {r['model']}"
+                   if "held_out_mean_delta_E_00" in r else f"screened out ({r['in_sample_mean_delta_E_00']:.2f})")
+            lines.append(f"  {k}. {r['film']} on {r['substrate']}: {fig}")
+        if len(d["ranking"]) > 8:
+            lines.append(f"  ... {len(d['ranking']) - 8} more (--json lists them)")
     if d["runner_up"]:
         r = d["runner_up"]
         lines.append(f"next-best order: {r['nm_per_V']:g} nm/V + {r['offset_nm']:g} nm "
                      f"(median ΔE2000 {r['mean_delta_E_00']:.2f})")
-    lines.append(f"{'coupon':>16} {'voltage_V':>9} {'thickness_nm':>12} {'ΔE2000':>7}")
+    lines.append(f"{'coupon':>16} {'voltage_V':>9} {'thickness_nm':>12} {'ΔE2000':>7} {'held out':>8}")
     for s in d["samples"]:
         flag = ""
         if s["outlier"]:
             m = s.get("matches_voltage_V")
-            flag = ("  outlier" if m is None else f"  outlier: its colour matches {m:g} V on the fitted line "
+            flag = ("  outlier" if m is None else f"  outlier: its colour matches {m:g} V on the fitted law "
                     f"(ΔE2000 {s['matches_delta_E_00']:.2f}; mislabelled?)")
-        lines.append(f"{s['coupon'][:16]:>16} {s['voltage_V']:9g} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f}{flag}")
+        h = s.get("held_out_delta_E_00")
+        lines.append(f"{s['coupon'][:16]:>16} {s['voltage_V']:9g} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f} "
+                     f"{'' if h is None else f'{h:8.2f}':>8}{flag}")
     return lines
 
 

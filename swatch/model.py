@@ -55,8 +55,10 @@ def _check_rate(nm_per_V: float) -> float:
     return float(nm_per_V)
 
 
-def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0) -> np.ndarray:
-    """Film thickness for an anodising voltage by the growth law ``offset_nm + nm_per_V × voltage_V``.
+def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
+                            knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
+    """Film thickness for an anodising voltage by the growth law ``offset_nm + nm_per_V × voltage_V``
+    (with a knee: ``nm_per_V`` up to ``knee_V`` and ``nm_per_V_above_knee`` beyond it, continuous).
 
     Parameters
     ----------
@@ -66,17 +68,31 @@ def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offse
         Growth rate, nm per volt.
     offset_nm : float
         Thickness at 0 V (the initial oxide), nm.
+    knee_V, nm_per_V_above_knee : float or None
+        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
     """
     v = np.asarray(voltage_V, dtype=np.float64)
     if not np.all(np.isfinite(v)) or np.any(v < 0) or np.any(v > MAX_VOLTAGE_V):
         raise SwatchError(f"voltage must be a number from 0 to {MAX_VOLTAGE_V:g} V")
-    return check_thickness_nm(float(offset_nm) + v * _check_rate(nm_per_V))
+    rate = _check_rate(nm_per_V)
+    if knee_V is None or nm_per_V_above_knee is None:
+        return check_thickness_nm(float(offset_nm) + v * rate)
+    k = float(knee_V)
+    above = _check_rate(nm_per_V_above_knee)
+    return check_thickness_nm(float(offset_nm) + rate * np.minimum(v, k) + above * np.maximum(v - k, 0.0))
 
 
-def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0) -> np.ndarray:
+def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
+                           knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
     """Anodising voltage for a film thickness, V (inverse of :func:`voltage_to_thickness_nm`; below the
     initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film)."""
-    return (np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)) / _check_rate(nm_per_V)
+    d = np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)
+    rate = _check_rate(nm_per_V)
+    if knee_V is None or nm_per_V_above_knee is None:
+        return d / rate
+    k = float(knee_V)
+    at_knee = rate * k
+    return np.where(d <= at_knee, d / rate, k + (d - at_knee) / _check_rate(nm_per_V_above_knee))
 
 
 def intensity_scale(simulated, measured) -> np.ndarray:

@@ -20,7 +20,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from swatch.errors import SwatchError
-from swatch.limits import MAX_PROFILE_BYTES, MAX_PROFILE_TEXT_CHARS, MAX_SPREAD_FRACTION, MAX_SPREAD_NM, read_capped
+from swatch.limits import (
+    MAX_PROFILE_BYTES,
+    MAX_PROFILE_TEXT_CHARS,
+    MAX_SPREAD_FRACTION,
+    MAX_SPREAD_NM,
+    MAX_VOLTAGE_V,
+    read_capped,
+)
 from swatch.materials import list_materials, tables_dir
 from swatch.spread import NO_SPREAD, ThicknessSpread
 
@@ -35,12 +42,15 @@ RATE_RANGE = (0.1, 10.0)  # nm per volt
 OFFSET_RANGE = (-50.0, 100.0)  # nm at 0 V
 SCALE_RANGE = (0.5, 1.5)
 _TOP_KEYS = ("name", "description", "film", "substrate", "nm_per_V", "offset_nm", "film_index_scale", "roughness",
-             "spread_nm", "spread_fraction", "sources", "calibration")
+             "spread_nm", "spread_fraction", "knee_V", "nm_per_V_above_knee", "sources", "calibration")
 _SOURCE_KEYS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness", "film", "substrate", "spread_nm",
-                "spread_fraction")
+                "spread_fraction", "knee_V", "nm_per_V_above_knee")
 _CALIBRATION_NUMBERS = ("coupons", "outliers", "mean_delta_E_00", "max_delta_E_00", "nm_per_V_uncertainty",
-                        "offset_nm_uncertainty", "film_index_scale_uncertainty")
-_CALIBRATION_TEXT = ("source", "measured", "geometry", "illuminant", "observer")
+                        "offset_nm_uncertainty", "film_index_scale_uncertainty", "held_out_mean_delta_E_00",
+                        "held_out_max_delta_E_00", "spread_fraction_uncertainty", "knee_V_uncertainty",
+                        "nm_per_V_above_knee_uncertainty")
+_CALIBRATION_TEXT = ("source", "measured", "geometry", "illuminant", "observer", "model", "parameters", "fixed",
+                     "ranking")
 
 
 @dataclass(frozen=True)
@@ -56,6 +66,8 @@ class Process:
     film_index_scale: float = 1.0
     roughness: float | None = None
     spread: ThicknessSpread = NO_SPREAD  # the film's thickness non-uniformity (swatch.spread)
+    knee_V: float | None = None  # a two-slope growth law: nm_per_V up to knee_V, nm_per_V_above_knee beyond
+    nm_per_V_above_knee: float | None = None
     sources: tuple[tuple[str, str], ...] = ()
     calibration: tuple[tuple[str, object], ...] = ()
     origin: str = "preset"  # "preset", a file name, or "overridden"
@@ -79,7 +91,7 @@ class Process:
         """Oxide thickness, nm, grown at ``voltage_V`` (V) by this line's growth law."""
         from swatch.model import voltage_to_thickness_nm
 
-        return voltage_to_thickness_nm(voltage_V, self._rate(), self.offset_nm)
+        return voltage_to_thickness_nm(voltage_V, self._rate(), self.offset_nm, self.knee_V, self.nm_per_V_above_knee)
 
     def voltage_V(self, thickness_nm) -> np.ndarray | None:
         """Voltage, V, that grows ``thickness_nm``; None when the profile has no growth rate."""
@@ -87,7 +99,8 @@ class Process:
 
         if self.nm_per_V is None:
             return None
-        return thickness_to_voltage_V(thickness_nm, self.nm_per_V, self.offset_nm)
+        return thickness_to_voltage_V(thickness_nm, self.nm_per_V, self.offset_nm, self.knee_V,
+                                      self.nm_per_V_above_knee)
 
     def coating(self, wavelength_nm=None):
         """The :class:`swatch.model.Coating` of this profile on a wavelength grid (nm)."""
@@ -117,8 +130,24 @@ class Process:
         return {
             "process": self.name, "process_origin": self.origin, "film": self.film, "substrate": self.substrate,
             "nm_per_V": self.nm_per_V, "offset_nm": self.offset_nm, "film_index_scale": self.film_index_scale,
-            **self.spread.metadata(),
+            **self.spread.metadata(), **self.knee_metadata(),
         }
+
+    def knee_metadata(self) -> dict:
+        """``{"knee_V", "nm_per_V_above_knee"}`` for a two-slope law, else ``{}``."""
+        if self.knee_V is None:
+            return {}
+        return {"knee_V": self.knee_V, "nm_per_V_above_knee": self.nm_per_V_above_knee}
+
+    @property
+    def growth_law_text(self) -> str:
+        """The growth law in words and numbers (``no growth rate`` without one)."""
+        if self.nm_per_V is None:
+            return "no growth rate"
+        law = f"{self.offset_nm:g} nm + {self.nm_per_V:g} nm/V"
+        if self.knee_V is not None:
+            law += f" up to {self.knee_V:g} V, then {self.nm_per_V_above_knee:g} nm/V"
+        return law
 
 
 def _fail(source: str, what: str) -> SwatchError:
@@ -180,6 +209,9 @@ def _from_dict(data: dict, source: str, origin: str) -> Process:
             raise _fail(source, f"unknown key {key!r} in [calibration]; allowed: "
                                 f"{', '.join(_CALIBRATION_NUMBERS + _CALIBRATION_TEXT)}")
     rough = data.get("roughness")
+    knee, above = data.get("knee_V"), data.get("nm_per_V_above_knee")
+    if (knee is None) != (above is None) or (knee is not None and rate is None):
+        raise _fail(source, "a two-slope growth law needs nm_per_V, knee_V and nm_per_V_above_knee together")
     return Process(
         name=name,
         description=_text(data.get("description", ""), "description", source),
@@ -195,6 +227,8 @@ def _from_dict(data: dict, source: str, origin: str) -> Process:
         sources=tuple((k, _text(v, f"sources.{k}", source)) for k, v in sources.items()),
         calibration=tuple(cal),
         origin=origin,
+        knee_V=None if knee is None else _number(knee, "knee_V", 0.0, MAX_VOLTAGE_V, source),
+        nm_per_V_above_knee=None if above is None else _number(above, "nm_per_V_above_knee", *RATE_RANGE, source),
     )
 
 
@@ -261,6 +295,7 @@ def process_toml(p: Process, header: str = "") -> str:
     if p.roughness is not None:
         lines.append(f"roughness = {_toml_value(float(p.roughness))}")
     lines += [f"{k} = {_toml_value(v)}" for k, v in p.spread.metadata().items()]
+    lines += [f"{k} = {_toml_value(float(v))}" for k, v in p.knee_metadata().items()]
     for table, items in (("sources", p.sources), ("calibration", p.calibration)):
         if items:
             lines += ["", f"[{table}]"] + [f"{k} = {_toml_value(v)}" for k, v in items]

@@ -142,6 +142,7 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
         "white_XYZ2": [float(v) for v in colour.xy_to_XYZ(cm2.white_xy)],
         "nm_per_V": spec.nm_per_V,  # growth law: thickness_nm = offset_nm + nm_per_V * voltage_V (null: none)
         "offset_nm": spec.offset_nm,
+        **({} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}),
         "match": {"min_separation_nm": MATCH_MIN_SEPARATION_NM, "step_nm": MATCH_STEP_NM},
         "name_rules": [list(r) for r in NAME_RULES],
         "render": {"model": spec.model, "roughness": spec.roughness, "shapes": list(spec.shapes)},

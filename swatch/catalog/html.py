@@ -145,7 +145,12 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
 def _growth_text(process: dict) -> str:
     if process["nm_per_V"] is None:
         return "no growth rate (thicknesses only)"
-    return f"{process['nm_per_V']:g} nm/V + {process['offset_nm']:g} nm"
+    text = f"{process['nm_per_V']:g} nm/V + {process['offset_nm']:g} nm"
+    if "knee_V" in process:
+        text += f" to {process['knee_V']:g} V, then {process['nm_per_V_above_knee']:g} nm/V"
+    if "spread_nm" in process:
+        text += f"; thickness spread {process['spread_nm']:g} nm + {100 * process['spread_fraction']:g} % (1σ)"
+    return text
 
 
 def _explain(c: dict) -> str:

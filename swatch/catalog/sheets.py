@@ -376,6 +376,8 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
     line2 = (f"{spec.film} on {spec.substrate}  ·  illuminant {header['illuminant']}, CIE {header['observer_name']} "
              f"observer  ·  model: half-vector thin film (Fujii et al. 2019)  ·  process {spec.process}: "
              + (f"{spec.nm_per_V:g} nm/V + {spec.offset_nm:g} nm" if spec.nm_per_V is not None else "no growth rate")
+             + (f" to {spec.knee_V:g} V, then {spec.nm_per_V_above_knee:g} nm/V" if spec.knee_V is not None else "")
+             + (f", spread {spec.spread.text().strip(' ±')}" if not spec.spread.is_zero else "")
              + (f", film index ×{spec.film_index_scale:g}" if spec.film_index_scale != 1 else ""))
     img = draw_text(img, _fit(line2, 16, w, "DroidSans"), 0, 66, 16, INK)
     line3 = (f"L*a*b* at {ref['name']} (light {ref['light_deg']:g}°, view {ref['view_deg']:g}° from the normal)  ·  "

@@ -98,6 +98,8 @@ class CatalogSpec:
     process_origin: str = "preset"
     spread_nm: float = 0.0  # the profile's thickness spread (swatch.spread): 1σ = spread_nm + spread_fraction × d
     spread_fraction: float = 0.0
+    knee_V: float | None = None  # a two-slope growth law: nm_per_V up to knee_V, nm_per_V_above_knee beyond
+    nm_per_V_above_knee: float | None = None
     extra: dict = field(default_factory=dict)
     chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
     chip_size_mm: float = 50.0
@@ -115,9 +117,14 @@ class CatalogSpec:
         """Voltage, V, growing ``thickness_nm`` by the spec's growth law; None without a rate."""
         import numpy as np
 
+        from swatch.model import thickness_to_voltage_V
+
         if self.nm_per_V is None:
             return None
-        return (np.asarray(thickness_nm, dtype=np.float64) - self.offset_nm) / self.nm_per_V
+        if self.knee_V is None:
+            return (np.asarray(thickness_nm, dtype=np.float64) - self.offset_nm) / self.nm_per_V
+        return thickness_to_voltage_V(thickness_nm, self.nm_per_V, self.offset_nm, self.knee_V,
+                                      self.nm_per_V_above_knee)
 
     @property
     def per_sheet(self) -> int:
@@ -143,6 +150,9 @@ class CatalogSpec:
         if d["spread_nm"] == 0.0 and d["spread_fraction"] == 0.0:  # a uniform film: the hashes of before
             d.pop("spread_nm")
             d.pop("spread_fraction")
+        if d["knee_V"] is None:  # a linear law: the hashes of before
+            d.pop("knee_V")
+            d.pop("nm_per_V_above_knee")
         return d
 
 
@@ -343,7 +353,9 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
             raise SwatchError(f"{source}: process {proc.name} has no growth rate, so the catalog needs a "
                               "[thickness] table (or nm_per_V, or a calibrated profile)")
         volts = _range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
-        d = [proc.offset_nm + v * rate for v in volts]
+        d = [proc.offset_nm + v * rate for v in volts] if proc.knee_V is None else [
+            proc.offset_nm + rate * min(v, proc.knee_V) + proc.nm_per_V_above_knee * max(v - proc.knee_V, 0.0)
+            for v in volts]
         for v, t in zip(volts, d, strict=True):
             if not 0 <= t <= MAX_THICKNESS_NM:
                 c.fail("voltage", f"{v:g} V gives {t:g} nm at {rate:g} nm/V + {proc.offset_nm:g} nm; "
@@ -437,6 +449,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         search_nm=search, columns=columns, rows=rows, chips=chips, chip_size_mm=chip_size, chip_dpi=chip_dpi,
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
+        knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
     )
 
 

@@ -31,8 +31,10 @@ def _read(path: str, light: float, view: float, illuminant: str, observer: str):
               help="the profile to write (.toml; use it with --process or process = \"...\" in a spec)")
 @click.option("--process", "process", default=None, metavar="NAME|FILE",
               help="the profile to start from: film, substrate, film index scale [default: titanium-fujii2019]")
-@click.option("--film", default=None, help="film table, overriding the starting profile's")
-@click.option("--substrate", default=None, help="substrate table, overriding the starting profile's")
+@click.option("--film", default=None, help="film table: fixes it (not searched)")
+@click.option("--substrate", default=None, help="substrate table: fixes it (not searched)")
+@click.option("--fixed-tables", "fixed_tables", is_flag=True,
+              help="keep the starting profile's film and substrate tables (do not rank the shipped ones)")
 @click.option("--name", default=None, help="the new profile's name [default: <starting profile>-calibrated]")
 @click.option("--light", type=float, default=45.0, show_default=True, help="measuring geometry: light polar angle (deg)")
 @click.option("--view", type=float, default=0.0, show_default=True, help="measuring geometry: view polar angle (deg)")
@@ -44,9 +46,9 @@ def _read(path: str, light: float, view: float, illuminant: str, observer: str):
 @click.option("--report", "report_dir", default=None, type=click.Path(file_okay=False, path_type=str),
               help="write calibration.png (measured vs predicted chips, fitted voltage -> colour strip) here")
 @click.option("--force", is_flag=True, help="overwrite existing output files")
-def calibrate(coupons, out_path, process, film, substrate, name, light, view, illuminant, observer, fit_scale,
-              as_json, report_dir, force):
-    """Fit growth rate, offset and film index scale of a line from its coupons (CSV).
+def calibrate(coupons, out_path, process, film, substrate, fixed_tables, name, light, view, illuminant, observer,
+              fit_scale, as_json, report_dir, force):
+    """Fit a line's profile from its coupons (CSV): growth law, tables, film index scale, spread.
 
     COUPONS: a CGATS file with a VOLTAGE_V field or a CxF3 file with voltage_V tags (geometry,
     illuminant and observer from the file), or a CSV file (',', ';' or tab separated; decimal commas
@@ -54,15 +56,20 @@ def calibrate(coupons, out_path, process, film, substrate, name, light, view, il
     --observer) or voltage_V,wavelength_nm,reflectance (spectra, long form); optional columns
     thickness_nm (measured) and coupon (a label). The interference order is searched globally, a
     robust loss keeps a mislabelled coupon from pulling the line (it is flagged as an outlier), and
-    the parameters come with standard errors. Data that cannot determine them are refused.
+    the parameters come with standard errors. The shipped film and substrate tables of the
+    profile's materials are ranked by leave-one-out ΔE2000 (the first is written); a film index
+    scale, a thickness spread and a knee in the growth law join only when they lower the held-out
+    error (the report says what each bought). Data that cannot determine them are refused.
     """
     from swatch.calibration import calibrate as fit
     from swatch.calibration_report import calibration_paths, calibration_text, write_calibration
 
     out, png = calibration_paths(out_path, report_dir, force)
-    base = resolve_process(process, film, substrate)
+    resolve_process(process, film, substrate)  # checks --film/--substrate
+    base = resolve_process(process)
     data, light, view, illuminant, observer = _read(coupons, light, view, illuminant, observer)
-    cal = fit(data, base, light, view, illuminant, observer, fit_scale, name)
+    cal = fit(data, base.with_overrides(film, substrate) if fixed_tables else base, light, view, illuminant,
+              observer, fit_scale, name, search_tables=not fixed_tables, film=film, substrate=substrate)
     write_calibration(cal, out, png, f"{Path(coupons).name} ({len(data)} coupons)")
     d = cal.to_dict()
     if as_json:
