@@ -121,3 +121,19 @@ def test_few_coupons_keep_the_tables_and_say_why(tmp_path):
 def test_calibrate_film_option_must_be_a_film_table(tmp_path):
     assert_one_line_error(run_swatch("calibrate", SIMULATED, "--out", tmp_path / "x.toml", "--film", "Ti-Palm"),
                           "not a film")
+
+
+def test_catalog_spec_voltages_follow_a_two_slope_law(tmp_path):
+    """Issue 19: a catalog on voltages through a knee profile gets the law's thicknesses and voltages back."""
+    from swatch.catalog.spec import parse_spec
+
+    base = process_toml(load_process("titanium-fujii2019"))
+    (tmp_path / "line.toml").write_text(
+        base.replace("offset_nm =", "knee_V = 40.0\nnm_per_V_above_knee = 3.0\noffset_nm =", 1), encoding="utf-8")
+    spec = parse_spec({"name": "k", "process": "line.toml", "voltage": {"start_V": 20, "stop_V": 60, "step_V": 20}},
+                      "spec.toml", tmp_path)
+    np.testing.assert_allclose(spec.thickness_nm, [2.032 * 20, 2.032 * 40, 2.032 * 40 + 3.0 * 20])
+    np.testing.assert_allclose(spec.voltage_of(spec.thickness_nm), [20.0, 40.0, 60.0])
+    assert spec.canonical()["knee_V"] == 40.0
+    assert "knee_V" not in parse_spec({"name": "k", "thickness": {"start_nm": 20, "stop_nm": 60, "step_nm": 20}},
+                                      "spec.toml", tmp_path).canonical()
