@@ -26,6 +26,7 @@ from swatch.catalog.spec import DEFAULT_ASPECULAR_DEG, Geometry
 from swatch.colorimetry import Lab_to_LCh, delta_E_00, get_colorimeter, srgb_hex
 from swatch.errors import SwatchError
 from swatch.matching import match_colour
+from swatch.multi_match import match_angles
 from swatch.tolerance import Tolerance
 
 __all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "finish_spec"]
@@ -60,7 +61,8 @@ def _Lab_at(coating, cm, d: float, geometries) -> tuple[np.ndarray, np.ndarray]:
 
 
 def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "D65", observer: str = "10",
-                wavelength_nm=None, roughness: float | None = None, thickness_range=(0.0, 400.0)) -> dict:
+                wavelength_nm=None, roughness: float | None = None, thickness_range=(0.0, 400.0),
+                angles=None) -> dict:
     """The spec.json dictionary for ``target`` on the process profile ``proc``.
 
     Parameters
@@ -75,6 +77,10 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
         Judged in its own metric (ΔE*ab or ΔE2000) at the reference geometry.
     roughness : float, optional
         The finish's GGX roughness (recorded; the colours are roughness-independent).
+    angles : list of (name, light_deg, signed view_deg), optional
+        For a colour target: choose the nominal thickness whose worst difference (in the tolerance's
+        metric) over these geometries is smallest (:func:`swatch.multi_match.match_angles`), e.g. a
+        colour that must still read the same at a 60° view; default the reference geometry alone.
 
     Returns
     -------
@@ -86,16 +92,30 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     reach: dict | None = None
     if target["kind"] in ("hex", "lab"):
         target_cm = cm.display_colorimeter if target["kind"] == "hex" else cm
-        res = match_colour(target["Lab"], coating, target_cm, REFERENCE.light_deg, REFERENCE.view_deg,
-                           thickness_range=thickness_range, top=3)
-        best = res.candidates[0]
-        d = float(best["thickness_nm"])
-        reached = np.asarray(best["Lab"])
-        dE = float(tolerance.delta_E(reached, np.asarray(target["Lab"])))
+        goal = np.asarray(target["Lab"], dtype=np.float64)
+        if angles:
+            res_a = match_angles(goal, angles, coating, target_cm, tolerance, rank="worst",
+                                 thickness_range=thickness_range, top=3)
+            best_a = min(res_a["candidates"], key=lambda c: max(g["delta_E"] for g in c["geometries"].values()))
+            d = float(best_a["thickness_nm"])
+            per = {n: g["delta_E"] for n, g in best_a["geometries"].items()}
+            dE = max(per.values())
+            reached = np.asarray(best_a["geometries"][angles[0][0]]["Lab"])
+            where = ", ".join(n for n, _, _ in angles)
+        else:  # among the best ΔE2000 minima of each order, the closest in the tolerance's own metric
+            res = match_colour(goal, coating, target_cm, REFERENCE.light_deg, REFERENCE.view_deg,
+                               thickness_range=thickness_range, top=3)
+            best = min(res.candidates, key=lambda c: float(tolerance.delta_E(np.asarray(c["Lab"]), goal)))
+            d = float(best["thickness_nm"])
+            reached = np.asarray(best["Lab"])
+            dE = float(tolerance.delta_E(reached, goal))
+            per, where = None, REFERENCE.name
         reach = {"delta_E": _r(dE, 2), "metric": tolerance.metric, "within_tolerance": bool(dE <= tolerance.max),
                  "closest_thickness_nm": _r(d, 1), "closest_Lab": [_r(v, 2) for v in reached],
                  "colorimetry": {"illuminant": target_cm.illuminant, "observer": target_cm.observer,
-                                 "geometry": REFERENCE.name}}
+                                 "geometry": where}}
+        if per is not None:
+            reach["delta_E_per_geometry"] = {n: _r(v, 2) for n, v in per.items()}
     else:
         d = float(target["thickness_nm"])
     if not 0 <= d <= 1000:

@@ -70,6 +70,11 @@ def write_spec_card(spec: dict, path: Path) -> None:
                               f"{' '.join(_s(v) for v in reach['closest_Lab'])} — {reach['metric']} {_s(reach['delta_E'])} "
                               f"from the target, {ok} the tolerance ({reach['colorimetry']['geometry']})")
         y -= 12
+        per = reach.get("delta_E_per_geometry")
+        if per:
+            c.drawString(left, y, f"Worst over the angles the target must hold at — {reach['metric']} "
+                                  + ", ".join(f"{n}: {_s(v)}" for n, v in per.items()))
+            y -= 12
 
     # chips: reference large, multi-angle row
     y -= 62

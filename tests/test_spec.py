@@ -9,7 +9,7 @@ import subprocess
 import colour
 import numpy as np
 import pytest
-from cli_helpers import assert_one_line_error, run_swatch
+from cli_helpers import assert_one_line_error, run_json, run_swatch
 from synthetic import tmm_half_vector_reflectance
 
 pytestmark = pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext (poppler-utils) not installed")
@@ -91,3 +91,18 @@ def test_spec_needs_exactly_one_target(tmp_path):
     assert_one_line_error(run_swatch("spec", "--hex", "ffffff", "--thickness", "50", "--out", tmp_path),
                           "exactly one")
     assert not any(tmp_path.iterdir())
+
+
+def test_spec_with_angles_picks_the_best_worst_case_and_prints_it(tmp_path):
+    """ "A bronze-gold close to #b08d57 that still reads gold at 60°": the nominal is the multi-angle
+    match's minimax over 45:0 and 45:60, and the card shows every number (per angle too)."""
+    assert run_swatch("spec", "--hex", "b08d57", "--angles", "45:0,45:60", "--out", tmp_path).returncode == 0
+    spec = json.loads((tmp_path / "spec.json").read_text(encoding="utf-8"))
+    m = run_json("match", "--hex", "b08d57", "--angles", "45:0,45:60", "--tolerance", "dE00:2")
+    assert spec["nominal"]["thickness_nm"] == pytest.approx(m["candidates"][0]["thickness_nm"], abs=0.06)
+    assert set(spec["reach"]["delta_E_per_geometry"]) == {"45:0", "45:60"}
+    text = subprocess.run(["pdftotext", "-layout", str(tmp_path / "spec.pdf"), "-"], capture_output=True, text=True,
+                          check=True).stdout
+    assert not [v for v in _numbers(spec) if str(v) not in text]
+    assert_one_line_error(run_swatch("spec", "--thickness", "50", "--angles", "45:0", "--out", tmp_path / "x"),
+                          "colour target")

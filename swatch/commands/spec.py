@@ -21,12 +21,15 @@ from swatch.errors import SwatchError
 @click.option("--tolerance", "tolerance", default="dE00:2", show_default=True, metavar="METRIC:MAX|SCHEME:GRADE",
               help="the tolerance, judged in its own metric at 45:0 (e.g. dE00:2, dEab:3.2, csaj:C)")
 @common.colour_options
+@click.option("--angles", default=None, metavar="L:V,...|LasA,...",
+              help="for --hex/--lab: the geometries the colour must hold at (e.g. 45:0,45:60); the nominal is the "
+                   "thickness with the smallest worst difference over them")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False, path_type=str),
               help="folder for spec.json and spec.pdf")
 @click.option("--force", is_flag=True, help="overwrite an existing spec.json / spec.pdf")
 @click.option("--json", "as_json", is_flag=True, help="also print spec.json")
 def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tolerance, illuminant, observer,
-         out_dir, force, as_json):
+         angles, out_dir, force, as_json):
     """A finish specification for a fabricator: nominal thickness and voltage, CIELAB at 45:0 and the
     ASTM E2194 / E2539 multi-angle geometries, the flop (ΔE00 view 0° vs 60°), the tolerance and the
     process window it allows (nm, V); for a colour target, the closest reachable colour and how far.
@@ -38,6 +41,7 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     from swatch.finish_spec import finish_spec
     from swatch.materials import wavelength_grid
     from swatch.model import check_thickness_nm
+    from swatch.multi_match import parse_angles
     from swatch.spec_card import write_spec_card
     from swatch.tolerance import parse_tolerance
 
@@ -48,6 +52,9 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     if not str(out_dir).strip():
         raise SwatchError("--out is an empty string; give a folder path")
     tol = parse_tolerance(tolerance)
+    geoms = parse_angles(angles) if angles is not None else None
+    if geoms is not None and hex_code is None and lab is None:
+        raise SwatchError("--angles applies to a colour target (--hex or --lab)")
     proc = common.resolve_process(process, None, None, nm_per_volt)
     rough = roughness if roughness is not None else (proc.roughness if proc.roughness is not None else 0.3)
     if not 0.01 <= rough <= 1.0:
@@ -71,7 +78,7 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     paths = [out / "spec.json", out / "spec.pdf"]
     check_new([p for p in paths if out.exists()], force)
     data = finish_spec(target, proc, tol, illuminant=illuminant, observer=observer, wavelength_nm=wl,
-                       roughness=rough)
+                       roughness=rough, angles=geoms)
     text = json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     check_writable_dir(out)
     with atomic_path(paths[1]) as tmp:
