@@ -173,7 +173,9 @@ def _blender_rows(doc: dict, records: dict) -> list[tuple[str, str, float, float
     return rows
 
 
-def _threejs_rows(result: dict, records: list[dict]) -> list[tuple[str, str, float, float]]:
+def _threejs_rows(result: dict, records: list[dict], prefix: str) -> list[tuple[str, str, float, float]]:
+    """Rows (id, geometry, ΔE2000 to the exact colour, the stated figure) of a VIEW:LIGHT render."""
+    old = {"threejs": "gltf", "materialx": "openpbr"}[prefix]  # the records' keys before #18
     rows = []
     for rec, got in zip(records, result["presets"], strict=True):
         p = rec["presets"]
@@ -182,17 +184,17 @@ def _threejs_rows(result: dict, records: list[dict]) -> list[tuple[str, str, flo
             facet = (row["view"] + row["light"]) / 2.0
             dE = float(delta_E_00(rgb_to_Lab(shown), exact_Lab(rec["thickness_nm"], [facet])[0]))
             if row["view"] != row["light"]:
-                geo, stated = "45:0", p.get("threejs_delta_E_00_45_0", p.get("gltf_max_delta_E_00_45"))
+                geo, stated = "45:0", p.get(f"{prefix}_delta_E_00_45_0", p.get(f"{old}_max_delta_E_00_45"))
             else:
                 geo = f"mirror {row['view']:g}"
                 key = "max_delta_E_00_45" if row["view"] <= 45.0 else "max_delta_E_00"
-                stated = p.get(f"threejs_{key}", p.get(f"gltf_{key}"))
+                stated = p.get(f"{prefix}_{key}", p.get(f"{old}_{key}"))
             rows.append((rec["id"], geo, dE, stated))
     return rows
 
 
 def main(argv: list[str]) -> None:
-    """``python -m tests.preset_reference threejs|blender CATALOG_DIR [PYTHON_WITH_BPY] [PRESET_DIR]``:
+    """``python -m tests.preset_reference threejs|materialx|blender CATALOG_DIR [PYTHON_WITH_BPY] [PRESET_DIR]``:
     every preset of a built catalog in the real renderer; per geometry the median / max ΔE2000
     against the exact colour and how many exceed the stated figure + 0.5 (#18's figures)."""
     import json
@@ -205,8 +207,14 @@ def main(argv: list[str]) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         if what == "threejs":
             result = render_in_threejs([presets / r["presets"]["gltf"] for r in records], Path(tmp))
-            rows = _threejs_rows(result, records)
+            rows = _threejs_rows(result, records, "threejs")
             print(f"three.js r{result['revision']}")
+        elif what == "materialx":  # needs DISPLAY (an X server: Xvfb)
+            import MaterialX
+
+            result = {"presets": render_in_materialx([presets / r["presets"]["materialx"] for r in records], tmp)}
+            rows = _threejs_rows(result, records, "materialx")
+            print(f"MaterialX {MaterialX.getVersionString()} GLSL")
         else:
             files = [str(presets / r["presets"]["blender"]) for r in records]
             measure = ("mirror:0", "mirror:30", "mirror:45", "mirror:60", "sun:45", "furnace:0", "furnace:45")
@@ -225,3 +233,100 @@ if __name__ == "__main__":
     import sys
 
     main(sys.argv[1:])
+
+
+# -- MaterialX's own GLSL renderer (MaterialXRenderGlsl, Mesa under Xvfb) -----------------------
+
+#: MaterialX geometries VIEW:LIGHT (degrees from the normal, opposite sides): 45:0 and mirror 0–60°.
+MATERIALX_GEOMETRIES = THREEJS_GEOMETRIES
+
+
+def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -> list[dict]:
+    """Render MaterialX documents with MaterialX's GLSL shader generator and renderer: a plane
+    (+Z normal) under one directional light, orthographic camera 200 units away (a practically
+    constant view direction), no environment, float read-back of the centre. Needs an OpenGL
+    context (``DISPLAY``: the test starts Xvfb). For each document, per geometry: the mean linear
+    RGB of the preset and of the same surface with a white metal (base_color 1, no thin film)."""
+    import math
+
+    import MaterialX as mx
+    from MaterialX import PyMaterialXGenGlsl as mx_glsl
+    from MaterialX import PyMaterialXGenShader as mx_gen
+    from MaterialX import PyMaterialXRender as mx_render
+    from MaterialX import PyMaterialXRenderGlsl as mx_render_glsl
+
+    lib = mx.createDocument()
+    search = mx.getDefaultDataSearchPath()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), search, lib)
+    size = 16
+    obj = Path(tmp_path) / "plane.obj"
+    obj.write_text("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                   "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n", encoding="ascii")
+    renderer = mx_render_glsl.GlslRenderer.create(size, size, mx_render.BaseType.FLOAT)
+    renderer.initialize()
+    geometry = mx_render.GeometryHandler.create()
+    geometry.addLoader(mx_render.TinyObjLoader.create())
+    geometry.loadGeometry(mx.FilePath(str(obj)), False)
+    renderer.setGeometryHandler(geometry)
+    renderer.setImageHandler(mx_render_glsl.GLTextureHandler.create(mx_render.StbImageLoader.create()))
+    black = mx_render.createUniformImage(4, 4, 3, mx_render.BaseType.FLOAT, mx.Color4(0, 0, 0, 1))
+
+    def lights(light_deg):
+        doc = mx.createDocument()
+        doc.importLibrary(lib)
+        node = doc.addNode("directional_light", "sun", "lightshader")
+        a = math.radians(light_deg)
+        node.setInputValue("direction", mx.Vector3(math.sin(a), 0.0, -math.cos(a)), "vector3")  # from −x
+        node.setInputValue("color", mx.Color3(1.0, 1.0, 1.0), "color3")
+        node.setInputValue("intensity", 1.0, "float")
+        return doc, [n for n in doc.getNodes() if n.getType() == "lightshader"]
+
+    def draw(doc, view_deg, light_deg):
+        gen = mx_glsl.GlslShaderGenerator.create()
+        ctx = mx_gen.GenContext(gen)
+        ctx.registerSourceCodeSearchPath(search)
+        opts = ctx.getOptions()
+        opts.hwSpecularEnvironmentMethod = mx_gen.HwSpecularEnvironmentMethod.SPECULAR_ENVIRONMENT_FIS
+        opts.hwMaxActiveLightSources = 1
+        opts.hwShadowMap = False
+        opts.targetColorSpaceOverride = "lin_rec709"
+        ldoc, sources = lights(light_deg)
+        handler = mx_render.LightHandler.create()
+        handler.registerLights(ldoc, sources, ctx)
+        handler.setLightSources(sources)
+        handler.setIndirectLighting(False)
+        handler.setEnvRadianceMap(black)
+        handler.setEnvIrradianceMap(black)
+        renderer.setLightHandler(handler)
+        shader = gen.generate("preset", mx_gen.findRenderableElements(doc)[0], ctx)
+        renderer.createProgram(shader)
+        camera = renderer.getCamera()
+        v = math.radians(view_deg)
+        eye = mx.Vector3(200.0 * math.sin(v), 0.0, 200.0 * math.cos(v))  # on +x: the mirror of the light
+        camera.setViewMatrix(mx_render.Camera.createViewMatrix(eye, mx.Vector3(0, 0, 0), mx.Vector3(0, 1, 0)))
+        camera.setProjectionMatrix(mx_render.Camera.createOrthographicMatrix(-0.1, 0.1, -0.1, 0.1, 100.0, 300.0))
+        renderer.render()
+        image = mx_render.Image.create(size, size, 4, mx_render.BaseType.FLOAT)
+        image.createResourceBuffer()
+        image = renderer.captureImage(image)
+        px = [list(image.getTexelColor(x, y))[:3] for x in range(size // 2 - 2, size // 2 + 2)
+              for y in range(size // 2 - 2, size // 2 + 2)]
+        return np.mean(np.asarray(px), axis=0).tolist()
+
+    def load(path, white=False):
+        doc = mx.createDocument()
+        mx.readFromXmlFile(doc, str(path))
+        doc.importLibrary(lib)
+        if white:
+            node = next(n for n in doc.getNodes() if n.getCategory() == "open_pbr_surface")
+            node.setInputValue("base_color", mx.Color3(1.0, 1.0, 1.0), "color3")
+            node.setInputValue("thin_film_weight", 0.0, "float")
+        return doc
+
+    out = []
+    for path in mtlx_paths:
+        doc, white = load(path), load(path, white=True)
+        rows = [{"view": v, "light": li, "preset": draw(doc, v, li), "reference": draw(white, v, li)}
+                for v, li in geometries]
+        out.append({"file": str(path), "rows": rows})
+    return out

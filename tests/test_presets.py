@@ -151,6 +151,7 @@ def _params_materialx(path):
 
 @pytest.mark.parametrize("fmt,prefix,reader", [("gltf", "threejs", _params_gltf), ("gltf", "gltf", _params_gltf),
                                                ("blender", "blender", _params_blender),
+                                               ("materialx", "materialx", _params_materialx),
                                                ("materialx", "openpbr", _params_materialx)])
 def test_written_presets_hold_their_stated_error(written, fmt, prefix, reader):
     """Each figure in a record is the error of the file as written (rounded), under its model."""
@@ -362,6 +363,66 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path):
         shutil.copy(tmp_path / "threejs.png", shot)
 
 
+@pytest.fixture
+def xvfb_display(monkeypatch):
+    """A virtual X display for an OpenGL context (Debian's Xvfb, Mesa's llvmpipe), started here and
+    stopped by its PID afterwards. Missing: skip, or fail with ``SWATCH_REQUIRE_TOOLS=1`` (CI)."""
+    exe = shutil.which("Xvfb")
+    if exe is None:
+        if os.environ.get("SWATCH_REQUIRE_TOOLS") == "1":
+            pytest.fail("SWATCH_REQUIRE_TOOLS=1 but Xvfb is missing (Debian: xvfb, libgl1-mesa-dri)")
+        pytest.skip("Xvfb not installed")
+    r, w = os.pipe()
+    proc = subprocess.Popen([exe, "-displayfd", str(w), "-screen", "0", "64x64x24", "-nolisten", "tcp"],
+                            pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(w)
+    try:
+        with os.fdopen(r) as fh:
+            number = fh.readline().strip()
+        assert number.isdigit(), "Xvfb did not report its display"
+        monkeypatch.setenv("DISPLAY", f":{number}")
+        yield f":{number}"
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@pytest.mark.slow
+def test_materialx_preset_in_materialx_renderer(written, tmp_path, xvfb_display):
+    """#18: MaterialX 1.39.5's own GLSL shader generator and renderer (Mesa under Xvfb) render each
+    .mtlx preset (OpenPBR Surface, metal under a thin film) under a directional light at 45:0 and
+    at mirror geometries 0–60°. Relative to a white metal in the same light it equals our port of
+    that GLSL (swatch.presets.materialx: mx_fresnel_airy, its energy compensation) and is within
+    the figures catalog.json states for MaterialX + 0.5 of the exact colour."""
+    import MaterialX as mx
+
+    from swatch.presets import materialx
+    from tests.preset_reference import render_in_materialx
+
+    assert mx.getVersionString() == materialx.VERSION
+    _, records, root, _ = written
+    result = render_in_materialx([root / r["presets"]["materialx"] for r in records], tmp_path)
+    for rec, got in zip(records, result, strict=True):
+        d, eta, *base = _params_materialx(root / rec["presets"]["materialx"])
+        stated = rec["presets"]
+        for row in got["rows"]:
+            ref = np.asarray(row["reference"])
+            assert ref.min() > 0.05, row  # the white plate is lit
+            shown = np.asarray(row["preset"]) / ref
+            view, light = row["view"], row["light"]
+            facet = (view + light) / 2.0
+            port = materialx.displayed_fresnel(np.cos(np.radians(facet)), d, eta, np.array(base), np.sqrt(0.3).round(4),
+                                               cos_nv=np.cos(np.radians(view)))
+            assert np.abs(shown - port).max() < 1e-3, (rec["id"], row, port)  # measured: 7 digits
+            dE = float(delta_E_00(spectral.rgb_to_Lab(shown), exact_Lab([rec["thickness_nm"]], [facet])[0, 0]))
+            if view != light:  # 45:0
+                assert dE <= stated["materialx_delta_E_00_45_0"] + 0.5, (rec["id"], row, dE)
+            else:
+                assert dE <= stated["materialx_max_delta_E_00"] + 0.5, (rec["id"], row, dE)
+                if view <= 45.0:
+                    assert dE <= stated["materialx_max_delta_E_00_45"] + 0.5, (rec["id"], row, dE)
+
+
 # -- the command ------------------------------------------------------------------------------
 
 def test_preset_command(tmp_path):
@@ -384,7 +445,7 @@ def test_preset_command(tmp_path):
 
 def test_model_Lab_shapes():
     p = np.array([[150.0, 2.3, 0.6, 0.5, 0.4], [90.0, 2.1, 0.5, 0.5, 0.5]])
-    for m in ("gltf", "cycles", "openpbr"):
+    for m in ("gltf", "threejs", "cycles", "openpbr", "materialx"):
         assert model_Lab(m, p, FIT_ANGLES_DEG).shape == (2, FIT_ANGLES_DEG.size, 3)
 
 

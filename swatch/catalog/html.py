@@ -131,7 +131,7 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     p = s.get("presets")
     if p:  # 3-D material presets, each with its max ΔE2000 in its renderer (glTF: three.js; D65, 2°, 0–60°; title: 0–45°)
         kinds = (("gltf", "glTF", "threejs_max_delta_E_00"), ("blender", "Blender", "blender_max_delta_E_00"),
-                 ("materialx", "OpenPBR", "openpbr_max_delta_E_00"))
+                 ("materialx", "MaterialX", "materialx_max_delta_E_00"))
         title = ("3-D material presets; max " + str(p.get("conditions", "")) + "; at 0–45°: "
                  + ", ".join(f"{label} {_fmt(p.get(dk + '_45'), 1)}" for _, label, dk in kinds))
         out.append(f'<div class="links presets" title="{e(title)}"><span>3-D (ΔE00):</span>'

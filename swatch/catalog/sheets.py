@@ -347,10 +347,10 @@ def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
         f"ΔE00 prev{_num(n['previous'], 5, 1)} next{_num(n['next'], 5, 1)}",
         f"window{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm  {pw['metric']}≤{pw['max']:g}",
     ]
-    if rec.get("presets"):  # max ΔE2000 (0–60°) of the glTF (as three.js shows it) / Blender / OpenPBR presets
+    if rec.get("presets"):  # max ΔE2000 (0–60°) of the glTF (as three.js shows it) / Blender / MaterialX presets
         p = rec["presets"]
         lines.append(f"3D glTF{_num(p['threejs_max_delta_E_00'], 4, 1)} Bl{_num(p['blender_max_delta_E_00'], 4, 1)}"
-                     f" PBR{_num(p['openpbr_max_delta_E_00'], 4, 1)}")
+                     f" MtlX{_num(p['materialx_max_delta_E_00'], 4, 1)}")
     y += 3
     for line in lines:
         y += step

@@ -10,7 +10,10 @@ written as files (``write``):
   direct-light multiscatter factor): the glTF presets are fitted to it;
 - :mod:`swatch.presets.gltf` — glTF 2.0 ``KHR_materials_iridescence`` on a metal base, as specified;
 - :mod:`swatch.presets.cycles` — Blender Cycles' Principled BSDF thin film on a metallic base;
-- :mod:`swatch.presets.openpbr` — OpenPBR Surface thin film (Belcour–Barla, Gulbrandsen metal);
+- :mod:`swatch.presets.materialx` — OpenPBR Surface as MaterialX 1.39.5's GLSL evaluates it
+  (``mx_fresnel_airy``): the MaterialX presets are fitted to it;
+- :mod:`swatch.presets.openpbr` — OpenPBR Surface thin film as the specification recommends
+  (Belcour–Barla, Gulbrandsen metal; no renderer checked);
 - :mod:`swatch.presets.spectral` — the Fourier-space colour-matching sensitivities they share.
 
 Every model maps (cos of the incidence angle on the microfacet, material parameters) to the
@@ -22,6 +25,6 @@ from __future__ import annotations
 #: The preset formats, one name per target renderer model.
 PRESET_FORMATS = ("gltf", "blender", "materialx")
 #: Which ported model each format is judged with.
-FORMAT_MODEL = {"gltf": "threejs", "blender": "cycles", "materialx": "openpbr"}
+FORMAT_MODEL = {"gltf": "threejs", "blender": "cycles", "materialx": "materialx"}
 
 __all__ = ["PRESET_FORMATS", "FORMAT_MODEL"]

@@ -31,14 +31,16 @@ __all__ = ["catalog_presets", "single_preset", "preset_file_name", "round_params
 #: renderer the preset targets (``_45``: 0–45°). glTF: what three.js r187 shows (``threejs_*``);
 #: ``gltf_max_delta_E_00`` is the same file judged by the extension's own reference model.
 ERROR_KEYS = {"gltf": "threejs_max_delta_E_00", "blender": "blender_max_delta_E_00",
-              "materialx": "openpbr_max_delta_E_00"}
+              "materialx": "materialx_max_delta_E_00"}
 #: The model each figure is computed with (swatch.presets.fit), by key prefix.
-FIGURE_MODELS = {"threejs": "threejs", "gltf": "gltf", "blender": "cycles", "openpbr": "openpbr"}
+FIGURE_MODELS = {"threejs": "threejs", "gltf": "gltf", "blender": "cycles", "materialx": "materialx",
+                 "openpbr": "openpbr"}
 #: Which figures each format's record carries (key prefixes).
-FORMAT_FIGURES = {"gltf": ("threejs", "gltf"), "blender": ("blender",), "materialx": ("openpbr",)}
+FORMAT_FIGURES = {"gltf": ("threejs", "gltf"), "blender": ("blender",), "materialx": ("materialx", "openpbr")}
 #: The catalog's reference geometry 45:0 as (facet angle, the angle the model is evaluated at):
 #: three.js evaluates the film at N·V (0°), the others at the half vector (22.5°).
-GEOMETRY_45_0 = {"threejs": (22.5, 0.0), "gltf": (22.5, 22.5), "cycles": (22.5, 22.5), "openpbr": (22.5, 22.5)}
+GEOMETRY_45_0 = {"threejs": (22.5, 0.0), "gltf": (22.5, 22.5), "cycles": (22.5, 22.5), "openpbr": (22.5, 22.5),
+                 "materialx": (22.5, 22.5)}
 _DIGITS = (3, 4, 4, 4, 4)  # thickness nm, IOR, base R G B, as written
 
 
@@ -85,8 +87,19 @@ def _figures(model: str, params, spec, rough: float) -> dict[str, np.ndarray]:
     dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, spec.film, spec.substrate, spec.film_index_scale,
                            spec.spread, rough)
     facet, at = GEOMETRY_45_0[model]
-    e450 = errors_delta_E_00(model, params, d, [facet], spec.film, spec.substrate, spec.film_index_scale,
-                             spec.spread, rough, [at])[:, 0]
+    if model == "materialx":  # at 45:0 MaterialX's energy compensation is taken at N·V = 1, F at V·H
+        from swatch.colorimetry import delta_E_00
+        from swatch.presets import materialx
+        from swatch.presets.fit import exact_Lab
+        from swatch.presets.spectral import rgb_to_Lab
+
+        p = np.asarray(params, dtype=np.float64)
+        F = materialx.displayed_fresnel(np.cos(np.radians(facet)), p[:, 0], p[:, 1], p[:, 2:], rough, cos_nv=1.0)
+        e450 = delta_E_00(rgb_to_Lab(F), exact_Lab(d, [facet], spec.film, spec.substrate, spec.film_index_scale,
+                                                   spec.spread)[:, 0])
+    else:
+        e450 = errors_delta_E_00(model, params, d, [facet], spec.film, spec.substrate, spec.film_index_scale,
+                                 spec.spread, rough, [at])[:, 0]
     return {"60": dE.max(axis=1), "45": dE[:, FIT_ANGLES_DEG <= 45.0].max(axis=1), "45_0": e450}
 
 
@@ -180,7 +193,9 @@ def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE:
         note = (f"oxide {thickness_nm:g} nm; max ΔE2000 {max_dE:.2f} over mirror angles 0–60° "
                 "as Cycles renders it with GGX (D65, CIE 1931 2°)")
         return write.blender_bytes(title, params, rough, preset_file_name(ident, fmt), note)
-    return write.materialx_bytes(title, params, rough)
+    note = (f"oxide {thickness_nm:g} nm; fitted to MaterialX 1.39.5's GLSL (mx_fresnel_airy); max ΔE2000 "
+            f"{max_dE:.2f} over mirror angles 0-60° (D65, CIE 1931 2°); other OpenPBR renderers not checked")
+    return write.materialx_bytes(title, params, rough, note)
 
 
 #: What each figure prefix is measured in, for the record's ``conditions``.
@@ -188,7 +203,9 @@ RENDERERS = {
     "threejs": "three.js r187 MeshPhysicalMaterial via GLTFLoader, direct light, relative to a white metal",
     "gltf": "KHR_materials_iridescence reference model (the extension text)",
     "blender": "Blender 5.0-5.2 Cycles, Principled BSDF, GGX",
-    "openpbr": "OpenPBR Surface (Belcour-Barla, Gulbrandsen metal; not checked in a renderer)",
+    "materialx": "MaterialX 1.39.5 GLSL (open_pbr_surface, mx_fresnel_airy), direct light, relative to a white metal",
+    "openpbr": "OpenPBR Surface as its specification recommends (Belcour-Barla, Gulbrandsen metal; port only: "
+               "no OpenPBR renderer was checked)",
 }
 
 

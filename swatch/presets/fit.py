@@ -55,25 +55,28 @@ _CONTINUITY_ROUNDS = 2
 #: Per model: (weight of the angles past 45°, power p of the residual ΔE2000**p). The catalog's
 #: geometries weigh 2, the other angles up to 45° weigh 1; p > 1 leans towards the largest errors.
 #: glTF cannot follow the exact colour far past 45° (its metal is a real index): it weighs them less.
-_OBJECTIVE = {"gltf": (0.2, 1.0), "threejs": (0.2, 1.0), "cycles": (0.5, 1.5), "openpbr": (0.5, 1.5)}
+_OBJECTIVE = {"gltf": (0.2, 1.0), "threejs": (0.2, 1.0), "cycles": (0.5, 1.5), "openpbr": (0.5, 1.5),
+              "materialx": (0.2, 1.0)}
 #: The roughness (glTF ``roughnessFactor``) a model is evaluated at when it depends on it and none is given.
 DEFAULT_ROUGHNESS = 0.5477
 
 
 def _model(name: str):
-    from swatch.presets import cycles, gltf, openpbr, threejs
+    from swatch.presets import cycles, gltf, materialx, openpbr, threejs
 
     plain = {"gltf": gltf.iridescent_fresnel, "cycles": cycles.principled_metal_fresnel,
              "openpbr": openpbr.thin_film_metal_fresnel}
     if name == "threejs":
         return threejs.displayed_fresnel
+    if name == "materialx":
+        return materialx.displayed_fresnel
     f = plain[name]
     return lambda c, d, eta, base, roughness: f(c, d, eta, base)
 
 
 #: Model names (swatch.presets.FORMAT_MODEL maps formats to them). ``threejs`` is what three.js
 #: shows of a glTF preset (swatch.presets.threejs); ``gltf`` is the extension as specified.
-MODELS = ("gltf", "threejs", "cycles", "openpbr")
+MODELS = ("gltf", "threejs", "cycles", "openpbr", "materialx")
 
 
 def model_Lab(model: str, params, angles_deg, roughness: float | None = None) -> np.ndarray:

@@ -25,7 +25,7 @@ import functools
 
 import numpy as np
 
-__all__ = ["XYZ_TO_REC709", "gltf_sensitivity", "cmf_sensitivity", "rgb_to_Lab", "CYCLES_TABLE_SIZE"]
+__all__ = ["XYZ_TO_REC709", "gltf_sensitivity", "gaussian_sensitivity_xyz", "cmf_sensitivity", "rgb_to_Lab", "CYCLES_TABLE_SIZE"]
 
 #: XYZ (D65) to linear Rec.709, as printed by the glTF extension and Cycles' init_xyz_transforms.
 XYZ_TO_REC709 = np.array([[3.2404542, -1.5371385, -0.4985314],
@@ -41,6 +41,12 @@ def gltf_sensitivity(opd_nm, shift) -> np.ndarray:
     ``opd_nm`` (...) is the optical path difference in nm; ``shift`` (..., 3) the phase shift per
     component (applied to X, Y, Z in that order, as the reference code does).
     """
+    return gaussian_sensitivity_xyz(opd_nm, shift) @ XYZ_TO_REC709.T
+
+
+def gaussian_sensitivity_xyz(opd_nm, shift) -> np.ndarray:
+    """Belcour & Barla's Gaussian fits of the XYZ CMFs' transforms at ``opd_nm`` with per-component
+    phase ``shift`` (..., 3): XYZ, before any conversion to RGB (MaterialX's ``mx_eval_sensitivity``)."""
     phase = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64)[..., None] * 1.0e-9
     shift = np.asarray(shift, dtype=np.float64)
     val = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
@@ -49,8 +55,7 @@ def gltf_sensitivity(opd_nm, shift) -> np.ndarray:
     xyz = val * np.sqrt(2.0 * np.pi * var) * np.cos(pos * phase + shift) * np.exp(-(phase ** 2) * var)
     extra = (9.7470e-14 * np.sqrt(2.0 * np.pi * 4.5282e09) * np.cos(2.2399e06 * phase[..., 0] + shift[..., 0])
              * np.exp(-4.5282e09 * phase[..., 0] ** 2))
-    xyz = np.concatenate([(xyz[..., 0] + extra)[..., None], xyz[..., 1:]], axis=-1) / 1.0685e-7
-    return xyz @ XYZ_TO_REC709.T
+    return np.concatenate([(xyz[..., 0] + extra)[..., None], xyz[..., 1:]], axis=-1) / 1.0685e-7
 
 
 @functools.lru_cache(maxsize=1)

@@ -151,8 +151,9 @@ def _materialx_library():
     return lib
 
 
-def materialx_bytes(name: str, params, roughness: float) -> bytes:
-    """A MaterialX 1.39 document with an OpenPBR surface, validated with the MaterialX library."""
+def materialx_bytes(name: str, params, roughness: float, note: str = "") -> bytes:
+    """A MaterialX 1.39 document with an OpenPBR surface, validated with the MaterialX library
+    (``note``: what it was fitted to and its error, in the material's doc string)."""
     import MaterialX as mx
 
     d, eta, base, rough = _check(params, roughness)
@@ -167,7 +168,7 @@ def materialx_bytes(name: str, params, roughness: float) -> bytes:
     shader.setInputValue("thin_film_thickness", _r(d / 1000.0, 6), "float")  # µm
     shader.setInputValue("thin_film_ior", _r(eta), "float")
     material = doc.addMaterialNode(ident, shader)
-    material.setDocString(f"swatch preset {name}")
+    material.setDocString(f"swatch preset {name}" + (f"; {note}" if note else ""))
     doc.setDataLibrary(_materialx_library())  # referenced for validation, not written
     ok, message = doc.validate()
     if not ok:  # our own document failed the library's validation: a bug, not bad input
