@@ -103,6 +103,11 @@ def _parse(text: str, source: str):
         raise SwatchError(f"{source}: no field names between BEGIN_DATA_FORMAT and END_DATA_FORMAT")
     if not rows:
         raise SwatchError(f"{source}: no data rows between BEGIN_DATA and END_DATA")
+    for key, have, what in (("NUMBER_OF_SETS", len(rows), "data rows"), ("NUMBER_OF_FIELDS", len(fields), "fields")):
+        stated = keywords.get(key)
+        if stated and stated[0].strip().isdigit() and int(stated[0]) != have:
+            raise SwatchError(f"{source}: {key} says {int(stated[0])} but the table has {have} {what}; the file is "
+                              "cut short or edited by hand")
     return ident, keywords, fields, rows
 
 

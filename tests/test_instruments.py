@@ -158,6 +158,8 @@ HOSTILE = {
     "two_whites.txt": ("CGATS.17\nMEASUREMENT_SOURCE \"Illumination=D50 ObserverAngle=2\"\nWEIGHTING_FUNCTION "
                        "\"ILLUMINANT, D65\"\nBEGIN_DATA_FORMAT\nSAMPLE_ID LAB_L LAB_A LAB_B\nEND_DATA_FORMAT\n"
                        "BEGIN_DATA\n1 50 2 3\nEND_DATA\n", "two illuminants"),
+    "sets.txt": ("CGATS.17\nNUMBER_OF_SETS 3\nBEGIN_DATA_FORMAT\nSAMPLE_ID nm400 nm500\nEND_DATA_FORMAT\nBEGIN_DATA\n"
+                 "1 0.2 0.3\nEND_DATA\n", "NUMBER_OF_SETS says 3"),
     "cut.txt": ("CGATS.17\nBEGIN_DATA_FORMAT\nSAMPLE_ID nm400 nm500\nEND_DATA_FORMAT\nBEGIN_DATA\n1 0.2 0.3\n",
                 "cut short"),
 }
