@@ -24,7 +24,7 @@ from swatch.colorimetry import delta_E_00, get_colorimeter
 from swatch.errors import SwatchError
 from swatch.fitting import colour_grid, interp_rows, sweep_reflectance, unique_geometry
 from swatch.instruments import InstrumentFile
-from swatch.limits import MAX_SPEC_BYTES, read_text_capped
+from swatch.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
 from swatch.materials import wavelength_grid
 from swatch.measurements import LabMeasurement
 from swatch.model import get_coating
@@ -57,13 +57,18 @@ def load_spec_json(path) -> dict:
     try:
         tol = spec["tolerance"]
         spec["_tolerance"] = get_tolerance(metric=tol["metric"], max=tol["max"])
-        float(spec["nominal"]["thickness_nm"])
+        values = [float(spec["nominal"]["thickness_nm"])]
+        rate = spec["process"].get("nm_per_V")
+        values += [] if rate is None else [float(rate)]
         for e in [spec["reference"], *spec["multi_angle"]]:
-            float(e["light_deg"]), float(e["view_deg"]), [float(v) for v in e["Lab"]]
-            if e["view_side"] not in ("opposite", "light"):
+            values += [float(e["light_deg"]), float(e["view_deg"]), *(float(v) for v in e["Lab"])]
+            if e["view_side"] not in ("opposite", "light") or len(e["Lab"]) != 3 or str(e["geometry"]) == "":
                 raise ValueError
+        if not all(np.isfinite(values)) or not 0 <= values[0] <= MAX_THICKNESS_NM or (rate is not None and rate <= 0):
+            raise ValueError
     except (KeyError, TypeError, ValueError):
-        raise SwatchError(f"{path}: a value of the spec is missing or not a number") from None
+        raise SwatchError(f"{path}: a value of the spec is missing, not a finite number or out of range; give the "
+                          "spec.json that swatch spec wrote") from None
     return spec
 
 

@@ -58,6 +58,10 @@ def test_check_exit_status_zero_when_all_pass_and_two_for_bad_input(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text("{}", encoding="utf-8")
     assert_one_line_error(run_swatch("check", p, "--spec", bad), "not a swatch spec.json")
+    spec = json.loads((tmp_path / "s" / "spec.json").read_text(encoding="utf-8"))
+    spec["reference"]["Lab"][0] = float("nan")
+    bad.write_text(json.dumps(spec), encoding="utf-8")  # NaN is written as a bare NaN token
+    assert_one_line_error(run_swatch("check", p, "--spec", bad), "not a finite number")
 
 
 CC = "http://colorexchangeformat.com/CxF3-core"
