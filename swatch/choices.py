@@ -11,6 +11,7 @@ __all__ = [
     "MESH_FORMATS",
     "MODELS",
     "DISTRIBUTIONS",
+    "FINISHES",
     "IMAGE_SPACES",
     "ENVIRONMENTS",
     "BACKGROUNDS",
@@ -32,6 +33,8 @@ MESH_FORMATS = ("obj", "ply", "stl", "glb", "gltf")
 MODELS = ("paper", "microfacet")
 #: Microfacet normal distributions.
 DISTRIBUTIONS = ("ggx", "beckmann")
+#: Named surface finishes (their roughness: :mod:`swatch.finishes`); ``brushed`` is anisotropic.
+FINISHES = ("polished", "satin", "bead-blasted", "brushed")
 #: RGB primaries of the EXR images of renders and angular maps (the colorimeter knows more spaces,
 #: :data:`swatch.colorimetry.RGB_SPACES`; these are the ones with an EXR ``chromaticities`` tag).
 IMAGE_SPACES = ("srgb", "acescg")

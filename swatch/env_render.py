@@ -25,13 +25,16 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from swatch import env_shading
 from swatch.choices import BACKGROUNDS
 from swatch.display import BACKGROUND_LINEAR, display_encode
+from swatch.env_aniso import AnisoSampleSet, aniso_sample_set, combine_aniso, gather_aniso
 from swatch.errors import SwatchError
+from swatch.finishes import brush_tangent
 from swatch.limits import MAX_ENV_RENDER_PX
 
 __all__ = ["BACKGROUNDS", "check_background", "resolve_lighting", "Prepared", "prepared", "render_environment"]
@@ -67,14 +70,18 @@ SMOOTH_DEG = 2.0
 
 @dataclass
 class _Points:
-    """Gathered environment samples of some shading points: E (P, N, 3) and view bins j (P,)."""
+    """Gathered environment samples of some shading points: E (P, N, 3) and view bins j (P,)
+    (anisotropic: four bins per point, E (4·P, N, 3), j (4·P,), their weights ``mix`` (4, P))."""
 
     E: np.ndarray
     j: np.ndarray
+    mix: np.ndarray | None = None
 
     def radiance(self, weights) -> np.ndarray:
         if self.E.shape[0] == 0:
             return np.zeros((0, 3), dtype=np.float32)
+        if self.mix is not None:
+            return combine_aniso(self.E, self.j, self.mix, weights)
         return env_shading.combine(self.E, self.j, weights)
 
 
@@ -94,7 +101,7 @@ class Prepared:
     edge_pixels: np.ndarray  # (Q,) silhouette pixels, shaded at the centroid of their covered sub-samples
     edge: _Points
     background: np.ndarray | None  # (H, W, 3) environment behind the object, or None
-    samples: env_shading.SampleSet
+    samples: env_shading.SampleSet | AnisoSampleSet
 
 
 def _normals_views(scene, x, y, size):
@@ -117,19 +124,25 @@ def _edge_pixels(hit):
 _CACHE: dict = {}
 
 
-def prepared(scene, scene_key, size: int, env, roughness_alpha: float, background: str) -> Prepared:
+def prepared(scene, scene_key, size: int, env, roughness_alpha: float, background: str, finish=None) -> Prepared:
     """The thickness-independent part of a render (cached on ``scene_key``, the environment
-    object, the roughness α, the size and whether the background is the environment)."""
+    object, the roughness α (or an anisotropic ``finish``'s two), the size and whether the
+    background is the environment)."""
     from swatch import environment, render
 
-    key = (scene_key, env, float(roughness_alpha), int(size), background == "environment")  # env hashes by identity
+    aniso = finish is not None and finish.anisotropic
+    lobe = (finish.alpha_u, finish.alpha_v) if aniso else float(roughness_alpha)
+    key = (scene_key, env, lobe, int(size), background == "environment")  # env hashes by identity
     if key in _CACHE:
         return _CACHE[key]
-    ss = env_shading.sample_set(roughness_alpha)
+    ss: Any = aniso_sample_set(finish.alpha_u, finish.alpha_v) if aniso else env_shading.sample_set(roughness_alpha)
     maps = environment.levels(env)
     table = env_shading.level_table(ss, maps)
+    shape_name = getattr(scene.shape, "name", "sphere")
 
     def points(n, v):
+        if aniso:
+            return _Points(*gather_aniso(n, v, maps, ss, table, brush_tangent(shape_name, n)))
         return _Points(*env_shading.gather(n, v, maps, ss, table))
 
     c = np.arange(size, dtype=np.float32) + np.float32(0.5)
@@ -254,7 +267,7 @@ F_TABLE_NODES = 257
 def render_swatch_environment(d: float, shape: str, scene, size: int, environment, background: str,
                               roughness_alpha: float,
                               model: str, distribution: str, coating, colorimeter, space: str, meta: dict,
-                              camera: tuple):
+                              camera: tuple, finish=None):
     """The environment branch of :func:`swatch.render.render_swatch` (returns a SwatchImage)."""
     from swatch import environment as envmod
     from swatch import render, shading
@@ -269,7 +282,7 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
         raise SwatchError("environment 'none' is the point light; call without an environment")
     light_deg, view_deg, view_azimuth_deg = camera
     scene_key = (getattr(scene.shape, "key", shape), float(light_deg), None if view_deg is None else float(view_deg), float(view_azimuth_deg))
-    prep = prepared(scene, scene_key, size, env, roughness_alpha, background)
+    prep = prepared(scene, scene_key, size, env, roughness_alpha, background, finish)
     tab = shading.facet_colour_table(d, coating, colorimeter, F_TABLE_NODES, (0.0, 1.0)).to_rgb(colorimeter, "srgb")
     linear, coverage, display = render_environment(prep, tab.values, background, space)
     meta = dict(meta)
@@ -283,7 +296,10 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
         "environment": env.name,
         "environment_integration": (f"GGX visible-normal importance sampling, {prep.samples.n} fixed samples per "
                                     f"pixel, F at each sample's own theta_d, per-sample filtered environment; level "
-                                    f"set by {env_shading.DENSE_SAMPLES} samples per view angle"),
+                                    + (f"set by {prep.samples.dense_samples} samples per view bin (anisotropic: "
+                                       "bins over the view's polar angle and azimuth to the brushing direction)"
+                                       if isinstance(prep.samples, AnisoSampleSet)
+                                       else f"set by {env_shading.DENSE_SAMPLES} samples per view angle")),
         "units": ("scene-referred linear; 1.0 = perfect white diffuser facing up (+y, the plate's normal) under the "
                   "same environment; " + ("environment behind the object included (opaque)"
                                            if background == "environment" else "RGB premultiplied by alpha (coverage)")),

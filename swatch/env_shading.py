@@ -57,6 +57,7 @@ __all__ = [
     "directional_albedo",
     "albedo_matrix",
     "local_frame",
+    "fibonacci_lattice",
 ]
 
 SAMPLES = 24
@@ -68,7 +69,7 @@ SIGMA_PER_FOOTPRINT = 0.35
 _PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
 
-def _lattice(n: int) -> tuple[np.ndarray, np.ndarray]:
+def fibonacci_lattice(n: int) -> tuple[np.ndarray, np.ndarray]:
     """A 2-D Fibonacci lattice of ``n`` points in [0, 1)² (deterministic, well stratified)."""
     i = np.arange(n, dtype=np.float64)
     return (i + 0.5) / n, np.mod((i + 0.5) * _PHI, 1.0)
@@ -117,14 +118,14 @@ class SampleSet:
         self.n = int(n)
         self.bins = int(bins)
         self.cos_v = np.cos((np.arange(self.bins) + 0.5) / self.bins * (np.pi / 2))[::-1].copy()
-        l, w, cd, pdf = _vndf(self.cos_v, self.roughness_alpha, *_lattice(self.n))
+        l, w, cd, pdf = _vndf(self.cos_v, self.roughness_alpha, *fibonacci_lattice(self.n))
         self.l = l.astype(np.float32)
         self.w = w / self.n
         self.cos_d = cd
         #: blur per sample (degrees): SIGMA_PER_FOOTPRINT × the side of its footprint 1/(N pdf), rounded
         #: up to the next level of the environment
         self.sigma_deg = np.degrees(SIGMA_PER_FOOTPRINT * np.sqrt(1.0 / (self.n * np.maximum(pdf, 1e-12))))
-        parts = [_vndf(self.cos_v[a:a + 32], self.roughness_alpha, *_lattice(int(dense)))
+        parts = [_vndf(self.cos_v[a:a + 32], self.roughness_alpha, *fibonacci_lattice(int(dense)))
                  for a in range(0, self.bins, 32)]
         self.dense_w = np.concatenate([p[1] for p in parts]) / int(dense)
         self.dense_cos_d = np.concatenate([p[2] for p in parts]).astype(np.float32)
@@ -163,7 +164,7 @@ def _lookup_table(table, cos_d):
     return table[i] * (1.0 - f) + table[i + 1] * f
 
 
-def albedo_matrix(samples: SampleSet, k: int) -> np.ndarray:
+def albedo_matrix(samples, k: int) -> np.ndarray:
     """(M, K): the dense set's weights spread onto the K nodes of a uniform cos θ_d table by the
     linear-interpolation weights, so that the level is one product with any table (cached)."""
     key = ("albedo", int(k))
@@ -178,14 +179,14 @@ def albedo_matrix(samples: SampleSet, k: int) -> np.ndarray:
     return samples.cache[key]
 
 
-def directional_albedo(samples: SampleSet, f_table) -> np.ndarray:
+def directional_albedo(samples, f_table) -> np.ndarray:
     """``∫ f cos θ_l dω_l`` (M, 3) per view bin, from the dense set, for ``F``'s RGB table
     ``f_table`` (K, 3) uniform over cos θ_d in [0, 1] (linear interpolation)."""
     f_table = np.asarray(f_table, dtype=np.float64)
     return albedo_matrix(samples, f_table.shape[0]) @ f_table
 
 
-def band_weights(samples: SampleSet, f_table) -> np.ndarray:
+def band_weights(samples, f_table) -> np.ndarray:
     """The per-bin, per-sample RGB weights ``a`` (M, N, 3) for one thickness (module doc).
 
     ``a_i = w_i F(θ_d,i) + w_i (A − Σ_i w_i F(θ_d,i)) / Σ_i w_i`` per bin and channel, ``A`` the
@@ -226,7 +227,7 @@ def _bins(samples: SampleSet, cv):
 CHUNK = 8192
 
 
-def level_table(samples: SampleSet, maps) -> np.ndarray:
+def level_table(samples, maps) -> np.ndarray:
     """Per bin and sample (M, N, 5) float32: the local direction, the level's resolution and
     the level's offset in ``maps`` (a :class:`swatch.environment.LevelMaps`)."""
     k = maps.level_for(samples.sigma_deg)
@@ -237,9 +238,9 @@ def level_table(samples: SampleSet, maps) -> np.ndarray:
 def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.ndarray]:
     """Environment samples ``E`` (P, N, 3) in each pixel's sample directions and its view bin (P,).
 
-    ``n``, ``v`` (P, 3) unit normal and view (towards the camera); ``env_padded`` a padded
-    octahedral map (:meth:`swatch.environment.Environment.filtered`), looked up at the
-    nearest texel (the map is blurred over several texels).
+    ``n``, ``v`` (P, 3) unit normal and view (towards the camera); ``maps`` the environment's
+    blur levels (:func:`swatch.environment.levels`), looked up bilinearly in each sample's level
+    (anisotropic lobes: :func:`swatch.env_aniso.gather_aniso`).
     """
     n = np.asarray(n, dtype=np.float32).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float32).reshape(-1, 3)
@@ -289,7 +290,7 @@ def shade_reference(n, v, env, roughness_alpha: float, f_table, samples: int = D
     unfiltered environment map, ``F`` at each sample's ``θ_d`` (the error reference)."""
     n = np.asarray(n, dtype=np.float64).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float64).reshape(-1, 3)
-    u1, u2 = _lattice(int(samples))
+    u1, u2 = fibonacci_lattice(int(samples))
     pad = env.padded()
     out = np.empty((n.shape[0], 3))
     for a in range(0, n.shape[0], chunk):

@@ -8,7 +8,7 @@ from __future__ import annotations
 __all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
            "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
            "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SPREAD_NM", "MAX_SPREAD_FRACTION", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
-           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
+           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_ANISO_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
            "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
            "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
            "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_INSTRUMENT_SAMPLES",
@@ -62,6 +62,9 @@ MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
 #: Largest environment-lit render (pixels per side): a 2048² render peaks at ~0.7 GB (the
 #: gathered environment samples of the shading points), within MAX_RUN_BYTES.
 MAX_ENV_RENDER_PX = 2048
+#: Side of an environment-lit render of an anisotropic (brushed) finish: four bins gathered per
+#: shading point (swatch.env_aniso), so a quarter of the pixels for the same memory.
+MAX_ANISO_RENDER_PX = 1024
 
 #: Swatches in one catalog (a spec's thickness or voltage list or range).
 MAX_SWATCHES = 400

@@ -51,6 +51,8 @@ __all__ = [
     "ggx_visibility",
     "D_ratio",
     "ggx_reflectance_factor_cos",
+    "D_ggx_aniso",
+    "smith_lambda_ggx_aniso",
 ]
 
 _TINY = 1e-12
@@ -373,3 +375,49 @@ def brdf_scale(cos_l, cos_v, cos_h, cos_d, roughness_alpha, distribution: str = 
     g = G(cl, cv, cos_d, cos_d, roughness_alpha, distribution, correlated)
     ok = (cl > 0) & (cv > 0)
     return np.where(ok, d * g / (4.0 * np.maximum(cl, _TINY) * np.maximum(cv, _TINY)), 0.0)
+
+
+# -- anisotropic GGX (brushed finishes) -----------------------------------------------------------
+def D_ggx_aniso(h_local, alpha_u: float, alpha_v: float) -> np.ndarray:
+    """Anisotropic GGX: ``1 / (π α_u α_v (h_x²/α_u² + h_y²/α_v² + h_z²)²)``; 0 where ``h_z <= 0``.
+
+    Parameters
+    ----------
+    h_local : array_like, (..., 3)
+        Unit half vectors in the tangent frame (x along the tangent, the brushing direction;
+        y the bitangent; z the normal).
+    alpha_u, alpha_v : float
+        GGX α along x and along y, in (0, 1] (Heitz 2014, eq. 85; equal: :func:`D_ggx`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        ``D`` in sr⁻¹ (normalised: ``∫ D h_z dω = 1``).
+    """
+    h = np.asarray(h_local, dtype=np.float64)
+    au, av = check_roughness_alpha(alpha_u), check_roughness_alpha(alpha_v)
+    x, y, z = h[..., 0], h[..., 1], h[..., 2]
+    den = x * x / (au * au) + y * y / (av * av) + z * z
+    return np.where(z > 0, 1.0 / (np.pi * au * av * den * den), 0.0)
+
+
+def smith_lambda_ggx_aniso(w_local, alpha_u: float, alpha_v: float) -> np.ndarray:
+    """Smith's ``Λ`` of anisotropic GGX for directions in the tangent frame:
+    ``(−1 + sqrt(1 + (α_u² ω_x² + α_v² ω_y²) / ω_z²)) / 2`` (Heitz 2014, eq. 86).
+
+    Parameters
+    ----------
+    w_local : array_like, (..., 3)
+        Unit directions in the tangent frame (z the normal; ``ω_z > 0``).
+    alpha_u, alpha_v : float
+        GGX α along the tangent and the bitangent, in (0, 1].
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        ``Λ ≥ 0``.
+    """
+    w = np.asarray(w_local, dtype=np.float64)
+    au, av = float(alpha_u), float(alpha_v)
+    z2 = np.maximum(w[..., 2] * w[..., 2], _TINY)
+    return 0.5 * (np.sqrt(1.0 + (au * au * w[..., 0] ** 2 + av * av * w[..., 1] ** 2) / z2) - 1.0)

@@ -27,11 +27,11 @@ from swatch import microfacet, shading
 from swatch.colorimetry import check_rgb_space
 from swatch.display import BACKGROUND_LINEAR, display_encode, exposure
 from swatch.errors import SwatchError
-from swatch.limits import MAX_SIZE_PX
+from swatch.limits import MAX_ANISO_RENDER_PX, MAX_SIZE_PX
 from swatch.metadata import coating_and_colorimeter, common_metadata
 from swatch.scene import Scene, check_shape, make_scene
 
-__all__ = ["SwatchImage", "render_swatch", "render_scene", "check_size_px"]
+__all__ = ["SwatchImage", "render_swatch", "render_scene", "check_size_px", "check_finish_lighting", "finish_meta"]
 
 SUPERSAMPLE = 4
 #: Nodes of a render's cos θ_d table over the range its pixels span (refined 16× for lookups;
@@ -193,7 +193,7 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
                   roughness_alpha: float = 0.3, model: str = "microfacet", coating=None, colorimeter=None,
                   space: str = "srgb", distribution: str = "ggx", workers: int | None = None,
                   environment=None, background: str = "grey", view_deg: float | None = None,
-                  view_azimuth_deg: float = 0.0, mesh=None) -> SwatchImage:
+                  view_azimuth_deg: float = 0.0, mesh=None, finish=None) -> SwatchImage:
     """Render one swatch (see the module documentation for scene, units and exposure).
 
     Returns a :class:`SwatchImage`: ``linear_rgb`` (H, W, 3) float32 scene-referred linear RGB in
@@ -203,13 +203,18 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     :class:`swatch.environment.Environment`), rendered by :mod:`swatch.env_render`;
     ``background``: grey, white or (with an environment) environment; ``view_deg`` and
     ``view_azimuth_deg``: the camera (:func:`swatch.scene.make_scene`); ``mesh``: a
-    :class:`swatch.mesh.MeshShape` rendered instead of ``shape`` (which is then ``"mesh"``).
+    :class:`swatch.mesh.MeshShape` rendered instead of ``shape`` (which is then ``"mesh"``);
+    ``finish``: a :class:`swatch.finishes.Finish` (its roughness replaces ``roughness_alpha``; an
+    anisotropic one, brushed, is rendered under an environment only).
     """
     from swatch.model import check_thickness_nm
 
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = "mesh" if mesh is not None else check_shape(shape)
     size = check_size_px(size_px)
+    if finish is not None:
+        roughness_alpha = finish.roughness_alpha
+        check_finish_lighting(finish, environment, model, distribution, size)
     model = shading.check_model(model)
     roughness_alpha = microfacet.check_roughness_alpha(roughness_alpha)
     distribution = microfacet.check_distribution(distribution)
@@ -222,8 +227,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     if environment is not None:
         return env_render.render_swatch_environment(
             d, shape, scene, size, environment, background, roughness_alpha, model, distribution, coating, colorimeter,
-            space, common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha),
-            (light_deg, view_deg, view_azimuth_deg))
+            space, common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha) | finish_meta(finish),
+            (light_deg, view_deg, view_azimuth_deg), finish)
     if background == "environment":
         raise SwatchError("background 'environment' needs an environment; use grey or white with the point light")
     bg_linear = BACKGROUND_LINEAR if background == "grey" else env_render.BACKGROUND_WHITE
@@ -254,7 +259,28 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
                    "shoulder above 0.8",
         "wavelength_grid_nm": f"{coating.wavelength_nm[0]:g}:{coating.wavelength_nm[-1]:g}:{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
-    return SwatchImage(rgb, coverage, display, meta | mesh_metadata(mesh), float(k))
+    return SwatchImage(rgb, coverage, display, meta | mesh_metadata(mesh) | finish_meta(finish), float(k))
+
+
+def check_finish_lighting(finish, environment, model: str, distribution: str, size_px: int) -> None:
+    """SwatchError unless the built-in engine can render ``finish`` so: an anisotropic finish
+    (brushed) needs the GGX microfacet model under an environment, at most
+    :data:`swatch.limits.MAX_ANISO_RENDER_PX` pixels per side (its gather is four times the
+    isotropic one's)."""
+    if finish is None or not finish.anisotropic:
+        return
+    if environment is None or model != "microfacet" or distribution != "ggx":
+        raise SwatchError(f"the {finish.name} finish is anisotropic: the built-in engine renders it with the GGX "
+                          "microfacet model under an environment (studio, uniform or an .exr), not the point "
+                          "light; use an isotropic finish or --roughness there")
+    if int(size_px) > MAX_ANISO_RENDER_PX:
+        raise SwatchError(f"renders of the {finish.name} finish are at most {MAX_ANISO_RENDER_PX} pixels per side "
+                          "(memory); use a smaller --size")
+
+
+def finish_meta(finish) -> dict:
+    """The ``finish`` entry of a render's metadata (name, roughness, basis), or nothing."""
+    return {} if finish is None else {"finish": finish.metadata()}
 
 
 def mesh_metadata(mesh) -> dict:

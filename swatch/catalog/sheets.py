@@ -88,6 +88,7 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
         "shapes": list(spec.shapes), "size": spec.size_px, "model": spec.model, "roughness": spec.roughness,
         "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
         "environment": tile_environment(spec), **spec.spread.metadata(),
+        **({"finish": spec.finish} if spec.finish else {}),
     }
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
@@ -96,9 +97,10 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
 
 def _render_job(args):
     """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
-    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap, spread) = args
+    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap, spread, finish) = args
     from swatch.angular import angular_map
     from swatch.colorimetry import get_colorimeter
+    from swatch.finishes import get_finish
     from swatch.materials import wavelength_grid
     from swatch.model import get_coating
     from swatch.render import render_swatch
@@ -110,7 +112,8 @@ def _render_job(args):
     for i, shape in enumerate(shapes):
         im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness_alpha=roughness, model=model,
                            coating=coating, colorimeter=cm, space="srgb", workers=1,
-                           environment=ENVIRONMENT if model == "microfacet" else None)
+                           environment=ENVIRONMENT if model == "microfacet" else None,
+                           finish=None if finish is None else get_finish(finish))
         # half floats: the sheet EXR is half anyway, and the cache stays small
         out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
         out[f"r{i}_alpha"] = np.asarray(im.coverage, dtype=np.float16)
@@ -130,7 +133,7 @@ def _render_job(args):
 def _job_args(spec: CatalogSpec, d: float):
     return (float(d), spec.film, spec.substrate, spec.film_index_scale, spec.wavelength_step_nm, spec.illuminant,
             spec.observer,
-            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map, spec.spread)
+            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map, spec.spread, spec.finish)
 
 
 def _save_npz(path: Path, arrays: dict) -> None:
@@ -378,7 +381,8 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
              + (f"{spec.nm_per_V:g} nm/V + {spec.offset_nm:g} nm" if spec.nm_per_V is not None else "no growth rate")
              + (f" to {spec.knee_V:g} V, then {spec.nm_per_V_above_knee:g} nm/V" if spec.knee_V is not None else "")
              + (f", spread {spec.spread.text().strip(' ±')}" if not spec.spread.is_zero else "")
-             + (f", film index ×{spec.film_index_scale:g}" if spec.film_index_scale != 1 else ""))
+             + (f", film index ×{spec.film_index_scale:g}" if spec.film_index_scale != 1 else "")
+             + (f"  ·  finish {spec.finish_spec.label()}" if spec.finish_spec is not None else ""))
     img = draw_text(img, _fit(line2, 16, w, "DroidSans"), 0, 66, 16, INK)
     line3 = (f"L*a*b* at {ref['name']} (light {ref['light_deg']:g}°, view {ref['view_deg']:g}° from the normal)  ·  "
              f"window: the thickness and voltage deviations that keep the colour difference to the nominal "
@@ -395,7 +399,8 @@ def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
     w = lay.width - 2 * lay.MARGIN
     img = _strip(w, lay.FOOTER - 8, PAGE)
     shapes = " and ".join({"flat": "flat plate", "cylinder": "half cylinder", "sphere": "sphere"}[s] for s in spec.shapes)
-    model = (f"microfacet GGX, roughness {spec.roughness:g}" if spec.model == "microfacet" else "paper model")
+    model = ("paper model" if spec.model != "microfacet" else f"microfacet GGX, {spec.finish_spec.label()}"
+             if spec.finish_spec is not None else f"microfacet GGX, roughness {spec.roughness:g}")
     line1 = (f"Renders: {shapes}, {model}, {lighting_caption(spec)}."
              + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else ""))
     line2 = ("prev / next: CIEDE2000 to the neighbouring swatches."

@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import NoReturn
 
-from swatch.choices import MODELS, SHAPES
+from swatch.choices import FINISHES, MODELS, SHAPES
 from swatch.errors import SwatchError
 from swatch.limits import MAX_SPEC_BYTES, MAX_SWATCHES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_text_capped
 
@@ -104,6 +104,14 @@ class CatalogSpec:
     chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
     chip_size_mm: float = 50.0
     chip_dpi: int = 300
+    finish: str | None = None  # a named finish (swatch.finishes); it sets ``roughness``
+
+    @property
+    def finish_spec(self):
+        """The :class:`swatch.finishes.Finish` of ``finish`` (None without one)."""
+        from swatch.finishes import get_finish
+
+        return None if self.finish is None else get_finish(self.finish)
 
     @property
     def tolerance(self):
@@ -394,7 +402,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)
 
     ren = c.table(data.get("render", {}), "render",
-                  ("shapes", "size_px", "model", "roughness", "angular_map"))
+                  ("shapes", "size_px", "model", "roughness", "finish", "angular_map"))
     shapes = ren.get("shapes", ["flat", "cylinder"])
     if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
         c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
@@ -404,6 +412,17 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     size = c.integer(ren.get("size_px", 192), "render.size_px", 64, 512)
     model = c.string(ren.get("model", "microfacet"), "render.model", 20, RENDER_MODELS)
     rough = c.number(ren.get("roughness", 0.3), "render.roughness", 0.01, 1.0)
+    finish = None
+    if "finish" in ren:
+        if "roughness" in ren:
+            c.fail("render.finish", "give either finish or roughness, not both (a finish sets the roughness)",
+                   ren["finish"])
+        finish = c.string(ren["finish"], "render.finish", 20, FINISHES)
+        from swatch.finishes import get_finish
+
+        rough = get_finish(finish).roughness_alpha
+        if get_finish(finish).anisotropic and model != "microfacet":
+            c.fail("render.finish", f"{finish} is anisotropic: it needs model = \"microfacet\"", finish)
     amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
@@ -450,6 +469,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
+        finish=finish,
     )
 
 

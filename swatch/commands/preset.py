@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import click
 
+from swatch.choices import FINISHES
 from swatch.commands.common import material_options, thickness_options
 from swatch.presets import PRESET_FORMATS
 
@@ -12,11 +13,13 @@ from swatch.presets import PRESET_FORMATS
 @material_options
 @click.option("--format", "fmt", type=click.Choice(PRESET_FORMATS), required=True,
               help="gltf (KHR_materials_iridescence), blender (Principled BSDF script), materialx (OpenPBR)")
-@click.option("--roughness", type=click.FloatRange(0.0, 1.0), default=0.3, show_default=True,
-              help="GGX α of the finish (written as the renderers' roughness √α)")
+@click.option("--roughness", type=click.FloatRange(0.0, 1.0), default=None,
+              help="GGX α of the finish (written as the renderers' roughness √α) [default: 0.3]")
+@click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
+              help="a named finish instead of --roughness (brushed: each format's anisotropy; docs/finishes.md)")
 @click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=str), help="output folder")
 @click.option("--force", is_flag=True, help="overwrite an existing file")
-def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, roughness, out, force):
+def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, roughness, finish_name, out, force):
     """Write a 3-D material preset for one oxide thickness, fitted to its exact colour.
 
     The renderer's own thin-film model (ported in swatch.presets) is fitted to the exact colour
@@ -24,13 +27,16 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     """
     from swatch.commands.common import resolve_process, resolve_thickness
     from swatch.fileio import atomic_write_bytes, check_new, check_writable_dir
+    from swatch.finishes import finish_or_roughness
     from swatch.presets.catalog import preset_file_name, single_preset
 
+    finish = finish_or_roughness(finish_name, roughness)
+    roughness = finish.roughness_alpha if finish is not None else (0.3 if roughness is None else roughness)
     proc = resolve_process(process, film, substrate, nm_per_volt)
     d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
     path = check_writable_dir(out) / preset_file_name(f"{float(d[0]):g}nm", fmt)
     check_new([path], force)
     data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness,
-                                  proc.spread)
+                                  proc.spread, finish)
     atomic_write_bytes(path, data)
     click.echo(f"{path}: {summary}")

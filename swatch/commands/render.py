@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, ENGINES, IMAGE_SPACES, MESH_FORMATS, MODELS, SHAPES
+from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, ENGINES, FINISHES, IMAGE_SPACES, MESH_FORMATS, MODELS, SHAPES
 from swatch.commands import common
 from swatch.errors import SwatchError
 from swatch.metadata import file_stems, voltage_note, with_voltage
@@ -165,8 +165,10 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
 
 def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, environment,
                     view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
-                    force, film, substrate, illuminant, observer, wavelengths):
+                    force, film, substrate, illuminant, observer, wavelengths, finish=None):
     """``swatch render --engine mitsuba``: everything checked before the first pass, then one render a thickness."""
+    from swatch.render import finish_meta
+
     from swatch import geometry, imageio
     from swatch.fileio import check_new, check_writable_dir
     from swatch.mesh import load_mesh
@@ -206,7 +208,7 @@ def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, 
                                         proc.film, proc.substrate, proc.film_index_scale, coating, cm, space,
                                         background, view_deg, view_azimuth_deg, mesh, progress=True)
         out = out or check_writable_dir(out_dir)
-        meta = with_voltage(img.metadata, volts[i], note, proc)
+        meta = with_voltage(img.metadata, volts[i], note, proc) | finish_meta(finish)
         exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
         imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
         imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm (Mitsuba)", meta))
@@ -238,11 +240,14 @@ def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, 
               help="builtin (table lookup, fast) or mitsuba (Mitsuba 3 spectral path tracing, docs/mitsuba.md)")
 @click.option("--spp", type=int, default=64, show_default=True, help="mitsuba: samples per pixel")
 @click.option("--seed", type=int, default=0, show_default=True, help="mitsuba: random seed (same seed, same image)")
+@click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
+              help="a named surface finish (its GGX roughness; brushed is anisotropic: the built-in engine renders "
+                   "it under an environment); instead of --roughness (docs/finishes.md)")
 @_sun_options
 @_image_options
 def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, light_deg, environment, view_deg,
-           view_azimuth_deg, background, engine, spp, seed, sun_elevation, sun_azimuth, sun_place, sun_date, sun_time,
-           sun_timezone, turbidity, model, roughness, distribution, space, force, film, substrate, illuminant,
+           view_azimuth_deg, background, engine, spp, seed, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
+           sun_time, sun_timezone, turbidity, model, roughness, distribution, space, force, film, substrate, illuminant,
            observer, wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh.
 
@@ -254,14 +259,17 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch.fileio import check_new, check_writable_dir
     from swatch.mesh import load_mesh
     from swatch.pngmeta import image_xmp
-    from swatch.render import check_size_px, render_swatch
+    from swatch.finishes import finish_or_roughness
+    from swatch.render import check_finish_lighting, check_size_px, render_swatch
 
-    roughness = _roughness(roughness, process)
+    finish = finish_or_roughness(finish_name, roughness)
+    roughness = finish.roughness_alpha if finish is not None else _roughness(roughness, process)
     sun = _sun(sun_elevation, sun_azimuth, sun_place, sun_date, sun_time, sun_timezone, turbidity)
     if engine == "mitsuba":
+        lobe = (finish.alpha_u, finish.alpha_v) if finish is not None and finish.anisotropic else roughness
         _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, environment,
-                        view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
-                        force, film, substrate, illuminant, observer, wavelengths)
+                        view_deg, view_azimuth_deg, background, spp, seed, sun, model, lobe, distribution, space,
+                        force, film, substrate, illuminant, observer, wavelengths, finish)
         return
     if sun is not None or (environment or "").strip().lower() == "sun":
         raise SwatchError("sun and sky lighting is the mitsuba engine's; add --engine mitsuba")
@@ -271,6 +279,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     size = check_size_px(size_px)
     geometry.check_polar_deg(light_deg, "light")
     env = resolve_lighting(environment, model, distribution, size, background, view_deg, view_azimuth_deg)
+    check_finish_lighting(finish, env, model, distribution, size)
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
     stems = file_stems(shape, d)
@@ -281,7 +290,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
         for i in it:
             img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution,
                                 environment=env, background=background, view_deg=view_deg,
-                                view_azimuth_deg=view_azimuth_deg, mesh=mesh)
+                                view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)

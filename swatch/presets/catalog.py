@@ -176,26 +176,36 @@ def _fits(spec, cache: Path | None) -> dict:
 
 
 def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE: float, thickness_nm: float,
-                 extension_dE: float | None = None) -> bytes:
+                 extension_dE: float | None = None, finish=None) -> bytes:
     """One preset file. ``max_dE``: the largest ΔE2000 over 0–60° in the targeted renderer;
-    ``extension_dE`` (glTF): the same under the extension's reference model."""
-    from swatch.presets import write
+    ``extension_dE`` (glTF): the same under the extension's reference model; ``finish`` (a
+    :class:`swatch.finishes.Finish`) is named and, when anisotropic (brushed), written as each
+    format's anisotropy (:mod:`swatch.presets.anisotropy`)."""
+    from swatch.presets import anisotropy, write
 
     rough = roughness_factor(alpha)
+    aniso = None
+    if finish is not None and finish.anisotropic:
+        solve = {"gltf": anisotropy.gltf_anisotropy, "blender": anisotropy.blender_anisotropy,
+                 "materialx": anisotropy.openpbr_anisotropy}[fmt]
+        rough, aniso = solve(finish.alpha_u, finish.alpha_v)
+    named = "" if finish is None else f"; finish {finish.label()}"
     if fmt == "gltf":
         info = {"thickness_nm": thickness_nm, "threejs_max_delta_E_00": round(max_dE, 2),
                 "renderer": "three.js r187 (direct light; the film is evaluated at N.V)",
                 "illuminant": "D65", "observer": "2", "mirror_angles_deg": [0, 60]}
         if extension_dE is not None:
             info["extension_max_delta_E_00"] = round(extension_dE, 2)
-        return write.gltf_bytes(title, params, rough, extras={"swatch": info})
+        if finish is not None:
+            info["finish"] = finish.label()
+        return write.gltf_bytes(title, params, rough, extras={"swatch": info}, anisotropy=aniso)
     if fmt == "blender":
         note = (f"oxide {thickness_nm:g} nm; max ΔE2000 {max_dE:.2f} over mirror angles 0–60° "
-                "as Cycles renders it with GGX (D65, CIE 1931 2°)")
-        return write.blender_bytes(title, params, rough, preset_file_name(ident, fmt), note)
+                "as Cycles renders it with GGX (D65, CIE 1931 2°)") + named
+        return write.blender_bytes(title, params, rough, preset_file_name(ident, fmt), note, anisotropy=aniso)
     note = (f"oxide {thickness_nm:g} nm; fitted to MaterialX 1.39.5's GLSL (mx_fresnel_airy); max ΔE2000 "
-            f"{max_dE:.2f} over mirror angles 0-60° (D65, CIE 1931 2°); other OpenPBR renderers not checked")
-    return write.materialx_bytes(title, params, rough, note)
+            f"{max_dE:.2f} over mirror angles 0-60° (D65, CIE 1931 2°); other OpenPBR renderers not checked") + named
+    return write.materialx_bytes(title, params, rough, note, anisotropy=aniso)
 
 
 #: What each figure prefix is measured in, for the record's ``conditions``.
@@ -222,7 +232,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, 
             head = ERROR_KEYS[fmt].removesuffix("_max_delta_E_00")
             ext = float(figures["gltf"]["60"][i]) if "gltf" in figures and head != "gltf" else None
             files[name] = preset_bytes(fmt, rec["id"], title, params[i], spec.roughness,
-                                       float(figures[head]["60"][i]), rec["thickness_nm"], ext)
+                                       float(figures[head]["60"][i]), rec["thickness_nm"], ext, spec.finish_spec)
             entry[fmt] = name
             for prefix in FORMAT_FIGURES[fmt]:
                 f = figures[prefix]
@@ -237,7 +247,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, 
 
 
 def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,
-                  roughness_alpha: float, spread=None) -> tuple[bytes, str]:
+                  roughness_alpha: float, spread=None, finish=None) -> tuple[bytes, str]:
     """One thickness's preset in ``fmt``, fitted to its exact colour (``swatch preset``): the file's
     bytes and a line saying what was fitted and its largest ΔE2000 (D65, CIE 1931 2°)."""
     from swatch.presets import FORMAT_MODEL
@@ -254,9 +264,9 @@ def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film
                                    spread).max())
            if model == "threejs" else None)
     data = preset_bytes(fmt, f"{d[0]:g}nm", f"anodised {d[0]:g} nm", params[0], roughness_alpha, float(dE.max()),
-                        float(d[0]), ext)
+                        float(d[0]), ext, finish)
     p = params[0]
     summary = (f"{model} model, thickness {p[0]:g} nm, film IOR {p[1]:g}, base colour {p[2]:g} {p[3]:g} {p[4]:g} "
                f"(linear Rec.709); max ΔE2000 {dE.max():.2f} at 0–60°, {dE[FIT_ANGLES_DEG <= 45].max():.2f} at "
-               f"0–45° (D65, 2°)")
+               f"0–45° (D65, 2°)") + ("" if finish is None else f"; finish {finish.label()}")
     return data, summary

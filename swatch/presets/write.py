@@ -36,7 +36,7 @@ def _r(x, nd=6) -> float:
     return round(float(x), nd)
 
 
-def _plate_buffer() -> tuple[bytes, list, list]:
+def _plate_buffer(tangents: bool = False) -> tuple[bytes, list, list]:
     h = PLATE_SIZE_M / 2.0
     pos = np.array([[-h, 0, -h], [h, 0, -h], [h, 0, h], [-h, 0, h]], dtype="<f4")
     nrm = np.tile(np.array([0, 1, 0], dtype="<f4"), (4, 1))
@@ -53,6 +53,12 @@ def _plate_buffer() -> tuple[bytes, list, list]:
         {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
         {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"},
     ]
+    if tangents:  # +x with handedness +1: the brushing direction of an anisotropic finish
+        tan = np.tile(np.array([1, 0, 0, 1], dtype="<f4"), (4, 1))
+        blob += b"\0" * (-len(blob) % 4)
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": 64, "target": 34962})
+        accessors.append({"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC4"})
+        blob += tan.tobytes()
     return blob + b"\0" * (-len(blob) % 4), views, accessors
 
 
@@ -66,26 +72,35 @@ def _check(params, roughness) -> tuple[float, float, list[float], float]:
     return float(p[0]), float(p[1]), [float(v) for v in np.clip(p[2:], 0.0, 1.0)], r
 
 
-def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None) -> bytes:
-    """A .gltf (JSON, embedded buffer) with a plate carrying the iridescent metal material."""
+def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None, anisotropy: dict | None = None) -> bytes:
+    """A .gltf (JSON, embedded buffer) with a plate carrying the iridescent metal material;
+    ``anisotropy``: a ``KHR_materials_anisotropy`` object (brushed finishes; the plate then has
+    tangents along +x, the brushing direction)."""
     d, eta, base, rough = _check(params, roughness)
-    blob, views, accessors = _plate_buffer()
-    material = {
+    blob, views, accessors = _plate_buffer(tangents=anisotropy is not None)
+    extensions: dict = {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": _r(eta),
+                                                      "iridescenceThicknessMaximum": _r(d, 3)}}
+    used = ["KHR_materials_iridescence"]
+    attributes = {"POSITION": 0, "NORMAL": 1}
+    if anisotropy is not None:
+        extensions["KHR_materials_anisotropy"] = dict(anisotropy)
+        used.append("KHR_materials_anisotropy")
+        attributes["TANGENT"] = 3
+    material: dict = {
         "name": name,
         "pbrMetallicRoughness": {"baseColorFactor": [_r(v) for v in base] + [1.0], "metallicFactor": 1.0,
                                  "roughnessFactor": _r(rough)},
-        "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": _r(eta),
-                                                     "iridescenceThicknessMaximum": _r(d, 3)}},
+        "extensions": extensions,
     }
     if extras:
         material["extras"] = extras
     doc = {
         "asset": {"version": "2.0", "generator": "swatch (anodic-swatch) preset"},
-        "extensionsUsed": ["KHR_materials_iridescence"],
+        "extensionsUsed": used,
         "scene": 0,
         "scenes": [{"name": name, "nodes": [0]}],
         "nodes": [{"name": name, "mesh": 0}],
-        "meshes": [{"name": "plate", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1},
+        "meshes": [{"name": "plate", "primitives": [{"attributes": attributes,
                                                       "indices": 2, "material": 0}]}],
         "materials": [material],
         "accessors": accessors,
@@ -115,7 +130,7 @@ INPUTS = {{
     "Metallic": 1.0,
     "Roughness": {rough},
     "Thin Film Thickness": {d},  # nm
-    "Thin Film IOR": {eta},
+    "Thin Film IOR": {eta},{aniso}
 }}
 
 mat = bpy.data.materials.get(NAME) or bpy.data.materials.new(NAME)  # with a Principled BSDF node
@@ -134,11 +149,16 @@ for obj in bpy.context.selected_objects:
 '''
 
 
-def blender_bytes(name: str, params, roughness: float, file_name: str, note: str = "") -> bytes:
-    """A Blender Python script that builds the Principled BSDF material."""
+def blender_bytes(name: str, params, roughness: float, file_name: str, note: str = "",
+                  anisotropy: dict | None = None) -> bytes:
+    """A Blender Python script that builds the Principled BSDF material (``anisotropy``: the
+    Principled inputs ``Anisotropic`` and ``Anisotropic Rotation`` of a brushed finish)."""
     d, eta, base, rough = _check(params, roughness)
+    aniso = "".join(f"\n    {k!r}: {_r(v)},  # brushed finish: swatch.presets.anisotropy" for k, v in
+                    (anisotropy or {}).items())
     text = _BLENDER.format(title=name, file=file_name, name=name, note=note or "see catalog.json",
-                           r=_r(base[0]), g=_r(base[1]), b=_r(base[2]), rough=_r(rough), d=_r(d, 3), eta=_r(eta))
+                           r=_r(base[0]), g=_r(base[1]), b=_r(base[2]), rough=_r(rough), d=_r(d, 3), eta=_r(eta),
+                           aniso=aniso)
     return text.encode("utf-8")
 
 
@@ -151,9 +171,11 @@ def _materialx_library():
     return lib
 
 
-def materialx_bytes(name: str, params, roughness: float, note: str = "") -> bytes:
+def materialx_bytes(name: str, params, roughness: float, note: str = "", anisotropy: dict | None = None) -> bytes:
     """A MaterialX 1.39 document with an OpenPBR surface, validated with the MaterialX library
-    (``note``: what it was fitted to and its error, in the material's doc string)."""
+    (``note``: what it was fitted to and its error, in the material's doc string; ``anisotropy``:
+    ``specular_roughness_anisotropy`` of a brushed finish, the geometry tangent then the mesh's
+    bitangent, across the grain)."""
     import MaterialX as mx
 
     d, eta, base, rough = _check(params, roughness)
@@ -167,6 +189,10 @@ def materialx_bytes(name: str, params, roughness: float, note: str = "") -> byte
     shader.setInputValue("thin_film_weight", 1.0, "float")
     shader.setInputValue("thin_film_thickness", _r(d / 1000.0, 6), "float")  # µm
     shader.setInputValue("thin_film_ior", _r(eta), "float")
+    if anisotropy is not None:
+        shader.setInputValue("specular_roughness_anisotropy", _r(anisotropy["specular_roughness_anisotropy"]), "float")
+        across = doc.addNode("bitangent", f"{ident}_across_grain", "vector3")
+        shader.addInput("geometry_tangent", "vector3").setConnectedNode(across)
     material = doc.addMaterialNode(ident, shader)
     material.setDocString(f"swatch preset {name}" + (f"; {note}" if note else ""))
     doc.setDataLibrary(_materialx_library())  # referenced for validation, not written
