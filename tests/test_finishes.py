@@ -114,9 +114,9 @@ def _xyz(rgb):
 
 
 def _dE(a, b):
-    from swatch.colorimetry import delta_E_00
-
     import colour
+
+    from swatch.colorimetry import delta_E_00
 
     return delta_E_00(colour.XYZ_to_Lab(_xyz(np.maximum(a, 1e-6))), colour.XYZ_to_Lab(_xyz(np.maximum(b, 1e-6))))
 

@@ -167,12 +167,11 @@ def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, 
                     view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
                     force, film, substrate, illuminant, observer, wavelengths, finish=None):
     """``swatch render --engine mitsuba``: everything checked before the first pass, then one render a thickness."""
-    from swatch.render import finish_meta
-
     from swatch import geometry, imageio
     from swatch.fileio import check_new, check_writable_dir
     from swatch.mesh import load_mesh
     from swatch.pngmeta import image_xmp
+    from swatch.render import finish_meta
 
     if model != "microfacet":
         raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
@@ -257,9 +256,9 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch import geometry, imageio
     from swatch.env_render import resolve_lighting
     from swatch.fileio import check_new, check_writable_dir
+    from swatch.finishes import finish_or_roughness
     from swatch.mesh import load_mesh
     from swatch.pngmeta import image_xmp
-    from swatch.finishes import finish_or_roughness
     from swatch.render import check_finish_lighting, check_size_px, render_swatch
 
     finish = finish_or_roughness(finish_name, roughness)
