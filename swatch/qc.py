@@ -20,13 +20,13 @@ from pathlib import Path
 import numpy as np
 
 from swatch import geometry
-from swatch.colorimetry import delta_E_00, get_colorimeter
+from swatch.colorimetry import delta_E_00, get_colorimeter, srgb_hex
 from swatch.errors import SwatchError
 from swatch.fitting import colour_grid, interp_rows, sweep_reflectance, unique_geometry
 from swatch.instruments import InstrumentFile
 from swatch.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
 from swatch.materials import wavelength_grid
-from swatch.measurements import LabMeasurement
+from swatch.measurements import LabMeasurement, SpectralMeasurement
 from swatch.model import get_coating
 from swatch.spread import ThicknessSpread
 from swatch.tolerance import get_tolerance
@@ -126,24 +126,35 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     same = (m0.view_azimuth_deg == m0.light_azimuth_deg) & (m0.view_deg > 0)
     targets = [_match_geometry(spec, float(a), float(b), bool(c), f.source, f.samples[0].id)
                for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)]
-    measured = []
+    measured: list[np.ndarray] = []
+    chips: list[list[str] | None] = []
     for s in f.samples:  # same geometries in every sample of a file (instruments.same_geometries)
         m = s.measurement
         if isinstance(m, LabMeasurement):
             measured.append(m.Lab)
+            chips.append(None)
         else:
             wl, interp = colour_grid(m.wavelength_nm)
             R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
             mcm = get_colorimeter(wl, ill, obs)
             measured.append(mcm.Lab(mcm.XYZ(R)))
+            chips.append([str(h) for h in np.atleast_1d(srgb_hex(mcm.reflectance_display(R, "srgb")[0]))])
     Lab_all = np.stack(measured)  # (P, G, 3)
     d_fit = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
+    if any(c is None for c in chips):  # CIELAB only: the chip is the model's at the fitted thickness
+        R_fit = np.stack([coating.half_vector(d_fit, float(a), float(b), 0.0, 0.0 if c else None)[0].R
+                          for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)], axis=1)  # (P, G, W)
+        model_hex = np.atleast_2d(srgb_hex(cm.reflectance_display(R_fit, "srgb")[0]))
+        chips = [list(map(str, model_hex[i])) if c is None else c for i, c in enumerate(chips)]
     ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
     dE_all = np.atleast_2d(tol.delta_E(Lab_all, np.broadcast_to(ref, Lab_all.shape)))
     out = []
-    for s, Lab, dE, d in zip(f.samples, Lab_all, dE_all, d_fit, strict=True):
+    for s, Lab, dE, d, chip in zip(f.samples, Lab_all, dE_all, d_fit, chips, strict=True):
         d = float(d)
         out.append({
+            "srgb_hex": {t["geometry"]: h for t, h in zip(targets, chip or [], strict=True)},
+            "srgb_from": "measured spectra (CIE 1931 2°)" if isinstance(s.measurement, SpectralMeasurement)
+            else "the model at the fitted thickness (CIE 1931 2°; the file has CIELAB only)",
             "id": s.id, "source": f.source,
             "pass": bool(np.all(dE <= tol.max)),
             "delta_E": {t["geometry"]: round(float(e), 3) for t, e in zip(targets, dE, strict=True)},

@@ -5,17 +5,15 @@ import click
 
 
 def _figure(results: list[dict], spec: dict):
-    """Measured vs specified chips per angle (rows: parts, columns: geometries); failing cells framed red.
-    Both chips of a cell go through the same CIELAB → sRGB conversion (display only, clipped)."""
+    """Specified vs measured chips per angle (rows: parts, columns: geometries); failing cells framed red.
+
+    sRGB from CIE 1931 2° colorimetry: the spec's chips from its spectra, a part's from its measured
+    spectra (or, for a CIELAB-only file, the model at the part's fitted thickness: ``srgb_from``)."""
     from PIL import Image, ImageDraw
 
-    from swatch.colorimetry import get_colorimeter
-    from swatch.materials import wavelength_grid
-
-    cm = get_colorimeter(wavelength_grid(380.0, 780.0, 5.0), spec["colorimetry"]["illuminant"],
-                         spec["colorimetry"]["observer"])
-    geoms = [e["geometry"] for e in [spec["reference"], *spec["multi_angle"]]]
-    spec_hex = {e["geometry"]: _hex_of(e["Lab"], cm) for e in [spec["reference"], *spec["multi_angle"]]}
+    entries = [spec["reference"], *spec["multi_angle"]]
+    geoms = [e["geometry"] for e in entries]
+    spec_hex = {e["geometry"]: e["srgb_hex"] for e in entries}
     rows = results[:60]
     cell, pad, head, label = 44, 6, 28, 150
     img = Image.new("RGB", (label + len(geoms) * (2 * cell + pad) + pad, head + len(rows) * (cell + pad) + pad),
@@ -26,28 +24,18 @@ def _figure(results: list[dict], spec: dict):
     tol = spec["tolerance"]["max"]
     for i, r in enumerate(rows):
         y = head + i * (cell + pad)
-        dr.text((6, y + 14), f"{r['id'][:18]} {'PASS' if r['pass'] else 'FAIL'}", fill=(30, 30, 30) if r["pass"]
-                else (200, 0, 0))
+        dr.text((6, y + 14), f"{r['id'][:18]} {'PASS' if r['pass'] else 'FAIL'}",
+                fill=(30, 30, 30) if r["pass"] else (200, 0, 0))
         for j, g in enumerate(geoms):
             if g not in r["Lab"]:
                 continue
             x = label + j * (2 * cell + pad)
             dr.rectangle([x, y, x + cell, y + cell], fill=spec_hex[g])
-            dr.rectangle([x + cell, y, x + 2 * cell, y + cell], fill=_hex_of(r["Lab"][g], cm))
+            dr.rectangle([x + cell, y, x + 2 * cell, y + cell], fill=r["srgb_hex"][g])
             bad = r["delta_E"][g] > tol
             dr.rectangle([x, y, x + 2 * cell, y + cell], outline=(200, 0, 0) if bad else (120, 120, 120),
                          width=3 if bad else 1)
     return img
-
-
-def _hex_of(Lab, cm) -> str:
-    """sRGB of a CIELAB (under the spec's illuminant/observer) for display, through XYZ (clipped)."""
-    import colour
-    import numpy as np
-
-    XYZ = cm.Lab_to_XYZ(np.asarray(Lab, dtype=np.float64)) / 100.0
-    rgb = np.clip(colour.XYZ_to_sRGB(XYZ, illuminant=cm.white_xy), 0.0, 1.0)
-    return "#" + "".join(f"{round(float(v) * 255):02x}" for v in rgb)
 
 
 @click.command()
