@@ -158,6 +158,37 @@ def test_colour_science_thin_film_tmm_discrepancy_is_documented():
     assert abs(theirs_s[t, a, w] - ref) > 0.1
 
 
+def test_colour_science_thin_film_tmm_takes_every_angle_from_the_first_wavelength():
+    """Issue 19: besides Re(n), colour.phenomena.thin_film_tmm (0.4.7) computes the refraction angles for
+    all wavelengths from the first wavelength's index (``snell_law(n_0, n[:, 0], θ)``). A lossless,
+    dispersive film (the real part of TiO2-Siefke: n 2.77 at 380 nm to 2.35 at 780 nm) on n = 1.5 glass,
+    100 nm, at 60°: at 550 nm its R_s is
+    0.3796 on the 380→780 nm grid, 0.3700 on the same grid reversed, and tmm's 0.3725 (ours equals
+    tmm). The physics uses our kernel."""
+    from colour.phenomena import thin_film_tmm
+
+    from swatch.materials import load_material
+
+    wl = np.arange(380.0, 781.0, 5.0)
+    j = int(np.flatnonzero(wl == 550.0)[0])
+    nf = load_material("TiO2-Siefke").nk(wl).real + 0j  # lossless (k = 0) and dispersive: only the angle bug
+    ns = np.full(wl.size, 1.5 + 0j)
+    N = np.stack([np.ones_like(wl) + 0j, nf, ns])
+    forward = thin_film_tmm(N, 100.0, wl, 60.0)[0][:, 0, 0, 0]
+    backward = thin_film_tmm(N[:, ::-1], 100.0, wl[::-1], 60.0)[0][::-1, 0, 0, 0]
+    ref = reference("s", [1.0, nf[j], ns[j]], [np.inf, 100.0, np.inf], 60.0, 550.0)["R"]
+    ours = optics.film_reflectance(100.0, 60.0, wl, nf, ns).R_s[j]
+    assert abs(ours - ref) <= TOL
+    if abs(forward[j] - ref) < 1e-6 and abs(backward[j] - ref) < 1e-6:
+        pytest.skip("colour-science's thin_film_tmm now refracts each wavelength by its own index: fixed")
+    assert forward[j] == pytest.approx(0.3796, abs=5e-4) and backward[j] == pytest.approx(0.3700, abs=5e-4)
+    assert ref == pytest.approx(0.3725, abs=5e-4)
+    assert abs(forward[j] - backward[j]) > 0.005  # the order of the grid changes its answer
+    # at the first wavelength of each grid it is right: the angle there is its own
+    assert forward[0] == pytest.approx(reference("s", [1.0, nf[0], ns[0]], [np.inf, 100.0, np.inf], 60.0,
+                                                 380.0)["R"], abs=1e-9)
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [
