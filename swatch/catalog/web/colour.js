@@ -21,6 +21,12 @@ function mulRow(v, M) { // row vector (3) times 3x3 matrix (rows)
           v[0] * M[0][2] + v[1] * M[1][2] + v[2] * M[2][2]];
 }
 
+function voltageOf(T, d) { // the voltage growing d by the table's growth law (two slopes with a knee, or one)
+  if (T.nm_per_V === null) return null;
+  const x = d - T.offset_nm, knee = T.knee_V ?? null;
+  return knee === null || x <= T.nm_per_V * knee ? x / T.nm_per_V : knee + (x - T.nm_per_V * knee) / T.nm_per_V_above_knee;
+}
+
 function makeColour(T) {
   const grid = decodeBlock(T.grid);
   const col = decodeBlock(T.reference.values);
@@ -216,7 +222,7 @@ function makeColour(T) {
     }).sort((x, y) => x[1] - y[1]);
     const kept = [];
     for (const [d, fd] of minima) if (kept.every(([k]) => Math.abs(d - k) > T.match.min_separation_nm)) kept.push([d, fd]);
-    return kept.slice(0, top).map(([d, fd]) => ({thickness_nm: d, voltage_V: T.nm_per_V === null ? null : (d - T.offset_nm) / T.nm_per_V, delta_E_00: fd,
+    return kept.slice(0, top).map(([d, fd]) => ({thickness_nm: d, voltage_V: voltageOf(T, d), delta_E_00: fd,
       delta_E_ab: dEab(labAt(d), Lab), hex: refColour(d).hex, target_Lab: Lab}));
   }
   // process window at any thickness (as swatch.catalog.records.process_window, on the 0.1 nm column),
