@@ -192,3 +192,9 @@ def test_mixed_geometries_in_one_cxf_file_are_refused(tmp_path):
 
 def test_huge_instrument_file_is_refused_before_it_is_read(tmp_path):
     assert_one_line_error(run_swatch("fit", "/dev/zero"), "at most 16 MB")
+
+
+def test_fit_report_names_each_sample_of_an_instrument_file(tmp_path):
+    assert run_swatch("fit", TI3, "--report", tmp_path / "r").returncode == 0
+    assert sorted(p.name for p in (tmp_path / "r").glob("delta_e_map_*.png")) == [
+        "delta_e_map_argyll_parts_1.png", "delta_e_map_argyll_parts_2.png", "delta_e_map_argyll_parts_3.png"]

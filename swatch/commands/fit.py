@@ -1,6 +1,8 @@
 """``swatch fit`` (thickness from measurements, ΔE report) and ``swatch match`` (thickness from a colour)."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 from click.core import ParameterSource
 
@@ -63,10 +65,10 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
                    film_index_scale=proc.film_index_scale, spread=proc.spread)
     given = click.get_current_context().get_parameter_source("wavelengths") != ParameterSource.DEFAULT
     files = [read_instrument_file(p, request) for p in measurements]
-    names = [p if len(f.samples) == 1 else f"{p}#{s.id}" for p, f in zip(measurements, files, strict=True)
-             for s in f.samples]
-    paths = report.report_paths(report_dir, [n.replace("#", "_") for n in names], force) \
-        if report_dir is not None else None
+    # one map per sample: a file of several samples names them <file stem>_<sample id>
+    names = [p if len(f.samples) == 1 else f"{Path(p).with_suffix('')}_{s.id}.csv"
+             for p, f in zip(measurements, files, strict=True) for s in f.samples]
+    paths = report.report_paths(report_dir, names, force) if report_dir is not None else None
     results = [fit_measurement(s.measurement, film, substrate, grid_given=given, source=p,
                                illuminant=f.illuminant, observer=f.observer, **options)
                for p, f in zip(measurements, files, strict=True) for s in f.samples]
