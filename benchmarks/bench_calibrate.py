@@ -26,11 +26,11 @@ from benchmarks.timing import median_seconds
 
 def run() -> list[str]:
     import swatch  # noqa: F401  (silences colour-science's plotting notice)
-    from swatch.calibration import calibrate
-    from swatch.colorimetry import get_colorimeter
-    from swatch.coupons import Coupons
-    from swatch.model import get_coating
-    from swatch.process import load_process
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.fit.calibration import calibrate
+    from swatch.io.coupons import Coupons
+    from swatch.physics.model import get_coating
+    from swatch.physics.process import load_process
 
     rng = np.random.default_rng(8)
     volts = np.arange(10.0, 86.0, 5.0)
@@ -49,7 +49,7 @@ def run() -> list[str]:
              f"calibrate_outliers={int(cal.outlier.sum())}"]
     from pathlib import Path
 
-    from swatch.coupons import read_coupons
+    from swatch.io.coupons import read_coupons
 
     line = read_coupons(Path(__file__).resolve().parents[1] / "tests" / "data" / "simulated-line-coupons.csv")
     full = calibrate(line, base)

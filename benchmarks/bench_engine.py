@@ -1,7 +1,7 @@
 """Engine benchmark: the thin-film kernel against colour-science's thin_film_tmm and tmm.coh_tmm.
 
 Grid: thickness 0–300 nm step 1 × angle 0–89° step 1 × 380–780 nm step 5, both polarisations.
-* ours: swatch.optics.film_reflectance_sweep on the whole grid;
+* ours: swatch.physics.optics.film_reflectance_sweep on the whole grid;
 * colour-science: colour.phenomena.thin_film_tmm on the whole grid (the two interleaved three
   times, medians of each);
 * tmm: coh_tmm on a random sample of (thickness, angle, wavelength) points, s and p each,
@@ -20,10 +20,10 @@ def run() -> list[str]:
     from colour.phenomena import thin_film_tmm
 
     import swatch  # noqa: F401  (silences colour-science's plotting notice)
-    from swatch import optics
-    from swatch.appearance import thickness_colours
-    from swatch.colorimetry import Colorimeter
-    from swatch.model import get_coating
+    from swatch.colorimetry.appearance import thickness_colours
+    from swatch.colorimetry.colorimeter import Colorimeter
+    from swatch.physics import optics
+    from swatch.physics.model import get_coating
 
     coating = get_coating()
     wl = coating.wavelength_nm

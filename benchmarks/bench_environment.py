@@ -22,9 +22,9 @@ from benchmarks.timing import median_seconds
 
 
 def run(size: int = 1024, repeats: int = 5) -> list[str]:
-    from swatch import env_render, env_shading, environment, render, scene, shading
-    from swatch.colorimetry import delta_E_00, get_colorimeter
-    from swatch.model import get_coating
+    from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+    from swatch.physics.model import get_coating
+    from swatch.render import env_render, env_shading, environment, render_swatch, scene, shading
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)
@@ -32,11 +32,11 @@ def run(size: int = 1024, repeats: int = 5) -> list[str]:
 
     def one():
         env_render._CACHE.clear()
-        return render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm, environment="studio")
+        return render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm, environment="studio")
 
     img = one()  # warm-up: sample set, blur levels
     t_env = median_seconds(one, repeats, warmup=0)
-    t_next = median_seconds(lambda: render.render_swatch(d + 5, "cylinder", size, coating=coating, colorimeter=cm,
+    t_next = median_seconds(lambda: render_swatch(d + 5, "cylinder", size, coating=coating, colorimeter=cm,
                                                        environment="studio"), repeats, warmup=0)
 
     sc = scene.make_scene("cylinder", 45.0)

@@ -29,9 +29,9 @@ def run() -> list[str]:
     from synthetic import PAPER_THICKNESSES_NM, WAVELENGTHS_NM, make_measurement, paper_dataset
 
     import swatch  # noqa: F401  (silences colour-science's plotting notice)
-    from swatch.matching import match_colour
-    from swatch.measurements import SpectralMeasurement
-    from swatch.spectral_fit import fit_spectra
+    from swatch.fit.matching import match_colour
+    from swatch.fit.spectral_fit import fit_spectra
+    from swatch.io.measurements import SpectralMeasurement
 
     errors = []
     measurements = []

@@ -20,9 +20,9 @@ def run(size: int = 512, repeats: int = 5) -> list[str]:
     import trimesh
     from trimesh.ray.ray_triangle import RayMeshIntersector
 
-    from swatch import env_render, mesh, render, scene
-    from swatch.colorimetry import get_colorimeter
-    from swatch.model import get_coating
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.physics.model import get_coating
+    from swatch.render import env_render, mesh, render_swatch, scene
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)
@@ -34,11 +34,11 @@ def run(size: int = 512, repeats: int = 5) -> list[str]:
     shape = mesh.MeshShape(obj, "torus.glb", "bench")
 
     def point():
-        return render.render_swatch(80.0, "mesh", size, coating=coating, colorimeter=cm, mesh=shape)
+        return render_swatch(80.0, "mesh", size, coating=coating, colorimeter=cm, mesh=shape)
 
     def env():
         env_render._CACHE.clear()
-        return render.render_swatch(80.0, "mesh", size, coating=coating, colorimeter=cm, mesh=shape,
+        return render_swatch(80.0, "mesh", size, coating=coating, colorimeter=cm, mesh=shape,
                                     environment="studio")
 
     t_point = median_seconds(point, repeats)

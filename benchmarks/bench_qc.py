@@ -18,20 +18,20 @@ from benchmarks.timing import median_seconds
 
 def run() -> list[str]:
     import swatch  # noqa: F401  (silences colour-science's plotting notice)
-    from swatch.colorimetry import get_colorimeter
-    from swatch.finish_spec import finish_spec
-    from swatch.instrument_files import read_instrument_file
-    from swatch.instruments import Request
-    from swatch.process import load_process
-    from swatch.qc import check_file, load_spec_json
-    from swatch.spec_card import write_spec_card
-    from swatch.tolerance import parse_tolerance
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.colorimetry.tolerance import parse_tolerance
+    from swatch.io.instrument_files import read_instrument_file
+    from swatch.io.instruments import Request
+    from swatch.physics.process import load_process
+    from swatch.production.card import write_spec_card
+    from swatch.production.qc import check_file, load_spec_json
+    from swatch.production.spec import finish_spec
 
     proc = load_process("titanium-fujii2019")
     tol = parse_tolerance("dE00:2")
     cm = get_colorimeter(proc.coating().wavelength_nm)
     target = {"kind": "hex", "value": "#b08d57"}
-    from swatch.colorimetry import hex_to_Lab
+    from swatch.colorimetry.colorimeter import hex_to_Lab
 
     target["Lab"] = [float(v) for v in hex_to_Lab("b08d57", cm.display_colorimeter)]
     with tempfile.TemporaryDirectory() as tmp:

@@ -18,16 +18,16 @@ from benchmarks.timing import median_seconds
 
 
 def run(size: int = 1024, repeats: int = 7) -> list[str]:
-    from swatch import render, shading
-    from swatch import scene as scene_mod
-    from swatch.colorimetry import get_colorimeter
-    from swatch.model import get_coating
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.physics.model import get_coating
+    from swatch.render import render_swatch, shading
+    from swatch.render import scene as scene_mod
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)
     d = 50.8
-    render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm)  # warm-up (caches, LUT)
-    t_table = median_seconds(lambda: render.render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm), repeats, warmup=0)
+    render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm)  # warm-up (caches, LUT)
+    t_table = median_seconds(lambda: render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm), repeats, warmup=0)
 
     scene = scene_mod.make_scene("cylinder", 45.0)
     n, l, v, hit = scene_mod.scene_geometry(scene, size)

@@ -21,7 +21,7 @@ import numpy as np
 import tmm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from swatch.materials import load_material
+from swatch.physics.materials import load_material
 
 WL = np.arange(380.0, 781.0, 5.0)
 FILM, SUBSTRATE = "TiO2-Franta", "Ti-Palm"

@@ -1,7 +1,7 @@
 """The ``swatch`` command: a thin click layer that parses, calls the library and reports.
 
 Subcommands live in ``swatch/commands/`` and are imported only when used (fast start-up).
-Bad input raises :class:`swatch.errors.SwatchError` (or a click usage error) and is reported as
+Bad input raises :class:`swatch.core.errors.SwatchError` (or a click usage error) and is reported as
 one line ``error: ...`` with exit status 2; no traceback (``SWATCH_DEBUG=1`` shows one for bugs).
 """
 from __future__ import annotations
@@ -12,8 +12,9 @@ import sys
 
 import click
 
-from swatch import __version__
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
+from swatch.core.procguard import Terminated, handle_termination
+from swatch.core.version import __version__
 
 #: command name -> "module:attribute"
 COMMANDS = {
@@ -75,7 +76,6 @@ def _one_line(text: object) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: run the CLI, turning every expected failure into one line and exit 2."""
-    from swatch.procguard import Terminated, handle_termination
 
     handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
     try:

@@ -1,6 +1,6 @@
 """The exact colour a preset should show at the geometries the real renderers are checked at (#18).
 
-Exact: the Airy reflectance of the film on the substrate (``swatch.model``) through the CIE 1931
+Exact: the Airy reflectance of the film on the substrate (``swatch.physics.model``) through the CIE 1931
 2° observer under D65 (swatch's colorimeter, itself pinned to ``colour.sd_to_XYZ`` by
 tests/test_presets.py), CIELAB relative to the perfect white. A renderer's measured colour is its
 linear Rec.709 ratio to a white metal plate rendered in the same light, converted with
@@ -24,9 +24,9 @@ import colour
 import numpy as np
 from scipy.special import roots_legendre
 
-from swatch.colorimetry import delta_E_00, get_colorimeter
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
-from swatch.model import get_coating
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+from swatch.physics.model import get_coating
 from tests.browser import CHROMIUM, WEBGL_ARGS, wait_until
 
 HERE = Path(__file__).resolve().parent

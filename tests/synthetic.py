@@ -1,7 +1,7 @@
 """Synthetic sBRDF measurements made by an independent route (used by tests and benchmarks).
 
-Reflectance on the half-vector facet from Byrnes' ``tmm.coh_tmm`` (not swatch.optics), the facet
-angle from vector algebra written here (not swatch.geometry), times a GGX microfacet intensity
+Reflectance on the half-vector facet from Byrnes' ``tmm.coh_tmm`` (not swatch.physics.optics), the facet
+angle from vector algebra written here (not swatch.physics.geometry), times a GGX microfacet intensity
 ``D G / (4 cos_l cos_v)`` (Trowbridge–Reitz D, separable Smith G; normalised to 1 at the brightest
 geometry of the set, so values stay fractions), times an unknown global scale (0.3–1),
 plus Gaussian noise of ``noise`` × the geometry's mean level (1 % by default), with a fixed seed.
@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import tmm
 
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
 
 #: The paper's estimated thicknesses (Table 2), nm.
 PAPER_THICKNESSES_NM = (15.9, 50.8, 60.6, 87.5, 121.4, 138.4, 160.6, 173.9, 226.6, 264.4)

@@ -13,10 +13,10 @@ import tmm
 from cli_helpers import assert_one_line_error, run_swatch
 
 import swatch
-from swatch.calibration import calibrate
-from swatch.coupons import read_coupons
-from swatch.materials import load_material
-from swatch.process import load_process
+from swatch.fit.calibration import calibrate
+from swatch.io.coupons import read_coupons
+from swatch.physics.materials import load_material
+from swatch.physics.process import load_process
 
 pytestmark = pytest.mark.filterwarnings("ignore::colour.utilities.ColourRuntimeWarning")
 
@@ -78,7 +78,7 @@ def test_held_out_voltages_within_delta_E_00_1(lab_coupons, search_tables):
     p = cal.process
     held_out = np.array([12.5, 27.5, 42.5, 57.5, 72.5, 82.5])
     coating = p.coating(WL)
-    cm = swatch.colorimetry.get_colorimeter(WL)
+    cm = swatch.colorimetry.colorimeter.get_colorimeter(WL)
     ours = cm.Lab(cm.XYZ(coating.reflectance(p.thickness_nm(held_out), THETA_D).R))
     ref = np.array([ref_Lab(tmm_spectrum(TRUE_OFFSET + TRUE_RATE * v)) for v in held_out])
     dE = colour.delta_E(ours, ref, method="CIE 2000")
@@ -161,7 +161,7 @@ def test_bad_coupon_files_one_line_with_line_numbers(tmp_path, text, needles):
 
 
 def test_oversized_coupon_file(tmp_path):
-    from swatch.limits import MAX_COUPON_BYTES
+    from swatch.core.limits import MAX_COUPON_BYTES
 
     path = tmp_path / "big.csv"
     path.write_text("voltage_V,L,a,b\n" + "# x\n" * (MAX_COUPON_BYTES // 4 + 1))

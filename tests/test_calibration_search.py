@@ -15,14 +15,14 @@ import numpy as np
 import pytest
 from cli_helpers import assert_one_line_error, run_swatch
 
-from swatch import calibration_search as cs
-from swatch.calibration import calibrate
-from swatch.colorimetry import delta_E_00, get_colorimeter
-from swatch.coupons import read_coupons
-from swatch.errors import SwatchError
-from swatch.model import get_coating, thickness_to_voltage_V, voltage_to_thickness_nm
-from swatch.process import load_process, process_toml
-from swatch.spread import ThicknessSpread
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.core.errors import SwatchError
+from swatch.fit import calibration_search as cs
+from swatch.fit.calibration import calibrate
+from swatch.io.coupons import read_coupons
+from swatch.physics.model import get_coating, thickness_to_voltage_V, voltage_to_thickness_nm
+from swatch.physics.process import load_process, process_toml
+from swatch.physics.spread import ThicknessSpread
 
 pytestmark = pytest.mark.filterwarnings("ignore::colour.utilities.ColourRuntimeWarning")
 

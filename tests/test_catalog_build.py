@@ -18,7 +18,7 @@ import swatch  # (first: silences colour-science's plotting notice)
 from swatch.catalog import build as buildmod
 from swatch.catalog import sheets as sheetmod
 from swatch.catalog.build import META_DIR, build_catalog
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 SPEC = """
 name = "Test catalog"
@@ -95,7 +95,7 @@ def test_outputs_and_records(built):
 def test_sheet_metadata_and_pixels(built):
     import OpenImageIO as oiio
 
-    from swatch.imageio import read_metadata
+    from swatch.io.imageio import read_metadata
 
     _, out, _ = built
     doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
@@ -151,12 +151,13 @@ def test_fingerprint_covers_every_engine_module_a_build_uses(built):
     environment-lighting, process and export modules, so changing them left a catalog 'up to
     date'. Every top-level swatch module loaded by a build must be in the fingerprint."""
     pkg = Path(swatch.__file__).resolve().parent
-    used = {Path(m.__file__).name for name, m in list(sys.modules.items())
-            if name.startswith("swatch.") and getattr(m, "__file__", None) and Path(m.__file__).parent == pkg}
+    used = {Path(m.__file__).resolve().relative_to(pkg).as_posix() for name, m in list(sys.modules.items())
+            if name.startswith("swatch.") and getattr(m, "__file__", None)}
     code = buildmod.code_fingerprint()["code"]
+    assert "physics/model.py" in used  # modules in subpackages count too (#17)
     assert used - set(code) == set()
     # the tiles may be rendered in worker processes: every engine module counts
-    assert {p.name for p in pkg.glob("*.py")} - set(code) == set()
+    assert {p.relative_to(pkg).as_posix() for p in pkg.rglob("*.py")} - set(code) == set()
 
 
 def test_incremental_rebuilds_only_what_changed(tmp_path):

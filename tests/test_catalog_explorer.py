@@ -11,12 +11,12 @@ from hypothesis import strategies as st
 
 import swatch  # noqa: F401
 from swatch.catalog.explorer import decode, explorer_data, grid_lookup
-from swatch.catalog.names import colour_name
 from swatch.catalog.records import hue_family
 from swatch.catalog.spec import load_spec
-from swatch.colorimetry import delta_E_00, get_colorimeter
-from swatch.materials import wavelength_grid
-from swatch.model import get_coating
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.colorimetry.names import colour_name
+from swatch.physics.materials import wavelength_grid
+from swatch.physics.model import get_coating
 
 
 @pytest.fixture(scope="module")

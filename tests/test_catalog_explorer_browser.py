@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import swatch  # noqa: F401
-from swatch.colorimetry import delta_E_00, get_colorimeter
-from swatch.materials import wavelength_grid
-from swatch.model import get_coating
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.physics.materials import wavelength_grid
+from swatch.physics.model import get_coating
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, build_test_catalog, open_catalog_page
 from tests.cli_helpers import run_json
 

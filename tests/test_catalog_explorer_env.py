@@ -1,6 +1,6 @@
 """The explorer's environment data (swatch.catalog.explorer_env) against the renderer's method.
 
-Reference: :mod:`swatch.env_shading`'s per-sample sum ``Σ_i a_i E_i`` (``band_weights``: F at
+Reference: :mod:`swatch.render.env_shading`'s per-sample sum ``Σ_i a_i E_i`` (``band_weights``: F at
 every sample's own θ_d, the level from the dense directional albedo), which tests/test_environment.py
 checks against tmm + scipy quadrature (furnace) and a 4096-sample brute force (studio). Here the
 page's arithmetic (per-bin polynomial projection of F, moments of the environment, the level
@@ -16,12 +16,12 @@ import colour
 import numpy as np
 import pytest
 
-from swatch import env_shading, environment
 from swatch.catalog.explorer import COS_NODES
 from swatch.catalog.explorer_env import BASIS, decode_block, environment_data, environment_data_cached, moment_weights
-from swatch.choices import LIGHTINGS
-from swatch.colorimetry import delta_E_00, get_colorimeter
-from swatch.model import get_coating
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.core.choices import LIGHTINGS
+from swatch.physics.model import get_coating
+from swatch.render import env_shading, environment
 
 COATING = get_coating()
 CM2 = get_colorimeter(COATING.wavelength_nm).display_colorimeter

@@ -1,7 +1,7 @@
 """The explorer's live view under environment lighting, in real headless Chromium (SwiftShader
 WebGL2), against ``swatch render --environment … --view 0``.
 
-References we did not write for the page: the renderer (swatch.env_render), itself checked against
+References we did not write for the page: the renderer (swatch.render.env_render), itself checked against
 tmm + scipy quadrature (furnace) and a brute-force integration (studio) in tests/test_environment.py
 and tests/test_env_render.py; and, for ``uniform``, that quadrature directly. Both images go
 through the same display transform (exposure 1, the shoulder above 0.8, sRGB) before the
@@ -15,8 +15,8 @@ import OpenImageIO as oiio
 import pytest
 from test_environment import _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal_view
 
-from swatch.colorimetry import delta_E_00
-from swatch.display import KNEE, tone
+from swatch.colorimetry.colorimeter import delta_E_00
+from swatch.render.display import KNEE, tone
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, build_test_catalog, open_catalog_page, wait_until
 from tests.cli_helpers import run_swatch
 
@@ -57,7 +57,7 @@ def _centre(pg) -> np.ndarray:
 
 
 def _display(linear) -> np.ndarray:
-    """The renderer's PNG transform at exposure 1 (swatch.display), in float: 0–255 sRGB."""
+    """The renderer's PNG transform at exposure 1 (swatch.render.display), in float: 0–255 sRGB."""
     return 255.0 * colour.cctf_encoding(np.clip(tone(linear), 0.0, 1.0), "sRGB")
 
 

@@ -12,8 +12,8 @@ import tmm
 import swatch  # noqa: F401  (before colour: silences colour-science's plotting notice)
 from swatch.catalog.records import compute, hue_family
 from swatch.catalog.spec import parse_spec
-from swatch.materials import load_material
-from swatch.tolerance import grade_bound
+from swatch.colorimetry.tolerance import grade_bound
+from swatch.physics.materials import load_material
 
 # colour.sd_to_XYZ notes that it aligns 380–780 nm spectra to its tables' shape: expected here.
 pytestmark = pytest.mark.filterwarnings("ignore::colour.utilities.ColourRuntimeWarning")

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from swatch.catalog.spec import load_spec, parse_spec
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 ROOT = Path(__file__).resolve().parents[1]
 

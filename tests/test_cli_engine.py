@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from cli_helpers import assert_one_line_error, run_json, run_swatch, run_swatch_process
 
-from swatch.model import DEFAULT_NM_PER_V
+from swatch.physics.model import DEFAULT_NM_PER_V
 
 
 def test_color_json_contract_and_blue_sample():

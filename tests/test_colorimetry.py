@@ -11,10 +11,10 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 import swatch  # noqa: F401
-from swatch import colorimetry
-from swatch.colorimetry import Colorimeter, delta_E_00
-from swatch.errors import SwatchError
-from swatch.materials import wavelength_grid
+from swatch.colorimetry import colorimeter as colorimetry
+from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00
+from swatch.core.errors import SwatchError
+from swatch.physics.materials import wavelength_grid
 
 GRIDS = [(380, 780, 5), (380, 780, 1), (380, 780, 10), (400, 700, 20), (360, 830, 5)]
 SETUPS = [("D65", "10"), ("D65", "2"), ("A", "10"), ("D50", "2"), ("FL2", "10")]

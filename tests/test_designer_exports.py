@@ -323,7 +323,7 @@ def test_spectral_exr_has_an_rgb_preview_and_float32_and_the_png_orientation(tmp
             got = [ch[k][r, c] for k in "RGB"]
             assert got == pytest.approx(want, abs=2e-3)
     # Orientation: the bottom row is light 0° (θd = view/2), the top row light 80°, as in the PNG.
-    from swatch.model import get_coating
+    from swatch.physics.model import get_coating
 
     coating = get_coating()
     assert cube[-1, 2] == pytest.approx(coating.reflectance(50.8, 20.0).R, abs=1e-6)  # light 0, view 40
@@ -370,7 +370,7 @@ def test_print_chips_png_and_tiff(tiny_catalog):
 
 
 def test_chip_spec_limits():
-    from swatch.errors import SwatchError
+    from swatch.core.errors import SwatchError
 
     base = {"name": "x", "thickness": {"list_nm": [50.0]}}
     assert parse_spec(dict(base, chips={"size_mm": 25, "dpi": 600})).chip_size_mm == 25

@@ -7,14 +7,14 @@ import numpy as np
 import pytest
 from test_environment import CM, COATING, _lab, _lab_of_spectrum, _write_equirect, _xyz_of_srgb, albedo_normal_view
 
-from swatch import environment, render, scene
 from swatch.cli import main
-from swatch.colorimetry import delta_E_00
+from swatch.colorimetry.colorimeter import delta_E_00
+from swatch.render import environment, render_swatch, scene
 
 
 @pytest.mark.parametrize("d_nm", [30.0, 80.0, 160.0])
 def test_furnace_plate_along_the_normal(d_nm):
-    img = render.render_swatch(d_nm, "flat", 32, environment="uniform", view_deg=0.0, coating=COATING, colorimeter=CM)
+    img = render_swatch(d_nm, "flat", 32, environment="uniform", view_deg=0.0, coating=COATING, colorimeter=CM)
     centre = img.linear_rgb[15:17, 15:17].reshape(-1, 3).mean(axis=0)
     got = _lab(_xyz_of_srgb(centre))
     ref = _lab_of_spectrum(albedo_normal_view(d_nm))
@@ -30,7 +30,7 @@ def test_furnace_sphere_centre_pixel(d_nm):
     cv = np.where(hit, (n * v).sum(-1), -1.0)
     i, j = np.unravel_index(np.argmax(cv), cv.shape)
     assert cv[i, j] > 0.999
-    img = render.render_swatch(d_nm, "sphere", size, environment="uniform", view_deg=0.0, coating=COATING,
+    img = render_swatch(d_nm, "sphere", size, environment="uniform", view_deg=0.0, coating=COATING,
                                colorimeter=CM)
     got = _lab(_xyz_of_srgb(img.linear_rgb[i, j]))
     ref = _lab_of_spectrum(albedo_normal_view(d_nm))
@@ -43,13 +43,13 @@ def test_constant_exr_equals_uniform(tmp_path):
     env = environment.get_environment(str(p))
     assert env.is_constant and env.radiance[0, 0, 0] == pytest.approx(1.0, rel=1e-6)
     for shape in ("flat", "sphere"):
-        a = render.render_swatch(80.0, shape, 40, environment="uniform", coating=COATING, colorimeter=CM)
-        b = render.render_swatch(80.0, shape, 40, environment=env, coating=COATING, colorimeter=CM)
+        a = render_swatch(80.0, shape, 40, environment="uniform", coating=COATING, colorimeter=CM)
+        b = render_swatch(80.0, shape, 40, environment=env, coating=COATING, colorimeter=CM)
         np.testing.assert_allclose(b.linear_rgb, a.linear_rgb, rtol=1e-5, atol=1e-6)
 
 
 def test_view_along_the_normal_is_symmetric():
-    img = render.render_swatch(120.0, "flat", 48, environment="uniform", view_deg=0.0, coating=COATING, colorimeter=CM)
+    img = render_swatch(120.0, "flat", 48, environment="uniform", view_deg=0.0, coating=COATING, colorimeter=CM)
     rgb = img.linear_rgb
     np.testing.assert_allclose(rgb, rgb[:, ::-1], atol=2e-3)
     np.testing.assert_allclose(rgb, rgb[::-1, :], atol=2e-3)
@@ -57,8 +57,8 @@ def test_view_along_the_normal_is_symmetric():
 
 def test_no_black_crescent():
     kw = dict(coating=COATING, colorimeter=CM)
-    lit = render.render_swatch(80.0, "sphere", 64, environment="studio", **kw)
-    point = render.render_swatch(80.0, "sphere", 64, **kw)
+    lit = render_swatch(80.0, "sphere", 64, environment="studio", **kw)
+    point = render_swatch(80.0, "sphere", 64, **kw)
     inside = lit.coverage == 1.0
     assert point.linear_rgb[inside].sum(-1).min() == 0.0  # the point light leaves a dark side
     assert lit.linear_rgb[inside].sum(-1).min() > 0.02
@@ -74,7 +74,7 @@ def test_cli_environment_options(tmp_path, capsys):
     rc, _, err = _run(["render", "--thickness", "60", "--shape", "flat", "--size", "24", "--view", "0",
                        "--background", "environment", "--out", str(tmp_path / "a")], capsys)
     assert rc == 0, err
-    from swatch import imageio
+    from swatch.io import imageio
 
     meta = imageio.read_metadata(tmp_path / "a" / "flat_060.0nm.png")
     assert meta["environment"] == "studio" and "k = 1" in meta["exposure_rule"] and "environment" in meta["display"]
@@ -104,8 +104,8 @@ def test_cli_bad_environment_input(tmp_path, capsys, extra, words):
 def test_environment_render_geometry_names_no_point_light(shape):
     """An environment-lit render's ``geometry`` describes the object and camera only: the point
     light of the point-light render plays no part in it (it used to be described there)."""
-    img = render.render_swatch(80.0, shape, 16, environment="uniform", view_deg=10.0, coating=COATING, colorimeter=CM)
-    point = render.render_swatch(80.0, shape, 16, view_deg=10.0, coating=COATING, colorimeter=CM)
+    img = render_swatch(80.0, shape, 16, environment="uniform", view_deg=10.0, coating=COATING, colorimeter=CM)
+    point = render_swatch(80.0, shape, 16, view_deg=10.0, coating=COATING, colorimeter=CM)
     assert "light" not in img.metadata["geometry"] and "light_deg" not in img.metadata
     assert "camera 10 deg" in img.metadata["geometry"]
     assert "light 45 deg" in point.metadata["geometry"] and point.metadata["light_deg"] == 45.0

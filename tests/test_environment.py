@@ -23,11 +23,11 @@ import tmm
 from scipy import integrate
 from scipy.interpolate import CubicSpline
 
-from swatch import env_shading, environment, shading
-from swatch.colorimetry import delta_E_00, get_colorimeter
-from swatch.errors import SwatchError
-from swatch.materials import load_material
-from swatch.model import get_coating
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.core.errors import SwatchError
+from swatch.physics.materials import load_material
+from swatch.physics.model import get_coating
+from swatch.render import env_shading, environment, shading
 
 ALPHA = 0.3
 COATING = get_coating()

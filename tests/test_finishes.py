@@ -18,11 +18,12 @@ import pytest
 from cli_helpers import run_swatch
 from scipy import integrate
 
-from swatch import env_aniso, env_shading, environment, microfacet
 from swatch.catalog.spec import parse_spec
-from swatch.choices import FINISHES
-from swatch.errors import SwatchError
-from swatch.finishes import brush_tangent, get_finish, highlight_half_width_deg
+from swatch.core.choices import FINISHES
+from swatch.core.errors import SwatchError
+from swatch.physics import microfacet
+from swatch.physics.finishes import brush_tangent, get_finish, highlight_half_width_deg
+from swatch.render import env_aniso, env_shading, environment
 
 
 def _D(h, au, av):
@@ -116,7 +117,7 @@ def _xyz(rgb):
 def _dE(a, b):
     import colour
 
-    from swatch.colorimetry import delta_E_00
+    from swatch.colorimetry.colorimeter import delta_E_00
 
     return delta_E_00(colour.XYZ_to_Lab(_xyz(np.maximum(a, 1e-6))), colour.XYZ_to_Lab(_xyz(np.maximum(b, 1e-6))))
 
@@ -124,9 +125,9 @@ def _dE(a, b):
 def test_anisotropic_path_with_equal_alphas_renders_as_the_isotropic_one():
     """α_u = α_v through the anisotropic bins and frames equals the isotropic set: under uniform
     light (the level) and in the studio (the sample directions), random normals and views."""
-    from swatch import shading
-    from swatch.colorimetry import get_colorimeter
-    from swatch.model import get_coating
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.physics.model import get_coating
+    from swatch.render import shading
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)
@@ -192,7 +193,7 @@ def test_render_finish_names_itself_and_refuses_what_it_cannot_do(tmp_path):
 def test_brushed_differs_from_its_isotropic_equivalent(tmp_path):
     """The brushed cylinder (grain along the axis) is not the isotropic GGX of the same mean
     roughness: the highlight is drawn out across the grain."""
-    from swatch.finishes import Finish, isotropic_finish
+    from swatch.physics.finishes import Finish, isotropic_finish
     from swatch.render import render_swatch
 
     f = get_finish("brushed")

@@ -1,4 +1,4 @@
-"""Thickness fitting, colour matching and ΔE reports (swatch.fitting, swatch fit / swatch match).
+"""Thickness fitting, colour matching and ΔE reports (swatch.fit.fitting, swatch fit / swatch match).
 
 Measurements are made by an independent route (tests/synthetic.py: tmm.coh_tmm reflectance on the
 half-vector facet × a GGX intensity × an unknown scale + 1 % noise); colours of references by
@@ -26,13 +26,13 @@ from synthetic import (
 )
 
 from swatch.cli import main
-from swatch.errors import SwatchError
-from swatch.fitting import FacetModel, mirror_angle_deg
-from swatch.lab_fit import fit_lab
-from swatch.matching import match_colour
-from swatch.measurements import LabMeasurement, SpectralMeasurement
-from swatch.model import get_coating
-from swatch.spectral_fit import fit_spectra
+from swatch.core.errors import SwatchError
+from swatch.fit.fitting import FacetModel, mirror_angle_deg
+from swatch.fit.lab_fit import fit_lab
+from swatch.fit.matching import match_colour
+from swatch.fit.spectral_fit import fit_spectra
+from swatch.io.measurements import LabMeasurement, SpectralMeasurement
+from swatch.physics.model import get_coating
 
 CMFS = colour.MSDS_CMFS["CIE 1964 10 Degree Standard Observer"]
 D65 = colour.SDS_ILLUMINANTS["D65"]
@@ -75,7 +75,7 @@ def test_facet_model_matches_engine_and_tmm():
 
 
 def test_range_end_is_a_minimum_only_when_it_is_the_best():
-    from swatch.search import local_minima
+    from swatch.fit.search import local_minima
 
     falling = np.array([3.0, 1.0, 2.0, 1.5, 1.2, 1.1])  # interior minimum at 1, falls towards the end
     assert list(local_minima(falling)) == [1]

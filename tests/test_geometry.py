@@ -6,8 +6,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from swatch import geometry, tolerance
-from swatch.errors import SwatchError
+from swatch.colorimetry import tolerance
+from swatch.core.errors import SwatchError
+from swatch.physics import geometry
 
 polar = st.floats(0.0, 89.9)
 azimuth = st.floats(0.0, 360.0)

@@ -19,7 +19,7 @@ from swatch.catalog import build as buildmod
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
 from swatch.cli import main
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 SPEC = """
 name = "Hardening"

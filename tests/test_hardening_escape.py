@@ -15,7 +15,7 @@ from test_hardening import digest, first_build, journal, refuse, tree, write_spe
 from swatch.catalog import build as buildmod
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR, PREVIOUS
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 
 @pytest.fixture

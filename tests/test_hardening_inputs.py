@@ -12,7 +12,7 @@ import pytest
 from cli_helpers import assert_one_line_error
 
 from swatch.cli import main
-from swatch.limits import MAX_RUN_BYTES
+from swatch.core.limits import MAX_RUN_BYTES
 
 MEMORY_CAP_BYTES = 1024 ** 3  # well under MAX_RUN_BYTES: a refusal must come before any big allocation
 
@@ -176,13 +176,13 @@ def test_issue12_deeply_nested_process_profile(tmp_path):
 
 
 def test_issue13_every_input_cap_is_defined_once_in_limits():
-    """Caps on untrusted input live in swatch.limits only (one definition per limit): no other
+    """Caps on untrusted input live in swatch.core.limits only (one definition per limit): no other
     module assigns a module-level ``MAX_*``/``MIN_*`` name except the named modelling constants."""
     import ast
     from pathlib import Path
 
     import swatch
-    from swatch import limits
+    from swatch.core import limits
 
     root = Path(swatch.__file__).parent
     allowed = {("fitting.py", "MIN_COLOUR_SAMPLES")}  # colour-science's interpolation needs 6 samples: not a cap

@@ -10,11 +10,11 @@ import pytest
 from cli_helpers import assert_one_line_error, run_json, run_swatch
 from lxml import etree
 
-from swatch.coupons import read_coupons
-from swatch.errors import SwatchError
-from swatch.instrument_files import read_instrument_file
-from swatch.instruments import Request
-from swatch.measurements import read_measurement
+from swatch.core.errors import SwatchError
+from swatch.io.coupons import read_coupons
+from swatch.io.instrument_files import read_instrument_file
+from swatch.io.instruments import Request
+from swatch.io.measurements import read_measurement
 
 DATA = Path(__file__).parent / "data" / "instruments"
 CXF = DATA / "colour_cxf_sample_trimmed.cxf"
@@ -126,7 +126,7 @@ def test_argyll_ti3_spectra_fit_the_thickness_they_were_made_at():
     """ArgyllCMS .ti3 layout (percent spectra, SPECTRAL_BANDS/START/END), made by tmm at 118/120/123 nm."""
     f = read_instrument_file(TI3)
     assert f.samples[0].measurement.percent
-    from swatch.spectral_fit import fit_measurement
+    from swatch.fit.spectral_fit import fit_measurement
 
     for s, d in zip(f.samples, (118.0, 120.0, 123.0), strict=True):
         r = fit_measurement(s.measurement, "TiO2-Siefke", "Ti-Johnson", illuminant=f.illuminant,

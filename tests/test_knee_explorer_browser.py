@@ -7,7 +7,7 @@ import json
 import pytest
 
 import swatch  # noqa: F401
-from swatch.process import load_process, process_toml
+from swatch.physics.process import load_process, process_toml
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, open_catalog_page, require_chromium
 
 pytestmark = pytest.mark.browser

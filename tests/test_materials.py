@@ -1,4 +1,4 @@
-"""Tests of the optical-constant tables (tables/optical/*.csv) and swatch.materials."""
+"""Tests of the optical-constant tables (tables/optical/*.csv) and swatch.physics.materials."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from swatch import materials
-from swatch.errors import SwatchError
-from swatch.materials import (
+from swatch.core.errors import SwatchError
+from swatch.physics import materials
+from swatch.physics.materials import (
     DEFAULT_FILM,
     DEFAULT_SUBSTRATE,
     DEFAULT_WAVELENGTHS_NM,

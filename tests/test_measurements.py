@@ -1,4 +1,4 @@
-"""Measurement CSV parsing (swatch.measurements) and its errors, in the library and through the CLI."""
+"""Measurement CSV parsing (swatch.io.measurements) and its errors, in the library and through the CLI."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,8 +7,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swatch.cli import main
-from swatch.errors import SwatchError
-from swatch.measurements import (
+from swatch.core.errors import SwatchError
+from swatch.io.measurements import (
     LabMeasurement,
     SpectralMeasurement,
     check_in_tables,

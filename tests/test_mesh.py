@@ -16,9 +16,9 @@ import trimesh
 from cli_helpers import assert_one_line_error, run_swatch
 from test_environment import CM, COATING, _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal_view
 
-from swatch import mesh, render, scene
-from swatch.colorimetry import delta_E_00
-from swatch.errors import SwatchError
+from swatch.colorimetry.colorimeter import delta_E_00
+from swatch.core.errors import SwatchError
+from swatch.render import mesh, render_swatch, scene
 
 
 def _torus_on_plate():
@@ -42,8 +42,8 @@ def test_icosphere_renders_as_the_sphere():
     """A fine icosphere through the mesh path equals the analytic sphere (same camera and light)."""
     path_mesh = mesh.MeshShape(trimesh.creation.icosphere(subdivisions=5), "ico.ply", "0")
     for env in (None, "studio"):
-        a = render.render_swatch(80.0, "mesh", 128, environment=env, mesh=path_mesh, coating=COATING, colorimeter=CM)
-        b = render.render_swatch(80.0, "sphere", 128, environment=env, coating=COATING, colorimeter=CM)
+        a = render_swatch(80.0, "mesh", 128, environment=env, mesh=path_mesh, coating=COATING, colorimeter=CM)
+        b = render_swatch(80.0, "sphere", 128, environment=env, coating=COATING, colorimeter=CM)
         assert np.abs(a.coverage - b.coverage).mean() < 2e-3
         diff = np.abs(a.display_rgb.astype(int) - b.display_rgb.astype(int))
         assert np.percentile(diff, 99) <= 3 and diff.mean() < 0.5, (env, diff.mean())
@@ -77,7 +77,7 @@ def test_mesh_plate_furnace_along_the_normal(tmp_path, d_nm):
     directional albedo of the thin-film GGX BRDF (tmm + quadrature), within ΔE2000 1."""
     path = tmp_path / "plate.obj"
     path.write_text("v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 3 2\nf 1 4 3\n", encoding="utf-8")
-    img = render.render_swatch(d_nm, "mesh", 32, environment="uniform", view_deg=0.0, mesh=mesh.load_mesh(path),
+    img = render_swatch(d_nm, "mesh", 32, environment="uniform", view_deg=0.0, mesh=mesh.load_mesh(path),
                                coating=COATING, colorimeter=CM)
     centre = img.linear_rgb[15:17, 15:17].reshape(-1, 3).mean(axis=0)
     assert delta_E_00(_lab(_xyz_of_srgb(centre)), _lab_of_spectrum(albedo_normal_view(d_nm))) <= 1.0
@@ -85,7 +85,7 @@ def test_mesh_plate_furnace_along_the_normal(tmp_path, d_nm):
 
 def test_file_formats_render_alike_and_the_torus_shadows_the_plate(torus_files):
     shapes = {ext: mesh.load_mesh(torus_files / f"torus.{ext}") for ext in ("glb", "obj", "stl", "ply")}
-    imgs = {ext: render.render_swatch(80.0, "mesh", 96, mesh=s, coating=COATING, colorimeter=CM)
+    imgs = {ext: render_swatch(80.0, "mesh", 96, mesh=s, coating=COATING, colorimeter=CM)
             for ext, s in shapes.items()}
     for ext in ("obj", "stl", "ply"):
         assert np.abs(imgs[ext].display_rgb.astype(int) - imgs["glb"].display_rgb.astype(int)).max() <= 2, ext
@@ -107,7 +107,7 @@ def test_cli_mesh_render_writes_metadata(tmp_path, torus_files):
     proc = run_swatch("render", "--mesh", torus_files / "torus.glb", "--thickness", "50.8", "--size", "48",
                       "--environment", "studio", "--out", tmp_path / "out")
     assert proc.returncode == 0, proc.stderr
-    from swatch import imageio
+    from swatch.io import imageio
 
     meta = imageio.read_metadata(tmp_path / "out" / "mesh_050.8nm.png")
     assert meta["shape"] == "mesh" and meta["mesh"]["file"] == "torus.glb" and len(meta["mesh"]["sha256"]) == 64

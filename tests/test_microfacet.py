@@ -12,8 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from swatch import microfacet as mf
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
+from swatch.physics import microfacet as mf
 
 DISTS = ["ggx", "beckmann"]
 

@@ -11,7 +11,7 @@ import pytest
 import tmm
 from scipy.special import roots_legendre
 
-from swatch.materials import load_material
+from swatch.physics.materials import load_material
 from tests.mitsuba_setup import mitsuba_variant
 
 pytestmark = pytest.mark.slow
@@ -132,7 +132,7 @@ def test_white_furnace_sphere_equals_tmm_quadrature(mi, d_nm):
     mean of tmm + Gauss–Legendre quadrature of the single-scattering lobe over the same pixels' view angles:
     ΔE00 ≤ 0.5 (CIE 1931 2°, D65, α 0.3 GGX)."""
     from swatch.mitsuba.engine import render_swatch_mitsuba
-    from swatch.scene import make_scene, scene_geometry
+    from swatch.render.scene import make_scene, scene_geometry
 
     size, alpha = 48, 0.3
     img = render_swatch_mitsuba(d_nm, "sphere", size, 64, seed=1, lighting_name="uniform", roughness_alpha=alpha)
@@ -153,7 +153,7 @@ def _studio_map(path):
     """The built-in studio environment sampled onto an equirectangular EXR (the map both engines then read)."""
     import OpenImageIO as oiio
 
-    from swatch.environment import get_environment
+    from swatch.render.environment import get_environment
 
     h, w = 128, 256
     th = (np.arange(h) + 0.5) / h * math.pi
@@ -189,8 +189,8 @@ def _studio_reference(path, shape, d_nm, size, pixels, alpha=0.3):
     """Independent quadrature of a pixel's radiance under an equirectangular map: Σ over the map's texels
     (4 × 4 sub-texels) of L f cos dω, F from tmm as linear sRGB (exact for a neutral map), GGX, correlated Smith;
     the mean over ``pixels`` (row, column) of a ``size``² render of ``shape``."""
-    from swatch.environment import read_equirect
-    from swatch.scene import make_scene, scene_geometry
+    from swatch.render.environment import read_equirect
+    from swatch.render.scene import make_scene, scene_geometry
 
     img = read_equirect(path)
     h, w, _ = img.shape

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import tmm
 
-from swatch.materials import load_material
+from swatch.physics.materials import load_material
 from tests.mitsuba_setup import mitsuba_variant
 
 
@@ -140,7 +140,7 @@ def test_bad_parameters_are_refused(mi):
 
 def test_missing_libllvm_is_one_line(monkeypatch):
     """#23: without DRJIT_LIBLLVM_PATH (none found) the engine says in one line what to install."""
-    from swatch.errors import SwatchError
+    from swatch.core.errors import SwatchError
     from swatch.mitsuba import engine
 
     monkeypatch.delenv("DRJIT_LIBLLVM_PATH", raising=False)

@@ -7,8 +7,8 @@ import tmm
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from swatch import model
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
+from swatch.physics import model
 
 
 def test_half_vector_reflectance_equals_tmm_at_theta_d():

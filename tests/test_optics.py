@@ -7,8 +7,8 @@ import tmm
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from swatch import optics
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
+from swatch.physics import optics
 
 TOL = 1e-10
 
@@ -138,7 +138,7 @@ def test_colour_science_thin_film_tmm_discrepancy_is_documented():
     normal incidence (where Snell's law plays no part). We use our own kernel, checked against tmm."""
     from colour.phenomena import thin_film_tmm
 
-    from swatch.model import get_coating
+    from swatch.physics.model import get_coating
 
     c = get_coating()
     wl = c.wavelength_nm
@@ -167,7 +167,7 @@ def test_colour_science_thin_film_tmm_takes_every_angle_from_the_first_wavelengt
     tmm). The physics uses our kernel."""
     from colour.phenomena import thin_film_tmm
 
-    from swatch.materials import load_material
+    from swatch.physics.materials import load_material
 
     wl = np.arange(380.0, 781.0, 5.0)
     j = int(np.flatnonzero(wl == 550.0)[0])
@@ -212,7 +212,7 @@ def test_negative_k_rejected():
 
 def test_threaded_sweep_equals_general_path():
     """A sweep large enough to be split over threads gives the general path's numbers."""
-    from swatch.model import get_coating
+    from swatch.physics.model import get_coating
 
     c = get_coating()
     angles = np.arange(0.0, 90.0, 3.0)
@@ -226,7 +226,7 @@ def test_threaded_sweep_equals_general_path():
 
 def test_threaded_sweep_points_equal_coh_tmm():
     """Random points of the benchmark-sized grid against tmm directly."""
-    from swatch.model import get_coating
+    from swatch.physics.model import get_coating
 
     c = get_coating()
     wl = c.wavelength_nm

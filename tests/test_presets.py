@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 import tmm
 
-from swatch.colorimetry import delta_E_00
+from swatch.catalog.presets import catalog_presets
+from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
-from swatch.presets.catalog import catalog_presets
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, model_Lab
 from tests.browser import require_chromium
 
@@ -155,7 +155,7 @@ def _params_materialx(path):
                                                ("materialx", "openpbr", _params_materialx)])
 def test_written_presets_hold_their_stated_error(written, fmt, prefix, reader):
     """Each figure in a record is the error of the file as written (rounded), under its model."""
-    from swatch.presets.catalog import FIGURE_MODELS
+    from swatch.catalog.presets import FIGURE_MODELS
 
     _spec, records, root, _ = written
     for rec in records:
@@ -172,7 +172,7 @@ def test_written_presets_hold_their_stated_error(written, fmt, prefix, reader):
 def test_exact_colour_is_colour_science_of_the_tmm_spectrum():
     """The fit target: the Airy spectrum (here from tmm) through colour.sd_to_XYZ, D65, 2°."""
 
-    from swatch.materials import load_material
+    from swatch.physics.materials import load_material
 
     d, th = 140.0, 30.0
     wl = np.arange(380.0, 781.0, 5.0)
@@ -260,7 +260,7 @@ def test_blender_preset_in_real_blender(written, tmp_path, blender):
     assigns the material with the stated inputs and the GGX distribution it was fitted for, and
     what Cycles renders — the mirror colour at 0–60°, the plate at 45:0 and in a white furnace at
     the preset's own roughness, each relative to a white metal plate in the same light — is within
-    the error catalog.json states + 0.5 of the exact colour there (swatch.model + colour-science,
+    the error catalog.json states + 0.5 of the exact colour there (swatch.physics.model + colour-science,
     D65, 2°; the furnace by an independent quadrature over the GGX lobe). Where the geometry is a
     single facet angle (mirror, 45:0) the render also equals our numpy port of Cycles' thin film."""
     from tests.preset_reference import renderer_delta_E

@@ -8,10 +8,10 @@ import pytest
 import tmm
 from cli_helpers import assert_one_line_error, run_json, run_swatch
 
-from swatch.errors import SwatchError
-from swatch.limits import MAX_PROFILE_BYTES
-from swatch.materials import load_material, tables_dir
-from swatch.process import DEFAULT_PROCESS, list_processes, load_process, process_toml
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_PROFILE_BYTES
+from swatch.physics.materials import load_material, tables_dir
+from swatch.physics.process import DEFAULT_PROCESS, list_processes, load_process, process_toml
 
 NUMBERS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness")
 
@@ -161,10 +161,10 @@ def test_thickness_only_catalog_builds(tmp_path):
 def test_fit_uses_the_profiles_film_index_scale(tmp_path):
     """fit with a scaled film finds the thickness of coupons made with that film (tmm-free: the scale
     is checked against tmm in test_film_index_scale_against_tmm)."""
-    from swatch.colorimetry import get_colorimeter
-    from swatch.lab_fit import fit_lab
-    from swatch.measurements import LabMeasurement
-    from swatch.model import get_coating
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.fit.lab_fit import fit_lab
+    from swatch.io.measurements import LabMeasurement
+    from swatch.physics.model import get_coating
 
     wl = np.arange(380.0, 781.0, 5.0)
     coat = get_coating("TiO2-Siefke", "Ti-Johnson", wl, 0.9)

@@ -15,12 +15,14 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
-from swatch import angular, display, imageio, metadata, microfacet, render, shading
-from swatch import scene as scenes
 from swatch.cli import main
-from swatch.colorimetry import Lab_to_LCh, delta_E_00, get_colorimeter
-from swatch.errors import SwatchError
-from swatch.model import get_coating
+from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter
+from swatch.core.errors import SwatchError
+from swatch.io import imageio
+from swatch.physics import microfacet
+from swatch.physics.model import get_coating
+from swatch.render import angular, display, metadata, render_swatch, shading
+from swatch.render import scene as scenes
 
 COATING = get_coating()
 CM = get_colorimeter(COATING.wavelength_nm)
@@ -66,7 +68,7 @@ def test_render_pixels_match_direct_spectral(shape):
     # direct spectrum at the same pixel centres (normals from the explicit intersection).
     size = 96
     for thickness in (BLUE_NM, 600.0):
-        img = render.render_swatch(thickness, shape, size)
+        img = render_swatch(thickness, shape, size)
         scene = scenes.make_scene(shape, 45.0)
         n, l, v, hit = scenes.scene_geometry(scene, size)
         # Pixels shaded at their centre: away from the silhouette (edge pixels are supersampled).
@@ -85,8 +87,8 @@ def test_render_pixels_match_direct_spectral(shape):
 
 
 def test_acescg_render_is_the_same_colour():
-    a = render.render_swatch(BLUE_NM, "sphere", 48)
-    b = render.render_swatch(BLUE_NM, "sphere", 48, space="acescg")
+    a = render_swatch(BLUE_NM, "sphere", 48)
+    b = render_swatch(BLUE_NM, "sphere", 48, space="acescg")
     m = a.coverage == 1
     dE = delta_E_00(CM2.Lab(_rgb_to_XYZ(a.linear_rgb[m])), CM2.Lab(_rgb_to_XYZ(b.linear_rgb[m], "acescg")))
     assert float(np.max(dE)) < 0.05
@@ -97,7 +99,7 @@ def test_acescg_render_is_the_same_colour():
 def test_blue_sample_is_blue_off_mirror():
     # Off-mirror pixels (outside the half maximum of the lobe) of the blue sample: hue 220–300°.
     for shape in ("flat", "cylinder", "sphere"):
-        img = render.render_swatch(BLUE_NM, shape, 96)
+        img = render_swatch(BLUE_NM, shape, 96)
         scene = scenes.make_scene(shape, 45.0)
         n, l, v, hit = scenes.scene_geometry(scene, 96)
         h = (l + v) / np.linalg.norm(l + v, axis=-1, keepdims=True)
@@ -112,7 +114,7 @@ def test_blue_sample_is_blue_off_mirror():
 
 
 def test_highlight_brighter_and_edges_antialiased():
-    img = render.render_swatch(BLUE_NM, "sphere", 128)
+    img = render_swatch(BLUE_NM, "sphere", 128)
     a = img.coverage
     assert a.min() == 0.0 and a.max() == 1.0
     partial = (a > 0) & (a < 1)
@@ -126,11 +128,11 @@ def test_highlight_brighter_and_edges_antialiased():
 
 def test_any_size_and_paper_model():
     for size in (1, 7, 33):
-        img = render.render_swatch(BLUE_NM, "cylinder", size, model="paper")
+        img = render_swatch(BLUE_NM, "cylinder", size, model="paper")
         assert img.linear_rgb.shape == (size, size, 3) and img.linear_rgb.dtype == np.float32
-    img = render.render_swatch(BLUE_NM, "flat", 64, model="paper")
+    img = render_swatch(BLUE_NM, "flat", 64, model="paper")
     assert img.exposure == 1.0
-    img = render.render_swatch(BLUE_NM, "flat", 64, distribution="beckmann", roughness_alpha=0.2)
+    img = render_swatch(BLUE_NM, "flat", 64, distribution="beckmann", roughness_alpha=0.2)
     assert np.isfinite(img.linear_rgb).all()
 
 
@@ -141,7 +143,7 @@ def test_render_api_rejects_bad_input(kwargs):
     args = dict(thickness_nm=BLUE_NM, shape="flat", size_px=16)
     args.update(kwargs)
     with pytest.raises(SwatchError):
-        render.render_swatch(**args)
+        render_swatch(**args)
 
 
 # -- angular maps --------------------------------------------------------------------------------

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 import tmm
 
-from swatch import optics
-from swatch.colorimetry import get_colorimeter
-from swatch.errors import SwatchError
-from swatch.model import OvercoatedCoating, get_coating, overcoat
-from swatch.process import load_process, process_toml
-from swatch.spread import NO_SPREAD, ThicknessSpread, parse_spread, spread_sigma_nm
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.core.errors import SwatchError
+from swatch.physics import optics
+from swatch.physics.model import OvercoatedCoating, get_coating, overcoat
+from swatch.physics.process import load_process, process_toml
+from swatch.physics.spread import NO_SPREAD, ThicknessSpread, parse_spread, spread_sigma_nm
 
 
 def _reference_R(coating, mean_nm: float, sigma_nm: float, angle_deg: float) -> np.ndarray:

@@ -33,11 +33,15 @@ import io
 import json
 import os
 import sys
+import tempfile
 import time
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
+from importlib import metadata
 from pathlib import Path
 from typing import Any
+
+import click
 
 from swatch.catalog.folder import (
     JOURNAL,
@@ -60,9 +64,12 @@ from swatch.catalog.folder import (
     signals_held,
 )
 from swatch.catalog.spec import CatalogSpec, load_spec
-from swatch.errors import SwatchError
-from swatch.fileio import check_writable_dir
-from swatch.safepath import make_real_folder
+from swatch.core.errors import SwatchError
+from swatch.core.fileio import check_writable_dir
+from swatch.core.safepath import make_real_folder
+from swatch.core.sources import package_dir, source_files
+from swatch.core.version import __version__
+from swatch.physics.materials import tables_dir
 
 __all__ = ["build_catalog", "check_buildable", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
@@ -93,16 +100,11 @@ def _hash_json(obj) -> str:
 
 def code_fingerprint() -> dict:
     """Hashes of the code and tables the outputs depend on, and the libraries' versions."""
-    from importlib import metadata
 
-    import swatch
-    from swatch.materials import tables_dir
-
-    pkg = Path(swatch.__file__).resolve().parent
-    # every engine module (a hand-kept list missed the environment, process and export modules,
-    # so a change there left an existing catalog "up to date"), the catalog's own code, ...
-    files = sorted(pkg.glob("*.py")) + sorted((pkg / "catalog").glob("*.py"))
-    files += sorted((pkg / "presets").glob("*.py"))  # 3-D material presets (fits, writers)
+    pkg = package_dir()
+    # every module of the package, recursively (a hand-kept list missed the environment, process
+    # and export modules, so a change there left an existing catalog \"up to date\"), ...
+    files = source_files()
     files += sorted((pkg / "catalog" / "web").glob("*.*"))  # the page's script and style
     code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}
     tdir = tables_dir()
@@ -148,7 +150,7 @@ def _remove_first_build(out: Path, meta: Path) -> None:
 
 def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
     from swatch.catalog.records import PROCESS_STEP_NM
-    from swatch.tolerance import METRICS
+    from swatch.colorimetry.tolerance import METRICS
 
     tol = spec.tolerance
     return {
@@ -198,9 +200,7 @@ def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
 
 
 def _swatch_version() -> str:
-    import swatch
-
-    return swatch.__version__
+    return __version__
 
 
 def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
@@ -248,8 +248,6 @@ def _csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer
 
 
 def _progress(label: str, total: int, enabled: bool):
-    import click
-
     if not enabled or total == 0:
         @contextmanager
         def dummy():
@@ -313,8 +311,6 @@ def _check_jobs(jobs) -> int:
 
 
 def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0) -> BuildResult:
-    import tempfile
-
     from swatch.catalog import sheets as sheetmod
     from swatch.catalog.exports import ase_bytes, cxf_bytes
     from swatch.catalog.records import HUE_FAMILIES, compute
@@ -337,7 +333,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     pool = None
     try:
         cache = cache_folder(meta)
-        from swatch.presets.catalog import catalog_presets
+        from swatch.catalog.presets import catalog_presets
 
         preset_files = catalog_presets(spec, records, cache)  # adds each record's "presets"; fits cached
         # 1. tiles (renders), from the cache or rendered in parallel

@@ -5,7 +5,7 @@ A chip is the swatch's colour at the reference geometry as sRGB from CIE 1931 2�
 (default 50 mm at 300 dpi: 591 × 591 pixels). Both files say how to print them:
 
 * PNG: 16-bit RGB, ``sRGB`` chunk (perceptual intent; tagged sRGB), ``pHYs`` resolution, the
-  swatch's numbers as UTF-8 ``iTXt`` text and an XMP packet (:mod:`swatch.pngmeta`);
+  swatch's numbers as UTF-8 ``iTXt`` text and an XMP packet (:mod:`swatch.io.pngmeta`);
 * TIFF: 16-bit RGB, deflate-compressed, X/Y resolution in dots per inch, the sRGB ICC profile
   embedded (LittleCMS's sRGB profile through Pillow's ImageCms, its creation date fixed so the
   bytes are deterministic), a description with the swatch's numbers.
@@ -15,24 +15,23 @@ A flat chip costs little: one broadcast array and two compressed writes per swat
 from __future__ import annotations
 
 import functools
+import struct
+from pathlib import Path
 
 import numpy as np
+from PIL import ImageCms
 
-from swatch.limits import MAX_CHIP_PX
+from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
+from swatch.catalog.exports import ase_name
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.io.imageio import write_png, write_tiff
+from swatch.io.pngmeta import xmp_packet
 
-__all__ = ["CHIP_SIZE_MM", "CHIP_DPI", "MAX_CHIP_PX", "chip_px", "chip_names", "srgb_icc_profile", "encoded_16bit",
+__all__ = ["chip_names", "srgb_icc_profile", "encoded_16bit",
            "chip_batches", "write_chips"]
 
-CHIP_SIZE_MM = 50.0
-CHIP_DPI = 300
-_MM_PER_INCH = 25.4
 #: The ICC header's creation date, fixed (bytes 24–35: year, month, day, hour, minute, second).
 _ICC_DATE = (2000, 1, 1, 0, 0, 0)
-
-
-def chip_px(size_mm: float, dpi: float) -> int:
-    """Pixels per side of a ``size_mm`` chip at ``dpi``."""
-    return round(float(size_mm) / _MM_PER_INCH * float(dpi))
 
 
 def chip_names(rec: dict) -> tuple[str, str]:
@@ -43,9 +42,6 @@ def chip_names(rec: dict) -> tuple[str, str]:
 @functools.lru_cache(maxsize=1)
 def srgb_icc_profile() -> bytes:
     """The sRGB ICC profile (LittleCMS, via Pillow) with a fixed creation date."""
-    import struct
-
-    from PIL import ImageCms
 
     raw = bytearray(ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes())
     raw[24:36] = struct.pack(">6H", *_ICC_DATE)
@@ -54,7 +50,6 @@ def srgb_icc_profile() -> bytes:
 
 def encoded_16bit(data) -> np.ndarray:
     """(N, 3) uint16 display-encoded sRGB of the reference spectra (CIE 1931 2°)."""
-    from swatch.colorimetry import get_colorimeter
 
     cm = get_colorimeter(data.wavelength_nm, data.illuminant, data.observer)
     enc, _ = cm.reflectance_display(data.reflectance, "srgb")
@@ -62,8 +57,6 @@ def encoded_16bit(data) -> np.ndarray:
 
 
 def _texts(rec: dict, metal: str, header: dict, size_mm: float, dpi: float) -> tuple[str, str, dict]:
-    from swatch.catalog.exports import ase_name
-
     cs = f"{header['illuminant']}, CIE {header['observer_name']}"
     title = ase_name(rec, metal)
     L, a, b = rec["Lab"]
@@ -91,10 +84,6 @@ def write_chips(folder, header: dict, records: list[dict], values, metal: str, s
                 dpi: float = CHIP_DPI) -> list[str]:
     """Write the chips (PNG and TIFF) of ``records`` with colours ``values`` (N, 3) uint16 into
     ``folder``; returns the file names."""
-    from pathlib import Path
-
-    from swatch.imageio import write_png, write_tiff
-    from swatch.pngmeta import xmp_packet
 
     folder = Path(folder)
     n = chip_px(size_mm, dpi)

@@ -30,10 +30,16 @@ from __future__ import annotations
 import base64
 import math
 
+import colour
 import numpy as np
 
-from swatch.errors import SwatchError
-from swatch.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
+from swatch.catalog.sheets import AMAP_ANGLES_DEG, Layout
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.colorimetry.names import NAME_RULES
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
+from swatch.fit.matching import MATCH_MIN_SEPARATION_NM
+from swatch.physics import geometry
 
 __all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "explorer_data", "decode", "grid_lookup",
            "tile_rects", "chip_colours"]
@@ -90,12 +96,6 @@ def thickness_axis(thickness_nm, step_nm: float) -> tuple[float, float, int]:
 
 def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> dict:
     """The JSON block the page reads (see the module doc)."""
-    import colour
-
-    from swatch import geometry
-    from swatch.catalog.names import NAME_RULES
-    from swatch.colorimetry import get_colorimeter
-    from swatch.matching import MATCH_MIN_SEPARATION_NM
 
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     coating = spec.coating(wl)  # as the records and tiles
@@ -135,7 +135,7 @@ def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> 
         "white_XYZ": [float(v) for v in white],
         "XYZ2_to_srgb_linear": _matrix(lambda e: cm2.rgb_linear(e, "srgb")),
         "XYZ2_to_p3_linear": _matrix(lambda e: cm2.rgb_linear(e, "display-p3")),
-        # as swatch.colorimetry.hex_to_Lab: sRGB adapted (Bradford) to the illuminant's 2° white,
+        # as swatch.colorimetry.colorimeter.hex_to_Lab: sRGB adapted (Bradford) to the illuminant's 2° white,
         # L*a*b* relative to that white (a hex code has no spectrum, so no 10° Lab)
         "srgb_linear_to_XYZ2": _matrix(lambda e: 100.0 * colour.RGB_to_XYZ(
             e, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")),
@@ -170,7 +170,6 @@ def tile_rects(spec, records: list[dict]) -> dict:
     ``{"sheet_px": [w, h], "renders": [[x, y, w, h] per shape], "amap": [x, y, w, h] | None}``
     relative to the tile origin; tile origins per swatch id in ``origins``.
     """
-    from swatch.catalog.sheets import AMAP_ANGLES_DEG, Layout
 
     lay = Layout(spec)
     s = lay.size
@@ -190,7 +189,6 @@ def tile_rects(spec, records: list[dict]) -> dict:
 def chip_colours(spec, data) -> list[dict]:
     """Per swatch: Display P3 encoded RGB at the reference geometry (``p3``, clipped to [0, 1]) and
     whether each multi-angle colour is inside sRGB (``multi_in_srgb_gamut``), both from CIE 1931 2°."""
-    from swatch.colorimetry import get_colorimeter
 
     cm = get_colorimeter(data.wavelength_nm, spec.illuminant, spec.observer)
     enc, _ = cm.reflectance_display(data.reflectance, "display-p3")

@@ -1,19 +1,19 @@
 """The explorer's environment lighting: what the page needs to integrate the thin-film BRDF over
-an environment, computed by the engine (:mod:`swatch.env_shading`, :mod:`swatch.environment`).
+an environment, computed by the engine (:mod:`swatch.render.env_shading`, :mod:`swatch.render.environment`).
 
 The page's live view under ``studio`` or ``uniform`` is the method of
-:mod:`swatch.env_shading` ported to WebGL: per pixel a fixed set of GGX visible-normal samples
+:mod:`swatch.render.env_shading` ported to WebGL: per pixel a fixed set of GGX visible-normal samples
 (``SAMPLES`` per view bin, the renderer's own set), the environment blurred per sample
 (octahedral maps, the renderer's blur levels), ``F`` at every sample's own ``θ_d`` from the
 explorer's colour table and the per-bin, per-channel level ``c = A / Σ w F`` with the dense
 directional albedo ``A = H F`` (``H``: the renderer's dense sample set spread onto the table's
-``cos θ_d`` nodes, :func:`swatch.env_shading.directional_albedo`). The browser re-implements none
+``cos θ_d`` nodes, :func:`swatch.render.env_shading.directional_albedo`). The browser re-implements none
 of it: it reads the samples, ``H`` and the maps from here and only multiplies and adds.
 
 **The page's split (so that a thickness change is one cheap pass).** The radiance of a pixel in
 view bin ``j`` is ``Σ_i w_i (F(x_i) + δ_j) E_i`` (``x_i = cos θ_d`` of sample ``i``, ``E_i`` the
 environment in its direction, ``δ_j`` the level correction of
-:func:`swatch.env_shading.band_weights`). The environment part does not depend on the thickness, ``F`` only
+:func:`swatch.render.env_shading.band_weights`). The environment part does not depend on the thickness, ``F`` only
 through ``x_i``, which is fixed per bin. ``F`` is replaced by its weighted least-squares
 projection onto polynomials of degree ``BASIS − 1`` in ``x`` over the bin's samples (weights
 ``w_i``; orthonormal basis ``q_k`` from a QR factorisation per bin, embedded as ``u_ik = w_i
@@ -32,7 +32,7 @@ random normal/view pairs in the studio, 20–300 nm (``tests/test_catalog_explor
 with 5); see docs/catalog.md for the figures in the present one.
 
 **Frames.** The page's world has the plate's normal along +z and its camera azimuth 180° at the
-renderer's azimuth 0 (the +z side of :mod:`swatch.scene`); a page direction ``(x, y, z)`` is the
+renderer's azimuth 0 (the +z side of :mod:`swatch.render.scene`); a page direction ``(x, y, z)`` is the
 environment direction ``(−y, z, −x)`` (a rotation), so the studio's soft boxes sit where they
 sit in ``swatch render``.
 
@@ -47,12 +47,18 @@ from __future__ import annotations
 import base64
 import hashlib
 import json
+from importlib import metadata
 from pathlib import Path
 
 import numpy as np
 
-from swatch.choices import LIGHTINGS
-from swatch.errors import SwatchError
+from swatch.catalog.folder import read_cache_json, remove_tree
+from swatch.core.choices import LIGHTINGS
+from swatch.core.errors import SwatchError
+from swatch.core.fileio import atomic_write_text
+from swatch.core.sources import package_dir, sha256_file
+from swatch.render import env_shading
+from swatch.render.environment import LEVELS, get_environment, levels
 
 __all__ = ["BASIS", "LIGHTINGS", "FORMAT", "environment_data", "environment_data_cached", "decode_block",
            "moment_weights"]
@@ -147,8 +153,6 @@ def moment_weights(cos_d: np.ndarray, w: np.ndarray, basis: int = BASIS) -> np.n
 
 
 def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int) -> tuple[dict, list[int]]:
-    from swatch import env_shading
-
     ss = env_shading.sample_set(roughness_alpha)
     level = maps.level_for(ss.sigma_deg)  # (M, N) index into the environment's LEVELS
     used = sorted(int(k) for k in np.unique(level))
@@ -171,7 +175,6 @@ def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int) -> tuple[dict, 
 
 def _environment_block(env, used: list[int]) -> dict:
     """The environment's blur levels ``used`` as one half-float atlas (padded maps side by side)."""
-    from swatch.environment import LEVELS, levels
 
     maps = levels(env)
     rad = env.radiance.reshape(-1, 3)
@@ -211,7 +214,6 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
         matrix) and ``environments`` (per built-in environment its blur levels and half-float
         atlas, radiance with 1 = a white diffuser facing the normal reflects 1), JSON-ready.
     """
-    from swatch.environment import get_environment, levels
 
     envs = {}
     for name in LIGHTINGS[1:]:
@@ -222,7 +224,7 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
     samples, used = _sample_blocks(roughness_alpha, levels(next(iter(envs.values()))), cos_nodes)
     return {
         "format": FORMAT, "format_version": _VERSION,
-        "method": "GGX visible-normal samples per view bin (swatch.env_shading), F at each sample's theta_d from the "
+        "method": "GGX visible-normal samples per view bin (swatch.render.env_shading), F at each sample's theta_d from the "
                   "colour table, per-sample blurred environment, level fixed by the dense directional albedo; F "
                   f"projected per bin on polynomials of degree {BASIS - 1} (weighted least squares)",
         "frame": "page direction (x, y, z) -> environment direction (-y, z, -x); the environment's +y is the plate's "
@@ -236,13 +238,9 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
 
 # -- the build cache ---------------------------------------------------------------------------
 def _key(roughness_alpha: float, cos_nodes: int) -> str:
-    from importlib import metadata
-
-    import swatch
-
-    pkg = Path(swatch.__file__).resolve().parent
-    code = {f: hashlib.sha256((pkg / f).read_bytes()).hexdigest()
-            for f in ("env_shading.py", "environment.py", "microfacet.py", "catalog/explorer_env.py")}
+    pkg = package_dir()
+    files = ("render/env_shading.py", "render/environment.py", "render/studio.py", "physics/microfacet.py", "catalog/explorer_env.py")
+    code = {f: sha256_file(pkg / f) for f in files}
     blob = {"alpha": float(roughness_alpha), "nodes": int(cos_nodes), "code": code,
             "numpy": metadata.version("numpy")}
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
@@ -295,7 +293,6 @@ def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path 
         is byte-identical whether computed or cached). An entry that does not decode to the
         expected shapes (the folder is untrusted) is recomputed and replaced.
     """
-    from swatch.catalog.folder import read_cache_json, remove_tree
 
     if cache is None:
         return environment_data(roughness_alpha, cos_nodes)
@@ -304,7 +301,6 @@ def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path 
     if doc is not None and _valid(doc):
         return doc
     doc = environment_data(roughness_alpha, cos_nodes)
-    from swatch.fileio import atomic_write_text
 
     for stale in cache.glob("explorer-env-*.json"):
         remove_tree(stale)

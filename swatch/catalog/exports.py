@@ -19,7 +19,13 @@ from __future__ import annotations
 
 import struct
 
+from colour_cxf import cxf3
+from xsdata.formats.dataclass.serializers import XmlSerializer
+from xsdata.formats.dataclass.serializers.config import SerializerConfig
+from xsdata.models.datatype import XmlDateTime
+
 from swatch.catalog.spec import CatalogSpec
+from swatch.colorimetry.colorimeter import Lab_to_LCh, get_colorimeter
 
 __all__ = ["ase_bytes", "cxf_bytes", "ase_name", "metal_symbol", "FIXED_DATE", "ASE_MODELS"]
 
@@ -87,12 +93,6 @@ def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> byt
 
 def cxf_bytes(spec: CatalogSpec, data) -> bytes:
     """The CxF3 document (UTF-8 XML) for a computed catalog (records.CatalogData)."""
-    from colour_cxf import cxf3
-    from xsdata.formats.dataclass.serializers import XmlSerializer
-    from xsdata.formats.dataclass.serializers.config import SerializerConfig
-    from xsdata.models.datatype import XmlDateTime
-
-    from swatch.colorimetry import Lab_to_LCh, get_colorimeter
 
     date = XmlDateTime.from_string(FIXED_DATE)
     wl = data.wavelength_nm

@@ -5,7 +5,7 @@ read back from it is untrusted input. Every name in the manifest and the journal
 file name (outputs live directly in the folder) and the staging folder a ``staging-*`` folder of
 ``.swatch-catalog``; the metadata folder, the cache and the lock must not be symbolic links; the
 metadata files are size-capped and must be regular files. Anything else is refused with one line
-(:class:`~swatch.errors.SwatchError`) before anything is moved or deleted: a build never writes
+(:class:`~swatch.core.errors.SwatchError`) before anything is moved or deleted: a build never writes
 or deletes outside its folder.
 
 Every path a journal names (its staging folder, the staging folder's ``.previous``, the files in
@@ -27,16 +27,20 @@ finish it (``commit`` or ``rollback``).
 """
 from __future__ import annotations
 
+import fcntl
+import hashlib
 import json
 import os
 import shutil
+import signal
 import stat
 from contextlib import contextmanager
 from pathlib import Path
 
-from swatch.errors import SwatchError
-from swatch.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
-from swatch.safepath import entry_kind, inside, is_regular_file, make_real_folder, plain_name, real_folder
+from swatch.core.errors import SwatchError
+from swatch.core.fileio import atomic_write_text
+from swatch.core.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
+from swatch.core.safepath import entry_kind, inside, is_regular_file, make_real_folder, plain_name, real_folder
 
 __all__ = ["META_DIR", "MANIFEST", "JOURNAL", "PREVIOUS", "locked", "signals_held", "meta_folder", "cache_folder",
            "load_manifest", "load_journal", "write_journal", "prepare_commit", "commit", "rollback", "recover",
@@ -54,8 +58,6 @@ ROLLBACK_JOURNAL = "journal-rollback.json"  # the rollback's journal, written be
 # -- small file helpers ------------------------------------------------------------------------
 
 def sha256_file(path: Path) -> str:
-    import hashlib
-
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for chunk in iter(lambda: fh.read(1 << 20), b""):
@@ -64,8 +66,6 @@ def sha256_file(path: Path) -> str:
 
 
 def write_json_atomic(path: Path, obj) -> None:
-    from swatch.fileio import atomic_write_text
-
     atomic_write_text(path, json.dumps(obj, indent=1, sort_keys=True) + "\n")
 
 
@@ -119,7 +119,6 @@ def cache_folder(meta: Path) -> Path:
 @contextmanager
 def locked(meta: Path):
     """Hold ``meta/lock`` (flock) for one build; another build holding it is refused."""
-    import fcntl
 
     busy = f"another catalog build is writing {meta.parent}; wait for it to finish"
     try:
@@ -144,7 +143,6 @@ def locked(meta: Path):
 @contextmanager
 def signals_held():
     """Defer SIGINT/SIGTERM/SIGHUP while the staged files are moved into place."""
-    import signal
 
     sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
     try:
@@ -178,7 +176,7 @@ def _read_metadata(path: Path):
 
 def read_cache_json(path: Path):
     """A cache entry's JSON, or None when it is absent or not one we can use (not a regular file, larger
-    than :data:`~swatch.limits.MAX_CACHE_ENTRY_BYTES`, not UTF-8 JSON, nested too deep to parse): the
+    than :data:`~swatch.core.limits.MAX_CACHE_ENTRY_BYTES`, not UTF-8 JSON, nested too deep to parse): the
     cache is ours to rebuild, so a damaged entry is recomputed, never an error."""
     if not is_regular_file(path):
         return None

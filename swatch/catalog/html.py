@@ -18,11 +18,13 @@ import html
 import json
 from importlib import resources
 
+from swatch.core.choices import LIGHTINGS
+
 __all__ = ["index_html", "embed_json", "page_script", "page_style"]
 
 #: The page's script files, concatenated in this order inside one strict-mode function.
 SCRIPTS = ("colour.js", "envlight.js", "view.js", "page.js")
-#: Labels of the live view's lighting choices (swatch.choices.LIGHTINGS).
+#: Labels of the live view's lighting choices (swatch.core.choices.LIGHTINGS).
 LIGHTING_LABELS = {"point": "point light (light angle)", "uniform": "uniform (radiance 1 everywhere)",
                    "studio": "studio: soft boxes, dark walls, floor and horizon (as the sheets' renders)"}
 #: Width (CSS px) of a render and of the angular map in a card.
@@ -182,7 +184,6 @@ too).</p></details>
 
 def _lighting_select(env: dict | None) -> str:
     """The live view's lighting choice: the point light, and the environments the page embeds."""
-    from swatch.choices import LIGHTINGS
 
     names = [n for n in LIGHTINGS if n == "point" or (env is not None and n in env["environments"])]
     opts = "".join(f'<option value="{html.escape(n)}">{html.escape(LIGHTING_LABELS.get(n, n))}</option>' for n in names)

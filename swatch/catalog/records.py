@@ -23,9 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swatch.catalog.names import NEUTRAL_CHROMA, colour_name
 from swatch.catalog.spec import CatalogSpec, Geometry
-from swatch.errors import SwatchError
+from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
+from swatch.colorimetry.names import NEUTRAL_CHROMA, colour_name
+from swatch.colorimetry.tolerance import delta_E
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_THICKNESS_NM
+from swatch.physics.materials import wavelength_grid
 
 __all__ = ["CatalogData", "compute", "hue_family", "PROCESS_STEP_NM", "HUE_FAMILIES"]
 
@@ -79,8 +83,6 @@ class CatalogData:
 
 
 def _colorimeter(spec: CatalogSpec, wl):
-    from swatch.colorimetry import get_colorimeter
-
     try:
         return get_colorimeter(wl, spec.illuminant, spec.observer)
     except SwatchError as exc:
@@ -93,8 +95,6 @@ def check_colorimetry(spec: CatalogSpec) -> None:
 
 
 def wavelengths(spec: CatalogSpec) -> np.ndarray:
-    from swatch.materials import wavelength_grid
-
     return wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
 
 
@@ -106,14 +106,12 @@ def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
 def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search_nm: float, metric: str = "dEab"):
     """(minus_nm, plus_nm, minus_capped, plus_capped) arrays for nominal thicknesses ``d``.
 
-    ``metric`` (swatch.tolerance.METRICS) is the colour difference ``bound`` is defined on:
+    ``metric`` (swatch.colorimetry.tolerance.METRICS) is the colour difference ``bound`` is defined on:
     ΔE(Lab(d ± δ), Lab(d)) in that metric on a δ grid of PROCESS_STEP_NM up to ``search_nm``; the window
     edge is the first grid crossing of ``bound``, interpolated linearly between the two grid
     points. ``capped`` means no crossing within the search (or, below, before zero thickness):
     the window is then the search limit (or ``d`` itself).
     """
-    from swatch.limits import MAX_THICKNESS_NM
-    from swatch.tolerance import delta_E
 
     if d.size > _CHUNK:  # bound the memory of the (N, K, W) spectra
         parts = [process_window(coating, cm, d[i:i + _CHUNK], g, bound, search_nm, metric)
@@ -150,7 +148,6 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
 
 def compute(spec: CatalogSpec) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
-    from swatch.colorimetry import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
 
     wl = wavelengths(spec)
     coating = spec.coating(wl)

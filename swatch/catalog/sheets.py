@@ -1,7 +1,7 @@
 """Catalog sheets: tiles of rendered swatches with their numbers, as a linear EXR and a display PNG.
 
 A tile holds the swatch rendered flat and curved (``swatch.render.render_swatch``, the spec's
-shapes, model and roughness, light 45°), a small angular map (``swatch.angular.angular_map``,
+shapes, model and roughness, light 45°), a small angular map (``swatch.render.angular.angular_map``,
 paper model: the colour over light × view angle, 0–85°, light up the side, view along the
 bottom) and the labels: thickness and voltage, L*a*b* and L*C*h at the reference geometry, the
 sRGB hex with a flat chip of that colour, ΔE2000 to the neighbours and the process window.
@@ -22,13 +22,31 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import multiprocessing as mp
 import os
+import zipfile
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from swatch.catalog.exports import ase_name
+from swatch.catalog.folder import remove_tree
 from swatch.catalog.spec import CatalogSpec
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
+from swatch.core.procguard import exit_with, ignore_interrupts, start_forkserver_ignoring_interrupts
+from swatch.core.safepath import is_regular_file
+from swatch.core.sources import package_dir, source_files
+from swatch.io.imageio import draw_rect, draw_text, text_width, write_exr, write_png
+from swatch.io.pngmeta import xmp_packet
+from swatch.physics.finishes import get_finish
+from swatch.physics.materials import wavelength_grid
+from swatch.physics.model import get_coating
+from swatch.render import render_swatch
+from swatch.render.angular import angular_map
+from swatch.render.display import BACKGROUND_LINEAR
 
 if TYPE_CHECKING:
     from multiprocessing.context import BaseContext
@@ -44,7 +62,7 @@ LIGHT_DEG = 45.0
 SHEET_DPI = 150
 
 #: Lighting of the tile renders for the microfacet model (GGX): the studio, exposure 1
-#: (swatch.env_render), so a render and its chip are on one scale; the paper model keeps the light.
+#: (swatch.render.env_render), so a render and its chip are on one scale; the paper model keeps the light.
 ENVIRONMENT = "studio"
 
 
@@ -68,13 +86,12 @@ RULE = (200, 200, 206)
 
 @functools.lru_cache(maxsize=1)
 def _engine_code_hash() -> str:
-    """Hash of the engine modules (swatch/*.py) and this file: a tile depends on all of them."""
-    import swatch
-
-    pkg = Path(swatch.__file__).resolve().parent
+    """Hash of the engine modules (every module outside catalog/, presets/ and commands/) and this
+    file: a tile depends on all of them."""
+    pkg = package_dir()
     h = hashlib.sha256()
-    for f in [*sorted(pkg.glob("*.py")), Path(__file__).resolve()]:
-        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    for f in [*source_files(exclude=("catalog", "presets", "commands")), Path(__file__).resolve()]:
+        h.update(f.relative_to(pkg).as_posix().encode() + b"\0" + f.read_bytes())
     return h.hexdigest()
 
 
@@ -98,12 +115,6 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
 def _render_job(args):
     """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
     (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap, spread, finish) = args
-    from swatch.angular import angular_map
-    from swatch.colorimetry import get_colorimeter
-    from swatch.finishes import get_finish
-    from swatch.materials import wavelength_grid
-    from swatch.model import get_coating
-    from swatch.render import render_swatch
 
     wl = wavelength_grid(380.0, 780.0, wl_step)
     coating = get_coating(film, substrate, wl, scale, spread)
@@ -121,7 +132,7 @@ def _render_job(args):
         out[f"r{i}_exposure"] = np.float64(im.exposure)
     if amap:
         am = angular_map(d, AMAP_ANGLES_DEG, AMAP_ANGLES_DEG, coating=coating, colorimeter=cm, model="paper")
-        # rows = light angle: flip so light 0° is at the bottom (as swatch.figures.angular_figure)
+        # rows = light angle: flip so light 0° is at the bottom (as swatch.report.figures.angular_figure)
         lin = np.asarray(am.linear_rgb, dtype=np.float32)[::-1] * np.float32(am.exposure)
         disp = np.asarray(am.display_rgb, dtype=np.uint8)[::-1]
         c = AMAP_CELL_PX
@@ -162,7 +173,6 @@ def npz_fits(path: Path, want: dict) -> bool:
     """Whether the ``.npz`` at ``path`` holds exactly the arrays ``want`` (name -> (shape, dtype)), judged
     from its zip directory and each member's ``.npy`` header before any array is decompressed: a small
     file that would inflate to gigabytes is refused unread (zipfile stops at the declared size)."""
-    import zipfile
 
     try:
         with zipfile.ZipFile(path) as zf:
@@ -188,13 +198,8 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
     """A tile's arrays from the cache; an entry that does not read back intact is rendered again.
 
     The cache is the catalog folder's own but untrusted: only a regular file no larger than
-    :data:`swatch.limits.MAX_CACHE_ENTRY_BYTES` holding exactly the expected arrays is used.
+    :data:`swatch.core.limits.MAX_CACHE_ENTRY_BYTES` holding exactly the expected arrays is used.
     """
-    import zipfile
-
-    from swatch.catalog.folder import remove_tree
-    from swatch.limits import MAX_CACHE_ENTRY_BYTES
-    from swatch.safepath import is_regular_file
 
     path = cache / f"{key}.npz"
     want = _tile_shapes(spec)
@@ -234,8 +239,6 @@ def make_pool(spec: CatalogSpec, jobs: int):
     """A process pool of ``jobs`` workers (forked after the shared tables are loaded), or None."""
     if jobs <= 1:
         return None
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
 
     # Not "fork": a process that has used OpenImageIO (or any library with threads) may hold a
     # lock at the fork and the child would deadlock. The fork server is a fresh process that
@@ -243,9 +246,8 @@ def make_pool(spec: CatalogSpec, jobs: int):
     ctx: BaseContext
     if "forkserver" in mp.get_all_start_methods():
         ctx = mp.get_context("forkserver")
-        ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render", "swatch.colorimetry",
-                                    "swatch.imageio", "OpenImageIO"])
-        from swatch.procguard import start_forkserver_ignoring_interrupts
+        ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render.dispatch", "swatch.colorimetry.colorimeter",
+                                    "swatch.io.imageio", "OpenImageIO"])
 
         start_forkserver_ignoring_interrupts()  # workers ignore Ctrl-C from birth (one message, the build's)
     else:
@@ -254,12 +256,8 @@ def make_pool(spec: CatalogSpec, jobs: int):
 
 
 def _warm(spec: CatalogSpec, parent_pid: int) -> None:
-    from swatch.procguard import exit_with, ignore_interrupts
-
     exit_with(parent_pid)  # a killed build leaves no worker (nor fork server, nor resource tracker)
     ignore_interrupts()  # Ctrl-C: the build reports it once and shuts the pool down
-    from swatch.colorimetry import get_colorimeter
-    from swatch.materials import wavelength_grid
 
     wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
     spec.coating(wl)
@@ -314,8 +312,6 @@ def _fmt(x, nd: int) -> str:
 
 
 def _fit(text: str, size: int, max_w: int, font: str) -> str:
-    from swatch.imageio import text_width
-
     if text_width(text, size, font) <= max_w:
         return text
     while text and text_width(text + "…", size, font) > max_w:
@@ -329,7 +325,6 @@ def _num(x, width: int, nd: int) -> str:
 
 def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
     """The label block of a tile (uint8): numbers in DroidSansMono (it has Δ and the minus sign)."""
-    from swatch.imageio import draw_rect, draw_text
 
     w = lay.tile_w - 2 * lay.PAD - (lay.amap + lay.GAP if lay.amap else 0)
     h = max(lay.label_h, lay.amap)
@@ -368,8 +363,6 @@ def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
 
 
 def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) -> np.ndarray:
-    from swatch.imageio import draw_rect, draw_text
-
     w = lay.width - 2 * lay.MARGIN
     img = _strip(w, lay.HEADER - 14, PAGE)
     ref = header["reference_geometry"]
@@ -394,8 +387,6 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
 
 
 def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
-    from swatch.imageio import draw_text
-
     w = lay.width - 2 * lay.MARGIN
     img = _strip(w, lay.FOOTER - 8, PAGE)
     shapes = " and ".join({"flat": "flat plate", "cylinder": "half cylinder", "sphere": "sphere"}[s] for s in spec.shapes)
@@ -419,8 +410,6 @@ def _srgb_decode(u8: np.ndarray) -> np.ndarray:
 
 def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
     """XMP for a sheet: title, description and each swatch's thickness and Lab."""
-    from swatch.catalog.exports import ase_name
-    from swatch.pngmeta import xmp_packet
 
     cs = f"{header['illuminant']}/{header['observer']}°"
     metal = header["substrate"].split("-")[0]
@@ -437,8 +426,6 @@ def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
 def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: list[str], cache: Path,
                   number: int, of: int, png_path: Path, exr_path: Path) -> None:
     """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata)."""
-    from swatch.display import BACKGROUND_LINEAR
-    from swatch.imageio import draw_rect, write_exr, write_png
 
     lay = Layout(spec)
     disp = _strip(lay.width, lay.height, PAGE)

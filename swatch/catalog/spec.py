@@ -3,7 +3,7 @@
 A spec names the catalog, the film and substrate, the thicknesses (or anodising voltages), the
 colorimetry, the geometries, the render options, the tolerance grade and the sheet layout.
 Every key is checked: an unknown key, a wrong type or an impossible value raises
-:class:`~swatch.errors.SwatchError` naming the file, the key and what is allowed, e.g.
+:class:`~swatch.core.errors.SwatchError` naming the file, the key and what is allowed, e.g.
 ``catalog/x.toml: key thickness.step_nm: must be a number > 0 (got 'a')``.
 
 This module is light (no colour-science import) so that a no-op rebuild starts quickly.
@@ -17,9 +17,26 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import NoReturn
 
-from swatch.choices import FINISHES, MODELS, SHAPES
-from swatch.errors import SwatchError
-from swatch.limits import MAX_SPEC_BYTES, MAX_SWATCHES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_text_capped
+import numpy as np
+
+from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
+from swatch.colorimetry import tolerance
+from swatch.colorimetry.tolerance import get_tolerance
+from swatch.core.choices import FINISHES, MODELS, SHAPES
+from swatch.core.errors import SwatchError
+from swatch.core.limits import (
+    MAX_CHIP_PX,
+    MAX_SPEC_BYTES,
+    MAX_SWATCHES,
+    MAX_THICKNESS_NM,
+    MAX_VOLTAGE_V,
+    read_text_capped,
+)
+from swatch.physics.finishes import get_finish
+from swatch.physics.materials import list_materials, load_material
+from swatch.physics.model import get_coating, thickness_to_voltage_V
+from swatch.physics.process import DEFAULT_PROCESS, load_process, preset_names
+from swatch.physics.spread import ThicknessSpread
 
 __all__ = ["spec_summary", "CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
@@ -46,7 +63,7 @@ class Geometry:
 
     @property
     def view_azimuth_deg(self) -> float | None:
-        """For swatch.geometry: None = opposite side (azimuth + 180), 0 = the light's side."""
+        """For swatch.physics.geometry: None = opposite side (azimuth + 180), 0 = the light's side."""
         return None if self.view_side == "opposite" else 0.0
 
     @property
@@ -87,7 +104,7 @@ class CatalogSpec:
     angular_map: bool
     scheme: str | None  # a named grade's scheme and name (None for a written tolerance)
     grade: str | None
-    metric: str  # the colour difference the tolerance bounds (swatch.tolerance.METRICS)
+    metric: str  # the colour difference the tolerance bounds (swatch.colorimetry.tolerance.METRICS)
     max_delta_E: float  # its bound, in that metric
     search_nm: float
     columns: int
@@ -96,7 +113,7 @@ class CatalogSpec:
     offset_nm: float = 0.0  # growth law: thickness_nm = offset_nm + nm_per_V × voltage_V
     film_index_scale: float = 1.0
     process_origin: str = "preset"
-    spread_nm: float = 0.0  # the profile's thickness spread (swatch.spread): 1σ = spread_nm + spread_fraction × d
+    spread_nm: float = 0.0  # the profile's thickness spread (swatch.physics.spread): 1σ = spread_nm + spread_fraction × d
     spread_fraction: float = 0.0
     knee_V: float | None = None  # a two-slope growth law: nm_per_V up to knee_V, nm_per_V_above_knee beyond
     nm_per_V_above_knee: float | None = None
@@ -104,28 +121,22 @@ class CatalogSpec:
     chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
     chip_size_mm: float = 50.0
     chip_dpi: int = 300
-    finish: str | None = None  # a named finish (swatch.finishes); it sets ``roughness``
+    finish: str | None = None  # a named finish (swatch.physics.finishes); it sets ``roughness``
 
     @property
     def finish_spec(self):
-        """The :class:`swatch.finishes.Finish` of ``finish`` (None without one)."""
-        from swatch.finishes import get_finish
+        """The :class:`swatch.physics.finishes.Finish` of ``finish`` (None without one)."""
 
         return None if self.finish is None else get_finish(self.finish)
 
     @property
     def tolerance(self):
-        from swatch.tolerance import get_tolerance
-
         if self.grade is not None:
             return get_tolerance(self.scheme, self.grade)
         return get_tolerance(metric=self.metric, max=self.max_delta_E)
 
     def voltage_of(self, thickness_nm):
         """Voltage, V, growing ``thickness_nm`` by the spec's growth law; None without a rate."""
-        import numpy as np
-
-        from swatch.model import thickness_to_voltage_V
 
         if self.nm_per_V is None:
             return None
@@ -140,14 +151,12 @@ class CatalogSpec:
 
     @property
     def spread(self):
-        """The film's :class:`swatch.spread.ThicknessSpread`."""
-        from swatch.spread import ThicknessSpread
+        """The film's :class:`swatch.physics.spread.ThicknessSpread`."""
 
         return ThicknessSpread(self.spread_nm, self.spread_fraction)
 
     def coating(self, wavelength_nm):
-        """The spec's :class:`swatch.model.Coating` on a wavelength grid (nm): film, substrate, index scale, spread."""
-        from swatch.model import get_coating
+        """The spec's :class:`swatch.physics.model.Coating` on a wavelength grid (nm): film, substrate, index scale, spread."""
 
         return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
 
@@ -288,8 +297,6 @@ def _range(c: _Checker, tbl: dict, key: str, unit: str, hi: float) -> list[float
 
 
 def _material(c: _Checker, value, key: str, role: str) -> str:
-    from swatch.materials import list_materials, load_material
-
     name = c.string(value, key)
     try:
         mat = load_material(name)
@@ -310,10 +317,9 @@ def _geometry_name(light: float, aspecular: float) -> str:
 
 def _process(c: _Checker, value, base_dir: Path | None):
     """The spec's ``process``: a preset name, or a profile .toml inside the spec's folder."""
-    from swatch.process import _preset_names, load_process
 
     text = c.string(value, "process", 200)
-    if text in _preset_names() or base_dir is None:
+    if text in preset_names() or base_dir is None:
         try:
             return load_process(text)
         except SwatchError as exc:
@@ -323,7 +329,7 @@ def _process(c: _Checker, value, base_dir: Path | None):
     if not path.is_relative_to(root):
         c.fail("process", "a profile file must lie inside the spec's folder", value)
     if path.suffix.lower() != ".toml" or not path.is_file():
-        c.fail("process", f"is neither a preset ({', '.join(_preset_names())}) nor a .toml file next to the spec",
+        c.fail("process", f"is neither a preset ({', '.join(preset_names())}) nor a .toml file next to the spec",
                value)
     return load_process(str(path))
 
@@ -331,7 +337,6 @@ def _process(c: _Checker, value, base_dir: Path | None):
 def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None) -> CatalogSpec:
     """Validate a decoded TOML document (``source`` names it in error messages; a ``process`` file is
     looked up inside ``base_dir``, the spec's folder)."""
-    from swatch.process import DEFAULT_PROCESS
 
     c = _Checker(source)
     top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
@@ -391,7 +396,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     asp_vals = [] if empty else c.numbers(asp, "geometry.multi_angle.aspecular_deg", -180, 180, max_len=24)
     multi = []
     for i, g in enumerate(asp_vals):
-        v = ma_light - g  # swatch.geometry.aspecular_view_deg: signed, negative = light's side
+        v = ma_light - g  # swatch.physics.geometry.aspecular_view_deg: signed, negative = light's side
         if not abs(v) < 90:
             c.fail(f"geometry.multi_angle.aspecular_deg[{i}]",
                    f"puts the view at {abs(v):g}° from the normal with light at {ma_light:g}°; "
@@ -418,7 +423,6 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
             c.fail("render.finish", "give either finish or roughness, not both (a finish sets the roughness)",
                    ren["finish"])
         finish = c.string(ren["finish"], "render.finish", 20, FINISHES)
-        from swatch.finishes import get_finish
 
         rough = get_finish(finish).roughness_alpha
         if get_finish(finish).anisotropic and model != "microfacet":
@@ -426,7 +430,6 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
-    from swatch import tolerance
 
     if "metric" in tol or "max" in tol:
         if "scheme" in tol or "grade" in tol:
@@ -447,8 +450,6 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     sh = c.table(data.get("sheet", {}), "sheet", ("columns", "rows"))
     columns = c.integer(sh.get("columns", 4), "sheet.columns", 1, 8)
     rows = c.integer(sh.get("rows", 3), "sheet.rows", 1, 8)
-
-    from swatch.catalog.chips import CHIP_DPI, CHIP_SIZE_MM, MAX_CHIP_PX, chip_px
 
     ch = c.table(data.get("chips", {}), "chips", ("enabled", "size_mm", "dpi"))
     chips = c.boolean(ch.get("enabled", True), "chips.enabled")

@@ -10,9 +10,9 @@ from swatch.commands.common import colour_options, echo_json, instrument_request
 
 def _read(path: str, light: float, view: float, illuminant: str, observer: str):
     """Coupons from a coupon CSV, or from a CGATS / CxF3 file (with its geometry and colorimetry)."""
-    from swatch.coupons import coupons_from_samples, read_coupons
-    from swatch.instrument_files import read_instrument_file
-    from swatch.limits import MAX_COUPON_BYTES, read_capped
+    from swatch.core.limits import MAX_COUPON_BYTES, read_capped
+    from swatch.io.coupons import coupons_from_samples, read_coupons
+    from swatch.io.instrument_files import read_instrument_file
 
     try:
         head = read_capped(path, MAX_COUPON_BYTES, "coupon file")
@@ -61,8 +61,8 @@ def calibrate(coupons, out_path, process, film, substrate, fixed_tables, name, l
     scale, a thickness spread and a knee in the growth law join only when they lower the held-out
     error (the report says what each bought). Data that cannot determine them are refused.
     """
-    from swatch.calibration import calibrate as fit
-    from swatch.calibration_report import calibration_paths, calibration_text, write_calibration
+    from swatch.fit.calibration import calibrate as fit
+    from swatch.report.calibration import calibration_paths, calibration_text, write_calibration
 
     out, png = calibration_paths(out_path, report_dir, force)
     resolve_process(process, film, substrate)  # checks --film/--substrate

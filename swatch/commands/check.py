@@ -59,11 +59,11 @@ def check(files, spec_path, percent, as_json, report_dir, force):
     import json
     from pathlib import Path
 
-    from swatch.errors import SwatchError
-    from swatch.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
-    from swatch.instrument_files import read_instrument_file
-    from swatch.instruments import Request
-    from swatch.qc import check_file, load_spec_json
+    from swatch.core.errors import SwatchError
+    from swatch.core.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
+    from swatch.io.instrument_files import read_instrument_file
+    from swatch.io.instruments import Request
+    from swatch.production.qc import check_file, load_spec_json
 
     spec = load_spec_json(spec_path)
     col = spec["colorimetry"]

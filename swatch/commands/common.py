@@ -7,16 +7,16 @@ import math
 import click
 import numpy as np
 
-from swatch.errors import SwatchError
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
-from swatch.model import check_thickness_nm
-from swatch.ranges import parse_grid, parse_range
+from swatch.core.errors import SwatchError
+from swatch.core.ranges import parse_grid, parse_range
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+from swatch.physics.model import check_thickness_nm
 
-_SPREAD_META = "swatch.spread"
+_SPREAD_META = "swatch.physics.spread"
 
 
 def _spread_callback(ctx, param, value):
-    from swatch.spread import parse_spread
+    from swatch.physics.spread import parse_spread
 
     ctx.meta[_SPREAD_META] = parse_spread(value)
     return value
@@ -54,9 +54,9 @@ def process_options(f):
 
 def resolve_process(process: str | None, film: str | None = None, substrate: str | None = None,
                     nm_per_volt: float | None = None):
-    """The :class:`swatch.process.Process` for ``--process`` with ``--film``/``--substrate``/``--nm-per-volt``
+    """The :class:`swatch.physics.process.Process` for ``--process`` with ``--film``/``--substrate``/``--nm-per-volt``
     and ``--spread``."""
-    from swatch.process import DEFAULT_PROCESS, load_process
+    from swatch.physics.process import DEFAULT_PROCESS, load_process
 
     return load_process(process or DEFAULT_PROCESS).with_overrides(film, substrate, nm_per_volt, given_spread())
 
@@ -78,7 +78,7 @@ def thickness_options(multiple: bool):
 
 def resolve_thickness(thickness: str | None, voltage: str | None, proc, multiple: bool):
     """Return (thickness_nm array, voltage_V array or None); voltages through the growth law of the
-    :class:`swatch.process.Process` ``proc``."""
+    :class:`swatch.physics.process.Process` ``proc``."""
     if (thickness is None) == (voltage is None):
         raise SwatchError("give exactly one of --thickness NM or --voltage V")
     v = None if voltage is None else parse_range(voltage, "voltage", "V")
@@ -104,8 +104,8 @@ def overcoat_option(f):
 
 
 def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
-    """The :class:`swatch.process.Process`'s coating with any ``--overcoat`` layers on top."""
-    from swatch.model import OvercoatedCoating, overcoat
+    """The :class:`swatch.physics.process.Process`'s coating with any ``--overcoat`` layers on top."""
+    from swatch.physics.model import OvercoatedCoating, overcoat
 
     coating = proc.coating(resolve_grid(wavelengths))
     if not overcoats:
@@ -151,11 +151,11 @@ def echo_json(obj) -> None:
 
 
 def instrument_request(percent=None):
-    """The :class:`swatch.instruments.Request` of the running command: its geometry, illuminant and
+    """The :class:`swatch.io.instruments.Request` of the running command: its geometry, illuminant and
     observer options, and which of them the user gave (those must agree with a measurement file)."""
     from click.core import ParameterSource
 
-    from swatch.instruments import Request
+    from swatch.io.instruments import Request
 
     ctx = click.get_current_context()
     p = ctx.params

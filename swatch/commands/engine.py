@@ -3,9 +3,8 @@ from __future__ import annotations
 
 import click
 
-from swatch import report
 from swatch.commands import common
-from swatch.model import overcoat_json, overcoat_text
+from swatch.physics.model import overcoat_json, overcoat_text
 
 
 @click.command()
@@ -18,6 +17,7 @@ from swatch.model import overcoat_json, overcoat_text
 def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
              overcoats, wavelengths, as_json):
     """Spectral reflectance of one thickness on the half-vector facet (R, R_s, R_p)."""
+    from swatch.report import text as report
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     d, _ = common.resolve_thickness(thickness, voltage, proc, multiple=False)
     coating = common.resolve_coating(proc, wavelengths, overcoats)
@@ -51,8 +51,9 @@ def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimut
 def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
           overcoats, illuminant, observer, wavelengths, as_json):
     """Colour of each thickness at one geometry: XYZ, CIELAB, LCh, sRGB and ΔE*ab to the previous row."""
-    from swatch.appearance import thickness_colours
-    from swatch.colorimetry import get_colorimeter
+    from swatch.colorimetry.appearance import thickness_colours
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.report import text as report
 
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     d, v = common.resolve_thickness(thickness, voltage, proc, multiple=True)
@@ -83,7 +84,8 @@ def materials():
 @click.option("--json", "as_json", is_flag=True, help="print JSON")
 def materials_list(role, as_json):
     """List the tables with their role, range and reference."""
-    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, list_materials
+    from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, list_materials
+    from swatch.report import text as report
 
     mats = list_materials(role)
     if as_json:
@@ -98,7 +100,8 @@ def materials_list(role, as_json):
 @click.option("--json", "as_json", is_flag=True, help="print JSON")
 def materials_show(name, wavelengths, as_json):
     """n and k of one table on the wavelength grid, with its source."""
-    from swatch.materials import load_material
+    from swatch.physics.materials import load_material
+    from swatch.report import text as report
 
     m = load_material(name)
     wl = common.resolve_grid(wavelengths)
@@ -117,7 +120,7 @@ def roughness(ra_nm, as_json):
 
     The paper's blue sample (Ra 268 nm) is rough: h spans 47.5–195 nm.
     """
-    from swatch import rayleigh
+    from swatch.physics import rayleigh
 
     r = rayleigh.rayleigh_criterion(ra_nm)
     if as_json:

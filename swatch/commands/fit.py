@@ -6,11 +6,11 @@ from pathlib import Path
 import click
 from click.core import ParameterSource
 
-from swatch import choices
 from swatch.commands import common
-from swatch.errors import SwatchError
-from swatch.model import DEFAULT_NM_PER_V
-from swatch.ranges import parse_pair
+from swatch.core import choices
+from swatch.core.errors import SwatchError
+from swatch.core.ranges import parse_pair
+from swatch.physics.model import DEFAULT_NM_PER_V
 
 _RANGE_DEFAULT = "{:g}:{:g}".format(*choices.DEFAULT_THICKNESS_RANGE_NM)
 
@@ -52,9 +52,9 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     (global search over the range, then local refinement) and reports the best thickness, an
     uncertainty, the next-best minimum, ΔE*ab and ΔE2000 per geometry, their means and the grade.
     """
-    from swatch import report
-    from swatch.instrument_files import read_instrument_file
-    from swatch.spectral_fit import fit_measurement
+    from swatch.fit.spectral_fit import fit_measurement
+    from swatch.io.instrument_files import read_instrument_file
+    from swatch.report import text as report
 
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     film, substrate = proc.film, proc.substrate
@@ -74,7 +74,7 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
                for p, f in zip(measurements, files, strict=True) for s in f.samples]
     dicts = [report.with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]
     if paths:
-        from swatch.fileio import check_writable_dir
+        from swatch.core.fileio import check_writable_dir
 
         check_writable_dir(report_dir)  # created only once every measurement has been read and fitted
         report.write_report(results, dicts, paths)
@@ -126,10 +126,10 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     Candidates are ranked by ΔE2000; each says whether it is within the tolerance (--grade of
     --scheme, or --tolerance), judged in the tolerance's own metric.
     """
-    from swatch.colorimetry import get_colorimeter, hex_to_Lab, parse_Lab
-    from swatch.matching import judge_candidates, match_colour
-    from swatch.report import match_text
-    from swatch.tolerance import get_tolerance, parse_tolerance
+    from swatch.colorimetry.colorimeter import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.colorimetry.tolerance import get_tolerance, parse_tolerance
+    from swatch.fit.matching import judge_candidates, match_colour
+    from swatch.report.text import match_text
 
     tol = parse_tolerance(tolerance) if tolerance is not None else get_tolerance(scheme, grade)
 
@@ -163,11 +163,11 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
 def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, substrate, nm_per_volt, wavelengths,
                   illuminant, observer, thickness_range, step, top, as_json):
     """``swatch match --angles`` / ``--measurement``: ranked by the worst or mean ΔE2000 over the geometries."""
-    from swatch.colorimetry import get_colorimeter, hex_to_Lab, parse_Lab
-    from swatch.fitting import colour_grid, interp_rows
-    from swatch.instrument_files import read_instrument_file
-    from swatch.measurements import LabMeasurement
-    from swatch.multi_match import match_angles, parse_angles
+    from swatch.colorimetry.colorimeter import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.fit.fitting import colour_grid, interp_rows
+    from swatch.fit.multi_match import match_angles, parse_angles
+    from swatch.io.instrument_files import read_instrument_file
+    from swatch.io.measurements import LabMeasurement
 
     if sum(x is not None for x in (lab, hex_code, measurement)) != 1:
         raise SwatchError("give exactly one of --lab L,a,b, --hex RRGGBB or --measurement FILE")

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import click
 
-from swatch.choices import FINISHES
 from swatch.commands.common import material_options, thickness_options
+from swatch.core.choices import FINISHES
 from swatch.presets import PRESET_FORMATS
 
 
@@ -25,10 +25,10 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     The renderer's own thin-film model (ported in swatch.presets) is fitted to the exact colour
     over facet angles 0–60° (D65, CIE 1931 2°); the largest error is printed.
     """
+    from swatch.catalog.presets import preset_file_name, single_preset
     from swatch.commands.common import resolve_process, resolve_thickness
-    from swatch.fileio import atomic_write_bytes, check_new, check_writable_dir
-    from swatch.finishes import finish_or_roughness
-    from swatch.presets.catalog import preset_file_name, single_preset
+    from swatch.core.fileio import atomic_write_bytes, check_new, check_writable_dir
+    from swatch.physics.finishes import finish_or_roughness
 
     finish = finish_or_roughness(finish_name, roughness)
     roughness = finish.roughness_alpha if finish is not None else (0.3 if roughness is None else roughness)

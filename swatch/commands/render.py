@@ -8,10 +8,18 @@ from pathlib import Path
 import click
 import numpy as np
 
-from swatch.choices import BACKGROUNDS, DISTRIBUTIONS, ENGINES, FINISHES, IMAGE_SPACES, MESH_FORMATS, MODELS, SHAPES
 from swatch.commands import common
-from swatch.errors import SwatchError
-from swatch.metadata import file_stems, voltage_note, with_voltage
+from swatch.core.choices import (
+    BACKGROUNDS,
+    DISTRIBUTIONS,
+    ENGINES,
+    FINISHES,
+    IMAGE_SPACES,
+    MESH_FORMATS,
+    MODELS,
+    SHAPES,
+)
+from swatch.core.errors import SwatchError
 
 ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view angle, first value at the "
                "left (as the PNG figure and the catalog sheets)")
@@ -25,7 +33,8 @@ def _iterate(items, label: str):
 
 
 def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant, observer, wavelengths):
-    from swatch.colorimetry import get_colorimeter
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.render.metadata import voltage_note
 
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     d, v = common.resolve_thickness(thickness, voltage, proc, multiple=True)
@@ -39,7 +48,7 @@ def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant
 
 def _roughness(roughness: float | None, process: str | None) -> float:
     """``--roughness``, else the process profile's ``roughness``, else 0.3; checked."""
-    from swatch.microfacet import check_roughness_alpha
+    from swatch.physics.microfacet import check_roughness_alpha
 
     profile = None if roughness is not None else common.resolve_process(process).roughness
     return check_roughness_alpha(roughness if roughness is not None else (0.3 if profile is None else profile))
@@ -77,12 +86,14 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     _spectral.exr (R, G, B preview and reflectance per wavelength, Fichet et al. 2021 channels, 32-bit),
     .csv and .json (Lab per cell). Images: light angle up, view angle to the right.
     """
-    from swatch import geometry, imageio
-    from swatch.angular import angular_map, check_angular_size
-    from swatch.figures import angular_figure
-    from swatch.fileio import atomic_write_text, check_new, check_writable_dir
-    from swatch.pngmeta import image_xmp
-    from swatch.report import angular_lab_csv, angular_lab_json
+    from swatch.core.fileio import atomic_write_text, check_new, check_writable_dir
+    from swatch.io import imageio
+    from swatch.io.pngmeta import image_xmp
+    from swatch.physics import geometry
+    from swatch.render.angular import angular_map, check_angular_size
+    from swatch.render.metadata import file_stems, with_voltage
+    from swatch.report.figures import angular_figure
+    from swatch.report.text import angular_lab_csv, angular_lab_json
 
     roughness = _roughness(roughness, process)
     lights, views = geometry.check_light_view_deg(common.parse_range(light_range, "light angle", "deg"),
@@ -167,11 +178,13 @@ def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, 
                     view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
                     force, film, substrate, illuminant, observer, wavelengths, finish=None):
     """``swatch render --engine mitsuba``: everything checked before the first pass, then one render a thickness."""
-    from swatch import geometry, imageio
-    from swatch.fileio import check_new, check_writable_dir
-    from swatch.mesh import load_mesh
-    from swatch.pngmeta import image_xmp
-    from swatch.render import finish_meta
+    from swatch.core.fileio import check_new, check_writable_dir
+    from swatch.io import imageio
+    from swatch.io.pngmeta import image_xmp
+    from swatch.physics import geometry
+    from swatch.render.image import finish_meta
+    from swatch.render.mesh import load_mesh
+    from swatch.render.metadata import file_stems, with_voltage
 
     if model != "microfacet":
         raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
@@ -253,13 +266,16 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     --engine mitsuba path-traces them with Mitsuba 3 and the exact thin-film BSDF (lighting studio, sun,
     uniform, or an .exr/.hdr map; --spp, --seed; docs/mitsuba.md).
     """
-    from swatch import geometry, imageio
-    from swatch.env_render import resolve_lighting
-    from swatch.fileio import check_new, check_writable_dir
-    from swatch.finishes import finish_or_roughness
-    from swatch.mesh import load_mesh
-    from swatch.pngmeta import image_xmp
-    from swatch.render import check_finish_lighting, check_size_px, render_swatch
+    from swatch.core.fileio import check_new, check_writable_dir
+    from swatch.io import imageio
+    from swatch.io.pngmeta import image_xmp
+    from swatch.physics import geometry
+    from swatch.physics.finishes import finish_or_roughness
+    from swatch.render import render_swatch
+    from swatch.render.env_render import resolve_lighting
+    from swatch.render.image import check_finish_lighting, check_size_px
+    from swatch.render.mesh import load_mesh
+    from swatch.render.metadata import file_stems, with_voltage
 
     finish = finish_or_roughness(finish_name, roughness)
     roughness = finish.roughness_alpha if finish is not None else _roughness(roughness, process)

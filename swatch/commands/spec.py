@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from swatch.commands import common
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 
 @click.command()
@@ -36,14 +36,14 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     Writes DIR/spec.json (stable keys, README) and DIR/spec.pdf (one page: chips, multi-angle table,
     window, process profile, how to measure, sign-off box).
     """
-    from swatch.colorimetry import get_colorimeter, hex_to_Lab, parse_Lab
-    from swatch.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
-    from swatch.finish_spec import finish_spec
-    from swatch.materials import wavelength_grid
-    from swatch.model import check_thickness_nm
-    from swatch.multi_match import parse_angles
-    from swatch.spec_card import write_spec_card
-    from swatch.tolerance import parse_tolerance
+    from swatch.colorimetry.colorimeter import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.colorimetry.tolerance import parse_tolerance
+    from swatch.core.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
+    from swatch.fit.multi_match import parse_angles
+    from swatch.physics.materials import wavelength_grid
+    from swatch.physics.model import check_thickness_nm
+    from swatch.production.card import write_spec_card
+    from swatch.production.spec import finish_spec
 
     given = [n for n, v in (("--hex", hex_code), ("--lab", lab), ("--thickness", thickness), ("--voltage", voltage))
              if v is not None]

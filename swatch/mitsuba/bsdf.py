@@ -4,7 +4,7 @@ A rough conductor whose facets carry the anodic film: on the facet of the half v
 Fresnel factor is the Airy reflectance (:func:`swatch.mitsuba.film.airy_reflectance`) of air /
 film / substrate with the tables' complex dispersive indices at each sampled wavelength (the
 film's real part times ``film_index_scale``), s and p averaged — the physics of
-:mod:`swatch.optics` and the built-in renderer. The microfacet part is Mitsuba's own
+:mod:`swatch.physics.optics` and the built-in renderer. The microfacet part is Mitsuba's own
 :class:`mitsuba.MicrofacetDistribution` (GGX or Beckmann, isotropic or anisotropic, visible-normal
 sampling), with Smith shadowing either height-correlated (``shadowing = "correlated"``, the
 default: the built-in renderer's ``G₂ = 1 / (1 + Λ_i + Λ_o)``, with ``Λ = 1/G₁ − 1`` from Mitsuba's
@@ -37,12 +37,12 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from swatch.choices import DISTRIBUTIONS
-from swatch.errors import SwatchError
-from swatch.limits import MAX_THICKNESS_NM
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
+from swatch.core.choices import DISTRIBUTIONS
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_THICKNESS_NM
 from swatch.mitsuba.film import airy_reflectance
 from swatch.mitsuba.setup import SPECTRAL_VARIANTS
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
 
 __all__ = ["PLUGIN_NAME", "SHADOWING", "register", "table_texture", "index_textures", "check_parameters"]
 

@@ -4,7 +4,7 @@ The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the
 :mod:`swatch.mitsuba.bsdf`) and is seen by the built-in renderer's camera
 (:mod:`swatch.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
 Mitsuba's ``path`` integrator (up to :data:`MAX_DEPTH` bounces: meshes shadow and reflect
-themselves). Rendering is split into passes of at most :data:`swatch.limits.MAX_PASS_LANES`
+themselves). Rendering is split into passes of at most :data:`swatch.core.limits.MAX_PASS_LANES`
 samples (bounded memory, a progress bar, Ctrl-C/SIGTERM between passes), each with its own seed
 derived from ``seed``: the same seed and spp give byte-identical images.
 
@@ -18,21 +18,22 @@ from __future__ import annotations
 
 import datetime as dt
 import math
+import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import click
+import colour
 import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from swatch import microfacet
-from swatch.choices import BACKGROUNDS, DISTRIBUTIONS
-from swatch.display import BACKGROUND_LINEAR, display_encode
-from swatch.environment import read_equirect
-from swatch.errors import SwatchError
-from swatch.limits import (
+from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
+from swatch.core.choices import BACKGROUNDS, DISTRIBUTIONS
+from swatch.core.errors import SwatchError
+from swatch.core.limits import (
     MAX_MITSUBA_PX,
     MAX_MITSUBA_SAMPLES,
     MAX_PASS_LANES,
@@ -43,14 +44,17 @@ from swatch.limits import (
     MIN_TURBIDITY,
     MIN_YEAR,
 )
-from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
-from swatch.metadata import coating_and_colorimeter, common_metadata
 from swatch.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
 from swatch.mitsuba.scene import SUNSKY_TO_WORLD, Sun, camera_dict, lighting, object_shapes
 from swatch.mitsuba.setup import DEFAULT_VARIANT, ENV_VAR, INSTALL_HINT, MIN_LLVM_MAJOR, check_variant, llvm_major
-from swatch.model import check_thickness_nm
-from swatch.render import SwatchImage, mesh_metadata
-from swatch.scene import check_shape, make_scene
+from swatch.physics import microfacet
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
+from swatch.physics.model import check_thickness_nm
+from swatch.render.display import BACKGROUND_LINEAR, display_encode
+from swatch.render.environment import read_equirect
+from swatch.render.image import SwatchImage, mesh_metadata
+from swatch.render.metadata import coating_and_colorimeter, common_metadata
+from swatch.render.scene import check_shape, make_scene
 
 __all__ = ["MITSUBA_LIGHTINGS", "MAX_DEPTH", "Sun", "use_variant", "check_spp", "check_seed", "check_sun",
            "resolve_lighting", "render_swatch_mitsuba", "Lighting"]
@@ -64,7 +68,6 @@ _REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 
 def use_variant(variant: str = DEFAULT_VARIANT) -> str:
     """Set Mitsuba's ``variant`` (spectral) and register the plugin; SwatchError with what to install."""
-    import os
 
     variant = check_variant(variant)
     if variant.startswith("llvm"):
@@ -161,7 +164,7 @@ class Lighting:
 
 def resolve_lighting(lighting_name: str | None, sun: Sun | None = None) -> Lighting:
     """``studio`` (default), ``sun`` (with ``sun``, default 45° elevation), ``uniform``, or a map file
-    (.exr / .hdr, read and checked by :func:`swatch.environment.read_equirect`)."""
+    (.exr / .hdr, read and checked by :func:`swatch.render.environment.read_equirect`)."""
     key = "studio" if lighting_name is None else str(lighting_name).strip()
     low = key.lower()
     if low in MITSUBA_LIGHTINGS:
@@ -240,11 +243,11 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     Parameters
     ----------
     thickness_nm : float, nm
-        Film thickness, 0 to :data:`swatch.limits.MAX_THICKNESS_NM`.
+        Film thickness, 0 to :data:`swatch.core.limits.MAX_THICKNESS_NM`.
     shape : str
         ``flat``, ``cylinder`` or ``sphere`` (ignored with ``mesh``).
     size_px, spp, seed : int
-        Image side (≤ :data:`swatch.limits.MAX_MITSUBA_PX`), samples per pixel (≤ MAX_SPP; size² × spp ≤
+        Image side (≤ :data:`swatch.core.limits.MAX_MITSUBA_PX`), samples per pixel (≤ MAX_SPP; size² × spp ≤
         MAX_MITSUBA_SAMPLES) and the seed (0 … MAX_SEED): equal values give byte-identical images.
     lighting_name : str or Lighting
         ``studio``, ``sun``, ``uniform``, an .exr/.hdr path, or a :class:`Lighting` from
@@ -265,8 +268,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         ``environment`` (the scene as photographed, opaque; the default and the only choice for
         studio and sun), ``grey`` or ``white`` (uniform and maps: the object alone, premultiplied).
     view_deg, view_azimuth_deg : float
-        The camera, as in :func:`swatch.scene.make_scene`.
-    mesh : swatch.mesh.MeshShape, optional
+        The camera, as in :func:`swatch.render.scene.make_scene`.
+    mesh : swatch.render.mesh.MeshShape, optional
     variant : str
         Mitsuba variant (spectral), default ``llvm_ad_spectral``.
     progress : callable(done, total) or bool, optional
@@ -279,7 +282,6 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     swatch.render.SwatchImage
         ``linear_rgb`` (H, W, 3) float32 (module units), ``coverage`` (H, W), ``display_rgb`` uint8, metadata.
     """
-    from swatch.colorimetry import RGB_SPACES, check_rgb_space
 
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = "mesh" if mesh is not None else check_shape(shape)
@@ -337,7 +339,6 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
     bar = None
     if progress is True and sys.stderr.isatty() and passes > 1:
-        import click
 
         bar = click.progressbar(length=passes, label=f"mitsuba {shape}", file=sys.stderr)
     acc = np.zeros((size, size, 4), dtype=np.float64)
@@ -364,7 +365,6 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         display = display_encode(rgb + (1.0 - coverage)[..., None] * np.float32(bg), 1.0)
     linear = rgb
     if space != "srgb":
-        import colour
 
         m = np.asarray(colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["sRGB"],
                                                 colour.RGB_COLOURSPACES[RGB_SPACES[space]], "Bradford"))

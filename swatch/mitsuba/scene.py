@@ -1,9 +1,9 @@
 """Mitsuba scene dictionaries of a swatch render: the built-in renderer's camera and shapes, and the lighting.
 
-Geometry is that of :mod:`swatch.scene` (world y up, the camera on the +z side): the same pinhole
+Geometry is that of :mod:`swatch.render.scene` (world y up, the camera on the +z side): the same pinhole
 camera and framing (its off-centre window becomes Mitsuba's principal-point offset), the 2 × 2
 plate, the unit sphere, the half cylinder (a tessellated sheet, both faces the finish) and a
-designer's mesh (placed as by :class:`swatch.mesh.MeshShape`, creases split). Every object's
+designer's mesh (placed as by :class:`swatch.render.mesh.MeshShape`, creases split). Every object's
 BSDF is wrapped in ``twosided`` (a sheet's inner face and a mesh's back faces are the finish too).
 
 Lighting (:func:`lighting`)
@@ -16,7 +16,7 @@ Lighting (:func:`lighting`)
   (albedo 0.2); the sun by elevation and azimuth, or by latitude, longitude, date and time
   (the scene's −z is north, +x west: a wall facing the camera faces south);
 * ``uniform``: radiance 1 (D65) from every direction, nothing else in the scene;
-* a user's HDRI (equirectangular EXR or Radiance HDR, as :func:`swatch.environment.read_equirect`
+* a user's HDRI (equirectangular EXR or Radiance HDR, as :func:`swatch.render.environment.read_equirect`
   orients it: row 0 the zenith, the centre column looking along −z).
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import mitsuba as mi
 import numpy as np
 
-from swatch.scene import Camera
+from swatch.render.scene import Camera
 
 __all__ = ["Sun", "camera_dict", "object_shapes", "lighting", "triangle_mesh", "half_cylinder_arrays",
            "SUNSKY_TO_WORLD"]
@@ -71,7 +71,7 @@ def _transform(matrix) -> mi.ScalarTransform4f:
 
 
 def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
-    """Mitsuba's perspective sensor for a :class:`swatch.scene.Camera` (same rays through pixel centres)."""
+    """Mitsuba's perspective sensor for a :class:`swatch.render.scene.Camera` (same rays through pixel centres)."""
     m = np.eye(4)
     # Mitsuba's camera looks along +z with +x to the image's left and +y up.
     m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = -cam.right, cam.up, cam.forward, cam.position
@@ -107,7 +107,7 @@ def triangle_mesh(name: str, positions: np.ndarray, faces: np.ndarray, normals: 
 
 
 def half_cylinder_arrays(half_height: float = 1.1, segments: int = 256):
-    """The half cylinder of :class:`swatch.scene.HalfCylinder` (radius 1, |y| ≤ h, z ≥ 0) as a strip:
+    """The half cylinder of :class:`swatch.render.scene.HalfCylinder` (radius 1, |y| ≤ h, z ≥ 0) as a strip:
     positions, faces, outward normals."""
     ph = np.linspace(-math.pi / 2, math.pi / 2, segments + 1)
     x, z = np.sin(ph), np.cos(ph)

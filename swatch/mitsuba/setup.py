@@ -14,7 +14,7 @@ import glob
 import os
 import re
 
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 __all__ = ["ENV_VAR", "INSTALL_HINT", "SPECTRAL_VARIANTS", "DEFAULT_VARIANT", "find_libllvm", "configure_llvm", "llvm_major",
            "check_variant"]

@@ -1,6 +1,6 @@
 """Anisotropic (brushed) finishes in the presets' renderers: each format's own parametrisation of
 GGX ``α`` along and across the grain, solved for a finish's ``alpha_u`` (along) and ``alpha_v``
-(across) (:mod:`swatch.finishes`). The brushing direction is the mesh's tangent in every format.
+(across) (:mod:`swatch.physics.finishes`). The brushing direction is the mesh's tangent in every format.
 
 * **glTF** ``KHR_materials_anisotropy``: ``α_b = roughness²`` across the anisotropy direction and
   ``α_t = mix(roughness², 1, strength²)`` along it (the extension's specification and Khronos'

@@ -30,6 +30,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+from swatch.physics.model import get_coating
+from swatch.presets import cycles, gltf, materialx, openpbr, threejs
+from swatch.presets.spectral import rgb_to_Lab, rgb_to_xyz_matrix
+
 __all__ = ["MODELS", "FIT_ANGLES_DEG", "FILM_IOR_RANGE", "BASE_RANGE", "THICKNESS_WINDOW_NM", "PresetFit",
            "fit_presets", "model_Lab", "exact_Lab", "errors_delta_E_00"]
 
@@ -62,8 +68,6 @@ DEFAULT_ROUGHNESS = 0.5477
 
 
 def _model(name: str):
-    from swatch.presets import cycles, gltf, materialx, openpbr, threejs
-
     plain = {"gltf": gltf.iridescent_fresnel, "cycles": cycles.principled_metal_fresnel,
              "openpbr": openpbr.thin_film_metal_fresnel}
     if name == "threejs":
@@ -85,7 +89,6 @@ def model_Lab(model: str, params, angles_deg, roughness: float | None = None) ->
     The angle is the facet angle (the model's cos θ argument; N·V for ``threejs``, which is the
     facet angle at mirror geometries). ``roughness``: the glTF roughnessFactor (``threejs`` only).
     """
-    from swatch.presets.spectral import rgb_to_Lab
 
     p = np.asarray(params, dtype=np.float64)
     c = np.cos(np.radians(np.asarray(angles_deg, dtype=np.float64)))
@@ -98,10 +101,7 @@ def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str 
               film_index_scale: float = 1.0, spread=None) -> np.ndarray:
     """The exact colour (N, A, 3): Airy reflectance at facet angle θ_d, CIELAB under D65, 2°
     (``film_index_scale``: a process profile's scale of the film's real index; ``spread``: its
-    :class:`swatch.spread.ThicknessSpread`, the colour averaged over it)."""
-    from swatch.colorimetry import get_colorimeter
-    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
-    from swatch.model import get_coating
+    :class:`swatch.physics.spread.ThicknessSpread`, the colour averaged over it)."""
 
     wl = wavelength_grid(380.0, 780.0, 5.0)
     coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl, film_index_scale, spread)
@@ -117,7 +117,6 @@ def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DE
     """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour at facet angles
     ``angles_deg``; the model is evaluated at ``model_angles_deg`` (default the same angles: mirror
     geometries; e.g. 0 for three.js at 45:0, whose N·V is 0° where the facet angle is 22.5°)."""
-    from swatch.colorimetry import delta_E_00
 
     at = angles_deg if model_angles_deg is None else model_angles_deg
     return delta_E_00(model_Lab(model, params, at, roughness),
@@ -148,23 +147,17 @@ def _bounds(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _bare_metal_rgb(substrate: str | None) -> np.ndarray:
     """Linear Rec.709 F0 of the bare substrate (D65, 2°): the starting base colour."""
-    from swatch.colorimetry import get_colorimeter
-    from swatch.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
-    from swatch.model import get_coating
-    from swatch.presets.spectral import _rgb_to_xyz_matrix
 
     wl = wavelength_grid(380.0, 780.0, 5.0)
     coating = get_coating(DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl)
     cm = get_colorimeter(wl, "D65", "2")
     XYZ = cm.XYZ(coating.reflectance(np.array([0.0]), np.array([0.0])).R)[0] / 100.0
-    return np.clip(np.linalg.solve(_rgb_to_xyz_matrix()[0], XYZ), *BASE_RANGE)
+    return np.clip(np.linalg.solve(rgb_to_xyz_matrix()[0], XYZ), *BASE_RANGE)
 
 
 class _Problem:
     def __init__(self, model, target_Lab, weights, angles_deg, power: float = 1.0, model_angles_deg=None,
                  roughness: float | None = None):
-        from swatch.colorimetry import delta_E_00
-
         self.model, self.target, self.w, self.angles = model, target_Lab, np.sqrt(weights), angles_deg
         self.model_angles = angles_deg if model_angles_deg is None else model_angles_deg
         self.power, self.roughness = power, roughness
@@ -247,7 +240,7 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     """Fit ``model``'s parameters for every thickness (sorted or not); see the module docstring.
 
     ``film_index_scale``: a process profile's scale of the film's real index (the exact colour);
-    ``spread``: its thickness spread (:class:`swatch.spread.ThicknessSpread`; the exact colour averaged over it).
+    ``spread``: its thickness spread (:class:`swatch.physics.spread.ThicknessSpread`; the exact colour averaged over it).
     ``extra_angles_deg``: the catalog's geometries as facet angles (weight 2), at which the model is
     evaluated at ``extra_model_angles_deg`` (same length; default the same angles). ``roughness``:
     the glTF roughnessFactor (models that depend on it: ``threejs``).

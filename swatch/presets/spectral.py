@@ -23,7 +23,9 @@ from __future__ import annotations
 
 import functools
 
+import colour
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 __all__ = ["XYZ_TO_REC709", "gltf_sensitivity", "gaussian_sensitivity_xyz", "cmf_sensitivity", "rgb_to_Lab", "CYCLES_TABLE_SIZE"]
 
@@ -61,8 +63,6 @@ def gaussian_sensitivity_xyz(opd_nm, shift) -> np.ndarray:
 @functools.lru_cache(maxsize=1)
 def _cycles_table() -> np.ndarray:
     """The (512, 3) complex Rec.709 table of Cycles' thin-film sensitivity (DC = 1 per channel)."""
-    import colour
-    from scipy.interpolate import CubicSpline
 
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
     wl = np.asarray(cmfs.wavelengths, dtype=np.float64)
@@ -92,8 +92,8 @@ def cmf_sensitivity(opd_nm) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=1)
-def _rgb_to_xyz_matrix() -> tuple[np.ndarray, np.ndarray]:
-    import colour
+def rgb_to_xyz_matrix() -> tuple[np.ndarray, np.ndarray]:
+    """sRGB (Rec.709 primaries) linear RGB → XYZ matrix (3, 3) and the D65 white point xy (colour-science)."""
 
     space = colour.RGB_COLOURSPACES["sRGB"]
     return np.asarray(space.matrix_RGB_to_XYZ, dtype=np.float64), np.asarray(space.whitepoint, dtype=np.float64)
@@ -101,8 +101,7 @@ def _rgb_to_xyz_matrix() -> tuple[np.ndarray, np.ndarray]:
 
 def rgb_to_Lab(rgb) -> np.ndarray:
     """CIELAB (D65, CIE 1931 2°) of a linear Rec.709 reflectance (..., 3); 1 = perfect white."""
-    import colour
 
-    m, white = _rgb_to_xyz_matrix()
+    m, white = rgb_to_xyz_matrix()
     XYZ = np.asarray(rgb, dtype=np.float64) @ m.T
     return colour.XYZ_to_Lab(XYZ, white)

@@ -23,9 +23,10 @@ import base64
 import functools
 import json
 
+import MaterialX as mx
 import numpy as np
 
-from swatch.errors import SwatchError
+from swatch.core.errors import SwatchError
 
 __all__ = ["gltf_bytes", "blender_bytes", "materialx_bytes", "PLATE_SIZE_M"]
 
@@ -164,8 +165,6 @@ def blender_bytes(name: str, params, roughness: float, file_name: str, note: str
 
 @functools.lru_cache(maxsize=1)
 def _materialx_library():
-    import MaterialX as mx
-
     lib = mx.createDocument()
     mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), lib)
     return lib
@@ -176,7 +175,6 @@ def materialx_bytes(name: str, params, roughness: float, note: str = "", anisotr
     (``note``: what it was fitted to and its error, in the material's doc string; ``anisotropy``:
     ``specular_roughness_anisotropy`` of a brushed finish, the geometry tangent then the mesh's
     bitangent, across the grain)."""
-    import MaterialX as mx
 
     d, eta, base, rough = _check(params, roughness)
     ident = mx.createValidName(name)

@@ -1,0 +1,1 @@
+"""Colorimetry: colorimeter (spectra to XYZ/Lab/sRGB), tolerances, appearance, colour names."""

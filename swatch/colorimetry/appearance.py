@@ -1,0 +1,76 @@
+"""Thickness → colour: the half-vector spectrum of each thickness at one geometry, in colour terms."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import Colorimeter, Lab_to_LCh, delta_E_ab, srgb_hex
+from swatch.physics.model import Coating
+
+__all__ = ["ThicknessColours", "thickness_colours"]
+
+
+@dataclass(frozen=True)
+class ThicknessColours:
+    """Colours of a series of thicknesses at one light/view geometry (arrays with N rows)."""
+
+    thickness_nm: np.ndarray
+    theta_d_deg: float
+    reflectance: np.ndarray  # (N, W)
+    XYZ: np.ndarray  # (N, 3), Y = 100 for a perfect reflector
+    Lab: np.ndarray
+    LCh: np.ndarray
+    srgb: np.ndarray  # display-encoded, clipped to [0, 1]
+    in_srgb_gamut: np.ndarray  # (N,) bool
+    srgb_hex: np.ndarray  # (N,) str
+    in_display_p3_gamut: np.ndarray  # (N,) bool
+    delta_E_ab_to_previous: np.ndarray  # (N,), NaN for the first row
+
+    def rows(self) -> list[dict]:
+        """JSON-ready rows (the public contract of ``swatch color --json``)."""
+        out = []
+        for i, d in enumerate(self.thickness_nm):
+            dE = self.delta_E_ab_to_previous[i]
+            out.append(
+                {
+                    "thickness_nm": float(d),
+                    "XYZ": [float(v) for v in self.XYZ[i]],
+                    "Lab": [float(v) for v in self.Lab[i]],
+                    "LCh": [float(v) for v in self.LCh[i]],
+                    "srgb_hex": str(self.srgb_hex[i]),
+                    "in_srgb_gamut": bool(self.in_srgb_gamut[i]),
+                    "in_display_p3_gamut": bool(self.in_display_p3_gamut[i]),
+                    "delta_E_ab_to_previous": None if np.isnan(dE) else float(dE),
+                }
+            )
+        return out
+
+
+def thickness_colours(
+    thickness_nm,
+    light_deg: float,
+    view_deg: float,
+    coating: Coating,
+    colorimeter: Colorimeter,
+    light_azimuth_deg: float = 0.0,
+    view_azimuth_deg: float | None = None,
+) -> ThicknessColours:
+    """All thicknesses in one vectorised evaluation and one matrix product."""
+    d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
+    refl, theta_d = coating.half_vector(d, light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+    R = refl.R
+    XYZ = colorimeter.XYZ(R)
+    Lab = colorimeter.Lab(XYZ)
+    XYZ_2 = colorimeter.display_XYZ(R)  # display RGB is defined on CIE 1931 2° colorimetry
+    srgb, gamut = colorimeter.display(XYZ_2, "srgb")
+    _, gamut_p3 = colorimeter.display(XYZ_2, "display-p3")
+    dE = np.full(d.shape, np.nan)
+    if d.size > 1:
+        dE[1:] = delta_E_ab(Lab[1:], Lab[:-1])
+    return ThicknessColours(
+        thickness_nm=d, theta_d_deg=float(theta_d), reflectance=R, XYZ=XYZ, Lab=Lab,
+        LCh=Lab_to_LCh(Lab), srgb=srgb, in_srgb_gamut=gamut, srgb_hex=np.atleast_1d(srgb_hex(srgb)),
+        in_display_p3_gamut=gamut_p3,
+        delta_E_ab_to_previous=dE,
+    )

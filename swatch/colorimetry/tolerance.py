@@ -1,0 +1,181 @@
+"""Colour tolerances, each judged in the metric it is defined in.
+
+Named grades (``tables/tolerance_grades.csv``: CSAJ AAA…E, the NBS terms) are bounds on the
+colour difference the table's ``metric`` column names (both shipped schemes bound CIE 1976
+ΔE*ab). A tolerance may also be written as coating specifications write it, a metric and a
+maximum (``dE00:2.0``, or ``{ metric = "dE00", max = 2.0 }`` in a catalog spec). Process
+windows, ``swatch match`` and ``swatch fit`` compare a colour difference computed in the
+tolerance's own metric with its bound; never one metric's number against another's bound.
+"""
+from __future__ import annotations
+
+import csv
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_TOLERANCE
+from swatch.physics.materials import tables_dir
+
+__all__ = ["Grade", "Tolerance", "METRICS", "schemes", "grades", "grade_for", "grade_bound", "grade_metric",
+           "delta_E", "get_tolerance", "parse_tolerance"]
+
+DEFAULT_SCHEME = "csaj"
+#: Colour-difference metrics a tolerance can bound: name -> description (one definition of the choice list).
+METRICS = {"dEab": "CIE 1976 ΔE*ab", "dE00": "CIEDE2000 ΔE00"}
+
+
+@dataclass(frozen=True)
+class Grade:
+    scheme: str
+    name: str
+    metric: str
+    max: float
+    description: str
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """A bound ``max`` on the colour difference ``metric``; ``scheme``/``grade`` when it is a named grade."""
+
+    metric: str
+    max: float
+    scheme: str | None = None
+    grade: str | None = None
+    description: str = ""
+
+    @property
+    def label(self) -> str:
+        """``C`` for a named grade, ``dE00 ≤ 2`` for a written tolerance."""
+        return self.grade if self.grade is not None else f"{self.metric} ≤ {self.max:g}"
+
+    @property
+    def text(self) -> str:
+        """One line for sheets and pages: what is bounded, by how much, from which grade."""
+        grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
+        return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
+
+    def delta_E(self, Lab1, Lab2) -> np.ndarray:
+        return delta_E(self.metric, Lab1, Lab2)
+
+    def to_json(self) -> dict:
+        return {"metric": self.metric, "max": self.max, "scheme": self.scheme, "grade": self.grade,
+                "description": self.description}
+
+
+@functools.lru_cache(maxsize=1)
+def _table() -> dict[str, tuple[Grade, ...]]:
+    path = tables_dir() / "tolerance_grades.csv"
+    lines = [ln for ln in path.read_text(encoding="utf-8").splitlines() if ln and not ln.startswith("#")]
+    out: dict[str, list[Grade]] = {}
+    for row in csv.DictReader(lines):
+        if row["metric"] not in METRICS:
+            raise SwatchError(f"{path.name}: metric {row['metric']!r} is not one of {', '.join(METRICS)}")
+        out.setdefault(row["scheme"], []).append(
+            Grade(row["scheme"], row["grade"], row["metric"], float(row["max"]), row["description"])
+        )
+    return {k: tuple(sorted(v, key=lambda g: g.max)) for k, v in out.items()}
+
+
+def schemes() -> list[str]:
+    return sorted(_table())
+
+
+def grades(scheme: str = DEFAULT_SCHEME) -> tuple[Grade, ...]:
+    table = _table()
+    if scheme not in table:
+        raise SwatchError(f"unknown tolerance scheme {scheme!r}; use one of {', '.join(schemes())}")
+    return table[scheme]
+
+
+def grade_metric(scheme: str = DEFAULT_SCHEME) -> str:
+    """The metric a scheme's bounds are defined on."""
+    return grades(scheme)[0].metric
+
+
+def _grade(name: str, scheme: str) -> Grade:
+    for g in grades(scheme):
+        if g.name.lower() == str(name).lower():
+            return g
+    raise SwatchError(
+        f"unknown grade {name!r} in scheme {scheme}; use one of {', '.join(g.name for g in grades(scheme))}"
+    )
+
+
+def grade_bound(name: str, scheme: str = DEFAULT_SCHEME) -> float:
+    """Upper bound of a named grade, in the scheme's metric (:func:`grade_metric`)."""
+    return _grade(name, scheme).max
+
+
+def grade_for(delta_E, scheme: str = DEFAULT_SCHEME):
+    """The tightest grade whose bound is >= ``delta_E`` ("beyond" past the last); vectorised.
+
+    ``delta_E`` must be in the scheme's metric (:func:`grade_metric`).
+    """
+    gs = grades(scheme)
+    bounds = np.array([g.max for g in gs])
+    dE = np.asarray(delta_E, dtype=np.float64)
+    if np.any(~np.isfinite(dE)) or np.any(dE < 0):
+        raise SwatchError("ΔE must be finite and >= 0")
+    idx = np.searchsorted(bounds, dE, side="left")
+    names = np.array([g.name for g in gs] + ["beyond"], dtype=object)
+    res = names[idx]
+    return str(res) if np.ndim(res) == 0 else res
+
+
+def delta_E(metric: str, Lab1, Lab2) -> np.ndarray:
+    """The colour difference ``metric`` (``dEab`` or ``dE00``) between CIELAB arrays (colour-science)."""
+    from swatch.colorimetry.colorimeter import delta_E_00, delta_E_ab
+
+    if metric == "dEab":
+        return delta_E_ab(Lab1, Lab2)
+    if metric == "dE00":
+        return delta_E_00(Lab1, Lab2)
+    raise SwatchError(f"unknown colour-difference metric {metric!r}; use one of {', '.join(METRICS)}")
+
+
+def _check_metric(metric) -> str:
+    if metric not in METRICS:
+        raise SwatchError(f"tolerance metric {metric!r} is unknown; use one of {', '.join(METRICS)}")
+    return metric
+
+
+def _check_max(value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or not 0 < value <= MAX_TOLERANCE:
+        raise SwatchError(f"tolerance max must be a number more than 0 and at most {MAX_TOLERANCE:g}")
+    return float(value)
+
+
+def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: str | None = None,
+                  max: float | None = None) -> Tolerance:
+    """A named grade (``scheme``, ``grade``) or a written tolerance (``metric``, ``max``), not both."""
+    if metric is not None or max is not None:
+        if grade is not None:
+            raise SwatchError("give a tolerance as a grade (scheme, grade) or as metric and max, not both")
+        if metric is None or max is None:
+            raise SwatchError("a written tolerance needs both metric (dEab or dE00) and max")
+        return Tolerance(_check_metric(metric), _check_max(max))
+    scheme = scheme or DEFAULT_SCHEME
+    g = _grade(grade if grade is not None else "C", scheme)
+    return Tolerance(g.metric, g.max, scheme, g.name, g.description)
+
+
+def parse_tolerance(text: str) -> Tolerance:
+    """``METRIC:MAX`` (``dE00:2``, ``dEab:3.2``) or ``SCHEME:GRADE`` (``csaj:B``) from the command line."""
+    what, sep, value = str(text).strip().partition(":")
+    if not sep:
+        raise SwatchError(f"tolerance {text!r} must be METRIC:MAX (e.g. dE00:2.0) or SCHEME:GRADE (e.g. csaj:C)")
+    if what in METRICS:
+        try:
+            number = float(value)
+        except ValueError:
+            raise SwatchError(f"tolerance {text!r}: {value!r} is not a number") from None
+        return get_tolerance(metric=what, max=number)
+    if what in schemes():
+        return get_tolerance(scheme=what, grade=value)
+    raise SwatchError(f"tolerance {text!r}: {what!r} is neither a metric ({', '.join(METRICS)}) "
+                      f"nor a scheme ({', '.join(schemes())})")

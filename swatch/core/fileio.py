@@ -1,0 +1,111 @@
+"""Safe output: atomic writes (temp file in the same folder, then rename) that never overwrite a
+user's file unless asked (``force``), and checks that an output folder is usable."""
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+
+from swatch.core.errors import SwatchError
+
+__all__ = ["check_writable_dir", "check_new", "atomic_write_bytes", "atomic_write_text", "atomic_path"]
+
+
+def check_writable_dir(path, create: bool = True) -> Path:
+    """The folder as a Path, created if needed; SwatchError if it cannot be written."""
+    if not str(path).strip():
+        raise SwatchError("output folder is an empty string; give a folder path")
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise SwatchError(f"output folder {p} is a file; give a folder")
+    if not p.exists():
+        if not create:
+            raise SwatchError(f"output folder {p} does not exist")
+        try:
+            p.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise SwatchError(f"cannot create output folder {p}: {exc.strerror}") from None
+    if not os.access(p, os.W_OK | os.X_OK):
+        raise SwatchError(f"output folder {p} is not writable")
+    return p
+
+
+def check_new(paths, force: bool) -> None:
+    """Refuse to overwrite existing files unless ``force``; names the first one found.
+
+    A folder (or anything but a file) where an output goes is refused even with ``force``, before
+    any output of the batch is written.
+    """
+    for p in paths:
+        if Path(p).exists() and not Path(p).is_file():
+            raise SwatchError(f"{p} is a folder or special file where an output goes; --force replaces "
+                              "files only; move it away")
+    if force:
+        return
+    existing = [str(p) for p in paths if Path(p).exists()]
+    if existing:
+        more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
+        raise SwatchError(f"{existing[0]}{more} already exists; use --force to overwrite")
+
+
+class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as tmp`)
+    """Context manager giving a temporary path next to ``path``; renamed onto it on success.
+
+    >>> with atomic_path("out.exr") as tmp:  # write tmp with any library
+    ...     write(tmp)
+    On an exception the temporary file is removed and ``path`` is left as it was.
+    """
+
+    def __init__(self, path, suffix: str | None = None):
+        self.path = Path(path)
+        self.suffix = self.path.suffix if suffix is None else suffix
+
+    def __enter__(self) -> Path:
+        _remove_stale_temps(self.path.parent, f".{self.path.stem}.", f".tmp{self.suffix}")
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.{os.getpid()}.", suffix=f".tmp{self.suffix}",
+                                   dir=self.path.parent)
+        os.close(fd)
+        self.tmp = Path(tmp)
+        return self.tmp
+
+    def __exit__(self, exc_type, exc, tb):
+        try:
+            if exc_type is None:
+                os.chmod(self.tmp, 0o644)
+                os.replace(self.tmp, self.path)
+        finally:
+            self.tmp.unlink(missing_ok=True)  # (gone after a successful rename)
+        return False
+
+
+def _remove_stale_temps(folder: Path, prefix: str, suffix: str) -> None:
+    """Remove temporary files ``<prefix><pid>.<random><suffix>`` left by runs that were killed.
+
+    Only files whose process is gone are removed (a concurrent run's temporary file is kept).
+    """
+    try:
+        names = [n for n in os.listdir(folder) if n.startswith(prefix) and n.endswith(suffix)]
+    except OSError:
+        return
+    for name in names:
+        pid, _, rand = name[len(prefix):len(name) - len(suffix)].partition(".")
+        if not pid.isdigit() or len(rand) != 8 or "." in rand or int(pid) == os.getpid():
+            continue  # not ours (another output's stem), or this process's own
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            with contextlib.suppress(OSError):
+                (folder / name).unlink()
+        except (PermissionError, OverflowError):
+            pass
+
+
+def atomic_write_bytes(path, data: bytes) -> Path:
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(data)
+    return Path(path)
+
+
+def atomic_write_text(path, text: str) -> Path:
+    return atomic_write_bytes(path, text.encode("utf-8"))

@@ -1,0 +1,169 @@
+"""Caps on untrusted input, defined once: sizes and counts are checked before memory is spent.
+
+Every limit here is quoted in the error that enforces it (what is allowed), so a user who hits
+one learns the bound. Light module (no numpy), importable from anywhere.
+"""
+from __future__ import annotations
+
+import os
+import stat
+
+from swatch.core.errors import SwatchError
+
+__all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
+           "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
+           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SPREAD_NM", "MAX_SPREAD_FRACTION", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
+           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_ANISO_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
+           "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
+           "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
+           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_INSTRUMENT_SAMPLES",
+           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED",
+           "MAX_MITSUBA_PX", "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY",
+           "MAX_TURBIDITY", "read_capped", "read_text_capped"]
+
+#: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
+#: catalog's manifest is ~20 kB.
+MAX_METADATA_BYTES = 16 * 1024 * 1024
+#: A file name read back from metadata (the usual file-system limit).
+MAX_NAME_CHARS = 255
+#: One cached tile (``.swatch-catalog/cache/*.npz``); the largest spec (two 512 px renders and a map)
+#: needs ~5 MB.
+MAX_CACHE_ENTRY_BYTES = 64 * 1024 * 1024
+#: Points in a wavelength grid (380–780 nm at 0.04 nm; colorimetry itself needs 1–20 nm steps).
+MAX_WAVELENGTHS = 10_001
+#: Values in one ``A:B:STEP`` range of the command line (thicknesses, voltages, angles).
+MAX_RANGE_POINTS = 100_000
+#: A measurement file (CSV, CGATS, CxF3): an sBRDF set of ~7000 geometries at 5 nm (86 × 86 angles) is ~15 MB, and
+#: reading and fitting it peaks near 1 GB.
+MAX_MEASUREMENT_BYTES = 16 * 1024 * 1024
+#: A catalog spec (TOML; the shipped ones are ~1 kB).
+MAX_SPEC_BYTES = 1024 * 1024
+#: One CSV field (Python's csv module default).
+MAX_CSV_FIELD_CHARS = 131_072
+#: Largest |a*| and |b*| accepted as a colour (real surface colours stay within about ±130).
+MAX_LAB_AB = 200.0
+#: A measured spectrum whose largest reflectance (fraction) is below this is not a measurement.
+MIN_PEAK_REFLECTANCE = 1e-4
+#: Working memory one run may plan for; large jobs are done in chunks or refused beyond it.
+MAX_RUN_BYTES = 2 * 1024 ** 3
+#: Largest film thickness accepted (anodic films are 10–300 nm; interference orders beyond a
+#: micrometre are not colours any more).
+MAX_THICKNESS_NM = 1000.0
+#: Largest anodising voltage accepted.
+MAX_VOLTAGE_V = 300.0
+#: A film's thickness spread (1σ of the local thickness, swatch.physics.spread): the absolute part, nm, and the part
+#: proportional to the thickness. Beyond them every interference colour is washed out to grey.
+MAX_SPREAD_NM = 50.0
+MAX_SPREAD_FRACTION = 0.3
+#: Largest render size (pixels per side): a 4096² render peaks at ~1.2 GB (8192² would need ~4.5 GB).
+MAX_SIZE_PX = 4096
+#: Largest angular map, in cells × wavelengths: its spectral array (8 bytes a sample) and the
+#: spectral EXR (4) stay near 0.6 GB within MAX_RUN_BYTES (e.g. 700 × 700 cells at 81 wavelengths).
+MAX_ANGULAR_SAMPLES = 40_000_000
+#: A user's environment map (equirectangular EXR), checked from its header before pixels are read.
+MAX_ENV_PIXELS = 8192 * 4096
+MAX_ENV_SIDE = 16384
+MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
+#: Largest environment-lit render (pixels per side): a 2048² render peaks at ~0.7 GB (the
+#: gathered environment samples of the shading points), within MAX_RUN_BYTES.
+MAX_ENV_RENDER_PX = 2048
+#: Side of an environment-lit render of an anisotropic (brushed) finish: four bins gathered per
+#: shading point (swatch.render.env_aniso), so a quarter of the pixels for the same memory.
+MAX_ANISO_RENDER_PX = 1024
+
+#: Swatches in one catalog (a spec's thickness or voltage list or range).
+MAX_SWATCHES = 400
+#: Largest print-chip side in pixels (a 16-bit RGB chip of 4096² is 100 MB in memory).
+MAX_CHIP_PX = 4096
+#: Thickness nodes of either explorer table (a 1000 nm range at 0.1 nm).
+MAX_GRID_NODES = 10_001
+#: Largest thickness search grid (``swatch match``/``fit`` ``--step`` over ``--range``).
+MAX_SEARCH_POINTS = 200_000
+#: Largest roughness Ra accepted by the Rayleigh criterion (nm; a millimetre).
+MAX_RA_NM = 1e6
+#: A coupon CSV (``swatch calibrate``): bytes, non-comment rows and coupons.
+MAX_COUPON_BYTES = 8 * 1024 * 1024
+MAX_COUPON_ROWS = 200_000
+MAX_COUPONS = 1000
+#: A process profile (TOML; the shipped ones are ~1 kB) and one of its text fields.
+MAX_PROFILE_BYTES = 64 * 1024
+MAX_PROFILE_TEXT_CHARS = 2000
+#: Largest colour tolerance (ΔE, any metric) a spec or a grade may state.
+MAX_TOLERANCE = 100.0
+#: Largest reflectance factor accepted in a measurement (fraction). Near the mirror direction a
+#: glossy sample's reflectance factor (relative to a white diffuser) can reach the hundreds;
+#: beyond this a value is an error in the file.
+MAX_REFLECTANCE = 1e5
+#: Most negative reflectance (as a fraction) accepted as measurement noise.
+MIN_REFLECTANCE = -0.05
+#: A mesh file (``swatch render --mesh``): bytes (a binary STL of 64 MB is 1.3 M triangles) and
+#: triangles (Embree's scene and the per-corner normals stay near 0.3 GB).
+MAX_MESH_BYTES = 64 * 1024 * 1024
+MAX_MESH_TRIANGLES = 2_000_000
+#: An instrument file (CGATS text, CxF3 XML, CSV; ``fit``, ``calibrate``, ``check``; its bytes are
+#: capped by MAX_MEASUREMENT_BYTES): samples, fields of a CGATS table (a 1 nm spectrum 360–830 nm
+#: has 471) and geometries of one sample.
+MAX_INSTRUMENT_SAMPLES = 10_000
+MAX_INSTRUMENT_FIELDS = 2_000
+MAX_INSTRUMENT_GEOMETRIES = 32
+
+#: ``swatch render --engine mitsuba``: samples per pixel, the seed, the image side, and the total
+#: samples (size² × spp; 512² at 256 spp is 6.7e7, about a minute on 2 cores), which bound the time.
+MAX_SPP = 16384
+MAX_SEED = 2**31 - 1
+MAX_MITSUBA_PX = 4096
+MAX_MITSUBA_SAMPLES = 4 * 1024**3
+#: Samples one Mitsuba pass traces at once (its wavefront state is a few hundred bytes a lane:
+#: ~1 GB at this count); a render is split into passes of at most this many.
+MAX_PASS_LANES = 1 << 22
+#: ``--sun-date``: the years the solar-position model is stated for (and sane), and the sky
+#: model's turbidity range (Hosek–Wilkie's fit covers 1–10).
+MIN_YEAR, MAX_YEAR = 1900, 2100
+MIN_TURBIDITY, MAX_TURBIDITY = 1.0, 10.0
+
+
+def read_capped(path, limit: int, what: str) -> bytes:
+    """The bytes of ``path``, refused (SwatchError) beyond ``limit`` bytes before they are all read.
+
+    Works for devices too (``/dev/zero``): at most ``limit + 1`` bytes are read. A pipe or socket
+    is refused before it is opened (reading one blocks until a writer comes, maybe never).
+    """
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        mode = 0  # (open reports it)
+    if stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):  # opening a pipe would wait for a writer forever
+        raise SwatchError(f"{path}: a pipe or socket, not a file; a {what} must be a regular file")
+    with open(path, "rb") as fh:
+        st = os.fstat(fh.fileno())
+        data = b"x" * (limit + 1) if stat.S_ISREG(st.st_mode) and st.st_size > limit else fh.read(limit + 1)
+    if len(data) > limit:
+        raise SwatchError(f"{path}: larger than {_size(limit)}; a {what} is at most {_size(limit)}")
+    return data
+
+
+def read_text_capped(path, limit: int, what: str, kind: str, source: str | None = None,
+                     encoding: str = "utf-8-sig") -> str:
+    """The text of ``path`` through :func:`read_capped`, with the one-line errors of a user's file:
+    missing, a folder (``give a .{kind} file``), unreadable, or not UTF-8 (``a {what} is a {kind}
+    file``). ``source`` names the file in the messages (default ``path``). A UTF-8 byte-order mark
+    (Windows editors write one) is dropped."""
+
+    source = str(path) if source is None else source
+    try:
+        raw = read_capped(path, limit, what)
+    except FileNotFoundError:
+        raise SwatchError(f"{what} {source} does not exist") from None
+    except IsADirectoryError:
+        raise SwatchError(f"{what} {source} is a folder; give a .{kind.lower()} file") from None
+    except OSError as exc:
+        raise SwatchError(f"cannot read {what} {source}: {exc.strerror}") from None
+    try:
+        return raw.decode(encoding)
+    except UnicodeDecodeError:
+        raise SwatchError(f"{source}: not UTF-8 text; a {what} is a {kind} file") from None
+
+
+def _size(n: int) -> str:
+    return f"{n // (1024 * 1024)} MB" if n >= 1024 * 1024 else f"{n // 1024} kB"

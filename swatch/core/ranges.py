@@ -1,0 +1,93 @@
+"""Numbers, lists and ranges from the text a user types (command-line options).
+
+Bad text raises :class:`swatch.core.errors.SwatchError` saying what was wrong and what is allowed.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_RANGE_POINTS
+
+__all__ = ["parse_range", "parse_pair", "parse_grid"]
+
+
+def parse_range(text: str, what: str, unit: str) -> np.ndarray:
+    """``A:B:STEP`` (inclusive of B when it falls on the grid), ``N,N,...`` or ``N``.
+
+    Parameters
+    ----------
+    text : str
+        The option's text.
+    what, unit : str
+        What the numbers are and their unit, for the error messages.
+
+    Returns
+    -------
+    numpy.ndarray, float64, shape (N,)
+        At most :data:`swatch.core.limits.MAX_RANGE_POINTS` finite values.
+    """
+    s = str(text).strip()
+    if not s:
+        raise SwatchError(f"empty {what}; give A:B:STEP or a list N,N,... in {unit}")
+
+    def num(tok: str) -> float:
+        try:
+            v = float(tok)
+        except ValueError:
+            raise SwatchError(f"{what} {tok.strip()!r} is not a number; give A:B:STEP or N,N,... in {unit}") from None
+        if not math.isfinite(v):
+            raise SwatchError(f"{what} must be finite, got {tok.strip()!r}")
+        return v
+
+    if ":" in s:
+        parts = s.split(":")
+        if len(parts) != 3:
+            raise SwatchError(f"{what} range {s!r} must be A:B:STEP in {unit}")
+        a, b, step = (num(p) for p in parts)
+        if step <= 0:
+            raise SwatchError(f"{what} range {s!r} needs a step > 0")
+        if b < a:
+            raise SwatchError(f"{what} range {s!r} is reversed; give A <= B")
+        span = (b - a) / step  # inf for a subnormal step: compared before any conversion
+        if not span + 1 <= MAX_RANGE_POINTS:
+            n = f"{span + 1:.3g}" if math.isfinite(span) else "too many"
+            raise SwatchError(f"{what} range {s!r} has {n} points; at most {MAX_RANGE_POINTS}")
+        count = math.floor(span + 1e-9) + 1
+        return a + step * np.arange(count)
+    parts = s.split(",")
+    if len(parts) > MAX_RANGE_POINTS:
+        raise SwatchError(f"{what} list has {len(parts)} values; at most {MAX_RANGE_POINTS}")
+    if any(not p.strip() for p in parts):
+        raise SwatchError(f"{what} list {s[:60]!r} has an empty element; give N,N,... in {unit} with no empty "
+                          "entries")
+    return np.array([num(p) for p in parts], dtype=np.float64)
+
+
+def parse_pair(text: str, what: str) -> tuple[float, float]:
+    """``A:B`` (nm) as two finite floats, e.g. a search range ``0:400``."""
+    parts = str(text).split(":")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        a, b = (float(p) for p in parts)
+    except ValueError:
+        raise SwatchError(f"{what} {text!r} must be A:B in nm, e.g. 0:400") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise SwatchError(f"{what} must be finite numbers")
+    return a, b
+
+
+def parse_grid(text: str) -> tuple[float, float, float]:
+    """A wavelength grid ``START:STOP:STEP`` (nm) as three floats (checked by
+    :func:`swatch.physics.materials.wavelength_grid`)."""
+    parts = str(text).split(":")
+    if len(parts) != 3:
+        raise SwatchError(f"wavelength grid {text!r} must be START:STOP:STEP in nm")
+    try:
+        a, b, s = (float(p) for p in parts)
+    except ValueError:
+        raise SwatchError(f"wavelength grid {text!r} must be numbers START:STOP:STEP in nm") from None
+    return a, b, s

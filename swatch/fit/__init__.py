@@ -1,0 +1,1 @@
+"""Fits: thickness and spectral fits, Lab fits, matching, search, calibration."""

@@ -1,0 +1,422 @@
+"""The model search behind ``swatch calibrate``: optical tables, growth law, film index scale and spread.
+
+Every candidate model predicts a coupon's colour from its voltage through
+
+* the **optical growth** ``u(V) = o + r1 × min(V, knee) + r2 × max(V − knee, 0)`` (nm; the film's
+  thickness times the film index scale ``s``: colours fix ``n × d``, so the fit runs in it and the
+  rate–scale valley of a physical parametrisation is an axis here); the thickness is ``u / s``; a
+  linear law has no knee;
+* the film table's index with its real part times ``s``, on one substrate table;
+* a proportional thickness spread ``σ = f × d`` (:mod:`swatch.physics.spread`; ``f u`` in optical units);
+* the half-vector model at the measuring geometry, colour under the calibration's illuminant and
+  observer.
+
+Speed (the search over every film × substrate table with leave-one-out refits must take seconds):
+for each table pair the tristimulus values are tabulated once over ``u`` (0.5 nm) at film index
+scales 0.80–1.20 (step 0.05); a model's colour is a bilinear lookup in (s, u) (XYZ is linear in
+the spectrum, so the spread's Gauss–Hermite average is taken over the looked-up XYZ), then
+CIELAB. Fits are Levenberg–Marquardt iterations vectorised over a batch of problems (starting
+points, knee positions, or the leave-one-out folds), with forward-difference Jacobians.
+
+The leave-one-out (held-out) error of a model is the ΔE2000 of each inlier coupon predicted by the
+model refitted without it. Models are nested (law → + scale → + spread → + knee); a parameter
+joins only when it lowers the held-out mean ΔE2000 by at least ``MIN_GAIN`` (relative) and the
+coupons leave enough degrees of freedom.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00
+from swatch.physics import optics
+from swatch.physics.model import get_coating
+from swatch.physics.spread import node_count, spread_nodes
+
+__all__ = ["TABLE_SCALES", "ComboTable", "build_table", "Problem", "ModelFit", "PARAMS", "MODELS", "fit_model",
+           "leave_one_out", "initial_lines", "MIN_GAIN", "predict_Lab", "covariance", "TABLE_SPREADS", "u_max_nm",
+           "screen"]
+
+#: Film index scales the tables are computed at (the fit interpolates quadratically between them:
+#: at most 0.02 ΔE2000 off the exact colour at 0.05 spacing, against 0.26 for linear interpolation).
+TABLE_SCALES = np.round(np.arange(0.80, 1.2001, 0.05), 4)
+#: Spread fractions the spread tables are computed at (linear interpolation between them).
+TABLE_SPREADS = np.round(np.arange(0.0, 0.0901, 0.01), 4)
+U_STEP_NM = 0.5
+U_MAX_NM = 1200.0
+#: Parameter vector: optical offset and rate, film index scale, spread fraction, knee (V), optical rate above it.
+PARAMS = ("o", "r1", "s", "f", "knee", "r2")
+NO_KNEE_V = 1e6
+LO = np.array([-60.0, 0.2, float(TABLE_SCALES[0]), 0.0, 0.0, 0.05])
+HI = np.array([120.0, 7.5, float(TABLE_SCALES[-1]), float(TABLE_SPREADS[-1]), 300.0, 7.5])
+_STEPS = np.array([1e-3, 1e-5, 1e-5, 1e-5, 1e-3, 1e-5])
+#: The parameter groups the nested models add, in order.
+MODELS = {"linear": ("o", "r1"), "+knee": ("knee", "r2"), "+scale": ("s",), "+spread": ("f",)}
+#: An added parameter must lower the held-out mean ΔE2000 by this fraction to be kept.
+MIN_GAIN = 0.05
+#: soft-L1 scale of the robust fits (ΔE2000).
+LOSS_SCALE_DE00 = 1.0
+#: Weight of a measured thickness: its residual counts as (model − measured) / this, in ΔE units.
+THICKNESS_SIGMA_NM = 2.0
+
+
+@dataclass
+class ComboTable:
+    """XYZ (S, U, 3) of one film × substrate pair over optical growth u at the scales TABLE_SCALES
+    (and, once :meth:`add_spread` ran, XYZ_spread (S, F, U, 3) at the spreads TABLE_SPREADS)."""
+
+    film: str
+    substrate: str
+    XYZ: np.ndarray
+    n_film_max: float
+    wavelength_min_nm: float
+    scales: np.ndarray = field(default_factory=lambda: TABLE_SCALES)
+    XYZ_spread: np.ndarray | None = None
+
+    def _scale_weights(self, s: np.ndarray):
+        """Three nodes and quadratic Lagrange weights in s (shape T each, and T + (3,)); a table of one
+        scale is used as it is."""
+        S = self.scales.size
+        if S == 1:
+            s = np.asarray(s, dtype=np.float64)
+            return np.zeros(s.shape, np.int64), np.concatenate([np.ones((*s.shape, 1)), np.zeros((*s.shape, 2))], -1)
+        x = (np.asarray(s, dtype=np.float64) - self.scales[0]) / (self.scales[1] - self.scales[0])
+        i0 = np.clip(np.rint(x).astype(np.int64) - 1, 0, S - 3)
+        t = np.clip(x, 0.0, S - 1.0) - i0
+        w = np.stack([(t - 1) * (t - 2) / 2, -t * (t - 2), t * (t - 1) / 2], axis=-1)
+        return i0, w
+
+    def XYZ_at(self, s, u, f=None, row=None) -> np.ndarray:
+        """Lookup: quadratic in s, linear in u (and in the spread fraction ``f``); broadcast to T, returns
+        T + (3,). ``row``: the table row to use instead of a scale (a stack of screening tables)."""
+        fu = np.clip(np.asarray(u, dtype=np.float64) / U_STEP_NM, 0.0, self.XYZ.shape[1] - 1 - 1e-9)
+        if row is not None:
+            fu, row = np.broadcast_arrays(fu, row)
+            j = fu.astype(np.int64)
+            b = (fu - j)[..., None]
+            return (1 - b) * self.XYZ[row, j] + b * self.XYZ[row, j + 1]
+        if f is None:
+            s, fu = np.broadcast_arrays(np.asarray(s, dtype=np.float64), fu)
+        else:
+            s, fu, f = np.broadcast_arrays(np.asarray(s, dtype=np.float64), fu, np.asarray(f, dtype=np.float64))
+        i0, ws = self._scale_weights(s)
+        j = fu.astype(np.int64)
+        b = (fu - j)[..., None]
+        out = np.zeros((*fu.shape, 3))
+        ks = range(3) if self.scales.size > 1 else range(1)
+        if f is None:
+            T = self.XYZ
+            for k in ks:
+                out += ws[..., k:k + 1] * ((1 - b) * T[i0 + k, j] + b * T[i0 + k, j + 1])
+            return out
+        assert self.XYZ_spread is not None, "add_spread() first"
+        ff = np.clip(f / (TABLE_SPREADS[1] - TABLE_SPREADS[0]), 0.0, TABLE_SPREADS.size - 1 - 1e-9)
+        m = ff.astype(np.int64)
+        c = (ff - m)[..., None]
+        T = self.XYZ_spread
+        for k in ks:
+            lo = (1 - b) * T[i0 + k, m, j] + b * T[i0 + k, m, j + 1]
+            hi = (1 - b) * T[i0 + k, m + 1, j] + b * T[i0 + k, m + 1, j + 1]
+            out += ws[..., k:k + 1] * ((1 - c) * lo + c * hi)
+        return out
+
+    def add_spread(self, near_scale: float | None = None) -> None:
+        """Tabulate the spread average ``Σ w XYZ(u (1 + f z))`` at the fractions TABLE_SPREADS (1-D
+        interpolation along u at each scale; Gauss–Hermite nodes enough for the largest spread).
+        ``near_scale``: only the three scale rows a fixed scale uses (the others stay NaN)."""
+        u = np.arange(self.XYZ.shape[1]) * U_STEP_NM
+        rows = np.arange(self.scales.size)
+        if near_scale is not None and self.scales.size > 1:
+            i0 = int(self._scale_weights(np.array(near_scale))[0])
+            rows = rows[i0:i0 + 3]
+        out = np.full((self.scales.size, TABLE_SPREADS.size, u.size, 3), np.nan)
+        out[:, 0] = self.XYZ
+        for m, f in enumerate(TABLE_SPREADS[1:], start=1):  # nine spreads × the nodes: 1-D lookups
+            z, w = spread_nodes(min(32, node_count(f * u[-1], self.n_film_max, self.wavelength_min_nm)))
+            un = np.clip(u[:, None] * (1.0 + f * z[None, :]) / U_STEP_NM, 0.0, u.size - 1 - 1e-9)  # (U, Z)
+            j = un.astype(np.int64)
+            b = (un - j)[None, ..., None]
+            vals = (1 - b) * self.XYZ[rows][:, j] + b * self.XYZ[rows][:, j + 1]  # (S, U, Z, 3)
+            out[rows, m] = np.einsum("suzc,z->suc", vals, w)
+        self.XYZ_spread = out
+
+
+def build_table(film: str, substrate: str, wavelength_nm, cm, cos_d: float, u_max_nm: float = U_MAX_NM,
+                scales=TABLE_SCALES) -> ComboTable:
+    """Tabulate XYZ of a film × substrate pair over u from 0 to ``u_max_nm`` at film index ``scales``
+    (TABLE_SCALES, or one scale for a fixed-scale screening; see the module docstring)."""
+    coating = get_coating(film, substrate, wavelength_nm)
+    count = round(min(u_max_nm, U_MAX_NM) / U_STEP_NM) + 1
+    scales = np.atleast_1d(np.asarray(scales, dtype=np.float64))
+    XYZ = np.empty((scales.size, count, 3))
+    for k, s in enumerate(scales):  # one thickness sweep per scale
+        n = s * coating.n_film.real + 1j * coating.n_film.imag
+        film_at = optics.FilmAtAngles(np.asarray(cos_d, dtype=np.float64), coating.wavelength_nm, n,
+                                      coating.n_substrate)
+        XYZ[k] = cm.XYZ(film_at.sweep(0.0, U_STEP_NM / s, count).R)
+    return ComboTable(film, substrate, XYZ, float(np.max(coating.n_film.real)) * float(scales[-1]),
+                      float(np.min(coating.wavelength_nm)), scales)
+
+
+@dataclass
+class Problem:
+    """The coupons one search fits: voltages, measured Lab, optional measured thicknesses."""
+
+    V: np.ndarray
+    Lab: np.ndarray
+    d_meas: np.ndarray
+    cm: Colorimeter
+
+    @property
+    def n(self) -> int:
+        return int(self.V.size)
+
+
+def growth(X: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """Optical growth u (B, N) of parameter rows X (B, 6) at voltages V (N,)."""
+    o, r1, knee, r2 = X[:, 0:1], X[:, 1:2], X[:, 4:5], X[:, 5:6]
+    return o + r1 * np.minimum(V, knee) + r2 * np.maximum(V - knee, 0.0)
+
+
+def predict_Lab(table: ComboTable, prob: Problem, X: np.ndarray, spread: bool, row=None) -> np.ndarray:
+    """CIELAB (B, N, 3) of the coupons under parameter rows X (B, 6) (``row`` (B,): stacked tables' rows)."""
+    u = growth(X, prob.V)
+    XYZ = table.XYZ_at(X[:, 2:3], u, X[:, 3:4] if spread else None, None if row is None else row[:, None])
+    return prob.cm.Lab(XYZ)
+
+
+def _residuals(table, prob, X, weights, spread: bool, robust: bool, row=None) -> np.ndarray:
+    """Residual rows (B, M): per-coupon ΔE2000 (soft-L1 transformed when robust) and thickness rows."""
+    dE = delta_E_00(predict_Lab(table, prob, X, spread, row), prob.Lab[None])
+    if robust:
+        dE = np.sqrt(2.0 * (np.sqrt(1.0 + (dE / LOSS_SCALE_DE00) ** 2) - 1.0)) * LOSS_SCALE_DE00
+    rows = [np.sqrt(weights) * dE]
+    have = np.isfinite(prob.d_meas)
+    if have.any():
+        d = growth(X, prob.V[have]) / X[:, 2:3]
+        rows.append(np.sqrt(weights[:, have]) * (d - prob.d_meas[have]) / THICKNESS_SIGMA_NM)
+    return np.concatenate(rows, axis=1)
+
+
+def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarray, free: list[int],
+             iters: int = 30) -> tuple[np.ndarray, np.ndarray]:
+    """Levenberg–Marquardt on a batch: ``resid(X, rows)`` gives residuals (len(rows), M) of parameter
+    rows X for the batch's problems ``rows``; returns the parameters and costs (B,)."""
+    X = np.clip(X0.astype(np.float64), LO, HI)
+    B, P = X.shape[0], len(free)
+    batch = np.arange(B)
+    r = resid(X, batch)
+    cost = np.sum(r * r, axis=1)
+    lam = np.full(B, 1e-3)
+    h = _STEPS[free]
+    for _ in range(iters):  # iterations of the whole batch (each one vectorised)
+        Xs = np.repeat(X[:, None, :], P, axis=1)
+        Xs[:, np.arange(P), free] += h
+        Rs = resid(Xs.reshape(B * P, -1), np.repeat(batch, P)).reshape(B, P, -1)
+        J = (Rs - r[:, None, :]) / h[None, :, None]  # (B, P, M)
+        A = J @ np.swapaxes(J, 1, 2)
+        g = np.einsum("bpm,bm->bp", J, r)
+        diag = np.einsum("bpp->bp", A)
+        Areg = A + (lam[:, None] * (diag + 1e-12))[..., None] * np.eye(P)
+        step = -np.linalg.solve(Areg, g[..., None])[..., 0]
+        Xn = X.copy()
+        Xn[:, free] = np.clip(X[:, free] + step, LO[free], HI[free])
+        rn = resid(Xn, batch)
+        cn = np.sum(rn * rn, axis=1)
+        better = cn < cost
+        X[better], r[better], cost[better] = Xn[better], rn[better], cn[better]
+        lam = np.where(better, lam * 0.3, lam * 10.0)
+        if np.all(lam > 1e8) or np.all(np.abs(step) < 1e-9):
+            break
+    return X, cost
+
+
+@dataclass
+class ModelFit:
+    """One model fitted to one table pair: parameters, per-coupon ΔE2000 and held-out ΔE2000."""
+
+    model: str
+    free: tuple[str, ...]
+    X: np.ndarray  # (6,)
+    dE: np.ndarray  # (N,) in-sample
+    loo: np.ndarray | None = None  # (N,) held-out, NaN for outliers
+
+    @property
+    def loo_mean(self) -> float:
+        return float(np.nanmean(self.loo)) if self.loo is not None else float("inf")
+
+    @property
+    def loo_max(self) -> float:
+        return float(np.nanmax(self.loo)) if self.loo is not None else float("inf")
+
+
+def _free_index(names) -> list[int]:
+    return [PARAMS.index(p) for p in names]
+
+
+def fit_model(table: ComboTable, prob: Problem, names: tuple[str, ...], starts: np.ndarray, keep: np.ndarray,
+              robust: bool, model: str = "", iters: int = 20) -> ModelFit:
+    """Fit the free parameters ``names`` (of PARAMS) from several starting rows (B, 6) on the coupons
+    ``keep``; the best start wins."""
+    free = _free_index(names)
+    spread = "f" in names
+    weights = np.broadcast_to(keep.astype(np.float64), (starts.shape[0], prob.n))
+
+    def resid(X, rows):
+        return _residuals(table, prob, X, weights[rows], spread, robust)
+
+    X, cost = batch_lm(resid, starts, free, iters=iters)
+    best = X[int(np.argmin(cost))]
+    dE = delta_E_00(predict_Lab(table, prob, best[None], spread)[0], prob.Lab)
+    return ModelFit(model, tuple(names), best, dE)
+
+
+def knee_starts(fit: ModelFit, V: np.ndarray, keep: np.ndarray, count: int = 12) -> np.ndarray:
+    """Starting rows for a knee model: ``count`` knees from the 3rd to the 3rd-last kept voltage."""
+    v = np.sort(np.unique(V[keep]))
+    if v.size < 6:
+        return np.empty((0, 6))
+    knees = np.linspace(v[2], v[-3], min(count, v.size - 4))
+    X = np.repeat(fit.X[None], knees.size, axis=0)
+    u_knee = X[:, 0] + X[:, 1] * knees
+    X[:, 4] = knees
+    X[:, 5] = X[:, 1]
+    X[:, 0] = u_knee - X[:, 1] * knees
+    return X
+
+
+def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray) -> np.ndarray:
+    """Held-out ΔE2000 (N,) of each kept coupon under ``fit.model`` refitted without it (NaN elsewhere)."""
+    idx = np.flatnonzero(keep)
+    free = _free_index(fit.free)
+    spread = "f" in fit.free
+    W = np.repeat(keep[None].astype(np.float64), idx.size, axis=0)
+    W[np.arange(idx.size), idx] = 0.0
+
+    def resid(X, rows):
+        return _residuals(table, prob, X, W[rows], spread, False)
+
+    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, iters=10)
+    Lab = predict_Lab(table, prob, X, spread)  # (K, N, 3)
+    out = np.full(prob.n, np.nan)
+    out[idx] = delta_E_00(Lab[np.arange(idx.size), idx], prob.Lab[idx])
+    return out
+
+
+def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3) -> np.ndarray:
+    """Distinct linear laws (count, 6) best by a global grid over optical rate and offset (robust ΔE2000
+    sum), one per interference order: every coupon's ΔE2000 to every tabulated u is computed once."""
+    u = np.arange(table.XYZ.shape[1]) * U_STEP_NM
+    Lab_u = prob.cm.Lab(table.XYZ_at(np.full(u.shape, scale), u))  # (U, 3)
+    dE_table = delta_E_00(Lab_u[:, None, :], prob.Lab[None, :, :])  # (U, N)
+    cost_table = 2.0 * (np.sqrt(1.0 + (dE_table / LOSS_SCALE_DE00) ** 2) - 1.0)
+    have = np.isfinite(prob.d_meas)
+    V = prob.V
+    v_max = float(V.max())
+    rates = np.arange(0.4, 7.0 + 1e-9, min(0.03, 2.0 / v_max))  # ≤ 2 nm at the top voltage: the fit refines
+    offsets = np.arange(-10.0, 40.0 + 1e-9, 2.0)
+    grid_u = offsets[None, :, None] + rates[:, None, None] * V[None, None, :]  # (R, O, N)
+    inside = (grid_u >= 0.0) & (grid_u <= U_MAX_NM)
+    idx = np.clip(np.rint(grid_u / U_STEP_NM).astype(np.int64), 0, u.size - 1)
+    cost = cost_table[idx, np.arange(prob.n)]
+    if have.any():
+        cost = cost + np.where(have, ((grid_u / scale - np.nan_to_num(prob.d_meas)) / THICKNESS_SIGMA_NM) ** 2, 0.0)
+    total = np.where(inside.all(axis=2), cost.sum(axis=2), np.inf)
+    order = np.argsort(total, axis=None)
+    picks: list[tuple[float, float]] = []
+    for flat in order[:5000]:
+        if not np.isfinite(total.flat[flat]):
+            break
+        i, j = np.unravel_index(flat, total.shape)
+        line = offsets[j] + rates[i] * V
+        if all(np.max(np.abs(line - (o + r * V))) > 8.0 for r, o in picks):
+            picks.append((float(rates[i]), float(offsets[j])))
+            if len(picks) == count:
+                break
+    X = np.zeros((len(picks), 6))
+    for k, (r, o) in enumerate(picks):
+        X[k] = (o, r, scale, 0.0, NO_KNEE_V, r)
+    return X
+
+
+def covariance(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray) -> np.ndarray | None:
+    """Gauss–Newton covariance of the physical parameters (offset_nm, nm_per_V, s, f, knee_V, nm_per_V_above)
+    at ``fit`` (residual variance scaled), restricted to the free ones; None when undetermined."""
+    free = _free_index(fit.free)
+    spread = "f" in fit.free
+    x = fit.X
+    s = x[2]
+    theta = np.array([x[0] / s, x[1] / s, s, x[3], x[4], x[5] / s])
+
+    def to_x(th):
+        out = th.copy()
+        out[:, 0], out[:, 1], out[:, 5] = th[:, 0] * th[:, 2], th[:, 1] * th[:, 2], th[:, 5] * th[:, 2]
+        return out
+
+    w = keep.astype(np.float64)[None]
+    base = _residuals(table, prob, to_x(theta[None]), w, spread, False)[0]
+    h = _STEPS[free] * 10.0
+    T = np.repeat(theta[None], len(free), axis=0)
+    T[np.arange(len(free)), free] += h
+    R = _residuals(table, prob, to_x(T), np.repeat(w, len(free), axis=0), spread, False)
+    J = ((R - base[None]) / h[:, None]).T  # (M, P)
+    J = J[np.concatenate([keep, np.ones(J.shape[0] - prob.n, bool)])] if J.shape[0] > prob.n else J[keep]
+    dof = J.shape[0] - len(free)
+    if dof <= 0:
+        return None
+    JtJ = J.T @ J
+    if not np.all(np.isfinite(JtJ)) or np.linalg.cond(JtJ) > 1e12:
+        return None
+    s2 = float(np.sum(base[np.concatenate([keep, np.ones(base.size - prob.n, bool)])] ** 2)) / dof
+    return np.linalg.inv(JtJ) * max(s2, 1e-12)
+
+
+
+
+def u_max_nm(V) -> float:
+    """The largest optical growth the search can reach at these voltages (nm; the tables' extent)."""
+    return float(min(U_MAX_NM, HI[1] * float(np.max(V)) + HI[0] + 20.0))
+
+
+def screen(tables: list[ComboTable], prob: Problem, scale0: float, knee: bool, iters: int = 12):
+    """Robust (soft-L1) fits of every table pair at once, at a fixed scale (one-row tables): the
+    straight law from each pair's interference orders, then (``knee``) a knee from six positions.
+    Returns, per pair, (best parameter row (6,), its ΔE2000 (N,), the pair's starting lines) or None."""
+    stack = ComboTable("*", "*", np.stack([t.XYZ[0] for t in tables]), 0.0, 0.0, np.array([scale0]))
+    starts = [initial_lines(t, prob, scale0) for t in tables]
+    out: list = [None] * len(tables)
+    pair = np.concatenate([np.full(st.shape[0], k) for k, st in enumerate(starts)]).astype(np.int64)
+    if pair.size == 0:
+        return out
+    ones = np.ones((1, prob.n))
+
+    def run(X0, of, names):
+        def resid(X, rows):
+            return _residuals(stack, prob, X, np.broadcast_to(ones, (rows.size, prob.n)), False, True, of[rows])
+
+        X, cost = batch_lm(resid, X0, _free_index(names), iters=iters)
+        best = {}
+        for k in np.unique(of):
+            i = np.flatnonzero(of == k)
+            best[int(k)] = (X[i[np.argmin(cost[i])]], float(np.min(cost[i])))
+        return best
+
+    lines = run(np.concatenate(starts), pair, MODELS["linear"])
+    result = dict(lines)
+    if knee:
+        X0, of = [], []
+        for k, (x, _) in lines.items():
+            ks = knee_starts(ModelFit("", MODELS["linear"], x, np.zeros(prob.n)), prob.V, np.ones(prob.n, bool), 6)
+            X0.append(ks)
+            of.append(np.full(ks.shape[0], k))
+        if sum(x.shape[0] for x in X0):
+            knees = run(np.concatenate(X0), np.concatenate(of).astype(np.int64), MODELS["linear"] + MODELS["+knee"])
+            result.update({k: v for k, v in knees.items() if v[1] < result[k][1]})
+    rows = np.array(sorted(result), dtype=np.int64)
+    Xb = np.stack([result[k][0] for k in rows])
+    dE = delta_E_00(predict_Lab(stack, prob, Xb, False, rows), prob.Lab[None])
+    for i, k in enumerate(rows):
+        out[k] = (Xb[i], dE[i], starts[k])
+    return out

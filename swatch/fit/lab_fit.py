@@ -1,0 +1,111 @@
+"""Thickness from CIELAB measurements: least squares in ΔE2000 (see :mod:`swatch.fit.fitting`)."""
+from __future__ import annotations
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00, get_colorimeter
+from swatch.colorimetry.tolerance import DEFAULT_SCHEME
+from swatch.core.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
+from swatch.fit.fitting import (
+    FacetModel,
+    FitResult,
+    check_scale,
+    colour_summary,
+    geometry_arrays,
+    geometry_fields,
+    model_reflectance,
+    search_fields,
+    sweep_reflectance,
+    unique_geometry,
+    used_geometries,
+)
+from swatch.fit.search import check_search_range, curvature_sigma, multimodal_search
+from swatch.io.measurements import LabMeasurement
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
+from swatch.physics.model import get_coating
+
+__all__ = ["fit_lab"]
+
+
+def _scaled_Lab(XYZ: np.ndarray, Y_meas: np.ndarray, scale: str, cm: Colorimeter) -> tuple[np.ndarray, np.ndarray]:
+    """Lab of simulated XYZ (..., G, 3) after the intensity correction, and the scales (..., G)."""
+    Y = XYZ[..., 1]
+    if scale in ("energy", "lsq"):
+        a = np.divide(Y_meas, Y, out=np.zeros_like(Y), where=Y > 0)
+    elif scale == "global":
+        s = Y.sum(axis=-1, keepdims=True)
+        a = np.broadcast_to(np.divide(Y_meas.sum(), s, out=np.zeros_like(s), where=s > 0), Y.shape)
+    else:
+        a = np.ones_like(Y)
+    return cm.Lab(XYZ * a[..., None]), a
+
+
+def fit_lab(
+    measurement: LabMeasurement,
+    film: str = DEFAULT_FILM,
+    substrate: str = DEFAULT_SUBSTRATE,
+    *,
+    scale: str = "energy",
+    exclude_mirror_deg: float = DEFAULT_EXCLUDE_MIRROR_DEG,
+    thickness_range=DEFAULT_THICKNESS_RANGE_NM,
+    step_nm: float = DEFAULT_FIT_STEP_NM,
+    wavelength_nm=None,
+    illuminant: str = "D65",
+    observer: str = "10",
+    scheme: str = DEFAULT_SCHEME,
+    film_index_scale: float = 1.0,
+    spread=None,
+) -> FitResult:
+    """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring);
+    ``film_index_scale`` is a process profile's scale of the film's real index, ``spread`` its thickness
+    spread (:class:`swatch.physics.spread.ThicknessSpread`; the model's colours are averaged over it)."""
+    scale = check_scale(scale)
+    lo, hi, step, count = check_search_range(thickness_range, step_nm)
+    coating = get_coating(film, substrate, wavelength_nm, film_index_scale, spread)
+    cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
+    cos_d, theta_d, mirror = geometry_arrays(measurement)
+    used = used_geometries(mirror, exclude_mirror_deg)
+    Lab_m_all = measurement.Lab
+    Lab_m = Lab_m_all[used]
+    Y_meas = cm.Lab_to_XYZ(Lab_m)[..., 1]
+    cu, inv = unique_geometry(cos_d[used])
+
+    def objective(XYZ_u):
+        Lab_s, _ = _scaled_Lab(XYZ_u[..., inv, :], Y_meas, scale, cm)
+        dE = delta_E_00(Lab_s, np.broadcast_to(Lab_m, Lab_s.shape))
+        return np.sum(dE * dE, axis=-1)
+
+    def curve():
+        return objective(cm.XYZ(sweep_reflectance(coating, lo, step, count, cu)))
+
+    facets = FacetModel(coating, cu)
+
+    def fine(d):
+        return float(objective(cm.XYZ(facets(d))))
+
+    kept, d_grid, f_coarse = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
+    d_best, f_best = kept[0]
+    G = int(used.sum())
+    p = 1 + {"energy": G, "lsq": G, "global": 1, "none": 0}[scale]
+    sigma = curvature_sigma(fine, d_best, f_best, lo, hi, 3 * G, p)
+
+    XYZ_all = cm.XYZ(model_reflectance(coating, d_best, cos_d))
+    Y_all = cm.Lab_to_XYZ(Lab_m_all)[..., 1]
+    if scale in ("energy", "lsq", "none"):
+        Lab_s, a_all = _scaled_Lab(XYZ_all, Y_all, scale, cm)
+    else:
+        _, a_used = _scaled_Lab(XYZ_all[used], Y_meas, scale, cm)
+        a_all = np.full(cos_d.shape, float(a_used[0]))
+        Lab_s = cm.Lab(XYZ_all * a_all[:, None])
+    dEab, dE00, mean_ab, mean_00, grade = colour_summary(Lab_m_all, Lab_s, used, scheme)
+    norm = 1.0 / G
+    return FitResult(
+        kind="lab", source=measurement.source, thickness_nm=d_best, uncertainty_nm=sigma,
+        **search_fields(kept, norm), scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
+        **geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=np.asarray(a_all, dtype=np.float64),
+        Lab_measured=Lab_m_all, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
+        mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
+        film=coating.film, substrate=coating.substrate, illuminant=cm.illuminant, observer=cm.observer,
+        colour_wavelength_nm=coating.wavelength_nm, colour_grid_interpolated=False,
+        search_thickness_nm=d_grid, search_residual=f_coarse * norm,
+    )

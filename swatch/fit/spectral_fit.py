@@ -1,0 +1,175 @@
+"""Thickness from spectral measurements: least squares with the paper's intensity correction
+(see :mod:`swatch.fit.fitting` for the method)."""
+from __future__ import annotations
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.colorimetry.tolerance import DEFAULT_SCHEME
+from swatch.core.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
+from swatch.core.errors import SwatchError
+from swatch.fit.fitting import (
+    COARSE_SPACING_NM,
+    FacetModel,
+    FitResult,
+    check_scale,
+    colour_grid,
+    colour_summary,
+    geometry_arrays,
+    geometry_fields,
+    interp_rows,
+    model_reflectance,
+    search_fields,
+    sweep_reflectance,
+    unique_geometry,
+    used_geometries,
+)
+from swatch.fit.lab_fit import fit_lab
+from swatch.fit.search import CURVATURE_STEP_NM, check_search_range, multimodal_search
+from swatch.io.measurements import LabMeasurement, SpectralMeasurement, check_in_tables
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
+from swatch.physics.model import get_coating, intensity_scale
+
+__all__ = ["fit_spectra", "fit_measurement"]
+
+
+# -- least squares with intensity correction --------------------------------------------------------
+def _scales_and_ssr(S: np.ndarray, M: np.ndarray, scale: str) -> tuple[np.ndarray, np.ndarray]:
+    """Intensity scales (..., G) and total squared error (...) of ``a S`` against ``M`` (G, W)."""
+    S2 = np.einsum("...gw,...gw->...g", S, S)
+    SM = np.einsum("...gw,gw->...g", S, M)
+    M2 = np.einsum("gw,gw->g", M, M)
+    if scale == "energy":
+        a = intensity_scale(S, M)  # the paper's correction (swatch.physics.model)
+    elif scale == "lsq":
+        a = np.divide(SM, S2, out=np.zeros_like(S2), where=S2 > 0)
+    elif scale == "global":
+        num = SM.sum(axis=-1, keepdims=True)
+        den = S2.sum(axis=-1, keepdims=True)
+        a = np.broadcast_to(np.divide(num, den, out=np.zeros_like(den), where=den > 0), S2.shape)
+    else:
+        a = np.ones_like(S2)
+    ssr = a * a * S2 - 2.0 * a * SM + M2
+    return a, np.maximum(ssr, 0.0).sum(axis=-1)
+
+
+def spectral_sigma(facets, inv, M, scale, d, lo, hi) -> float | None:
+    """1-sigma of the thickness: Gauss–Newton with per-geometry noise (a sandwich estimate).
+
+    ``J = d r / d d`` of the residual vector ``r = a S - M`` (scales profiled), by central
+    differences; the noise variance of each geometry is its residual's mean square, so geometries
+    of different intensity (and noise) are weighted correctly:
+    ``sigma² = sum_g s_g² |J_g|² / (sum_g |J_g|²)²``.
+    """
+    h = CURVATURE_STEP_NM
+    if d - h < lo or d + h > hi:
+        return None
+    dd = np.array([d - h, d, d + h])
+    S = facets(dd)[:, inv]  # (3, G, W)
+    a, _ = _scales_and_ssr(S, M, scale)
+    r = a[..., None] * S - M
+    J = (r[2] - r[0]) / (2.0 * h)
+    W = M.shape[1]
+    dof = W - 1 if scale in ("energy", "lsq") else W
+    s2 = np.sum(r[1] ** 2, axis=1) / max(dof, 1)
+    J2 = np.sum(J * J, axis=1)
+    den = J2.sum()
+    if not np.isfinite(den) or den <= 0:
+        return None
+    return float(np.sqrt(np.sum(s2 * J2)) / den)
+
+
+def fit_spectra(
+    measurement: SpectralMeasurement,
+    film: str = DEFAULT_FILM,
+    substrate: str = DEFAULT_SUBSTRATE,
+    *,
+    scale: str = "energy",
+    exclude_mirror_deg: float = DEFAULT_EXCLUDE_MIRROR_DEG,
+    thickness_range=DEFAULT_THICKNESS_RANGE_NM,
+    step_nm: float = DEFAULT_FIT_STEP_NM,
+    illuminant: str = "D65",
+    observer: str = "10",
+    scheme: str = DEFAULT_SCHEME,
+    film_index_scale: float = 1.0,
+    spread=None,
+) -> FitResult:
+    """Least-squares thickness of spectral measurements (see the module docstring); ``film_index_scale``
+    is a process profile's scale of the film's real index, ``spread`` its thickness spread
+    (:class:`swatch.physics.spread.ThicknessSpread`; the model's spectra are averaged over it)."""
+    scale = check_scale(scale)
+    lo, hi, step, count = check_search_range(thickness_range, step_nm)
+    check_in_tables(measurement, film, substrate)
+    wl = measurement.wavelength_nm
+    coating = get_coating(film, substrate, wl, film_index_scale, spread)
+    cos_d, theta_d, mirror = geometry_arrays(measurement)
+    used = used_geometries(mirror, exclude_mirror_deg)
+    M = measurement.reflectance[used]
+    cu, inv = unique_geometry(cos_d[used])
+    stride = max(1, int(np.ceil(COARSE_SPACING_NM / max(float(np.median(np.diff(wl))), 1e-9) - 1e-9)))
+    wl_idx = np.arange(0, wl.size, stride)
+    if wl_idx.size < 3:
+        wl_idx = np.arange(wl.size)
+    Mc = M[:, wl_idx]
+
+    def curve():
+        S = sweep_reflectance(coating, lo, step, count, cu, wl_idx)[:, inv, :]
+        return _scales_and_ssr(S, Mc, scale)[1]
+
+    facets = FacetModel(coating, cu)
+
+    def fine(d):
+        S = facets(d)[inv]
+        return float(_scales_and_ssr(S, M, scale)[1])
+
+    kept, d_grid, f_coarse = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
+    d_best, _f_best = kept[0]
+    n = M.size
+    sigma = spectral_sigma(facets, inv, M, scale, d_best, lo, hi)
+
+    # Scales for every geometry (excluded ones too) at the estimate.
+    S_all = model_reflectance(coating, d_best, cos_d)
+    a_used, _ = _scales_and_ssr(S_all[used], M, scale)
+    if scale in ("energy", "lsq"):
+        a_all, _ = _scales_and_ssr(S_all, measurement.reflectance, scale)
+    else:
+        a_all = np.full(cos_d.shape, float(a_used[0]))
+
+    cwl, interpolated = colour_grid(wl)
+    cm = get_colorimeter(cwl, illuminant, observer)
+    if interpolated:
+        M_col = interp_rows(cwl, wl, measurement.reflectance)
+        S_col = get_coating(film, substrate, cwl, film_index_scale, spread).reflectance_cos(d_best, cos_d).R
+    else:
+        M_col = measurement.reflectance
+        S_col = S_all
+    Lab_m = cm.spectrum_Lab(M_col)
+    Lab_s = cm.spectrum_Lab(a_all[:, None] * S_col)
+    dEab, dE00, mean_ab, mean_00, grade = colour_summary(Lab_m, Lab_s, used, scheme)
+    norm = 1.0 / n
+    return FitResult(
+        kind="spectral", source=measurement.source, thickness_nm=d_best, uncertainty_nm=sigma,
+        **search_fields(kept, norm), scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
+        **geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=a_all,
+        Lab_measured=Lab_m, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
+        mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
+        film=coating.film, substrate=coating.substrate, illuminant=cm.illuminant, observer=cm.observer,
+        colour_wavelength_nm=cwl, colour_grid_interpolated=interpolated, wavelength_nm=wl,
+        reflectance_unit="percent" if measurement.percent else "fraction",
+        reflectance_unit_detected=measurement.unit_detected,
+        search_thickness_nm=d_grid, search_residual=f_coarse / (M.shape[0] * wl_idx.size),
+    )
+
+
+def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, grid_given: bool = False,
+                    source: str | None = None, **options) -> FitResult:
+    """:func:`fit_spectra` of a spectral measurement or :func:`swatch.fit.lab_fit.fit_lab` of a CIELAB
+    one (on ``wavelength_nm``); ``options`` go to the fit. Spectra are fitted on their own
+    wavelengths: a grid the user gave (``grid_given``) is refused for them, naming ``source``."""
+
+    if isinstance(measurement, LabMeasurement):
+        return fit_lab(measurement, film, substrate, wavelength_nm=wavelength_nm, **options)
+    if grid_given:
+        raise SwatchError(f"{source or measurement.source}: --wavelengths applies to CIELAB files; a spectral fit "
+                          "uses the measured wavelengths (crop the file to change them)")
+    return fit_spectra(measurement, film, substrate, **options)

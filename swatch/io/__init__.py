@@ -1,0 +1,1 @@
+"""File formats: images (EXR/PNG/TIFF), PNG metadata, measurement files, coupon files."""

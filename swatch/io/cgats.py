@@ -1,0 +1,252 @@
+"""CGATS.17 / ISO 28178 measurement text (i1Profiler, ArgyllCMS ``.ti3``, instrument exports).
+
+Layout: an identifier line (``CGATS.17``, ``CTI3``, ``ISO28178`` …), ``KEYWORD value`` header
+lines, ``BEGIN_DATA_FORMAT`` field names ``END_DATA_FORMAT``, then ``BEGIN_DATA`` rows ``END_DATA``
+(whitespace separated, strings in double quotes; ``#`` starts a comment). Fields read:
+
+* the sample: ``SAMPLE_NAME``, ``SAMPLE_ID`` / ``SampleID``, ``SAMPLE_LOC`` (the first present names it);
+* CIELAB ``LAB_L LAB_A LAB_B``, or CIE XYZ ``XYZ_X XYZ_Y XYZ_Z`` (white Y = 100), or spectra:
+  ``SPECTRAL_NNN`` / ``SPECTRAL_NM_NNN`` / ``SPECTRAL_NMNNN`` (CGATS.17), ``nmNNN`` (i1Profiler),
+  ``SPEC_NNN`` (ArgyllCMS, whose bands are ``SPECTRAL_BANDS`` from ``SPECTRAL_START_NM`` to
+  ``SPECTRAL_END_NM``: the names are rounded wavelengths);
+* optional ``VOLTAGE_V`` (or ``VOLTAGE``) and ``THICKNESS_NM`` (coupons for ``swatch calibrate``).
+
+Header conditions: ``MEASUREMENT_SOURCE "Illumination=D50 ObserverAngle=2 …"`` (i1Profiler),
+``ILLUMINANT`` / ``ILLUMINATION_NAME``, ``OBSERVER`` / ``OBSERVER_ANGLE``, ``WEIGHTING_FUNCTION
+"ILLUMINANT, D50"`` / ``"OBSERVER, 2 degree"`` and ``MEASUREMENT_GEOMETRY "45/0"``. A ``.ti3``
+file's CIE values are D50 / 2° unless it says otherwise (ArgyllCMS's documented default) and its
+reflectance is in percent. Statements that contradict each other are refused.
+"""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_INSTRUMENT_FIELDS, MAX_INSTRUMENT_SAMPLES
+from swatch.io.instruments import (
+    InstrumentFile,
+    Request,
+    Sample,
+    check_agrees,
+    lab_sample,
+    parse_geometry_text,
+    parse_illuminant,
+    parse_observer,
+    same_geometries,
+    spectral_sample,
+)
+from swatch.physics.materials import wavelength_grid
+
+__all__ = ["is_cgats", "read_cgats"]
+
+_TOKEN = re.compile(r'"[^"]*"|\S+')
+_SPECTRAL = re.compile(r"^(?:SPECTRAL_NM_?|SPECTRAL_|SPEC_|NM_?|R)(\d{3,4}(?:\.\d+)?)$", re.IGNORECASE)
+_ID_FIELDS = ("SAMPLE_NAME", "SAMPLE_ID", "SAMPLEID", "SAMPLE_LOC")
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?$")
+
+
+def is_cgats(text: str) -> bool:
+    """Whether ``text`` looks like CGATS (a ``BEGIN_DATA_FORMAT`` line)."""
+    return re.search(r"^\s*BEGIN_DATA_FORMAT\s*$", text, re.MULTILINE) is not None
+
+
+def _tokens(line: str) -> list[str]:
+    line = line.split("#", 1)[0] if '"' not in line else line
+    return [t[1:-1] if t.startswith('"') else t for t in _TOKEN.findall(line)]
+
+
+def _parse(text: str, source: str):
+    """(identifier, keywords {name: [values]}, fields, rows [(line, tokens)])."""
+    lines = text.splitlines()
+    ident = next((ln.strip() for ln in lines if ln.strip() and not ln.lstrip().startswith("#")), "")
+    keywords: dict[str, list[str]] = {}
+    fields: list[str] = []
+    rows: list[tuple[int, list[str]]] = []
+    state, tables = "header", 0
+    for no, line in enumerate(lines, start=1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        word = stripped.split()[0].upper()
+        if word == "BEGIN_DATA_FORMAT":
+            tables += 1
+            if tables > 1:
+                raise SwatchError(f"{source}: line {no}: a second table; a measurement file holds one table "
+                                  "(split it, one table per file)")
+            state = "format"
+        elif word == "END_DATA_FORMAT":
+            state = "header"
+        elif word == "BEGIN_DATA":
+            state = "data"
+        elif word == "END_DATA":
+            state = "header"
+        elif state == "format":
+            fields += _tokens(stripped)
+            if len(fields) > MAX_INSTRUMENT_FIELDS:
+                raise SwatchError(f"{source}: more than {MAX_INSTRUMENT_FIELDS} fields; a CGATS table has at most "
+                                  f"{MAX_INSTRUMENT_FIELDS}")
+        elif state == "data":
+            if len(rows) >= MAX_INSTRUMENT_SAMPLES:
+                raise SwatchError(f"{source}: more than {MAX_INSTRUMENT_SAMPLES} samples; a file holds at most "
+                                  f"{MAX_INSTRUMENT_SAMPLES}")
+            rows.append((no, _tokens(stripped)))
+        elif no > 1 or stripped != ident:
+            toks = _tokens(stripped)
+            if toks and toks[0].upper() != "KEYWORD":
+                keywords.setdefault(toks[0].upper(), []).append(" ".join(toks[1:]))
+    if state == "data":
+        raise SwatchError(f"{source}: BEGIN_DATA without END_DATA; the file is cut short")
+    if not fields:
+        raise SwatchError(f"{source}: no field names between BEGIN_DATA_FORMAT and END_DATA_FORMAT")
+    if not rows:
+        raise SwatchError(f"{source}: no data rows between BEGIN_DATA and END_DATA")
+    for key, have, what in (("NUMBER_OF_SETS", len(rows), "data rows"), ("NUMBER_OF_FIELDS", len(fields), "fields")):
+        stated = keywords.get(key)
+        if stated and stated[0].strip().isdigit() and int(stated[0]) != have:
+            raise SwatchError(f"{source}: {key} says {int(stated[0])} but the table has {have} {what}; the file is "
+                              "cut short or edited by hand")
+    return ident, keywords, fields, rows
+
+
+def _stated(ident: str, kw: dict[str, list[str]], source: str) -> dict:
+    """The illuminant, observer and geometry the header states: {what: (value, where)}."""
+    found: dict[str, list[tuple[str, str]]] = {"illuminant": [], "observer": [], "geometry": []}
+    for text in kw.get("MEASUREMENT_SOURCE", []):
+        for k, v in re.findall(r"(\w+)\s*=\s*([^\s\t]+)", text):
+            if k.lower() in ("illumination", "illuminant"):
+                found["illuminant"].append((v, "MEASUREMENT_SOURCE"))
+            elif k.lower() in ("observerangle", "observer"):
+                found["observer"].append((v, "MEASUREMENT_SOURCE"))
+    for key in ("ILLUMINANT", "ILLUMINATION_NAME", "ILLUMINATION"):
+        found["illuminant"] += [(v, key) for v in kw.get(key, [])]
+    for key in ("OBSERVER", "OBSERVER_ANGLE"):
+        found["observer"] += [(v, key) for v in kw.get(key, [])]
+    for text in kw.get("WEIGHTING_FUNCTION", []):
+        what, _, value = text.partition(",")
+        if what.strip().upper() == "ILLUMINANT":
+            found["illuminant"].append((value, "WEIGHTING_FUNCTION"))
+        elif what.strip().upper() == "OBSERVER":
+            found["observer"].append((value, "WEIGHTING_FUNCTION"))
+    found["geometry"] += [(v, "MEASUREMENT_GEOMETRY") for v in kw.get("MEASUREMENT_GEOMETRY", [])]
+    parse = {"illuminant": parse_illuminant, "observer": parse_observer, "geometry": parse_geometry_text}
+    out = {}
+    for what, items in found.items():
+        values = [(parse[what](v, f"{source}: {where}"), where) for v, where in items]
+        distinct = {str(v) for v, _ in values}
+        if len(distinct) > 1:
+            raise SwatchError(f"{source}: the header states two {what}s ({' and '.join(sorted(distinct))}); "
+                              "a file is measured under one")
+        if values:
+            out[what] = values[0]
+    if ident.upper().startswith("CTI3"):  # ArgyllCMS: CIE values are D50 (ICC PCS), 2° unless stated
+        if "ILLUMINANT_WHITE_POINT_XYZ" in kw and "illuminant" not in out:
+            raise SwatchError(f"{source}: ILLUMINANT_WHITE_POINT_XYZ gives a custom white; swatch reads CIE "
+                              "illuminants only (give the spectra, or state ILLUMINANT)")
+        out.setdefault("illuminant", ("D50", "ArgyllCMS .ti3 default"))
+        out.setdefault("observer", ("2", "ArgyllCMS .ti3 default"))
+    return out
+
+
+def _number(tok: str, source: str, line: int, name: str) -> float:
+    if _DECIMAL_COMMA.match(tok):
+        tok = tok.replace(",", ".")
+    try:
+        return float(tok)
+    except ValueError:
+        raise SwatchError(f"{source}: line {line}: {name} {tok!r} is not a number") from None
+
+
+def _column(rows, idx: int, source: str, name: str) -> np.ndarray:
+    return np.array([_number(r[idx], source, no, name) for no, r in rows])
+
+
+def _finite_rows(values: np.ndarray, source: str) -> None:
+    if not np.all(np.isfinite(values)):
+        raise SwatchError(f"{source}: a CIE XYZ value is not a finite number (NaN or infinite)")
+
+
+def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
+    """Read CGATS text into samples (see the module docstring)."""
+    ident, kw, fields, rows = _parse(text, source)
+    upper = [f.upper() for f in fields]
+    col = {f: i for i, f in enumerate(upper)}
+    if len(col) != len(upper):
+        raise SwatchError(f"{source}: a field name is repeated in BEGIN_DATA_FORMAT")
+    for no, r in rows:
+        if len(r) != len(fields):
+            raise SwatchError(f"{source}: line {no}: {len(r)} values for {len(fields)} fields")
+    stated = _stated(ident, kw, source)
+    geom = stated.get("geometry")
+    check_agrees(source, "geometry", geom[0] if geom else None, geom[1] if geom else "", request, "geometry",
+                 (request.light_deg, request.view_deg), "--light/--view")
+    light, view = geom[0] if geom else (request.light_deg, request.view_deg)
+    if request.view_azimuth_deg is not None or request.light_azimuth_deg:
+        raise SwatchError(f"{source}: azimuths apply to CSV files with angle columns; a CGATS file is in plane")
+    ids = next((i for i in (col.get(n) for n in _ID_FIELDS) if i is not None), None)
+    names = [r[ids] if ids is not None else str(k + 1) for k, (_, r) in enumerate(rows)]
+    volts = next((_column(rows, col[n], source, n) for n in ("VOLTAGE_V", "VOLTAGE") if n in col), None)
+    thick = _column(rows, col["THICKNESS_NM"], source, "THICKNESS_NM") if "THICKNESS_NM" in col else None
+    spectral = [(i, float(m.group(1))) for i, f in enumerate(fields) if (m := _SPECTRAL.match(f))]
+    samples: list[Sample] = []
+
+    def extra(k):
+        return (None if volts is None else float(volts[k]), None if thick is None else float(thick[k]))
+
+    if spectral:
+        idx = [i for i, _ in spectral]
+        wl = np.array([w for _, w in spectral])
+        if "SPECTRAL_BANDS" in kw and "SPECTRAL_START_NM" in kw and "SPECTRAL_END_NM" in kw:
+            bands = int(_number(kw["SPECTRAL_BANDS"][0], source, 0, "SPECTRAL_BANDS"))
+            if bands != len(idx):
+                raise SwatchError(f"{source}: SPECTRAL_BANDS says {bands} bands but {len(idx)} spectral fields follow")
+            wl = np.linspace(_number(kw["SPECTRAL_START_NM"][0], source, 0, "SPECTRAL_START_NM"),
+                             _number(kw["SPECTRAL_END_NM"][0], source, 0, "SPECTRAL_END_NM"), bands)
+        data = np.array([[_number(r[i], source, no, fields[i]) for i in idx] for no, r in rows])
+        percent = request.percent if request.percent is not None else (True if ident.upper().startswith("CTI3")
+                                                                      else None)
+        for k, name in enumerate(names):
+            samples.append(spectral_sample(source, name, [(light, view)], wl, data[k], percent, *extra(k)))
+    else:
+        lab = [col.get(n) for n in ("LAB_L", "LAB_A", "LAB_B")]
+        xyz = [col.get(n) for n in ("XYZ_X", "XYZ_Y", "XYZ_Z")]
+        if None in lab and None in xyz:
+            raise SwatchError(f"{source}: no LAB_L/LAB_A/LAB_B, XYZ_X/XYZ_Y/XYZ_Z or spectral (SPECTRAL_NNN, nmNNN, "
+                              "SPEC_NNN) fields; nothing to read")
+        illuminant, observer = _white(stated, request, source)
+        if None not in lab:
+            Lab = np.stack([_column(rows, i, source, fields[i]) for i in lab], axis=1)  # type: ignore[arg-type]
+        else:
+            XYZ = np.stack([_column(rows, i, source, fields[i]) for i in xyz], axis=1)  # type: ignore[arg-type]
+            _finite_rows(XYZ, source)
+            Lab = get_colorimeter(wavelength_grid(380.0, 780.0, 5.0), illuminant, observer).Lab(XYZ)
+        for k, name in enumerate(names):
+            samples.append(lab_sample(source, name, [(light, view)], Lab[k], *extra(k)))
+    out = tuple(samples)
+    same_geometries(out, source)
+    ill, obs = _resolve(stated, request, source)
+    return InstrumentFile(source, "cgats", out, ill, obs,
+                          {k: (v[0] if k != "geometry" else f"{v[0][0]:g}/{v[0][1]:g}") for k, v in stated.items()})
+
+
+def _resolve(stated: dict, request: Request, source: str) -> tuple[str, str]:
+    for what, option in (("illuminant", "--illuminant"), ("observer", "--observer")):
+        s = stated.get(what)
+        cli = request.illuminant if what == "illuminant" else request.observer
+        if s is not None and what in request.given:
+            cli_norm = parse_illuminant(cli, "--illuminant") if what == "illuminant" else parse_observer(cli, option)
+            check_agrees(source, what, s[0], s[1], request, what, cli_norm, option)
+    ill = stated["illuminant"][0] if "illuminant" in stated else request.illuminant
+    obs = stated["observer"][0] if "observer" in stated else request.observer
+    return ill, obs
+
+
+def _white(stated: dict, request: Request, source: str) -> tuple[str, str]:
+    """The white point CIE values from the file are relative to: stated, or given explicitly."""
+    missing = [w for w in ("illuminant", "observer") if w not in stated and w not in request.given]
+    if missing:
+        raise SwatchError(f"{source}: CIE values without a white point: the file states no {' or '.join(missing)}; "
+                          "give --illuminant and --observer as measured (e.g. D50 and 2)")
+    return _resolve(stated, request, source)

@@ -1,0 +1,1 @@
+"""Physics: optics (Airy thin film), geometry, microfacet, Rayleigh, materials, the half-vector model, process profiles."""

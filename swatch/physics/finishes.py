@@ -1,0 +1,156 @@
+"""Named surface finishes: the microfacet roughness of polished, satin, bead-blasted and brushed
+metal, defined once (#23 item 3).
+
+A finish is the GGX roughness ``α`` of the metal under the film (the oxide follows the metal's
+micro-relief: the paper's §2.2), isotropic or, for ``brushed``, two values: ``alpha_u`` along the
+brushing direction (the grooves; small) and ``alpha_v`` across it (large). What each number
+means, and what it is based on:
+
+* **The lobe width.** GGX ``D`` falls to half its peak at ``tan θh = α sqrt((√2 − 1)/(1 − √2 α²))``
+  (≈ 0.644 α for small α), so a reflected edge (a soft box's rim, the horizon) is blurred over
+  about ``±2 θh`` around the mirror direction (:func:`highlight_half_width_deg`). Polished ±3°
+  (reflections sharp), satin ±15° (recognisable but soft), bead-blasted ±44° (no image, a
+  sheen), brushed ±9° along the grain and ±33° across it (the highlight is drawn out across the
+  grooves).
+* **A profilometer's slope.** For small α the GGX lobe is that of Beckmann with RMS slope
+  ``m = α``, whose facet slopes are Gaussian with a variance of ``α²/2`` per direction; a stylus
+  profile's RMS slope ``Rdq`` (ISO 4287 ``Δq``, radians) along one direction is then
+  ``α / √2``, i.e. ``α ≈ √2 · Rdq`` (Beckmann & Spizzichino 1963; for an isotropic Gaussian
+  surface). The table's values correspond to ``Rdq`` ≈ 1.6° (polished), 8° (satin), 20°
+  (bead-blasted), 5° along / 16° across (brushed): the ranges profilometry gives for mirror-
+  polished, fine-abrasive (satin), glass-bead blasted and grained (brushed, Scotch-Brite / No. 4
+  style) sheet. They are **typical values, not a fit to measured anodised titanium** (none is
+  shipped): with a measured ``Rdq``, give ``--roughness √2·Rdq`` instead. (``Ra``, the height
+  roughness that the paper measured, 268 nm, sets whether the surface is optically rough, the
+  Rayleigh criterion of :mod:`swatch.physics.rayleigh`, not the lobe width, which needs slopes.)
+
+The brushing direction on a render: the plate's x axis (left–right in the image), the
+cylinder's axis and, for the sphere and meshes, the vertical (+y) projected onto the surface
+(x where the surface faces up); see :func:`brush_tangent`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swatch.core.choices import FINISHES
+from swatch.core.errors import SwatchError
+
+__all__ = ["FINISHES", "Finish", "get_finish", "finish_or_roughness", "highlight_half_width_deg", "brush_tangent",
+           "isotropic_finish"]
+
+
+@dataclass(frozen=True)
+class Finish:
+    """A finish: GGX ``alpha_u`` along the brushing direction and ``alpha_v`` across it (equal
+    when isotropic), what it looks like and what the numbers are based on."""
+
+    name: str
+    alpha_u: float
+    alpha_v: float
+    description: str
+
+    @property
+    def anisotropic(self) -> bool:
+        return self.alpha_u != self.alpha_v
+
+    @property
+    def roughness_alpha(self) -> float:
+        """The isotropic GGX α of the same lobe area: ``sqrt(alpha_u alpha_v)`` (α itself when isotropic)."""
+        return round(math.sqrt(self.alpha_u * self.alpha_v), 6)
+
+    def metadata(self) -> dict:
+        """The ``finish`` entry of an output's metadata."""
+        out: dict = {"name": self.name, "description": self.description}
+        if self.anisotropic:
+            out.update({"alpha_along": self.alpha_u, "alpha_across": self.alpha_v,
+                        "direction": "along the plate's x axis, the cylinder's axis, the sphere's and a mesh's "
+                                     "vertical projected on the surface (GGX anisotropic, Smith height-correlated)"})
+        else:
+            out["alpha"] = self.alpha_u
+        out["basis"] = ("typical profilometer slopes for the finish (alpha ~ sqrt(2) Rdq), not a fit to measured "
+                        "anodised titanium; docs/finishes.md")
+        return out
+
+    def label(self) -> str:
+        """A short label for sheet headers: ``satin (GGX 0.2)``, ``brushed (GGX 0.12 along, 0.4 across)``."""
+        if self.anisotropic:
+            return f"{self.name} (GGX {self.alpha_u:g} along, {self.alpha_v:g} across the grain)"
+        return f"{self.name} (GGX {self.alpha_u:g})"
+
+
+_TABLE = {
+    "polished": Finish("polished", 0.04, 0.04, "mirror polish: sharp reflections (highlight ±3°)"),
+    "satin": Finish("satin", 0.2, 0.2, "satin (fine abrasive): soft but recognisable reflections (±15°)"),
+    "bead-blasted": Finish("bead-blasted", 0.5, 0.5, "glass-bead blasted: no reflected image, an even sheen (±44°)"),
+    "brushed": Finish("brushed", 0.12, 0.4, "brushed (grained): highlights drawn out across the grain "
+                                            "(±9° along, ±33° across)"),
+}
+assert tuple(_TABLE) == FINISHES, "choices.FINISHES names the table's finishes"
+
+
+def get_finish(name: str) -> Finish:
+    """The finish of a name (case-insensitive), or SwatchError naming the choices."""
+    key = str(name).strip().lower()
+    if key not in _TABLE:
+        raise SwatchError(f"unknown finish {name!r}; use one of {', '.join(FINISHES)}")
+    return _TABLE[key]
+
+
+def isotropic_finish(roughness_alpha: float) -> Finish:
+    """An unnamed isotropic finish of a given GGX α (``--roughness``)."""
+    a = float(roughness_alpha)
+    return Finish(f"roughness {a:g}", a, a, "GGX roughness given directly")
+
+
+def finish_or_roughness(finish: str | None, roughness: float | None) -> Finish | None:
+    """The finish of ``--finish`` (or a spec's ``finish``); SwatchError when a roughness is given
+    too (one of the two); None when neither."""
+    if finish is None:
+        return None
+    if roughness is not None:
+        raise SwatchError("give either a finish or a roughness, not both (a finish sets the roughness)")
+    return get_finish(finish)
+
+
+def highlight_half_width_deg(roughness_alpha) -> np.ndarray:
+    """Half width (degrees) of the reflected highlight of a GGX lobe: ``2 θh`` with
+    ``tan θh = α sqrt((√2 − 1)/(1 − √2 α²))``, the half-vector angle at which ``D`` is half its
+    peak (from ``D(θh)/D(0) = α⁴ / (cos²θh (α² + tan²θh))²``).
+
+    Parameters
+    ----------
+    roughness_alpha : array_like
+        GGX α (> 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        Degrees, the shape of the input.
+    """
+    a = np.asarray(roughness_alpha, dtype=np.float64)
+    return np.degrees(2.0 * np.arctan(a * np.sqrt((np.sqrt(2.0) - 1.0) / (1.0 - np.sqrt(2.0) * a * a))))
+
+
+#: World direction a shape is brushed along (projected onto its surface).
+_BRUSH_AXIS = {"flat": (1.0, 0.0, 0.0), "cylinder": (0.0, 1.0, 0.0), "sphere": (0.0, 1.0, 0.0),
+               "mesh": (0.0, 1.0, 0.0)}
+
+
+def brush_tangent(shape: str, normals) -> np.ndarray:
+    """Unit tangents (P, 3) along the brushing direction at unit ``normals`` (P, 3) of a shape:
+    its world axis (:data:`_BRUSH_AXIS`) projected onto the tangent plane; where that axis is
+    within ~1° of the normal, x is projected instead."""
+    n = np.asarray(normals, dtype=np.float32).reshape(-1, 3)
+    axis = np.asarray(_BRUSH_AXIS.get(shape, (0.0, 1.0, 0.0)), dtype=np.float32)
+    t = axis - (n @ axis)[:, None] * n
+    norm = np.linalg.norm(t, axis=1)
+    bad = norm < 0.02
+    if bad.any():
+        x = np.array([1.0, 0.0, 0.0], dtype=np.float32)
+        alt = x - (n[bad] @ x)[:, None] * n[bad]
+        t[bad] = alt
+        norm[bad] = np.linalg.norm(alt, axis=1)
+    return t / np.maximum(norm, np.float32(1e-12))[:, None]

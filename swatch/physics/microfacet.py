@@ -1,0 +1,423 @@
+"""Microfacet distributions and shadowing–masking: the wavelength-independent part of the BRDF.
+
+The microfacet thin-film BRDF (the paper's "future work") is
+
+    f(l, v, λ) = D(h) G(l, v) F(λ; d, θ_d) / (4 cos θ_l cos θ_v),
+
+with ``h = (l + v)/|l + v|`` the half vector, ``θ_d`` the incidence angle on the facet
+(``cos θ_d = h·l``) and ``F`` the Airy thin-film reflectance of :mod:`swatch.physics.optics`. ``D`` and
+``G`` are scalars (no wavelength): this module computes them and the BRDF scale
+``D G / (4 cos θ_l cos θ_v)``.
+
+Conventions
+-----------
+* All functions take cosines (and plain arrays), are vectorised by broadcasting and never loop.
+* ``roughness_alpha`` is the usual roughness parameter ``α`` (GGX/Trowbridge–Reitz ``α``,
+  Beckmann RMS slope ``m = α``); valid range (0, 1]. (``alpha`` alone is never the
+  roughness in swatch; the CLI option and the metadata key are ``roughness``.)
+* ``D`` is normalised so that ``∫ D(h) (n·h) dω_h = 1`` over the hemisphere (Walter et al. 2007,
+  "Microfacet models for refraction through rough surfaces").
+* Shadowing–masking is Smith's, with the exact Λ of each distribution (Heitz 2014, "Understanding
+  the masking-shadowing function in microfacet-based BRDFs"):
+
+  - GGX:      ``Λ(θ) = (−1 + sqrt(1 + α² tan²θ)) / 2``;
+  - Beckmann: ``Λ(θ) = (erf(a) − 1)/2 + exp(−a²) / (2 a sqrt(π))``, ``a = 1/(α tan θ)``.
+
+  ``G1 = χ⁺(h·v)/(1 + Λ(v))``. The joint term ``G`` is **height-correlated** by default,
+  ``G = χ⁺(h·l) χ⁺(h·v) / (1 + Λ(l) + Λ(v))`` (Heitz 2014, eq. 99: the more accurate form; it
+  is never below the separable product, which counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with
+  ``correlated=False``. Both conserve energy: with ``F = 1`` the directional albedo
+  ``∫ f cos θ_l dω_l`` is ≤ 1 at every view angle (the furnace test in tests/test_microfacet.py).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import erf
+
+from swatch.core.choices import DISTRIBUTIONS
+from swatch.core.errors import SwatchError
+
+__all__ = [
+    "DISTRIBUTIONS",
+    "check_roughness_alpha",
+    "check_distribution",
+    "D",
+    "D_ggx",
+    "D_beckmann",
+    "smith_lambda",
+    "G1",
+    "G",
+    "brdf_scale",
+    "ggx_visibility",
+    "D_ratio",
+    "ggx_reflectance_factor_cos",
+    "D_ggx_aniso",
+    "smith_lambda_ggx_aniso",
+]
+
+_TINY = 1e-12
+
+
+def check_roughness_alpha(roughness_alpha) -> float:
+    """The roughness ``α`` as a float.
+
+    Parameters
+    ----------
+    roughness_alpha : float-like
+        The value to check.
+
+    Returns
+    -------
+    float
+        ``α`` in (0, 1].
+
+    Raises
+    ------
+    SwatchError
+        When it is not a number or outside (0, 1].
+    """
+    try:
+        a = float(roughness_alpha)
+    except (TypeError, ValueError):
+        raise SwatchError(f"roughness {roughness_alpha!r} is not a number; give a value in (0, 1]") from None
+    if not np.isfinite(a) or a <= 0.0 or a > 1.0:
+        raise SwatchError(f"roughness must be > 0 and <= 1, got {roughness_alpha!r}")
+    return a
+
+
+def check_distribution(name: str) -> str:
+    """The distribution's key (one of :data:`swatch.core.choices.DISTRIBUTIONS`), case-insensitive.
+
+    Raises
+    ------
+    SwatchError
+        For an unknown name.
+    """
+    key = str(name).strip().lower()
+    if key not in DISTRIBUTIONS:
+        raise SwatchError(f"unknown microfacet distribution {name!r}; use one of {', '.join(DISTRIBUTIONS)}")
+    return key
+
+
+def _tan2(cos_theta):
+    c2 = np.clip(np.asarray(cos_theta, dtype=np.float64) ** 2, _TINY, 1.0)  # float64: tan² near 0
+    return (1.0 - c2) / c2, c2
+
+
+# -- GGX: the two polynomials, written once -------------------------------------------------------
+def _ggx_ndf_den(cos_h, a2_minus_1):
+    """``(α² − 1) cos²θh + 1``: GGX's ``D = α² / (π den²)``. The scalar comes in the caller's precision."""
+    return cos_h * cos_h * a2_minus_1 + 1
+
+
+def _ggx_vis_den(cos_l, cos_v, a2, one_minus_a2):
+    """``cos θ_l sqrt(cos²θ_v (1 − α²) + α²) + cos θ_v sqrt(cos²θ_l (1 − α²) + α²)``, which is
+    ``2 cos θ_l cos θ_v (1 + Λ_l + Λ_v)``: GGX's height-correlated ``G / (4 cos θ_l cos θ_v) = 0.5 / den``."""
+    return cos_l * np.sqrt(cos_v * cos_v * one_minus_a2 + a2) + cos_v * np.sqrt(cos_l * cos_l * one_minus_a2 + a2)
+
+
+def D_ggx(cos_h, roughness_alpha) -> np.ndarray:
+    """GGX / Trowbridge–Reitz: ``α² / (π ((α² − 1) cos²θh + 1)²)``; 0 where ``cos θh <= 0``.
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``cos θh = n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1].
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        ``D`` in sr⁻¹ (normalised: ``∫ D cos θh dω = 1``).
+    """
+    c = np.asarray(cos_h)
+    a2 = float(roughness_alpha) ** 2
+    den = _ggx_ndf_den(c, a2 - 1.0)
+    return np.where(c > 0, a2 / (np.pi * den * den), 0.0)
+
+
+def D_beckmann(cos_h, roughness_alpha) -> np.ndarray:
+    """Beckmann: ``exp(−tan²θh / α²) / (π α² cos⁴θh)``; 0 where ``cos θh <= 0``.
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``cos θh = n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        ``D`` in sr⁻¹ (normalised: ``∫ D cos θh dω = 1``).
+    """
+    c = np.asarray(cos_h)
+    a2 = float(roughness_alpha) ** 2
+    t2, c2 = _tan2(c)
+    return np.where(c > 0, np.exp(-t2 / a2) / (np.pi * a2 * c2 * c2), 0.0)
+
+
+def D(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
+    """The normal distribution ``D(h)`` of the named distribution.
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``cos θh = n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        ``D`` in sr⁻¹.
+    """
+    return D_ggx(cos_h, roughness_alpha) if check_distribution(distribution) == "ggx" else D_beckmann(cos_h, roughness_alpha)
+
+
+def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
+    """Smith's ``Λ`` for a direction at polar angle θ, exact for each distribution (module doc).
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        ``cos θ = n·ω``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_theta``
+        ``Λ ≥ 0`` (dimensionless; 0 at normal incidence).
+    """
+    t2, _ = _tan2(cos_theta)
+    a = float(roughness_alpha)
+    if check_distribution(distribution) == "ggx":
+        return 0.5 * (np.sqrt(1.0 + a * a * t2) - 1.0)
+    tan_t = np.sqrt(t2)
+    x = 1.0 / np.maximum(a * tan_t, _TINY)  # a = 1 / (α tan θ)
+    # For large x (near-normal directions) Λ underflows to 0; compute it where it is finite.
+    xs = np.minimum(x, 30.0)
+    lam = 0.5 * (erf(xs) - 1.0) + np.exp(-xs * xs) / (2.0 * xs * np.sqrt(np.pi))
+    return np.where(x >= 30.0, 0.0, np.maximum(lam, 0.0))
+
+
+def G1(cos_theta, cos_h_omega, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
+    """Smith masking of one direction, ``χ⁺(h·ω) / (1 + Λ(ω))``.
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        ``n·ω``.
+    cos_h_omega : array_like
+        ``h·ω``; broadcasts with ``cos_theta`` to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, shape S
+        ``G1`` in [0, 1].
+    """
+    lam = smith_lambda(cos_theta, roughness_alpha, distribution)
+    ok = (np.asarray(cos_h_omega) > 0) & (np.asarray(cos_theta) > 0)
+    return np.where(ok, 1.0 / (1.0 + lam), 0.0)
+
+
+def G(cos_l, cos_v, cos_hl, cos_hv, roughness_alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
+    """Smith shadowing–masking of light and view.
+
+    Parameters
+    ----------
+    cos_l, cos_v : array_like
+        ``n·l`` and ``n·v``.
+    cos_hl, cos_hv : array_like
+        ``h·l`` and ``h·v`` (equal for the half vector); all four broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+    correlated : bool
+        Height-correlated ``1 / (1 + Λl + Λv)`` (default; Heitz 2014, eq. 99) or the separable
+        product ``G1(l) G1(v)``.
+
+    Returns
+    -------
+    numpy.ndarray, shape S
+        ``G`` in [0, 1]; 0 below either horizon.
+    """
+    if not correlated:
+        return G1(cos_l, cos_hl, roughness_alpha, distribution) * G1(cos_v, cos_hv, roughness_alpha, distribution)
+    lam_l = smith_lambda(cos_l, roughness_alpha, distribution)
+    lam_v = smith_lambda(cos_v, roughness_alpha, distribution)
+    ok = (np.asarray(cos_hl) > 0) & (np.asarray(cos_hv) > 0) & (np.asarray(cos_l) > 0) & (np.asarray(cos_v) > 0)
+    return np.where(ok, 1.0 / (1.0 + lam_l + lam_v), 0.0)
+
+
+def ggx_visibility(cos_l, cos_v, roughness_alpha) -> np.ndarray:
+    """``G / (4 cos θl cos θv)`` for GGX with the height-correlated Smith G, in closed form.
+
+    ``0.5 / (cos θl sqrt(cos²θv (1 − α²) + α²) + cos θv sqrt(cos²θl (1 − α²) + α²))``,
+    algebraically equal to ``1 / ((1 + Λl + Λv) 4 cos θl cos θv)`` with fewer operations and
+    no division by the cosines.
+
+    Parameters
+    ----------
+    cos_l, cos_v : array_like
+        ``n·l`` and ``n·v``, > 0 (the caller masks the rest); broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+
+    Returns
+    -------
+    numpy.ndarray, shape S, in the inputs' precision (at least float32)
+        The visibility term, sr⁰ (dimensionless).
+    """
+    cl = np.asarray(cos_l)
+    cv = np.asarray(cos_v)
+    a2 = float(roughness_alpha) ** 2
+    t = np.result_type(cl, cv, np.float32).type
+    den = _ggx_vis_den(cl, cv, t(a2), t(1.0 - a2))
+    return t(0.5) / np.maximum(den, t(1e-30))
+
+
+def ggx_reflectance_factor_cos(cos_l, cos_v, cos_h, roughness_alpha) -> np.ndarray:
+    """``π D G / (4 cos θl cos θv) · max(cos θl, 0)`` for GGX with height-correlated G (renders).
+
+    The reflectance factor of an F = 1 surface times the irradiance cosine, in few operations and
+    in the inputs' precision. Masking is left to the caller except ``cos θl <= 0 -> 0``: it
+    assumes ``cos θv > 0`` (a visible surface), where ``cos θh > 0`` holds automatically.
+    Equal to ``π · brdf_scale(...) · max(cos θl, 0)`` (tested).
+
+    Parameters
+    ----------
+    cos_l, cos_v, cos_h : array_like
+        ``n·l``, ``n·v`` and ``n·h``; broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+
+    Returns
+    -------
+    numpy.ndarray, shape S, in the inputs' precision (at least float32)
+        Dimensionless (1 for a perfect white diffuser lit and seen along the normal).
+    """
+    cl = np.maximum(np.asarray(cos_l), 0)
+    cv = np.asarray(cos_v)
+    ch = np.asarray(cos_h)
+    t = np.result_type(cl, cv, ch, np.float32).type
+    a2 = t(float(roughness_alpha) ** 2)
+    den = _ggx_ndf_den(ch, a2 - t(1.0))
+    vis = _ggx_vis_den(cl, cv, a2, t(1.0) - a2)
+    # π · a2/(π den²) · 0.5/vis · cl
+    return (t(0.5) * a2) * cl / np.maximum(den * den * vis, t(1e-30))
+
+
+def D_ratio(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
+    """``D(h) / D(n)``: 1 on the mirror direction, falling off the specular lobe (both D peak at n).
+
+    Parameters
+    ----------
+    cos_h : array_like
+        ``n·h``, any shape.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+
+    Returns
+    -------
+    numpy.ndarray, the shape of ``cos_h``
+        In [0, 1].
+    """
+    a = float(roughness_alpha)
+    return D(cos_h, a, distribution) * (np.pi * a * a)
+
+
+def brdf_scale(cos_l, cos_v, cos_h, cos_d, roughness_alpha, distribution: str = "ggx", correlated: bool = True) -> np.ndarray:
+    """``D(h) G(l, v) / (4 cos θl cos θv)``: the BRDF with F = 1; 0 below the horizon.
+
+    GGX with the height-correlated G goes through :func:`D_ggx` and :func:`ggx_visibility`
+    (tests check it against the definition); float32 inputs stay float32.
+
+    Parameters
+    ----------
+    cos_l, cos_v, cos_h : array_like
+        ``n·l``, ``n·v`` and ``n·h``.
+    cos_d : array_like
+        ``h·l = h·v``; all four broadcast to a shape S.
+    roughness_alpha : float
+        ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
+    distribution : {"ggx", "beckmann"}
+    correlated : bool
+        Height-correlated (default) or separable Smith G.
+
+    Returns
+    -------
+    numpy.ndarray, shape S
+        The BRDF scale in sr⁻¹.
+    """
+    roughness_alpha = check_roughness_alpha(roughness_alpha)
+    distribution = check_distribution(distribution)
+    cl = np.asarray(cos_l)
+    cv = np.asarray(cos_v)
+    if not np.issubdtype(cl.dtype, np.floating):
+        cl = cl.astype(np.float64)
+    if not np.issubdtype(cv.dtype, np.floating):
+        cv = cv.astype(np.float64)
+    if distribution == "ggx" and correlated:
+        t = np.result_type(cl, cv, np.float32).type
+        ch = np.asarray(cos_h)
+        ok = (cl > 0) & (cv > 0) & (ch > 0)
+        return np.where(ok, D_ggx(ch, roughness_alpha) * ggx_visibility(cl, cv, roughness_alpha), t(0.0))
+    d = D(cos_h, roughness_alpha, distribution)
+    g = G(cl, cv, cos_d, cos_d, roughness_alpha, distribution, correlated)
+    ok = (cl > 0) & (cv > 0)
+    return np.where(ok, d * g / (4.0 * np.maximum(cl, _TINY) * np.maximum(cv, _TINY)), 0.0)
+
+
+# -- anisotropic GGX (brushed finishes) -----------------------------------------------------------
+def D_ggx_aniso(h_local, alpha_u: float, alpha_v: float) -> np.ndarray:
+    """Anisotropic GGX: ``1 / (π α_u α_v (h_x²/α_u² + h_y²/α_v² + h_z²)²)``; 0 where ``h_z <= 0``.
+
+    Parameters
+    ----------
+    h_local : array_like, (..., 3)
+        Unit half vectors in the tangent frame (x along the tangent, the brushing direction;
+        y the bitangent; z the normal).
+    alpha_u, alpha_v : float
+        GGX α along x and along y, in (0, 1] (Heitz 2014, eq. 85; equal: :func:`D_ggx`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        ``D`` in sr⁻¹ (normalised: ``∫ D h_z dω = 1``).
+    """
+    h = np.asarray(h_local, dtype=np.float64)
+    au, av = check_roughness_alpha(alpha_u), check_roughness_alpha(alpha_v)
+    x, y, z = h[..., 0], h[..., 1], h[..., 2]
+    den = x * x / (au * au) + y * y / (av * av) + z * z
+    return np.where(z > 0, 1.0 / (np.pi * au * av * den * den), 0.0)
+
+
+def smith_lambda_ggx_aniso(w_local, alpha_u: float, alpha_v: float) -> np.ndarray:
+    """Smith's ``Λ`` of anisotropic GGX for directions in the tangent frame:
+    ``(−1 + sqrt(1 + (α_u² ω_x² + α_v² ω_y²) / ω_z²)) / 2`` (Heitz 2014, eq. 86).
+
+    Parameters
+    ----------
+    w_local : array_like, (..., 3)
+        Unit directions in the tangent frame (z the normal; ``ω_z > 0``).
+    alpha_u, alpha_v : float
+        GGX α along the tangent and the bitangent, in (0, 1].
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        ``Λ ≥ 0``.
+    """
+    w = np.asarray(w_local, dtype=np.float64)
+    au, av = float(alpha_u), float(alpha_v)
+    z2 = np.maximum(w[..., 2] * w[..., 2], _TINY)
+    return 0.5 * (np.sqrt(1.0 + (au * au * w[..., 0] ** 2 + av * av * w[..., 1] ** 2) / z2) - 1.0)

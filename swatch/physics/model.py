@@ -1,0 +1,335 @@
+"""The half-vector thin-film model (Fujii et al., eqs. 2–5) and the thickness ↔ voltage relation.
+
+A :class:`Coating` fixes the film and substrate materials and the wavelength grid; its methods
+give the spectral reflectance of the facets that mirror the light into the view (incidence angle
+``theta_d`` on the half-vector facet, eq. 5) for arrays of thicknesses and geometries.
+"""
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
+from swatch.physics import geometry, optics
+from swatch.physics.materials import (
+    DEFAULT_FILM,
+    DEFAULT_SUBSTRATE,
+    DEFAULT_WAVELENGTHS_NM,
+    list_materials,
+    load_material,
+)
+from swatch.physics.spread import NO_SPREAD, ThicknessSpread, spread_average
+
+__all__ = [
+    "DEFAULT_NM_PER_V",
+    "Coating",
+    "Overcoat",
+    "OvercoatedCoating",
+    "overcoat",
+    "overcoat_json",
+    "overcoat_text",
+    "get_coating",
+    "check_thickness_nm",
+    "voltage_to_thickness_nm",
+    "thickness_to_voltage_V",
+    "intensity_correction",
+    "intensity_scale",
+]
+
+#: Anodic growth rate, nm per volt: the paper's blue sample (Fig. 3) was anodised at 25 V and its
+#: thickness estimated at 50.8 nm (Table 2), i.e. 2.032 nm/V. Published anodic-TiO2 rates are
+#: 1.5–3 nm/V depending on electrolyte; override it with ``--nm-per-volt``.
+DEFAULT_NM_PER_V = 50.8 / 25.0
+
+
+def check_thickness_nm(thickness_nm) -> np.ndarray:
+    d = np.asarray(thickness_nm, dtype=np.float64)
+    if d.size == 0:
+        raise SwatchError("no thickness given")
+    if not np.all(np.isfinite(d)) or np.any(d < 0) or np.any(d > MAX_THICKNESS_NM):
+        raise SwatchError(f"thickness must be a number from 0 to {MAX_THICKNESS_NM:g} nm")
+    return d
+
+
+def _check_rate(nm_per_V: float) -> float:
+    if not (isinstance(nm_per_V, (int, float)) and math.isfinite(nm_per_V) and 0.1 <= nm_per_V <= 10):
+        raise SwatchError("growth rate must be between 0.1 and 10 nm per volt")
+    return float(nm_per_V)
+
+
+def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
+                            knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
+    """Film thickness for an anodising voltage by the growth law ``offset_nm + nm_per_V × voltage_V``
+    (with a knee: ``nm_per_V`` up to ``knee_V`` and ``nm_per_V_above_knee`` beyond it, continuous).
+
+    Parameters
+    ----------
+    voltage_V : array_like
+        Anodising (cell) voltage, V, from 0 to ``MAX_VOLTAGE_V``.
+    nm_per_V : float
+        Growth rate, nm per volt.
+    offset_nm : float
+        Thickness at 0 V (the initial oxide), nm.
+    knee_V, nm_per_V_above_knee : float or None
+        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
+    """
+    v = np.asarray(voltage_V, dtype=np.float64)
+    if not np.all(np.isfinite(v)) or np.any(v < 0) or np.any(v > MAX_VOLTAGE_V):
+        raise SwatchError(f"voltage must be a number from 0 to {MAX_VOLTAGE_V:g} V")
+    rate = _check_rate(nm_per_V)
+    if knee_V is None or nm_per_V_above_knee is None:
+        return check_thickness_nm(float(offset_nm) + v * rate)
+    k = float(knee_V)
+    above = _check_rate(nm_per_V_above_knee)
+    return check_thickness_nm(float(offset_nm) + rate * np.minimum(v, k) + above * np.maximum(v - k, 0.0))
+
+
+def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
+                           knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
+    """Anodising voltage for a film thickness, V (inverse of :func:`voltage_to_thickness_nm`; below the
+    initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film)."""
+    d = np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)
+    rate = _check_rate(nm_per_V)
+    if knee_V is None or nm_per_V_above_knee is None:
+        return d / rate
+    k = float(knee_V)
+    at_knee = rate * k
+    return np.where(d <= at_knee, d / rate, k + (d - at_knee) / _check_rate(nm_per_V_above_knee))
+
+
+def intensity_scale(simulated, measured) -> np.ndarray:
+    """The paper's intensity correction as a factor: ``mean(measured) / mean(simulated)`` per spectrum.
+
+    Parameters
+    ----------
+    simulated, measured : array_like, shapes (..., W) broadcasting together
+        Spectra on one wavelength grid (last axis).
+
+    Returns
+    -------
+    numpy.ndarray, the broadcast shape without the last axis
+        The scale (dimensionless); 0 where the simulated spectrum has no energy. Computed as the
+        ratio of the spectral sums (equal to the ratio of the means on a common grid).
+    """
+    sim_sum = np.asarray(simulated, dtype=np.float64).sum(axis=-1)
+    mea_sum = np.asarray(measured, dtype=np.float64).sum(axis=-1)
+    sim_sum, mea_sum = np.broadcast_arrays(sim_sum, mea_sum)
+    return np.divide(mea_sum, sim_sum, out=np.zeros_like(sim_sum), where=sim_sum > 0)
+
+
+def intensity_correction(simulated, measured) -> np.ndarray:
+    """The paper's intensity correction: scale ``simulated`` so its spectral mean equals ``measured``'s.
+
+    Works on the last axis (wavelength) of broadcastable arrays; returns the scaled spectra
+    (``simulated × intensity_scale(simulated, measured)``).
+    """
+    return np.asarray(simulated, dtype=np.float64) * intensity_scale(simulated, measured)[..., None]
+
+
+class _HalfVector:
+    """The half-vector model on top of a ``reflectance_cos`` method."""
+
+    def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
+        raise NotImplementedError
+
+    def half_vector(
+        self, thickness_nm, light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None,
+        amplitudes: bool = False,
+    ) -> tuple[optics.Reflectance, np.ndarray]:
+        """The half-vector model: reflectance at ``theta_d`` (eq. 5) and ``theta_d`` in degrees."""
+        geometry.check_light_view_deg(light_deg, view_deg)
+        cos_d = geometry.cos_theta_d(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+        theta_d = geometry.theta_d_deg(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+        return self.reflectance_cos(thickness_nm, cos_d, amplitudes), theta_d
+
+
+@dataclass(frozen=True)
+class Coating(_HalfVector):
+    """Ambient (air) / film / substrate with tabulated complex indices on a wavelength grid.
+
+    ``spread`` is the film's thickness non-uniformity (:mod:`swatch.physics.spread`): with one, every
+    reflectance is the incoherent average over the local thicknesses around the given (mean)
+    thickness; without (the default) the uniform film's code path runs unchanged.
+    """
+
+    film: str
+    substrate: str
+    wavelength_nm: np.ndarray
+    n_film: np.ndarray
+    n_substrate: np.ndarray
+    spread: ThicknessSpread = NO_SPREAD
+
+    def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
+        """Reflectance for thicknesses and incidence cosines broadcast together (shape S + (W,))."""
+        d = check_thickness_nm(thickness_nm)
+        if self.spread.is_zero:
+            return optics.film_reflectance_cos(d, cos_incidence, self.wavelength_nm,
+                                               self.n_film, self.n_substrate, amplitudes=amplitudes)
+        _no_amplitudes(amplitudes)
+        film = optics.FilmAtAngles(cos_incidence, self.wavelength_nm, self.n_film, self.n_substrate)
+
+        def reflect(t):
+            r = film.reflectance(t)
+            return r.R_s, r.R_p
+
+        return _averaged(reflect, d, self)
+
+    def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
+        """Reflectance at incidence angles in degrees (on the facet)."""
+        if self.spread.is_zero:
+            return optics.film_reflectance(
+                check_thickness_nm(thickness_nm), incidence_deg, self.wavelength_nm,
+                self.n_film, self.n_substrate, amplitudes=amplitudes,
+            )
+        theta = np.asarray(incidence_deg, dtype=np.float64)
+        geometry.check_polar_deg(theta, "incidence")
+        return self.reflectance_cos(thickness_nm, np.cos(np.radians(theta)), amplitudes)
+
+
+def _no_amplitudes(amplitudes: bool) -> None:
+    if amplitudes:
+        raise SwatchError("a film with a thickness spread has no single complex amplitude (its local "
+                          "reflectances add incoherently); ask for reflectances, or set the spread to 0")
+
+
+def _averaged(reflect, d: np.ndarray, base: Coating) -> optics.Reflectance:
+    R_s, R_p = spread_average(reflect, d, base.spread, float(np.max(base.n_film.real)),
+                              float(np.min(base.wavelength_nm)))
+    return optics.Reflectance(R_s=R_s, R_p=R_p)
+
+
+@dataclass(frozen=True)
+class Overcoat:
+    """A clear layer over the oxide (e.g. a thin lacquer or sol-gel topcoat), treated coherently."""
+
+    label: str  # a table name, or "n=1.5" for a constant index
+    n: np.ndarray  # complex index on the coating's wavelength grid
+    thickness_nm: float
+
+
+@dataclass(frozen=True)
+class OvercoatedCoating(_HalfVector):
+    """Ambient / overcoats / oxide film / substrate: the oxide's thickness varies, the overcoats are
+    fixed. Reflectance by the transfer-matrix product (:func:`swatch.physics.optics.stack_reflectance`)."""
+
+    base: Coating
+    overcoats: tuple[Overcoat, ...]
+
+    @property
+    def film(self) -> str:
+        return self.base.film
+
+    @property
+    def substrate(self) -> str:
+        return self.base.substrate
+
+    @property
+    def wavelength_nm(self) -> np.ndarray:
+        return self.base.wavelength_nm
+
+    @property
+    def spread(self) -> ThicknessSpread:
+        return self.base.spread
+
+    def _stack(self, thickness_nm, incidence_deg) -> optics.Reflectance:
+        return optics.stack_reflectance(
+            [o.thickness_nm for o in self.overcoats] + [thickness_nm],
+            [o.n for o in self.overcoats] + [self.base.n_film],
+            self.base.n_substrate, incidence_deg, self.base.wavelength_nm,
+        )
+
+    def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
+        d = check_thickness_nm(thickness_nm)
+        if self.base.spread.is_zero:
+            return self._stack(d, incidence_deg)
+        _no_amplitudes(amplitudes)
+
+        def reflect(t):
+            r = self._stack(t, incidence_deg)
+            return r.R_s, r.R_p
+
+        return _averaged(reflect, d, self.base)
+
+    def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
+        theta = np.degrees(np.arccos(np.clip(np.asarray(cos_incidence, dtype=np.float64), 0.0, 1.0)))
+        return self.reflectance(thickness_nm, theta, amplitudes)
+
+
+def overcoat(spec: str, wavelength_nm) -> Overcoat:
+    """Parse ``N_OR_TABLE:THICKNESS_NM`` (``1.5:200`` or ``TiO2-Siefke:20``) into an :class:`Overcoat`."""
+    text = str(spec).strip()
+    what, sep, thick = text.rpartition(":")
+    if not sep or not what:
+        raise SwatchError(f"overcoat {text!r} must be INDEX:THICKNESS_NM or TABLE:THICKNESS_NM, e.g. 1.5:200")
+    try:
+        d = float(thick)
+    except ValueError:
+        raise SwatchError(f"overcoat thickness {thick!r} is not a number of nm") from None
+    if not (math.isfinite(d) and 0 < d <= MAX_THICKNESS_NM):
+        raise SwatchError(f"overcoat thickness must be more than 0 and at most {MAX_THICKNESS_NM:g} nm "
+                          "(a thicker layer is not coherent: its fringes are finer than the wavelength grid)")
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    n_real: float | None
+    try:
+        n_real = float(what)
+    except ValueError:
+        n_real = None
+    if n_real is None:
+        mat = load_material(what)
+        if mat.role != "film":  # a metal is not a clear layer (it would be opaque at these thicknesses)
+            choices = ", ".join(m.name for m in list_materials("film"))
+            raise SwatchError(f"overcoat {mat.name} is a {mat.role} table, not a clear film; use an index "
+                              f"from 1 to 5 or one of {choices}")
+        return Overcoat(mat.name, mat.nk(wl), d)
+    if not (math.isfinite(n_real) and 1.0 <= n_real <= 5.0):
+        raise SwatchError(f"overcoat index must be from 1 to 5 (got {what})")
+    return Overcoat(f"n={n_real:g}", np.full(wl.shape, n_real, dtype=np.complex128), d)
+
+
+def overcoat_json(coating) -> dict:
+    """``{"overcoat": [{"layer", "thickness_nm"}, ...]}`` for a coating with overcoats, else ``{}``."""
+    overcoats = getattr(coating, "overcoats", ())
+    if not overcoats:
+        return {}
+    return {"overcoat": [{"layer": o.label, "thickness_nm": o.thickness_nm} for o in overcoats]}
+
+
+def overcoat_text(coating) -> str:
+    """``" under 1.5 200 nm / ..."`` for a coating with overcoats (from the air side), else ``""``."""
+    layers = [f"{o.label} {o.thickness_nm:g} nm" for o in getattr(coating, "overcoats", ())]
+    return f" under {' / '.join(layers)}" if layers else ""
+
+
+@functools.lru_cache(maxsize=64)
+def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1.0,
+             spread: ThicknessSpread = NO_SPREAD) -> Coating:
+    wl = np.array(grid, dtype=np.float64)
+    f = load_material(film)
+    s = load_material(substrate)
+    for mat, role, option in ((f, "film", "--film"), (s, "substrate", "--substrate")):
+        if mat.role != role:
+            choices = ", ".join(m.name for m in list_materials(role))
+            raise SwatchError(f"{option} {mat.name} is a {mat.role} table, not a {role}; use one of {choices}")
+    n_film = f.nk(wl)
+    if film_index_scale != 1.0:
+        n_film = film_index_scale * n_film.real + 1j * n_film.imag
+    return Coating(f.name, s.name, wl, n_film, s.nk(wl), spread)
+
+
+def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wavelength_nm=None,
+                film_index_scale: float = 1.0, spread: ThicknessSpread | None = None) -> Coating:
+    """A cached :class:`Coating` for material names and a grid (default 380–780 nm, 5 nm).
+
+    ``film_index_scale`` multiplies the real part of the film's index (an anodic film's density
+    differs from any tabulated film's; a process profile sets it), from 0.5 to 1.5. ``spread``:
+    the film's thickness spread (:class:`swatch.physics.spread.ThicknessSpread`; None or zero: uniform).
+    """
+    scale = float(film_index_scale)
+    if not (math.isfinite(scale) and 0.5 <= scale <= 1.5):
+        raise SwatchError("film index scale must be from 0.5 to 1.5")
+    wl = DEFAULT_WAVELENGTHS_NM if wavelength_nm is None else np.asarray(wavelength_nm, dtype=np.float64)
+    return _coating(film, substrate, tuple(wl.tolist()), scale, spread or NO_SPREAD)

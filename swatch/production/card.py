@@ -1,0 +1,174 @@
+"""The one-page PDF spec card of ``swatch spec`` (reportlab), from the spec.json dictionary.
+
+reportlab draws the page directly (no HTML engine or system fonts, a pure-Python wheel), and its
+``invariant`` mode leaves out the creation date and document id, so a rerun writes the same bytes.
+Every number of spec.json is printed on the card exactly as spec.json writes it (``str`` of the
+rounded value), so the card and the file can be checked against each other (``pdftotext``).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from reportlab.lib.colors import HexColor
+from reportlab.lib.pagesizes import A4
+from reportlab.pdfgen import canvas
+
+__all__ = ["write_spec_card", "PRINT_NOTE"]
+
+PRINT_NOTE = ("Printed chips cannot show the metallic angle shift (the colour moves with the angles of light and "
+              "view) and are not approval standards: approve on a physical sample, measured as below.")
+_INK = HexColor("#1a1a1a")
+_MUTED = HexColor("#666666")
+_MM = 72.0 / 25.4
+
+
+def _s(v) -> str:
+    """A number as spec.json writes it (json.dumps of the rounded float)."""
+    return "—" if v is None else str(v)
+
+
+def _chip(c, x, y, w, h, hex_code, label):
+    c.setFillColor(HexColor(hex_code))
+    c.setStrokeColor(_MUTED)
+    c.rect(x, y, w, h, fill=1, stroke=1)
+    c.setFillColor(_INK)
+    c.setFont("Helvetica", 6.5)
+    c.drawCentredString(x + w / 2, y - 8, label)
+
+
+def write_spec_card(spec: dict, path: Path) -> None:
+    """Draw the card for ``spec`` (:func:`swatch.production.spec.finish_spec`) into ``path`` (a new PDF)."""
+    c = canvas.Canvas(str(path), pagesize=A4, invariant=1, pageCompression=1)
+    c.setTitle("Finish specification")
+    c.setAuthor("swatch (anodic-swatch)")
+    W, H = A4
+    left, y = 16 * _MM, H - 18 * _MM
+    col = spec["colorimetry"]
+    nom, pw, tol, proc = spec["nominal"], spec["process_window"], spec["tolerance"], spec["process"]
+    tgt = spec["target"]
+
+    c.setFillColor(_INK)
+    c.setFont("Helvetica-Bold", 15)
+    c.drawString(left, y, "Finish specification — anodised colour")
+    c.setFont("Helvetica", 8)
+    c.drawRightString(W - left, y, f"spec format {spec['swatch_spec']} · swatch {spec['provenance']['swatch_version']}")
+    y -= 16
+    c.setFont("Helvetica", 9.5)
+    t_lab = f"  Lab {' '.join(_s(v) for v in tgt['Lab'])}" if "Lab" in tgt else ""
+    c.drawString(left, y, f"Target: {tgt['kind']} {tgt.get('value')}{t_lab}   ·   colorimetry {col['illuminant']}, "
+                          f"{col['observer']}° observer; chips sRGB from CIE 1931 2°")
+    y -= 14
+    c.setFont("Helvetica-Bold", 11)
+    volts = f" at {_s(nom['voltage_V'])} V" if nom["voltage_V"] is not None else " (no growth rate: thickness only)"
+    c.drawString(left, y, f"Nominal oxide thickness {_s(nom['thickness_nm'])} nm{volts}")
+    y -= 13
+    c.setFont("Helvetica", 9)
+    reach = spec.get("reach")
+    if reach is not None:
+        ok = "within" if reach["within_tolerance"] else "NOT within"
+        c.drawString(left, y, f"Closest reachable colour: {_s(reach['closest_thickness_nm'])} nm, Lab "
+                              f"{' '.join(_s(v) for v in reach['closest_Lab'])} — {reach['metric']} {_s(reach['delta_E'])} "
+                              f"from the target, {ok} the tolerance ({reach['colorimetry']['geometry']})")
+        y -= 12
+        per = reach.get("delta_E_per_geometry")
+        if per:
+            c.drawString(left, y, f"Worst over the angles the target must hold at — {reach['metric']} "
+                                  + ", ".join(f"{n}: {_s(v)}" for n, v in per.items()))
+            y -= 12
+
+    # chips: reference large, multi-angle row
+    y -= 62
+    ref = spec["reference"]
+    _chip(c, left, y, 60, 60, ref["srgb_hex"], f"{ref['geometry']} (reference)")
+    x = left + 80
+    for e in spec["multi_angle"]:
+        _chip(c, x, y + 14, 46, 46, e["srgb_hex"], e["geometry"])
+        x += 56
+    y -= 26
+
+    # the multi-angle table
+    c.setFont("Helvetica-Bold", 8.5)
+    heads = ["geometry", "light °", "view °", "side", "aspec. °", "L*", "a*", "b*", "C*", "h°", "sRGB"]
+    xs = [left + k * 16.5 * _MM for k in range(len(heads))]
+    for hx, t in zip(xs, heads, strict=True):
+        c.drawString(hx, y, t)
+    c.setFont("Helvetica", 8.5)
+    for e in [ref, *spec["multi_angle"]]:
+        y -= 11
+        cells = [e["geometry"], _s(e["light_deg"]), _s(e["view_deg"]), e["view_side"], _s(e.get("aspecular_deg")),
+                 *(_s(v) for v in e["Lab"]), _s(e["LCh"][1]), _s(e["LCh"][2]), e["srgb_hex"]]
+        for hx, t in zip(xs, cells, strict=True):
+            c.drawString(hx, y, t)
+    y -= 11
+    c.setFont("Helvetica", 7.5)
+    c.setFillColor(_MUTED)
+    c.drawString(left, y, f"L*C*h {' '.join(_s(v) for v in ref['LCh'])} at the reference; CIELAB under {col['illuminant']}, "
+                          f"{col['observer']}° observer; {col['model']}; ASTM E2194 / E2539 angles.")
+    c.setFillColor(_INK)
+    y -= 16
+    fl = spec["flop"]
+    c.setFont("Helvetica", 9)
+    c.drawString(left, y, f"Flop (angle-to-angle ΔE00, light {_s(fl['light_deg'])}°, view {_s(fl['view_a_deg'])}° vs "
+                          f"{_s(fl['view_b_deg'])}°): {_s(fl['delta_E_00'])}")
+    y -= 13
+    c.drawString(left, y, f"Tolerance: {tol['label']} (max {_s(tol['max'])}, metric {tol['metric']}) at {tol['geometry']}")
+    y -= 13
+    vw = (f"; voltage -{_s(pw['voltage_minus_V'])} / +{_s(pw['voltage_plus_V'])} V"
+          if pw["voltage_minus_V"] is not None else "")
+    c.drawString(left, y, f"Process window ({pw['metric']} ≤ {_s(pw['max'])} at {pw['geometry']}): thickness "
+                          f"-{_s(pw['thickness_minus_nm'])} / +{_s(pw['thickness_plus_nm'])} nm, i.e. "
+                          f"{_s(pw['thickness_min_nm'])} to {_s(pw['thickness_max_nm'])} nm{vw}")
+    y -= 18
+
+    c.setFont("Helvetica-Bold", 9.5)
+    c.drawString(left, y, "Process profile and provenance")
+    c.setFont("Helvetica", 8.5)
+    skip = {"process", "process_origin", "film", "substrate"}
+    more = ", ".join(f"{k} {_s(v)}" for k, v in proc.items() if k not in skip)
+    for line in (f"{proc['process']} ({proc['process_origin']}): {proc['film']} on {proc['substrate']}",
+                 more,
+                 f"finish roughness {_s(spec['finish']['roughness'])} (GGX; {spec['finish']['note']})"):
+        y -= 11
+        c.drawString(left, y, line[:150])
+    c.setFont("Helvetica", 7)
+    c.setFillColor(_MUTED)
+    for key, text in spec.get("process_sources", {}).items():
+        y -= 9
+        line = f"{key}: {text}"
+        c.drawString(left, y, line if len(line) <= 160 else line[:159] + "…")
+    c.setFillColor(_INK)
+    y -= 18
+    c.setFont("Helvetica-Bold", 9.5)
+    c.drawString(left, y, "How to measure")
+    c.setFont("Helvetica", 8.5)
+    for line in ("Multi-angle spectrophotometer, illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° (ASTM "
+                 "E2194 / E2539), specular excluded;",
+                 f"CIELAB under {col['illuminant']} and the {col['observer']}° observer; the reference value at 45:0. "
+                 "Check each part: swatch check FILE --spec spec.json",
+                 "(CxF3, CGATS or CSV from the instrument); it reports ΔE per geometry in the tolerance's metric, "
+                 "the fitted thickness and the voltage correction."):
+        y -= 11
+        c.drawString(left, y, line)
+    y -= 16
+    c.setFont("Helvetica-Oblique", 8.5)
+    cut = PRINT_NOTE.rfind(" ", 0, 112)
+    c.drawString(left, y, PRINT_NOTE[:cut])
+    y -= 11
+    c.drawString(left, y, PRINT_NOTE[cut + 1:])
+    # sign-off box
+    y -= 18
+    box_h = 26 * _MM
+    c.setStrokeColor(_INK)
+    c.rect(left, y - box_h, W - 2 * left, box_h)
+    c.setFont("Helvetica-Bold", 9)
+    c.drawString(left + 6, y - 12, "Sign-off")
+    c.setFont("Helvetica", 8.5)
+    half = (W - 2 * left) / 2
+    for k, who in enumerate(("Specifier (architect / designer)", "Fabricator (finisher)")):
+        bx = left + 6 + k * half
+        c.drawString(bx, y - 26, who)
+        for j, what in enumerate(("Name", "Signature", "Date")):
+            c.drawString(bx, y - 42 - 14 * j, f"{what}:")
+            c.line(bx + 40, y - 43 - 14 * j, bx + half - 20, y - 43 - 14 * j)
+    c.showPage()
+    c.save()

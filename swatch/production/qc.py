@@ -1,0 +1,166 @@
+"""Quality control of measured parts against a finish specification (``swatch check``).
+
+Each sample of a measurement file (CIELAB or spectra, at one or several geometries) is judged at
+every geometry it was measured at against the spec's colour there (the reference 45:0 or a
+multi-angle geometry; a geometry the spec does not give is refused), in the tolerance's own
+metric and under the spec's illuminant and observer (spectra are integrated under them; CIELAB
+must have been computed under them). A part passes when every geometry is within the tolerance.
+
+The part's thickness is fitted to its CIELAB at the measured geometries (spectra integrated first)
+by least squares in ΔE2000 near the nominal (±:data:`FIT_SPAN_NM`, so the fit stays on the spec's
+interference order), with no intensity scaling: the spec's colours are the half-vector model's
+absolute reflectance factor. The fit is vectorised over the parts of a file (one thickness table). The voltage correction is the voltage change that
+would grow the nominal thickness instead: ``(nominal − fitted) / nm_per_V`` (positive: raise it).
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter, srgb_hex
+from swatch.colorimetry.tolerance import get_tolerance
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
+from swatch.fit.fitting import colour_grid, interp_rows, sweep_reflectance, unique_geometry
+from swatch.io.instruments import InstrumentFile
+from swatch.io.measurements import LabMeasurement, SpectralMeasurement
+from swatch.physics import geometry
+from swatch.physics.materials import wavelength_grid
+from swatch.physics.model import get_coating
+from swatch.physics.spread import ThicknessSpread
+
+__all__ = ["load_spec_json", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
+
+#: The thickness fit searches the nominal ± this (nm).
+FIT_SPAN_NM = 40.0
+#: The thickness fit's grids (nm): the table's step and the step of the first search over it.
+FINE_STEP_NM = 0.01
+COARSE_STEP_NM = 0.25
+#: A measured geometry is the spec's when light and view agree within this (degrees).
+GEOMETRY_MATCH_DEG = 0.5
+
+
+def load_spec_json(path) -> dict:
+    """Read and check a spec.json written by ``swatch spec`` (untrusted: capped, keys checked)."""
+    text = read_text_capped(Path(path), MAX_SPEC_BYTES, "spec", "JSON", str(path))
+    try:
+        spec = json.loads(text)
+    except (json.JSONDecodeError, RecursionError):
+        raise SwatchError(f"{path}: not valid JSON; give the spec.json that swatch spec wrote") from None
+    need = ("swatch_spec", "nominal", "colorimetry", "reference", "multi_angle", "tolerance", "process")
+    if not isinstance(spec, dict) or any(k not in spec for k in need):
+        raise SwatchError(f"{path}: not a swatch spec.json (keys {', '.join(need)} expected)")
+    if spec["swatch_spec"] != 1:
+        raise SwatchError(f"{path}: spec layout {spec['swatch_spec']!r}; this swatch reads layout 1")
+    try:
+        tol = spec["tolerance"]
+        spec["_tolerance"] = get_tolerance(metric=tol["metric"], max=tol["max"])
+        values = [float(spec["nominal"]["thickness_nm"])]
+        rate = spec["process"].get("nm_per_V")
+        values += [] if rate is None else [float(rate)]
+        for e in [spec["reference"], *spec["multi_angle"]]:
+            values += [float(e["light_deg"]), float(e["view_deg"]), *(float(v) for v in e["Lab"])]
+            if e["view_side"] not in ("opposite", "light") or len(e["Lab"]) != 3 or str(e["geometry"]) == "":
+                raise ValueError
+        if not all(np.isfinite(values)) or not 0 <= values[0] <= MAX_THICKNESS_NM or (rate is not None and rate <= 0):
+            raise ValueError
+    except (KeyError, TypeError, ValueError):
+        raise SwatchError(f"{path}: a value of the spec is missing, not a finite number or out of range; give the "
+                          "spec.json that swatch spec wrote") from None
+    return spec
+
+
+def _spec_geometries(spec: dict):
+    return [spec["reference"], *spec["multi_angle"]]
+
+
+def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
+    for e in _spec_geometries(spec):
+        side_ok = (e["view_side"] == "light") == bool(same_side) or (float(e["view_deg"]) == 0.0 and view == 0.0)
+        if abs(e["light_deg"] - light) <= GEOMETRY_MATCH_DEG and abs(e["view_deg"] - view) <= GEOMETRY_MATCH_DEG \
+                and side_ok:
+            return e
+    names = ", ".join(e["geometry"] for e in _spec_geometries(spec))
+    raise SwatchError(f"{source}: sample {sample_id!r} is measured at light {light:g}° view {view:g}°"
+                      f"{' (light side)' if same_side else ''}, a geometry the spec does not give ({names})")
+
+
+def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coating, cm, lo: float,
+                      hi: float) -> np.ndarray:
+    """Thickness (P,) of P parts whose CIELAB at G geometries is ``Lab_meas`` (P, G, 3): least squares in
+    ΔE2000 on one thickness → CIELAB table (every FINE_STEP_NM on [lo, hi], one sweep for all parts),
+    searched every COARSE_STEP_NM, then finely within one coarse step of each part's minimum.
+    Vectorised over parts; no intensity scaling."""
+    cos_d = np.atleast_1d(geometry.cos_theta_d(light_deg, view_deg, 0.0, np.where(same_side, 0.0, 180.0)))
+    cu, inv = unique_geometry(cos_d)
+    count = int(np.floor((hi - lo) / FINE_STEP_NM + 1e-9)) + 1
+    table = cm.Lab(cm.XYZ(sweep_reflectance(coating, lo, FINE_STEP_NM, count, cu)))[:, inv]  # (K, G, 3)
+    every = round(COARSE_STEP_NM / FINE_STEP_NM)
+    coarse = table[::every]  # (Kc, G, 3)
+    P = Lab_meas.shape[0]
+    cost = np.sum(delta_E_00(coarse[None], np.broadcast_to(Lab_meas[:, None], (P, *coarse.shape))) ** 2, axis=-1)
+    k0 = np.argmin(cost, axis=1) * every  # (P,) index into the fine table
+    idx = np.clip(k0[:, None] + np.arange(-every, every + 1)[None, :], 0, count - 1)  # (P, F)
+    near = table[idx]  # (P, F, G, 3)
+    cost_f = np.sum(delta_E_00(near, np.broadcast_to(Lab_meas[:, None], near.shape)) ** 2, axis=-1)
+    return lo + FINE_STEP_NM * idx[np.arange(P), np.argmin(cost_f, axis=1)]
+
+
+def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
+    """Judge every sample of ``f`` against ``spec`` (see the module docstring)."""
+    col, proc, tol = spec["colorimetry"], spec["process"], spec["_tolerance"]
+    ill, obs = col["illuminant"], col["observer"]
+    d0 = float(spec["nominal"]["thickness_nm"])
+    rate = proc.get("nm_per_V")
+    lo, hi = max(0.0, d0 - FIT_SPAN_NM), d0 + FIT_SPAN_NM
+    spread = ThicknessSpread(float(proc.get("spread_nm", 0.0)), float(proc.get("spread_fraction", 0.0)))
+    coating = get_coating(proc["film"], proc["substrate"], wavelength_grid(380.0, 780.0, 5.0),
+                          float(proc["film_index_scale"]), spread)
+    cm = get_colorimeter(coating.wavelength_nm, ill, obs)
+    if f.kind == "colour" and (f.illuminant.upper(), str(f.observer)) != (str(ill).upper(), str(obs)):
+        raise SwatchError(f"{f.source}: its CIELAB is under {f.illuminant}/{f.observer}°, the spec's under "
+                          f"{ill}/{obs}°; export spectra or CIELAB under the spec's illuminant and observer")
+    m0 = f.samples[0].measurement
+    same = (m0.view_azimuth_deg == m0.light_azimuth_deg) & (m0.view_deg > 0)
+    targets = [_match_geometry(spec, float(a), float(b), bool(c), f.source, f.samples[0].id)
+               for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)]
+    measured: list[np.ndarray] = []
+    chips: list[list[str] | None] = []
+    for s in f.samples:  # same geometries in every sample of a file (instruments.same_geometries)
+        m = s.measurement
+        if isinstance(m, LabMeasurement):
+            measured.append(m.Lab)
+            chips.append(None)
+        else:
+            wl, interp = colour_grid(m.wavelength_nm)
+            R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
+            mcm = get_colorimeter(wl, ill, obs)
+            measured.append(mcm.Lab(mcm.XYZ(R)))
+            chips.append([str(h) for h in np.atleast_1d(srgb_hex(mcm.reflectance_display(R, "srgb")[0]))])
+    Lab_all = np.stack(measured)  # (P, G, 3)
+    d_fit = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
+    if any(c is None for c in chips):  # CIELAB only: the chip is the model's at the fitted thickness
+        R_fit = np.stack([coating.half_vector(d_fit, float(a), float(b), 0.0, 0.0 if c else None)[0].R
+                          for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)], axis=1)  # (P, G, W)
+        model_hex = np.atleast_2d(srgb_hex(cm.reflectance_display(R_fit, "srgb")[0]))
+        chips = [list(map(str, model_hex[i])) if c is None else c for i, c in enumerate(chips)]
+    ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
+    dE_all = np.atleast_2d(tol.delta_E(Lab_all, np.broadcast_to(ref, Lab_all.shape)))
+    out = []
+    for s, Lab, dE, d, chip in zip(f.samples, Lab_all, dE_all, d_fit, chips, strict=True):
+        d = float(d)
+        out.append({
+            "srgb_hex": {t["geometry"]: h for t, h in zip(targets, chip or [], strict=True)},
+            "srgb_from": "measured spectra (CIE 1931 2°)" if isinstance(s.measurement, SpectralMeasurement)
+            else "the model at the fitted thickness (CIE 1931 2°; the file has CIELAB only)",
+            "id": s.id, "source": f.source,
+            "pass": bool(np.all(dE <= tol.max)),
+            "delta_E": {t["geometry"]: round(float(e), 3) for t, e in zip(targets, dE, strict=True)},
+            "max_delta_E": round(float(dE.max()), 3), "metric": tol.metric,
+            "Lab": {t["geometry"]: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
+            "thickness_nm": round(d, 2), "thickness_offset_nm": round(d - d0, 2),
+            "voltage_correction_V": None if not rate else round((d0 - d) / float(rate), 2),
+        })
+    return out

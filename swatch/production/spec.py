@@ -1,0 +1,174 @@
+"""A finish specification (``swatch spec``): from a target colour or thickness to what a fabricator
+must make and how closely — the numbers of ``spec.json`` and of the PDF spec card.
+
+For a target (sRGB hex, CIELAB, thickness or voltage) on a process profile: the nominal
+thickness (for a colour target, the best match at the reference geometry over every interference
+order, :func:`swatch.fit.matching.match_colour`) and voltage; CIELAB at the reference geometry (45:0)
+and at the multi-angle geometries of ASTM E2194 / E2539 (light 45°, aspecular −15°, 15°, 25°,
+45°, 75°, 110°); the "flop", ΔE2000 between the view along the normal and the view 60° from it
+(light 45°); the tolerance in its own metric and the process window it allows in nm and V
+(:func:`swatch.catalog.records.process_window`, the catalog's one definition); and, when the
+target cannot be reached within the tolerance, the closest reachable colour and how far it is.
+
+Colour model: the half-vector model's reflectance factor at each geometry (Fujii et al., no
+intensity term), so the numbers do not depend on the finish's roughness; the roughness is
+recorded with the spec (it sets the look of renders, not these colours). Every number states its
+illuminant, observer and geometry (``colorimetry`` and each entry's ``geometry``). Numbers are
+rounded to the precision printed on the card (Lab 0.01, nm 0.1, V 0.1, ΔE 0.01).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from swatch.catalog.records import process_window
+from swatch.catalog.spec import DEFAULT_ASPECULAR_DEG, Geometry
+from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter, srgb_hex
+from swatch.colorimetry.tolerance import Tolerance
+from swatch.core.errors import SwatchError
+from swatch.core.version import __version__
+from swatch.fit.matching import match_colour
+from swatch.fit.multi_match import match_angles
+
+__all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "finish_spec"]
+
+#: Version of the spec.json layout (bumped when a key changes meaning).
+SPEC_VERSION = 1
+#: The flop: light 45°, view along the normal against view 60° from it (across the normal).
+FLOP_LIGHT_DEG = 45.0
+FLOP_VIEWS_DEG = (0.0, 60.0)
+#: The reference geometry (CIE 45/0) and the window's search span.
+REFERENCE = Geometry("45:0", 45.0, 0.0, "opposite")
+WINDOW_SEARCH_NM = 50.0
+
+
+def multi_angle_geometries(light_deg: float = 45.0, aspecular_deg=DEFAULT_ASPECULAR_DEG) -> tuple[Geometry, ...]:
+    """The multi-angle set (ASTM E2194 / E2539): in plane, view = light − aspecular (negative: light's side)."""
+    out = []
+    for a in aspecular_deg:
+        v = light_deg - a
+        out.append(Geometry(f"{light_deg:g}as{a:g}", light_deg, abs(v), "opposite" if v >= 0 else "light", a))
+    return tuple(out)
+
+
+def _r(x, nd: int):
+    return None if x is None or not np.isfinite(x) else round(float(x), nd)
+
+
+def _Lab_at(coating, cm, d: float, geometries) -> tuple[np.ndarray, np.ndarray]:
+    R = np.stack([coating.half_vector(np.array([d]), g.light_deg, g.view_deg, 0.0, g.view_azimuth_deg)[0].R[0]
+                  for g in geometries])
+    return cm.Lab(cm.XYZ(R)), R
+
+
+def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "D65", observer: str = "10",
+                wavelength_nm=None, roughness: float | None = None, thickness_range=(0.0, 400.0),
+                angles=None) -> dict:
+    """The spec.json dictionary for ``target`` on the process profile ``proc``.
+
+    Parameters
+    ----------
+    target : dict
+        ``{"kind": "hex"|"lab", "Lab": [L, a, b], "value": ...}`` (a colour, Lab under
+        ``illuminant``/``observer``, or for a hex code under CIE 1931 2°) or
+        ``{"kind": "thickness"|"voltage", "thickness_nm": d, "value": ...}``.
+    proc : swatch.physics.process.Process
+        The process profile (growth law, materials, film index scale).
+    tolerance : swatch.colorimetry.tolerance.Tolerance
+        Judged in its own metric (ΔE*ab or ΔE2000) at the reference geometry.
+    roughness : float, optional
+        The finish's GGX roughness (recorded; the colours are roughness-independent).
+    angles : list of (name, light_deg, signed view_deg), optional
+        For a colour target: choose the nominal thickness whose worst difference (in the tolerance's
+        metric) over these geometries is smallest (:func:`swatch.fit.multi_match.match_angles`), e.g. a
+        colour that must still read the same at a 60° view; default the reference geometry alone.
+
+    Returns
+    -------
+    dict
+        Stable keys, documented in the README (``spec.json``).
+    """
+    coating = proc.coating(wavelength_nm)
+    cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
+    reach: dict | None = None
+    if target["kind"] in ("hex", "lab"):
+        target_cm = cm.display_colorimeter if target["kind"] == "hex" else cm
+        goal = np.asarray(target["Lab"], dtype=np.float64)
+        if angles:
+            res_a = match_angles(goal, angles, coating, target_cm, tolerance, rank="worst",
+                                 thickness_range=thickness_range, top=3)
+            best_a = min(res_a["candidates"], key=lambda c: max(g["delta_E"] for g in c["geometries"].values()))
+            d = float(best_a["thickness_nm"])
+            per = {n: g["delta_E"] for n, g in best_a["geometries"].items()}
+            dE = max(per.values())
+            reached = np.asarray(best_a["geometries"][angles[0][0]]["Lab"])
+            where = ", ".join(n for n, _, _ in angles)
+        else:  # among the best ΔE2000 minima of each order, the closest in the tolerance's own metric
+            res = match_colour(goal, coating, target_cm, REFERENCE.light_deg, REFERENCE.view_deg,
+                               thickness_range=thickness_range, top=3)
+            best = min(res.candidates, key=lambda c: float(tolerance.delta_E(np.asarray(c["Lab"]), goal)))
+            d = float(best["thickness_nm"])
+            reached = np.asarray(best["Lab"])
+            dE = float(tolerance.delta_E(reached, goal))
+            per, where = None, REFERENCE.name
+        reach = {"delta_E": _r(dE, 2), "metric": tolerance.metric, "within_tolerance": bool(dE <= tolerance.max),
+                 "closest_thickness_nm": _r(d, 1), "closest_Lab": [_r(v, 2) for v in reached],
+                 "colorimetry": {"illuminant": target_cm.illuminant, "observer": target_cm.observer,
+                                 "geometry": where}}
+        if per is not None:
+            reach["delta_E_per_geometry"] = {n: _r(v, 2) for n, v in per.items()}
+    else:
+        d = float(target["thickness_nm"])
+    if not 0 <= d <= 1000:
+        raise SwatchError(f"nominal thickness {d:g} nm is outside 0–1000 nm")
+    volts = proc.voltage_V(np.array([d]))
+    v_nom = None if volts is None else float(volts[0])
+    multi = multi_angle_geometries()
+    geoms = (REFERENCE, *multi)
+    Lab, R = _Lab_at(coating, cm, d, geoms)
+    LCh = Lab_to_LCh(Lab)
+    disp = cm.display_colorimeter
+    hexes = [str(h) for h in np.atleast_1d(srgb_hex(cm.reflectance_display(R, "srgb")[0]))]
+    flop_g = [Geometry(f"45:{v:g}", FLOP_LIGHT_DEG, v, "opposite") for v in FLOP_VIEWS_DEG]
+    Lab_f, _ = _Lab_at(coating, cm, d, flop_g)
+    flop = float(delta_E_00(Lab_f[0], Lab_f[1]))
+    minus, plus, mcap, pcap = process_window(coating, cm, np.array([d]), REFERENCE, tolerance.max, WINDOW_SEARCH_NM,
+                                             tolerance.metric)
+    rate = proc.nm_per_V
+
+    def entry(i, g):
+        e = {"geometry": g.name, "light_deg": g.light_deg, "view_deg": g.view_deg, "view_side": g.view_side,
+             "Lab": [_r(v, 2) for v in Lab[i]], "LCh": [_r(v, 2) for v in LCh[i]], "srgb_hex": hexes[i]}
+        if g.aspecular_deg is not None:
+            e["aspecular_deg"] = g.aspecular_deg
+        return e
+
+    target_out = {k: v for k, v in target.items() if k != "Lab"}
+    if "Lab" in target:
+        target_out["Lab"] = [_r(v, 2) for v in target["Lab"]]
+    return {
+        "swatch_spec": SPEC_VERSION,
+        "target": target_out,
+        "nominal": {"thickness_nm": _r(d, 1), "voltage_V": _r(v_nom, 1)},
+        "reach": reach,
+        "colorimetry": {"illuminant": cm.illuminant, "observer": cm.observer,
+                        "srgb_observer": disp.observer, "model": "half-vector reflectance factor (Fujii et al. 2019)"},
+        "reference": entry(0, REFERENCE),
+        "multi_angle": [entry(i + 1, g) for i, g in enumerate(multi)],
+        "flop": {"geometry": f"{FLOP_LIGHT_DEG:g}:{FLOP_VIEWS_DEG[0]:g} vs {FLOP_LIGHT_DEG:g}:{FLOP_VIEWS_DEG[1]:g}",
+                 "light_deg": FLOP_LIGHT_DEG, "view_a_deg": FLOP_VIEWS_DEG[0], "view_b_deg": FLOP_VIEWS_DEG[1],
+                 "delta_E_00": _r(flop, 2)},
+        "tolerance": {**tolerance.to_json(), "label": tolerance.text, "geometry": REFERENCE.name},
+        "process_window": {
+            "metric": tolerance.metric, "max": tolerance.max, "geometry": REFERENCE.name,
+            "thickness_minus_nm": _r(minus[0], 1), "thickness_plus_nm": _r(plus[0], 1),
+            "thickness_min_nm": _r(d - minus[0], 1), "thickness_max_nm": _r(d + plus[0], 1),
+            "voltage_minus_V": None if rate is None else _r(minus[0] / rate, 1),
+            "voltage_plus_V": None if rate is None else _r(plus[0] / rate, 1),
+            "minus_capped": bool(mcap[0]), "plus_capped": bool(pcap[0]),
+        },
+        "process": proc.metadata(),
+        "process_sources": {str(k): str(v) for k, v in proc.sources},
+        "finish": {"roughness": None if roughness is None else float(roughness),
+                   "note": "colours are the half-vector reflectance factor: independent of roughness"},
+        "provenance": {"swatch_version": __version__},
+    }

@@ -1,0 +1,118 @@
+"""What every renderer returns and shares: the rendered image, its size and background checks, the
+silhouette pixels re-rendered for anti-aliasing, and the metadata of a mesh.
+
+This module is below every renderer (:mod:`swatch.render.pointlight`, :mod:`swatch.render.env_render`,
+and any further engine registered in :mod:`swatch.render.dispatch`); it imports no renderer.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swatch.core.choices import BACKGROUNDS
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_ANISO_RENDER_PX, MAX_SIZE_PX
+
+__all__ = ["SwatchImage", "SUPERSAMPLE", "BACKGROUND_WHITE", "check_size_px", "check_background", "edge_pixels",
+           "mesh_metadata", "check_finish_lighting", "finish_meta"]
+
+#: Sub-samples per axis of a silhouette pixel (SUPERSAMPLE² stratified samples).
+SUPERSAMPLE = 4
+
+#: The white background's linear value: the display shoulder maps it (and anything above 1.73)
+#: to 255, so the page is white; display only (the EXR keeps alpha).
+BACKGROUND_WHITE = 2.0
+
+
+@dataclass
+class SwatchImage:
+    """A rendered swatch: scene-referred linear RGB (premultiplied), coverage, display sRGB, metadata.
+
+    Attributes
+    ----------
+    linear_rgb : numpy.ndarray
+        (H, W, 3) float32, scene-referred linear RGB in the render's space, premultiplied by ``coverage``.
+    coverage : numpy.ndarray
+        (H, W) float32 in [0, 1]: the fraction of the pixel the object covers (alpha).
+    display_rgb : numpy.ndarray
+        (H, W, 3) uint8 sRGB, exposure applied and composited on the background.
+    metadata : dict
+        What was rendered and how (JSON-serialisable).
+    exposure : float
+        The display exposure k (linear × k before encoding).
+    """
+
+    linear_rgb: np.ndarray
+    coverage: np.ndarray
+    display_rgb: np.ndarray
+    metadata: dict = field(default_factory=dict)
+    exposure: float = 1.0
+
+    @property
+    def rgba(self) -> np.ndarray:
+        """(H, W, 4) linear RGB and coverage."""
+        return np.concatenate([self.linear_rgb, self.coverage[..., None]], axis=-1)
+
+
+def check_size_px(size_px) -> int:
+    """The image size (pixels per side) as an int, or SwatchError outside 1 … :data:`MAX_SIZE_PX`."""
+    try:
+        ok = float(size_px) == int(size_px)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 1 <= int(size_px) <= MAX_SIZE_PX:
+        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_SIZE_PX}, got {size_px!r}")
+    return int(size_px)
+
+
+def check_background(name: str) -> str:
+    """A background name of :data:`swatch.core.choices.BACKGROUNDS` (case-insensitive), or SwatchError."""
+    key = str(name).strip().lower()
+    if key not in BACKGROUNDS:
+        raise SwatchError(f"unknown background {name!r}; use one of {', '.join(BACKGROUNDS)}")
+    return key
+
+
+def edge_pixels(hit: np.ndarray) -> np.ndarray:
+    """Pixels whose centre differs from one of its 8 neighbours' (flat indices): the pixels a
+    silhouette crosses (a corner clipped by less than a pixel's diagonal half is the only miss)."""
+    e = np.zeros_like(hit)
+    for a, b in (((slice(None), slice(1, None)), (slice(None), slice(None, -1))),
+                 ((slice(1, None), slice(None)), (slice(None, -1), slice(None))),
+                 ((slice(1, None), slice(1, None)), (slice(None, -1), slice(None, -1))),
+                 ((slice(1, None), slice(None, -1)), (slice(None, -1), slice(1, None)))):
+        d = hit[a] != hit[b]
+        e[a] |= d
+        e[b] |= d
+    return np.flatnonzero(e)
+
+
+def mesh_metadata(mesh) -> dict:
+    """The ``mesh`` entry of a mesh render's metadata (file name, SHA-256, triangles), or nothing."""
+    if mesh is None:
+        return {}
+    return {"mesh": {"file": mesh.file_name, "sha256": mesh.key.split(":", 1)[1], "triangles": mesh.triangles,
+                     "placement": "bounding-box centre at the origin, farthest vertex at 1, +y up as written",
+                     "shading_normals": "vertex normals interpolated; face normals across creases over 30 deg"}}
+
+
+def check_finish_lighting(finish, environment, model: str, distribution: str, size_px: int) -> None:
+    """SwatchError unless the built-in engine can render ``finish`` so: an anisotropic finish
+    (brushed) needs the GGX microfacet model under an environment, at most
+    :data:`swatch.core.limits.MAX_ANISO_RENDER_PX` pixels per side (its gather is four times the
+    isotropic one's)."""
+    if finish is None or not finish.anisotropic:
+        return
+    if environment is None or model != "microfacet" or distribution != "ggx":
+        raise SwatchError(f"the {finish.name} finish is anisotropic: the built-in engine renders it with the GGX "
+                          "microfacet model under an environment (studio, uniform or an .exr), not the point "
+                          "light; use an isotropic finish or --roughness there")
+    if int(size_px) > MAX_ANISO_RENDER_PX:
+        raise SwatchError(f"renders of the {finish.name} finish are at most {MAX_ANISO_RENDER_PX} pixels per side "
+                          "(memory); use a smaller --size")
+
+
+def finish_meta(finish) -> dict:
+    """The ``finish`` entry of a render's metadata (name, roughness, basis), or nothing."""
+    return {} if finish is None else {"finish": finish.metadata()}

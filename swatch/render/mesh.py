@@ -1,0 +1,220 @@
+"""A designer's object as a swatch shape: a triangle mesh (OBJ, PLY, STL, glTF binary) ray-cast
+with the same shading as the built-in shapes.
+
+Functions
+---------
+* :func:`load_mesh`: read a mesh file (untrusted input: size-capped, parsed from memory so the
+  file cannot make the reader open anything else), check it, and place it: the bounding box's
+  centre at the origin, scaled so the farthest vertex is at distance 1 (the unit sphere's frame),
+  +y up as written (the glTF convention; most OBJ and PLY exports agree).
+* :class:`MeshShape`: the :class:`swatch.render.scene.Shape` protocol for a mesh: ``intersect`` (hit and
+  the shading normal per ray) and ``trace`` (hit, ``cos θ_l``, ``cos θ_v``, with the point light
+  shadowed by the object itself), ray-cast by Embree through trimesh.
+
+Shading normals: the vertex normals (from the file where it has them, otherwise trimesh's
+area-weighted ones over the triangles sharing a position: vertices at one position are merged
+unless their normals or texture coordinates differ) interpolated barycentrically, except where a vertex normal is more than
+:data:`SMOOTH_ANGLE_DEG` from its face's normal (a crease), where the face normal is used (the
+"auto smooth" rule of 3-D tools). Both faces of every triangle are the same anodised metal: the
+normal is turned towards the viewer (as the bent sheet's inner face).
+
+References
+----------
+* Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray Tracing", ACM TOG 33(4), 2014
+  (through the ``embreex`` binding and ``trimesh.ray.ray_pyembree``).
+* trimesh (https://trimesh.org): file readers, ``triangles.points_to_barycentric``.
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+import trimesh
+from trimesh.ray.ray_pyembree import RayMeshIntersector
+from trimesh.triangles import points_to_barycentric
+
+from swatch.core.choices import MESH_FORMATS
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_MESH_BYTES, MAX_MESH_TRIANGLES, read_capped
+
+__all__ = ["MESH_FORMATS", "SMOOTH_ANGLE_DEG", "MeshShape", "load_mesh"]
+
+#: Vertex normals further than this from their face's normal are creases (face normal used), degrees.
+SMOOTH_ANGLE_DEG = 30.0
+#: Shadow-ray origins are lifted off the surface by this distance (the mesh is scaled to unit radius).
+_SHADOW_OFFSET = 1e-4
+
+
+def _check_gltf_buffers(data: bytes, source: str) -> None:
+    """A .gltf (JSON) may name other files as buffers or images; only embedded ``data:`` URIs are
+    accepted (the reader is given bytes, never a folder to open files from)."""
+    try:
+        doc = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):
+        raise SwatchError(f"{source}: not a glTF JSON document") from None
+    if not isinstance(doc, dict):
+        raise SwatchError(f"{source}: not a glTF JSON document")
+    for key in ("buffers", "images"):
+        for item in doc.get(key, []) if isinstance(doc.get(key), list) else []:
+            uri = item.get("uri") if isinstance(item, dict) else None
+            if isinstance(uri, str) and not uri.startswith("data:"):
+                raise SwatchError(f"{source}: refers to the external file {uri[:80]!r}; give a .glb or a .gltf "
+                                  "with embedded (data:) buffers")
+
+
+def _glb_is_self_contained(data: bytes, source: str) -> None:
+    """The JSON chunk of a .glb must not name external files either."""
+    if len(data) < 20 or data[:4] != b"glTF":
+        raise SwatchError(f"{source}: not a binary glTF (.glb) file")
+    length, kind = struct.unpack_from("<II", data, 12)
+    if kind != 0x4E4F534A or 20 + length > len(data):
+        raise SwatchError(f"{source}: not a binary glTF (.glb) file")
+    _check_gltf_buffers(data[20:20 + length], source)
+
+
+def load_mesh(path) -> MeshShape:
+    """Read and place a mesh file (see the module documentation).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        An ``.obj``, ``.ply``, ``.stl``, ``.glb`` or ``.gltf`` (embedded buffers) file, at most
+        :data:`swatch.core.limits.MAX_MESH_BYTES` bytes and :data:`swatch.core.limits.MAX_MESH_TRIANGLES`
+        triangles.
+
+    Returns
+    -------
+    MeshShape
+        Placed in the unit sphere (bounding-box centre at the origin, farthest vertex at 1).
+    """
+    p = Path(path)
+    fmt = p.suffix.lower().lstrip(".")
+    if fmt not in MESH_FORMATS:
+        raise SwatchError(f"{p.name}: unknown mesh format {p.suffix or '(none)'!r}; use one of "
+                          f"{', '.join('.' + f for f in MESH_FORMATS)}")
+    if not p.is_file():
+        raise SwatchError(f"mesh {p} is not a file")
+    data = read_capped(p, MAX_MESH_BYTES, "mesh file")
+    if fmt == "gltf":
+        _check_gltf_buffers(data, p.name)
+    elif fmt == "glb":
+        _glb_is_self_contained(data, p.name)
+
+    try:
+        mesh = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False)
+    except Exception as exc:  # the readers raise many kinds; any of them means an unreadable file
+        raise SwatchError(f"{p.name}: cannot read the {fmt.upper()} mesh ({type(exc).__name__}: "
+                          f"{str(exc).splitlines()[0][:120] if str(exc) else 'no detail'})") from None
+    faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))))
+    vertices = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64)
+    if faces.ndim != 2 or faces.shape[0] == 0 or not isinstance(mesh, trimesh.Trimesh):
+        raise SwatchError(f"{p.name}: the file has no triangles; a mesh needs at least one")
+    if faces.shape[0] > MAX_MESH_TRIANGLES:
+        raise SwatchError(f"{p.name}: {faces.shape[0]} triangles; a mesh may have at most {MAX_MESH_TRIANGLES}")
+    if not np.isfinite(vertices).all():
+        raise SwatchError(f"{p.name}: vertex coordinates must be finite numbers (found NaN or infinity)")
+    if faces.min() < 0 or faces.max() >= vertices.shape[0]:
+        raise SwatchError(f"{p.name}: a triangle refers to a vertex that does not exist")
+    # vertices at one position are merged unless their normals or texture coordinates differ (an
+    # STL stores every triangle's corners apart: merged, its normals can be smoothed)
+    mesh.merge_vertices()
+    return MeshShape(mesh, p.name, hashlib.sha256(data).hexdigest())
+
+
+class MeshShape:
+    """A placed triangle mesh behind the :class:`swatch.render.scene.Shape` protocol (arrays planar, in the
+    rays' precision). ``key`` identifies it (file content hash) for caches."""
+
+    name = "mesh"
+
+    def __init__(self, mesh, file_name: str, digest: str):
+        v = np.asarray(mesh.vertices, dtype=np.float64)
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        v = v - 0.5 * (lo + hi)
+        radius = float(np.linalg.norm(v, axis=1).max())
+        if not radius > 0:
+            raise SwatchError(f"{file_name}: all vertices are at one point; a mesh needs an extent")
+        normals = np.asarray(mesh.vertex_normals, dtype=np.float64)  # the file's, else area-weighted
+        placed = trimesh.Trimesh(vertices=v / radius, faces=np.asarray(mesh.faces), process=False, validate=False)
+        area = placed.area_faces
+        keep = area > 1e-14 * max(float(area.max()), 1e-300)
+        if not keep.any():
+            raise SwatchError(f"{file_name}: every triangle is degenerate (zero area)")
+        self._mesh = trimesh.Trimesh(vertices=placed.vertices, faces=placed.faces[keep], process=False,
+                                     validate=False)
+        fn = self._mesh.face_normals
+        vn = normals[self._mesh.faces]  # (F, 3, 3)
+        vn = vn / np.maximum(np.linalg.norm(vn, axis=-1, keepdims=True), 1e-300)
+        crease = np.einsum("fkc,fc->fk", vn, fn) < np.cos(np.radians(SMOOTH_ANGLE_DEG))
+        self._corner_normals = np.where(crease[..., None], fn[:, None, :], vn)
+        self._face_normals = fn
+        self._rays = RayMeshIntersector(self._mesh)
+        self.file_name, self.key = file_name, f"mesh:{digest}"
+        self.triangles = int(self._mesh.faces.shape[0])
+
+    def _cast(self, o, d):
+        """First hits of rays from ``o`` (3,) along unit ``d`` (N, 3): hit (N,), shading normal
+        (N, 3) turned towards the ray's origin, geometric normal (N, 3) likewise, and the point."""
+
+        n_rays = d.shape[0]
+        origins = np.broadcast_to(np.asarray(o, dtype=np.float64), (n_rays, 3))
+        tri, ray, loc = self._rays.intersects_id(origins, d, multiple_hits=False, return_locations=True)
+        hit = np.zeros(n_rays, dtype=bool)
+        hit[ray] = True
+        shade = np.zeros((n_rays, 3))
+        geo = np.zeros((n_rays, 3))
+        point = np.zeros((n_rays, 3))
+        if ray.size:
+            bary = points_to_barycentric(self._mesh.triangles[tri], loc)
+            ns = np.einsum("rk,rkc->rc", bary, self._corner_normals[tri])
+            ns /= np.maximum(np.linalg.norm(ns, axis=1, keepdims=True), 1e-300)
+            ng = self._face_normals[tri]
+            side = np.where(np.einsum("rc,rc->r", ng, d[ray]) > 0, -1.0, 1.0)[:, None]  # face the viewer
+            ns *= side
+            ng = ng * side
+            # a shading normal facing away from the viewer (interpolation at a silhouette) is bent
+            # back to the visible hemisphere: the geometric normal's side decides what is seen
+            back = np.einsum("rc,rc->r", ns, d[ray]) > 0
+            ns[back] = ng[back]
+            shade[ray], geo[ray], point[ray] = ns, ng, loc
+        return hit, shade, geo, point
+
+    def intersect(self, o, dx, dy, dz):
+        """``(hit, nx, ny, nz)`` for rays from ``o`` along unit ``(dx, dy, dz)`` (broadcast)."""
+        bx, by, bz = np.broadcast_arrays(dx, dy, dz)
+        shape, t = bx.shape, np.result_type(bx.dtype, np.float32).type
+        d = np.stack([bx.reshape(-1), by.reshape(-1), bz.reshape(-1)], -1).astype(np.float64)
+        hit, n, _, _ = self._cast(o, d)
+        return (hit.reshape(shape), *(n[:, k].astype(t).reshape(shape) for k in range(3)))
+
+    def trace(self, cam, u, w, inv, light):
+        """``(hit, cos_l, cos_v)`` for the camera rays at window coordinates ``(u, w)``; ``cos_l``
+        is 0 where the object shadows the point light."""
+        bu, bw, binv = np.broadcast_arrays(u, w, inv)
+        shape, t = bu.shape, binv.dtype.type
+        d = (bu.reshape(-1, 1).astype(np.float64) * cam.right + bw.reshape(-1, 1) * cam.up + cam.forward) \
+            * binv.reshape(-1, 1)
+        hit, n, geo, point = self._cast(cam.position, d)
+        light = np.asarray(light, dtype=np.float64)
+        cos_l = n @ light
+        cos_v = -np.einsum("rc,rc->r", n, d)
+        lit = np.flatnonzero(hit & (cos_l > 0))
+        if lit.size:
+            start = point[lit] + _SHADOW_OFFSET * geo[lit]
+            blocked = self._rays.intersects_any(start, np.broadcast_to(light, start.shape))
+            cos_l[lit[blocked]] = 0.0
+        return hit.reshape(shape), cos_l.astype(t).reshape(shape), cos_v.astype(t).reshape(shape)
+
+    def triangle_soup(self) -> tuple[np.ndarray, np.ndarray]:
+        """The placed triangles' corners (F, 3, 3) and their shading normals (F, 3, 3) (creases split),
+        for renderers that take a mesh of their own (``--engine mitsuba``)."""
+        return np.asarray(self._mesh.triangles), self._corner_normals
+
+    def points(self) -> np.ndarray:
+        """Vertices (at most about 50 000, evenly strided) to frame the camera."""
+        v = np.asarray(self._mesh.vertices)
+        return v[:: max(1, v.shape[0] // 50_000)]

@@ -1,0 +1,88 @@
+"""What every render and angular map says about itself: its file stem, the reference colour and
+the metadata common to both (materials, illuminant, observer, model, roughness, software)."""
+from __future__ import annotations
+
+import numpy as np
+
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.core.errors import SwatchError
+from swatch.core.version import __version__
+from swatch.physics.model import get_coating, thickness_to_voltage_V
+
+__all__ = ["REFERENCE_GEOMETRY", "file_stem", "reference_Lab", "common_metadata", "coating_and_colorimeter",
+           "with_voltage", "voltage_note", "file_stems"]
+
+REFERENCE_GEOMETRY = (45.0, 0.0)  # light 45°, view along the normal
+
+
+def coating_and_colorimeter(coating, colorimeter):
+    """The given coating and colorimeter, the defaults for None; they must share a wavelength grid."""
+    if coating is None:
+
+        coating = get_coating()
+    if colorimeter is None:
+
+        colorimeter = get_colorimeter(coating.wavelength_nm)
+    if not np.array_equal(np.asarray(colorimeter.wavelength_nm), np.asarray(coating.wavelength_nm)):
+        raise SwatchError("the colorimeter and the coating must use the same wavelength grid")
+    return coating, colorimeter
+
+
+def file_stem(kind: str, thickness_nm: float) -> str:
+    """``cylinder_050.8nm``: the kind and the thickness to 0.1 nm, zero-padded to sort."""
+    return f"{kind}_{float(thickness_nm):05.1f}nm"
+
+
+def file_stems(kind: str, thickness_nm) -> list[str]:
+    """:func:`file_stem` of each thickness; two thicknesses with one stem are refused."""
+    stems = [file_stem(kind, x) for x in np.atleast_1d(thickness_nm)]
+    if len(set(stems)) != len(stems):
+        raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
+    return stems
+
+
+def reference_Lab(thickness_nm: float, coating, colorimeter) -> np.ndarray:
+    """CIELAB at the reference geometry 45°:0° (the half-vector reflectance, paper's model)."""
+    refl, _ = coating.half_vector(float(thickness_nm), *REFERENCE_GEOMETRY)
+    return colorimeter.Lab(colorimeter.XYZ(refl.R))
+
+
+def common_metadata(d: float, coating, colorimeter, model: str, distribution: str, roughness_alpha: float) -> dict:
+    """Metadata shared by renders and angular maps (the CLI replaces the voltage entries with
+    the user's own voltage and growth rate)."""
+
+    return {
+        "thickness_nm": round(d, 6),
+        "voltage_V": round(float(thickness_to_voltage_V(d)), 6),
+        "voltage_note": "from the thickness at the default growth rate (50.8 nm at 25 V)",
+        "film": coating.film,
+        "substrate": coating.substrate,
+        "illuminant": colorimeter.illuminant,
+        "observer": f"CIE {'1964 10' if colorimeter.observer == '10' else '1931 2'} deg",
+        "rgb_observer": "CIE 1931 2 deg (display RGB is defined on it; Lab uses the observer above)",
+        "model": model,
+        "distribution": distribution if model == "microfacet" else "none (facet probability constant)",
+        "roughness": roughness_alpha,
+        "reference_geometry": "45:0 (light 45 deg, view along the normal), paper model",
+        "Lab_reference": [round(float(x), 4) for x in reference_Lab(d, coating, colorimeter)],
+        "software": f"swatch {__version__}",
+    }
+
+
+def voltage_note(proc, given: bool, known: bool) -> str:
+    """How an image's voltage was obtained, by the process profile ``proc``'s growth law."""
+    law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.label})" if proc.has_growth_law
+           else f"process {proc.label}")
+    if given:
+        return f"given; thickness from it at {law}"
+    return f"estimated from the thickness at {law}" if known else f"no growth rate in {law}"
+
+
+def with_voltage(meta: dict, voltage_V: float, note: str, proc) -> dict:
+    """A copy of ``meta`` with the user's voltage (None when unknown: NaN), how it was obtained and
+    the process profile's metadata."""
+    meta = dict(meta)
+    meta["voltage_V"] = round(float(voltage_V), 6) if np.isfinite(voltage_V) else None
+    meta["voltage_note"] = note
+    meta.update({k: (round(v, 9) if isinstance(v, float) else v) for k, v in proc.metadata().items()})
+    return meta

@@ -1,0 +1,1 @@
+"""Reports: figures (raster drawing), text reports, the calibration report."""

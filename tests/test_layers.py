@@ -1,0 +1,249 @@
+"""The package's layers (issue #17): no import cycle, no private name imported across modules, every
+arrow downwards, imports at module top in the library, a short top level and no oversized module.
+
+The import graph is read from the source (``ast``), counting imports inside functions, so a cycle kept
+alive by a function-level import is found too (the four of issue #17 were).
+"""
+from __future__ import annotations
+
+import ast
+import collections
+from pathlib import Path
+
+PKG = Path(__file__).resolve().parent.parent / "swatch"
+
+#: The layers, lowest first; a module may import from its own subpackage and from lower layers only.
+#: Subpackages on one line are siblings (neither imports the other).
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("core",),
+    ("physics",),
+    ("colorimetry",),
+    ("io",),
+    ("render", "fit", "presets"),
+    ("mitsuba",),  # the Mitsuba 3 engine: on the render layer's image and scene; reached from commands/ only
+    ("report",),
+    ("catalog",),
+    ("production",),  # the finish spec, its card and QC: on the catalog's process window
+    ("commands",),
+    ("cli",),
+)
+
+#: Function-level imports of swatch modules outside commands/ and the package faces, each with its reason.
+ALLOWED_FUNCTION_IMPORTS = {
+    ("swatch.colorimetry.tolerance", "swatch.colorimetry.colorimeter"):
+        "colour-science (seconds to import) only when a ΔE is computed: a no-op catalog rebuild parses tolerances",
+    ("swatch.catalog.build", "swatch.catalog.*"):
+        "the output stages (colour-science, OpenImageIO) load only after the fingerprint check: no-op rebuild ≤ 2 s",
+    ("swatch.catalog.build", "swatch.colorimetry.tolerance"): "as above (the header of a full build)",
+}
+
+MAX_TOP_LEVEL_MODULES = 8
+MAX_LIBRARY_LINES = 500
+
+
+def _modules() -> dict[str, Path]:
+    mods = {}
+    for p in sorted(PKG.rglob("*.py")):
+        parts = list(p.relative_to(PKG.parent).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        mods[".".join(parts)] = p
+    return mods
+
+
+MODULES = _modules()
+
+
+def _resolve(name: str) -> str:
+    while name and name not in MODULES:
+        name = name.rsplit(".", 1)[0] if "." in name else ""
+    return name
+
+
+def _imports(module: str) -> list[tuple[str, str | None, bool]]:
+    """(imported swatch module, imported name or None, inside a function) for every import of ``module``."""
+    path = MODULES[module]
+    out = []
+
+    def visit(node, in_function):
+        for child in ast.iter_child_nodes(node):
+            inside = in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
+            if isinstance(child, ast.Import):
+                out.extend((_resolve(a.name), None, inside) for a in child.names if a.name.split(".")[0] == "swatch")
+            elif isinstance(child, ast.ImportFrom):
+                base = child.module or ""
+                if child.level:
+                    pkg = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+                    for _ in range(child.level - 1):
+                        pkg = pkg.rsplit(".", 1)[0]
+                    base = pkg + ("." + base if base else "")
+                if base.split(".")[0] == "swatch":
+                    for a in child.names:
+                        sub = f"{base}.{a.name}"
+                        target = sub if sub in MODULES else _resolve(base)
+                        out.append((target, None if sub in MODULES else a.name, inside))
+            visit(child, inside)
+
+    visit(ast.parse(path.read_text(encoding="utf-8")), False)
+    return [(t, n, f) for t, n, f in out if t and t != module]
+
+
+GRAPH = {m: _imports(m) for m in MODULES}
+
+
+def _layer(module: str) -> int | None:
+    """The index in LAYERS of a module's subpackage (None for the face ``swatch``)."""
+    parts = module.split(".")
+    if len(parts) == 1:
+        return None
+    for i, names in enumerate(LAYERS):
+        if parts[1] in names:
+            return i
+    raise AssertionError(f"{module} is in no layer; add its subpackage to LAYERS and to docs/DEVNOTES.md")
+
+
+def _is_face(module: str) -> bool:
+    return MODULES[module].name == "__init__.py"
+
+
+def _is_lazy_zone(module: str) -> bool:
+    """Where imports may be deferred into functions: commands/, the CLI and the package faces."""
+    return module.startswith("swatch.commands") or module == "swatch.cli" or _is_face(module)
+
+
+def test_every_module_is_in_a_layer():
+    """Issue #17: a reader finds a concern by its folder."""
+    for m in MODULES:
+        _layer(m)
+
+
+def test_import_graph_has_no_cycle_counting_function_level_imports():
+    """Issue #17: no import cycle, counting imports inside functions."""
+    edges = {m: {t for t, _, _ in GRAPH[m]} for m in MODULES}
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    cycles = []
+    counter = [0]
+
+    def strong(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in edges[v]:
+            if w not in index:
+                strong(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in MODULES:
+        if v not in index:
+            strong(v)
+    assert cycles == []
+
+
+def test_no_private_name_is_imported_across_modules():
+    """Issue #17: ``from swatch.x import _name`` reaches into another module's internals."""
+    private = [(m, t, n) for m in MODULES for t, n, _ in GRAPH[m]
+               if n is not None and n.startswith("_") and not n.startswith("__")]
+    assert private == []
+
+
+def test_every_import_points_down_the_layers():
+    """Issue #17: a module imports from its own subpackage and from the layers before it, never up or sideways."""
+    wrong = []
+    for m in MODULES:
+        lm = _layer(m)
+        for t, _, _ in GRAPH[m]:
+            lt = _layer(t)
+            if lm is None or t.split(".")[:2] == m.split(".")[:2]:
+                continue  # the face sees everything; a subpackage sees itself
+            if lt is None or lt >= lm:
+                wrong.append(f"{m} -> {t}")
+    assert wrong == []
+
+
+def _allowed(module: str, target: str) -> bool:
+    return any(m == module and (t == target or (t.endswith(".*") and target.startswith(t[:-1])))
+               for m, t in ALLOWED_FUNCTION_IMPORTS)
+
+
+def test_library_imports_are_at_module_top():
+    """Issue #17: function-level imports only in commands/, the CLI, the package faces and the allow-list."""
+    lazy = [f"{m} -> {t}" for m in MODULES if not _is_lazy_zone(m)
+            for t, _, in_function in GRAPH[m] if in_function and not _allowed(m, t)]
+    assert lazy == []
+
+
+def test_allow_list_entries_are_used():
+    """An allow-list entry that no longer matches an import is stale (issue #17)."""
+    used = {(m, t) for m in MODULES for t, _, f in GRAPH[m] if f}
+    for (m, t) in ALLOWED_FUNCTION_IMPORTS:
+        assert any(um == m and (ut == t or (t.endswith(".*") and ut.startswith(t[:-1]))) for um, ut in used), (m, t)
+
+
+def test_top_level_of_the_package_is_short():
+    """Issue #17: at most a handful of modules directly in swatch/ (the rest are in subpackages)."""
+    top = sorted(p.name for p in PKG.glob("*.py"))
+    assert len(top) <= MAX_TOP_LEVEL_MODULES, top
+
+
+def test_no_library_module_is_over_500_lines():
+    """Issue #17: no library module over 500 lines."""
+    long = {m: n for m, p in MODULES.items() if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_LIBRARY_LINES}
+    assert long == {}
+
+
+def _defined_names(module: str) -> set[str]:
+    tree = ast.parse(MODULES[module].read_text(encoding="utf-8"))
+    names = set()
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names |= {t.id for t in targets if isinstance(t, ast.Name)}
+    return names
+
+
+def test_the_face_lists_names_its_modules_define():
+    """Issue #17: ``swatch.__all__`` is the public API, each name defined where the face loads it from
+    (read from the source: importing it would load every layer)."""
+    import swatch
+
+    api = swatch._API
+    assert set(swatch.__all__) == {"__version__", *api}
+    missing = [f"{mod}.{name}" for name, mod in api.items() if name not in _defined_names(mod)]
+    assert missing == []
+
+
+def test_importing_the_face_loads_no_layer_beyond_core():
+    """Issue #17: ``import swatch`` is lazy (PEP 562), so ``swatch --help`` stays fast."""
+    import subprocess
+    import sys
+
+    code = "import sys, swatch; print(sorted(m for m in sys.modules if m.startswith('swatch')))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert ast.literal_eval(out) == ["swatch", "swatch.core", "swatch.core.version"]
+
+
+def test_function_import_counts_are_in_the_graph():
+    """Sanity of the reader itself: it sees top-level and function-level imports of a known module (#17)."""
+    graph = collections.defaultdict(set)
+    for t, _, f in GRAPH["swatch.catalog.build"]:
+        graph[f].add(t)
+    assert "swatch.catalog.spec" in graph[False]
+    assert "swatch.catalog.sheets" in graph[True]
