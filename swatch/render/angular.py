@@ -12,7 +12,7 @@ from swatch.core.limits import MAX_ANGULAR_SAMPLES
 from swatch.physics import geometry, microfacet
 from swatch.physics.model import check_thickness_nm
 from swatch.render import shading
-from swatch.render.display import PAPER_EXPOSURE_RULE, display_encode, exposure
+from swatch.render.display import HUE_SHOULDER_RULE, PAPER_EXPOSURE_RULE, display_encode, display_encode_hue, exposure
 from swatch.render.metadata import coating_and_colorimeter, common_metadata
 
 __all__ = ["AngularMap", "angular_map", "check_angular_size"]
@@ -91,7 +91,10 @@ def angular_map(thickness_nm: float, light_deg=DEFAULT_ANGLES_DEG, view_deg=DEFA
         s = shading.intensity(cl, cv, ch, cos_d, model, roughness_alpha, distribution, irradiance=False)
         spectral *= s[..., None]
         k, rule = exposure(model, s, ch, np.ones_like(s, dtype=bool), roughness_alpha, distribution)
-        rule = rule.replace("F=1 intensity", "F=1 reflectance factor")
+        rule = rule.replace("F=1 intensity", "F=1 reflectance factor").replace(
+            "the brighter highlight rolls off to white with a smooth per-channel shoulder above 0.8",
+            HUE_SHOULDER_RULE)
+        rule += "" if HUE_SHOULDER_RULE in rule else "; " + HUE_SHOULDER_RULE
     else:
         k, rule = 1.0, PAPER_EXPOSURE_RULE
     XYZ = colorimeter.XYZ(spectral)
@@ -99,7 +102,8 @@ def angular_map(thickness_nm: float, light_deg=DEFAULT_ANGLES_DEG, view_deg=DEFA
     XYZ_2 = colorimeter.display_XYZ(spectral)  # RGB from CIE 1931 2° colorimetry
     rgb = np.asarray(colorimeter.rgb_linear(XYZ_2, space), dtype=np.float32)
     srgb = rgb if space == "srgb" else np.asarray(colorimeter.rgb_linear(XYZ_2, "srgb"), dtype=np.float32)
-    display = display_encode(srgb * np.float32(k))
+    # the microfacet map's mirror region is far above white: a hue-preserving shoulder (swatch.render.display)
+    display = display_encode_hue(srgb, k) if model == "microfacet" else display_encode(srgb * np.float32(k))
     meta = common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha)
     meta.update({
         "geometry": "angular map: rows = light polar angle, columns = view polar angle, in one plane on "

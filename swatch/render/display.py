@@ -13,6 +13,12 @@ per-channel shoulder of :func:`tone` (identity up to :data:`KNEE` = 0.8, then
 ``y = 0.8 + 0.2 (1 − exp(−(x − 0.8)/0.2))``), as film or a camera does. Without an off-mirror
 region in view the median is over every lit pixel. The paper's model has no mirror peak:
 ``k = 1`` (reflectance shown as is).
+
+Angular maps of the microfacet model span two orders of magnitude (the mirror factor grows as
+``1/cos²`` towards grazing), so the per-channel shoulder turned a third of a default map white.
+Their display uses :func:`display_encode_hue` instead: the shoulder on the largest channel and
+the pixel's RGB scaled with it, so the mirror region keeps its hue and saturation and only its
+brightness rolls off (the EXR keeps the scene values).
 """
 from __future__ import annotations
 
@@ -22,7 +28,8 @@ import numpy as np
 
 from swatch.physics import microfacet
 
-__all__ = ["KNEE", "BACKGROUND_LINEAR", "tone", "display_encode", "exposure", "PAPER_EXPOSURE_RULE"]
+__all__ = ["KNEE", "BACKGROUND_LINEAR", "tone", "display_encode", "display_encode_hue", "exposure", "PAPER_EXPOSURE_RULE",
+           "HUE_SHOULDER_RULE"]
 
 #: Start of the display shoulder (linear value); below it the display is linear.
 KNEE = 0.8
@@ -96,3 +103,17 @@ def exposure(model: str, s: np.ndarray, cos_h: np.ndarray, seen: np.ndarray, rou
     else:
         return 1.0, "nothing lit in view: k = 1"
     return (1.0 / p if p > 0 else 1.0), rule
+
+
+HUE_SHOULDER_RULE = ("hue-preserving shoulder: above 0.8 the largest channel rolls off as the render shoulder and "
+                     "the other channels are scaled with it (colour kept, brightness compressed; no clipping to white)")
+
+
+def display_encode_hue(linear_srgb, exposure: float = 1.0) -> np.ndarray:
+    """Linear sRGB × ``exposure`` -> sRGB uint8 with the hue-preserving shoulder (module doc):
+    ``rgb · tone(m)/m`` where the largest channel ``m`` exceeds :data:`KNEE`, identity below."""
+    x = np.maximum(np.asarray(linear_srgb, dtype=np.float64) * float(exposure), 0.0)
+    m = x.max(axis=-1, keepdims=True)
+    y = np.clip(np.where(m > KNEE, x * (tone(m) / np.where(m > 0, m, 1.0)), x), 0.0, 1.0)
+    enc = np.where(y <= 0.0031308, 12.92 * y, 1.055 * np.power(y, 1.0 / 2.4) - 0.055)
+    return np.round(enc * 255.0).astype(np.uint8)
