@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -12,7 +13,14 @@ import pytest
 from cli_helpers import assert_one_line_error, run_json, run_swatch
 from synthetic import tmm_half_vector_reflectance
 
-pytestmark = pytest.mark.skipif(shutil.which("pdftotext") is None, reason="pdftotext (poppler-utils) not installed")
+
+@pytest.fixture(autouse=True)
+def _poppler():
+    """pdftotext / pdfinfo (poppler-utils) read the card: skip without them, fail in CI (SWATCH_REQUIRE_TOOLS=1)."""
+    if shutil.which("pdftotext") is None or shutil.which("pdfinfo") is None:
+        if os.environ.get("SWATCH_REQUIRE_TOOLS") == "1":
+            pytest.fail("pdftotext is missing and SWATCH_REQUIRE_TOOLS=1 (.ci/run installs poppler-utils)")
+        pytest.skip("pdftotext (poppler-utils) not installed")
 
 
 def _numbers(obj):
