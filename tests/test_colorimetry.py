@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import colour
 import numpy as np
@@ -18,6 +19,8 @@ from swatch.physics.materials import wavelength_grid
 
 GRIDS = [(380, 780, 5), (380, 780, 1), (380, 780, 10), (400, 700, 20), (360, 830, 5)]
 SETUPS = [("D65", "10"), ("D65", "2"), ("A", "10"), ("D50", "2"), ("FL2", "10")]
+
+DATA = Path(__file__).parent / "data"
 
 
 def reference_XYZ(R, wl, illuminant, observer):
@@ -84,10 +87,19 @@ def test_out_of_gamut_flag():
     assert bool(ok_p3)
 
 
-def test_delta_E_wrappers_match_colour():
+def test_delta_E_ab_is_the_euclidean_distance():
     a, b = np.array([50.0, 10.0, -20.0]), np.array([52.0, 8.0, -25.0])
     assert colorimetry.delta_E_ab(a, b) == pytest.approx(np.sqrt(4 + 4 + 25))
-    assert colorimetry.delta_E_00(a, b) == pytest.approx(colour.delta_E(a, b, method="CIE 2000"))
+
+
+def test_delta_E_00_reproduces_the_published_pairs_of_sharma_2005():
+    """CIEDE2000 on the 34 test pairs of Sharma, Wu & Dalal 2005 (doi:10.1002/col.20070, Table 1;
+    tests/data/ciede2000), both ways round, to the 4 published decimals (#17: the old test compared
+    with the same colour.delta_E the code calls)."""
+    rows = np.loadtxt(DATA / "ciede2000" / "sharma2005_pairs.txt", comments="#")
+    assert rows.shape == (34, 7)
+    np.testing.assert_allclose(colorimetry.delta_E_00(rows[:, :3], rows[:, 3:6]), rows[:, 6], atol=5e-5)
+    np.testing.assert_allclose(colorimetry.delta_E_00(rows[:, 3:6], rows[:, :3]), rows[:, 6], atol=5e-5)
 
 
 def test_hex_round_trip():

@@ -46,9 +46,20 @@ def test_intensity_correction_matches_means(scale, seed):
 
 
 def test_voltage_conversion_round_trip():
-    assert model.voltage_to_thickness_nm(25.0) == pytest.approx(50.8)
-    assert model.thickness_to_voltage_V(50.8) == pytest.approx(25.0)
+    """The growth law on numbers worked by hand, and the default rate against the paper's preset
+    profile as the file states it (read with tomllib, not through the code; #17: the old check
+    ``voltage_to_thickness_nm(25) == 50.8`` was true by construction of the default)."""
+    import tomllib
+
+    from swatch.physics.materials import tables_dir
+
+    profile = tomllib.loads((tables_dir() / "processes" / "titanium-fujii2019.toml").read_text(encoding="utf-8"))
+    assert profile["nm_per_V"] == pytest.approx(model.DEFAULT_NM_PER_V)  # the paper's 50.8 nm at 25 V
     assert model.voltage_to_thickness_nm(10.0, 3.0) == pytest.approx(30.0)
+    assert model.voltage_to_thickness_nm(10.0, 3.0, offset_nm=5.0) == pytest.approx(35.0)
+    assert model.thickness_to_voltage_V(35.0, 3.0, offset_nm=5.0) == pytest.approx(10.0)
+    volts = np.array([0.0, 7.5, 42.0, 110.0])
+    assert model.thickness_to_voltage_V(model.voltage_to_thickness_nm(volts, 2.5, 3.0), 2.5, 3.0) == pytest.approx(volts)
     with pytest.raises(SwatchError, match="growth rate"):
         model.voltage_to_thickness_nm(10.0, 0.0)
     with pytest.raises(SwatchError, match="voltage"):

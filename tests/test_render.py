@@ -14,6 +14,7 @@ import colour
 import numpy as np
 import OpenImageIO as oiio
 import pytest
+from synthetic import tmm_half_vector_reflectance
 
 from swatch.cli import main
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter
@@ -153,8 +154,9 @@ def test_angular_map_colour_matches_colour_science():
     sd = colour.SpectralDistribution(dict(zip(COATING.wavelength_nm, m.spectral[1, 0], strict=True)))
     ref = colour.sd_to_XYZ(sd, CM.cmfs, CM.illuminant_sd)
     np.testing.assert_allclose(m.XYZ[1, 0], ref, rtol=1e-6)
-    # Paper model: the reflectance at θ_d = (45 + 0)/2 — the engine's own half-vector spectrum.
-    np.testing.assert_allclose(m.spectral[1, 0], COATING.reflectance(BLUE_NM, 22.5).R, rtol=1e-9)
+    # Paper model: the reflectance at θ_d = (45 + 0)/2, by tmm.coh_tmm (not the engine's optics; #17).
+    ref = tmm_half_vector_reflectance(BLUE_NM, 45.0, 0.0, COATING.wavelength_nm)[0]
+    np.testing.assert_allclose(m.spectral[1, 0], ref, rtol=1e-6, atol=1e-9)
     assert m.theta_d_deg[2, 1] == pytest.approx(50.0)
 
 
@@ -241,12 +243,14 @@ def test_angular_files(tmp_path, capsys):
     np.testing.assert_allclose(parsed, COATING.wavelength_nm)
     assert _attrs(tmp_path / "angular_050.8nm_spectral.exr")["spectralLayoutVersion"] == "1.0"
     buf = oiio.ImageBuf(str(tmp_path / "angular_050.8nm_spectral.exr"))
-    px = buf.get_pixels(oiio.FLOAT)  # (rows = light, growing upwards; columns = view, channels)
     assert buf.spec().format == oiio.FLOAT
-    wl_order = [imageio.parse_spectral_channel(c)[1] for c in buf.spec().channelnames[3:]]
-    i550 = 3 + wl_order.index(550.0)
-    ref = COATING.reflectance(50.8, 22.5).R[list(COATING.wavelength_nm).index(550.0)]
-    assert px[17 - 9, 0, i550] == pytest.approx(ref, rel=1e-6)  # light 45°, view 0°: θ_d = 22.5°
+    # Read back by colour-science's Fichet et al. 2021 reader (not our parser; #17): the reflective
+    # component "T" holds the spectra (rows = light, growing upwards; columns = view).
+    components = colour.io.read_spectral_image_Fichet2021(tmp_path / "angular_050.8nm_spectral.exr")
+    wl_read, values = components["T"]
+    np.testing.assert_allclose(wl_read, COATING.wavelength_nm)
+    ref = tmm_half_vector_reflectance(50.8, 45.0, 0.0, COATING.wavelength_nm)[0]  # θ_d = 22.5°, by tmm
+    np.testing.assert_allclose(values[17 - 9, 0], ref, rtol=1e-5, atol=1e-7)  # light 45°, view 0°
     # CSV: one row per cell, Lab of 45:0 equals the reference Lab in the metadata.
     rows = (tmp_path / "angular_050.8nm.csv").read_text().splitlines()
     assert len(rows) == 1 + 18 * 18
@@ -335,3 +339,17 @@ def test_display_encoding_matches_srgb():
     exact = colour.RGB_COLOURSPACES["sRGB"].cctf_encoding(x.astype(np.float64)) * 255
     assert np.max(np.abs(got - exact)) <= 0.6
     assert display.display_encode(np.array([[0.0, 100.0, -1.0]], np.float32)).tolist() == [[0, 255, 0]]
+
+
+def test_render_metadata_leaves_the_voltage_to_the_caller_that_knows_the_process():
+    """Issue #17: the library wrote the voltage at the *default* growth rate and the CLI overwrote it;
+    now only the caller that knows the process writes it, once (right after the thickness)."""
+    img = render_swatch(80.0, "flat", 8, coating=COATING, colorimeter=CM, environment=None)
+    assert "voltage_V" not in img.metadata and "voltage_note" not in img.metadata
+    from swatch.physics.process import load_process
+
+    proc = load_process("titanium-fujii2019")
+    meta = metadata.with_voltage(img.metadata, 40.0, "given", proc)
+    keys = list(meta)
+    assert keys[keys.index("thickness_nm") + 1:keys.index("thickness_nm") + 3] == ["voltage_V", "voltage_note"]
+    assert meta["voltage_V"] == 40.0

@@ -7,7 +7,7 @@ import numpy as np
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.core.errors import SwatchError
 from swatch.core.version import __version__
-from swatch.physics.model import get_coating, thickness_to_voltage_V
+from swatch.physics.model import get_coating
 
 __all__ = ["REFERENCE_GEOMETRY", "file_stem", "reference_Lab", "common_metadata", "coating_and_colorimeter",
            "with_voltage", "voltage_note", "file_stems"]
@@ -48,13 +48,15 @@ def reference_Lab(thickness_nm: float, coating, colorimeter) -> np.ndarray:
 
 
 def common_metadata(d: float, coating, colorimeter, model: str, distribution: str, roughness_alpha: float) -> dict:
-    """Metadata shared by renders and angular maps (the CLI replaces the voltage entries with
-    the user's own voltage and growth rate)."""
+    """Metadata shared by renders and angular maps.
+
+    No voltage: only the caller knows the process (its growth law, or none) and writes the voltage
+    once, with :func:`with_voltage` (issue 17; this wrote the default growth rate's voltage, which
+    the CLI then overwrote).
+    """
 
     return {
         "thickness_nm": round(d, 6),
-        "voltage_V": round(float(thickness_to_voltage_V(d)), 6),
-        "voltage_note": "from the thickness at the default growth rate (50.8 nm at 25 V)",
         "film": coating.film,
         "substrate": coating.substrate,
         "illuminant": colorimeter.illuminant,
@@ -81,8 +83,12 @@ def voltage_note(proc, given: bool, known: bool) -> str:
 def with_voltage(meta: dict, voltage_V: float, note: str, proc) -> dict:
     """A copy of ``meta`` with the user's voltage (None when unknown: NaN), how it was obtained and
     the process profile's metadata."""
-    meta = dict(meta)
-    meta["voltage_V"] = round(float(voltage_V), 6) if np.isfinite(voltage_V) else None
-    meta["voltage_note"] = note
+    volts = {"voltage_V": round(float(voltage_V), 6) if np.isfinite(voltage_V) else None, "voltage_note": note}
+    out: dict = {}
+    for key, value in meta.items():
+        out[key] = value
+        if key == "thickness_nm":  # the voltage right after the thickness, where readers find it
+            out.update(volts)
+    meta = out | volts
     meta.update({k: (round(v, 9) if isinstance(v, float) else v) for k, v in proc.metadata().items()})
     return meta
