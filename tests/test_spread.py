@@ -241,3 +241,26 @@ def test_spread_option_reaches_colour_render_fit_and_preset(tmp_path):
                  ("match", "--lab", "60,-30,10")):
         assert run_swatch(*args, "--spread", "3").returncode == 0, args
     assert_one_line_error(run_swatch("color", "--thickness", "300", "--spread", "99"), "from 0 to 50 nm")
+
+
+def test_fits_use_the_spread_of_the_profile():
+    """Issue 19: the thickness fitters take the profile's spread (sweep and refinement paths). Spectra
+    of a 3 % spread film at 260 nm (the spread model itself is checked against tmm above) are fitted
+    back to 260 nm with the spread, and worse (a larger residual) by a uniform-film fit."""
+    from swatch.lab_fit import fit_lab
+    from swatch.measurements import LabMeasurement, SpectralMeasurement
+    from swatch.spectral_fit import fit_spectra
+
+    spread = ThicknessSpread(0.0, 0.03)
+    light = np.array([45.0, 45.0, 45.0, 30.0])
+    view = np.array([0.0, 15.0, 60.0, 10.0])
+    coating = get_coating(spread=spread)
+    R = np.stack([coating.half_vector(260.0, lv, vv)[0].R for lv, vv in zip(light, view, strict=True)])
+    m = SpectralMeasurement.from_arrays(light, view, coating.wavelength_nm, R)
+    with_spread = fit_spectra(m, spread=spread, exclude_mirror_deg=0)
+    uniform = fit_spectra(m, exclude_mirror_deg=0)
+    assert with_spread.thickness_nm == pytest.approx(260.0, abs=0.3)
+    assert with_spread.mean_delta_E_00 < 0.1 < uniform.mean_delta_E_00
+    cm = get_colorimeter(coating.wavelength_nm)
+    lab = LabMeasurement("lab", light, view, np.zeros_like(light), np.full_like(light, 180.0), cm.Lab(cm.XYZ(R)))
+    assert fit_lab(lab, spread=spread, exclude_mirror_deg=0).thickness_nm == pytest.approx(260.0, abs=0.3)
