@@ -66,10 +66,10 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
     img = draw_text(img, f"Calibration: {p.name}  ({p.film} on {p.substrate})", MARGIN, 32, 22, INK,
                     font="DroidSans-Bold")
     line = (f"thickness = {_fmt(p.offset_nm, u['offset_nm'], 2)} nm + {_fmt(p.nm_per_V, u['nm_per_V'], 4)} nm/V × V"
-            + (f" (to {p.knee_V:g} V, then {p.nm_per_V_above_knee:g} nm/V)" if p.knee_V is not None else "")
+            + (f" (to {p.knee_V:.1f} V, then {p.nm_per_V_above_knee:.3f} nm/V)" if p.knee_V is not None else "")
             + (f"   ·   spread {100 * p.spread.spread_fraction:.1f} %" if not p.spread.is_zero else "")
             + f"   ·   film index × {_fmt(p.film_index_scale, u['film_index_scale'], 4)}"
-            + ("" if u["film_index_scale"] is not None else " (not determined: kept)"))
+            + ("" if u["film_index_scale"] is not None else " (kept)"))
     img = draw_text(img, line, MARGIN, 58, 16, INK)
     line = (f"{n} coupons, {int(cal.outlier.sum())} outlier(s) set aside   ·   mean dE00 "
             f"{cal.delta_E_00[inl].mean():.2f}, max {cal.delta_E_00[inl].max():.2f} (without outliers)   ·   "
