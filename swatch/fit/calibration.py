@@ -8,7 +8,7 @@ voltage, continuous at the knee), of a film table whose index's real part is sca
 45°:0°, D65, 10°).
 
 Search: for every film × substrate table pair of the base profile's materials (or only the base's
-pair when ``--film``/``--substrate`` fix them, or when fewer than ``MIN_COUPONS_TABLES`` coupons
+pair when ``--film``/``--substrate`` fix them, or when fewer than ``COUPONS_FOR_TABLES`` coupons
 are left to choose among them), the interference order is found by a global grid over the growth
 law (each coupon's colour looked up in a thickness → CIELAB table), refined robustly (soft-L1, so a
 mislabelled coupon cannot pull the line); coupons whose ΔE2000 stays far above the others' (over
@@ -42,15 +42,15 @@ from swatch.physics.materials import DEFAULT_WAVELENGTHS_NM, list_materials, loa
 from swatch.physics.process import Process
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["Calibration", "calibrate", "OUTLIER_MIN_DE00", "THICKNESS_SIGMA_NM", "MIN_COUPONS_TABLES"]
+__all__ = ["Calibration", "calibrate", "OUTLIER_MIN_DE00", "THICKNESS_SIGMA_NM", "COUPONS_FOR_TABLES"]
 
 #: A coupon is an outlier only if its ΔE2000 exceeds this, whatever the spread of the others.
 OUTLIER_MIN_DE00 = 3.0
 THICKNESS_SIGMA_NM = cs.THICKNESS_SIGMA_NM
 #: Fewest inlier coupons with which the tables are chosen (fewer: the base profile's are kept).
-MIN_COUPONS_TABLES = 8
+COUPONS_FOR_TABLES = 8
 #: A fitted parameter is "determined" when its standard error is below this.
-MAX_UNCERTAINTY = {"s": 0.02, "f": 0.02, "knee": 8.0}
+DETERMINED_BELOW = {"s": 0.02, "f": 0.02, "knee": 8.0}
 #: Table pairs refitted with every model (spread included); the others are ranked without a spread.
 FULL_SEARCH_PAIRS = 3
 _PHYSICAL = ("offset_nm", "nm_per_V", "film_index_scale", "spread_fraction", "knee_V", "nm_per_V_above_knee")
@@ -153,8 +153,8 @@ def _determined(table, prob, fit, keep, step: str) -> tuple[bool, str]:
         return False, "the coupons leave it undetermined (singular fit)"
     se = dict(zip(fit.free, np.sqrt(np.maximum(np.diag(cov), 0.0)), strict=True))
     for name in {"+scale": ("s",), "+spread": ("f",), "+knee": ("knee",)}[step]:
-        if se[name] > MAX_UNCERTAINTY[name]:
-            return False, f"standard error {se[name]:.3g} is over {MAX_UNCERTAINTY[name]:g}"
+        if se[name] > DETERMINED_BELOW[name]:
+            return False, f"standard error {se[name]:.3g} is over {DETERMINED_BELOW[name]:g}"
     return True, ""
 
 
@@ -205,9 +205,9 @@ def _select(table, prob, robust, outlier, allow: dict, scale0: float):
         cand.loo = cs.leave_one_out(table, prob, cand, keep)
         ok, why = _determined(table, prob, cand, keep, step)
         gain = 1.0 - cand.loo_mean / chosen.loo_mean if chosen.loo_mean > 0 else 0.0
-        kept = ok and gain >= cs.MIN_GAIN
+        kept = ok and gain >= cs.GAIN_TO_KEEP
         if ok and not kept:
-            why = f"held-out mean ΔE2000 lowered by {100 * gain:.1f} % only (needs {100 * cs.MIN_GAIN:g} %)"
+            why = f"held-out mean ΔE2000 lowered by {100 * gain:.1f} % only (needs {100 * cs.GAIN_TO_KEEP:g} %)"
         record.append({"model": f"+ {_STEP_WORDS[step]}", "parameters": len(free),
                        "held_out_mean_delta_E_00": round(cand.loo_mean, 3),
                        "held_out_max_delta_E_00": round(cand.loo_max, 3), "kept": kept, **({} if kept else {"why": why})})
@@ -251,9 +251,9 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
     fixed["spread_nm"] = ("kept at 0: the search fits a spread proportional to thickness only (an absolute "
                           "part is not separable from it over one line's range)")
     pairs = _pairs(base, film, substrate) if search_tables else [(base.film, base.substrate)]
-    if len(pairs) > 1 and n < MIN_COUPONS_TABLES:
+    if len(pairs) > 1 and n < COUPONS_FOR_TABLES:
         pairs = [(film or base.film, substrate or base.substrate)]
-        fixed["tables"] = f"kept from {base.name}: choosing tables needs {MIN_COUPONS_TABLES} or more coupons"
+        fixed["tables"] = f"kept from {base.name}: choosing tables needs {COUPONS_FOR_TABLES} or more coupons"
     elif not search_tables:
         fixed["tables"] = f"kept from {base.name} (--fixed-tables)"
     elif film or substrate:

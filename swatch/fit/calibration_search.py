@@ -20,7 +20,7 @@ points, knee positions, or the leave-one-out folds), with forward-difference Jac
 
 The leave-one-out (held-out) error of a model is the ΔE2000 of each inlier coupon predicted by the
 model refitted without it. Models are nested (law → + scale → + spread → + knee); a parameter
-joins only when it lowers the held-out mean ΔE2000 by at least ``MIN_GAIN`` (relative) and the
+joins only when it lowers the held-out mean ΔE2000 by at least ``GAIN_TO_KEEP`` (relative) and the
 coupons leave enough degrees of freedom.
 """
 from __future__ import annotations
@@ -36,7 +36,7 @@ from swatch.physics.model import get_coating
 from swatch.physics.spread import node_count, spread_nodes
 
 __all__ = ["TABLE_SCALES", "ComboTable", "build_table", "Problem", "ModelFit", "PARAMS", "MODELS", "fit_model",
-           "leave_one_out", "initial_lines", "MIN_GAIN", "predict_Lab", "covariance", "TABLE_SPREADS", "u_max_nm",
+           "leave_one_out", "initial_lines", "GAIN_TO_KEEP", "predict_Lab", "covariance", "TABLE_SPREADS", "u_max_nm",
            "screen"]
 
 #: Film index scales the tables are computed at (the fit interpolates quadratically between them:
@@ -55,7 +55,7 @@ _STEPS = np.array([1e-3, 1e-5, 1e-5, 1e-5, 1e-3, 1e-5])
 #: The parameter groups the nested models add, in order.
 MODELS = {"linear": ("o", "r1"), "+knee": ("knee", "r2"), "+scale": ("s",), "+spread": ("f",)}
 #: An added parameter must lower the held-out mean ΔE2000 by this fraction to be kept.
-MIN_GAIN = 0.05
+GAIN_TO_KEEP = 0.05
 #: soft-L1 scale of the robust fits (ΔE2000).
 LOSS_SCALE_DE00 = 1.0
 #: Weight of a measured thickness: its residual counts as (model − measured) / this, in ΔE units.

@@ -31,15 +31,15 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_SPREAD_FRACTION, MAX_SPREAD_NM
 
 __all__ = ["NO_SPREAD", "ThicknessSpread", "parse_spread", "spread_sigma_nm", "spread_nodes", "spread_average",
-           "MAX_SIGMA_OVER_THICKNESS"]
+           "SIGMA_CAP_OF_THICKNESS"]
 
 #: σ is capped at this fraction of the mean thickness (the normal's mass below 0 stays < 0.14 %).
-MAX_SIGMA_OVER_THICKNESS = 1.0 / 3.0
-#: Quadrature nodes: ``ceil(NODES_PER_PHASE × a) + MIN_NODES`` for a phase spread ``a`` (rad), at most MAX_NODES.
+SIGMA_CAP_OF_THICKNESS = 1.0 / 3.0
+#: Quadrature nodes: ``ceil(NODES_PER_PHASE × a) + BASE_NODES`` for a phase spread ``a`` (rad), at most NODE_CAP.
 #: Ten nodes per radian resolve the third harmonic of the Airy sum (``|r01 r12|³`` weight) to 1e-4.
 NODES_PER_PHASE = 10.0
-MIN_NODES = 8
-MAX_NODES = 160
+BASE_NODES = 8
+NODE_CAP = 160
 
 
 @dataclass(frozen=True)
@@ -97,13 +97,13 @@ def parse_spread(text: str | None) -> ThicknessSpread | None:
 def spread_sigma_nm(thickness_nm, spread: ThicknessSpread) -> np.ndarray:
     """σ (nm) of the local thickness at mean thicknesses ``thickness_nm`` (nm): see the module docstring."""
     d = np.asarray(thickness_nm, dtype=np.float64)
-    return np.minimum(spread.spread_nm + spread.spread_fraction * d, MAX_SIGMA_OVER_THICKNESS * d)
+    return np.minimum(spread.spread_nm + spread.spread_fraction * d, SIGMA_CAP_OF_THICKNESS * d)
 
 
 def node_count(sigma_max_nm: float, n_film_max: float, wavelength_min_nm: float) -> int:
     """Gauss–Hermite nodes for a phase spread ``a = 4π n σ / λ`` (the largest on the grid)."""
     a = 4.0 * math.pi * float(n_film_max) * float(sigma_max_nm) / float(wavelength_min_nm)
-    return int(min(MAX_NODES, math.ceil(NODES_PER_PHASE * a) + MIN_NODES))
+    return int(min(NODE_CAP, math.ceil(NODES_PER_PHASE * a) + BASE_NODES))
 
 
 def spread_nodes(count: int) -> tuple[np.ndarray, np.ndarray]:
