@@ -247,9 +247,9 @@ def test_fits_use_the_spread_of_the_profile():
     """Issue 19: the thickness fitters take the profile's spread (sweep and refinement paths). Spectra
     of a 3 % spread film at 260 nm (the spread model itself is checked against tmm above) are fitted
     back to 260 nm with the spread, and worse (a larger residual) by a uniform-film fit."""
-    from swatch.lab_fit import fit_lab
-    from swatch.measurements import LabMeasurement, SpectralMeasurement
-    from swatch.spectral_fit import fit_spectra
+    from swatch.fit.lab_fit import fit_lab
+    from swatch.fit.spectral_fit import fit_spectra
+    from swatch.io.measurements import LabMeasurement, SpectralMeasurement
 
     spread = ThicknessSpread(0.0, 0.03)
     light = np.array([45.0, 45.0, 45.0, 30.0])
