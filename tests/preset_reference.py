@@ -229,11 +229,6 @@ def main(argv: list[str]) -> None:
         print(f"{geo}: ΔE00 median {np.median(dE):.2f} max {dE.max():.2f}; over stated + 0.5: {over} of {dE.size}")
 
 
-if __name__ == "__main__":
-    import sys
-
-    main(sys.argv[1:])
-
 
 # -- MaterialX's own GLSL renderer (MaterialXRenderGlsl, Mesa under Xvfb) -----------------------
 
@@ -330,3 +325,9 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
                 for v, li in geometries]
         out.append({"file": str(path), "rows": rows})
     return out
+
+
+if __name__ == "__main__":
+    import sys
+
+    main(sys.argv[1:])

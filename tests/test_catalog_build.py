@@ -90,6 +90,19 @@ def test_outputs_and_records(built):
     a, b = float(rows[2]["a_D65_10_45as-15"]), float(rows[2]["b_D65_10_45as-15"])
     assert float(rows[2]["C_D65_10_45as-15"]) == pytest.approx(np.hypot(a, b), abs=1e-3)
     assert float(rows[2]["h_D65_10_deg_45as-15"]) == pytest.approx(np.degrees(np.arctan2(b, a)) % 360, abs=1e-2)
+    # #18: every number of catalog.json: XYZ, the colour name, the multi-angle hex codes, the presets'
+    # errors and the swatch's files
+    for row, rec in zip(rows, recs, strict=True):
+        assert [float(row[k]) for k in ("X_D65_10", "Y_D65_10", "Z_D65_10")] == pytest.approx(rec["XYZ"])
+        assert row["colour_name"] == rec["colour_name"]
+        assert all(row[f"srgb_hex_{g}"] == h for g, h in rec["multi_angle_srgb_hex"].items())
+        figures = [k for k in rec["presets"] if "delta_E_00" in k]
+        assert len(figures) == 15 and all(float(row[k]) == rec["presets"][k] for k in figures)
+        assert (row["chip_png"], row["chip_tiff"]) == (rec["print_chip"]["png"], rec["print_chip"]["tiff"])
+        assert [row[f"preset_{f}"] for f in ("gltf", "blender", "materialx")] == [
+            rec["presets"][f] for f in ("gltf", "blender", "materialx")]
+        assert all((out / row[k]).is_file() for k in ("sheet_png", "chip_png", "chip_tiff", "preset_gltf",
+                                                       "preset_blender", "preset_materialx"))
 
 
 def test_sheet_metadata_and_pixels(built):

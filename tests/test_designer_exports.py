@@ -24,6 +24,7 @@ import swatch  # noqa: F401  (silences colour-science's plotting notice)
 from swatch.catalog.exports import ase_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
+from swatch.pngmeta import SWATCH_XMP_NS
 
 SWATCH = str(Path(sys.executable).with_name("swatch"))
 THICKNESSES = [20.0, 40.0, 75.5, 130.0, 172.5, 260.0]
@@ -178,7 +179,11 @@ def test_cxf3_method_white_points_srgb_and_d50(data):
     root = ET.fromstring(cxf_bytes(SPEC, data))
     specs = {cs.get("Id"): cs for cs in root.findall(".//cc:ColorSpecification", NS)}
     for cs in specs.values():
-        assert cs.find(".//cc:Method", NS).text == "E308_1nm"  # 5 nm data, ASTM E308 (colour.sd_to_XYZ)
+        # 5 nm data: ASTM E308's practice weights them with the 1 nm table's values at every fifth
+        # wavelength (colour.sd_to_XYZ's 5 nm omission method), which is what E308_1nm names; the
+        # grid itself is the WavelengthRange (Increment 5) — checked below against that table (#18)
+        assert cs.find(".//cc:Method", NS).text == "E308_1nm"
+        assert cs.find(".//cc:WavelengthRange", NS).get("Increment") == "5"
         ill = cs.find(".//cc:Illuminant", NS)
         obs = cs.find(".//cc:Observer", NS).text
         cmfs = colour.MSDS_CMFS[{"2_Degree": "CIE 1931 2 Degree Standard Observer",
@@ -188,6 +193,13 @@ def test_cxf3_method_white_points_srgb_and_d50(data):
             white = colour.sd_to_XYZ(colour.SpectralDistribution(np.ones(81), data.wavelength_nm), cmfs,
                                      colour.SDS_ILLUMINANTS[ill.text])
         assert [float(ill.get(k)) for k in "XYZ"] == pytest.approx(white, abs=1e-3)
+        # E308_1nm as done: the 1 nm tables' values every 5 nm over the practice range 360–830 nm
+        # (the data extended to it, as colour.sd_to_XYZ does), summed (#18)
+        wl5 = np.arange(360.0, 831.0, 5.0)
+        S = colour.SDS_ILLUMINANTS[ill.text][wl5]
+        xyz5 = cmfs[wl5]
+        direct = 100.0 * (S[:, None] * xyz5).sum(axis=0) / (S * xyz5[:, 1]).sum()
+        assert [float(ill.get(k)) for k in "XYZ"] == pytest.approx(direct, abs=1e-3)
     obj = root.findall(".//cc:Object", NS)[2]
     rec = data.records[2]
     srgb = obj.find("cc:ColorValues/cc:ColorSRGB", NS)
@@ -247,7 +259,7 @@ def xmp_fields(xmp: str) -> dict:
     desc = root.find(f"{rdf}RDF/{rdf}Description")
     out = {k: desc.find(f"{dc}{k}/{rdf}Alt/{rdf}li").text for k in ("title", "description")}
     for el in desc:
-        if el.tag.startswith("{urn:anodic-swatch:xmp:1.0}"):
+        if el.tag.startswith("{" + SWATCH_XMP_NS + "}"):
             out[el.tag.split("}")[1]] = el.text
     return out
 
@@ -348,17 +360,20 @@ def test_print_chips_png_and_tiff(tiny_catalog):
     ihdr = png.read_bytes()[16:29]
     width, height, depth, ctype = struct.unpack(">IIBB", ihdr[:10])
     assert (width, height, depth, ctype) == (side, side, 16, 2)
-    with Image.open(png) as im:
-        assert im.info["srgb"] == 0 and im.info["dpi"] == pytest.approx((300, 300), abs=0.05)
+    with Image.open(png) as im:  # #18: relative colorimetric, the convention for colour chips
+        assert im.info["srgb"] == 1 and im.info["dpi"] == pytest.approx((300, 300), abs=0.05)
         assert json.loads(im.text["swatch:record"]) == dict(rec)
         xmp = xmp_fields(im.info["XML:com.adobe.xmp"])
     assert xmp["title"].startswith("S002 Ti 75.5 nm") and xmp["Lab_D50_2"] == " ".join(
         f"{x:.2f}" for x in rec["Lab_D50_2"])
-    # TIFF: 16-bit, flat, the same colour, 300 dpi, an embedded sRGB ICC profile LittleCMS reads
+    # TIFF: 16-bit, flat, the same colour, 300 dpi, an embedded sRGB ICC profile LittleCMS reads;
+    # #18: LZW (what exiftool -validate accepts), a valid fixed DateTime (an empty one is an invalid date)
     with tifffile.TiffFile(tiny_catalog / "chip_S002.tif") as tf:
         page = tf.pages[0]
         px = page.asarray()
         assert px.dtype == np.uint16 and px.shape == (side, side, 3)
+        assert page.compression == tifffile.COMPRESSION.LZW
+        assert page.tags["DateTime"].value == "1970:01:01 00:00:00"
         assert page.tags["XResolution"].value == (300, 1) and page.tags["ResolutionUnit"].value == 2
         icc = page.iccprofile
         assert "S002 Ti 75.5 nm" in page.tags["ImageDescription"].value
@@ -366,6 +381,13 @@ def test_print_chips_png_and_tiff(tiny_catalog):
     assert np.max(np.abs(np.round(px[0, 0] / 257.0) - want8)) <= 1  # the hex code's colour, in 16 bits
     profile = ImageCms.ImageCmsProfile(__import__("io").BytesIO(icc))
     assert "sRGB" in ImageCms.getProfileDescription(profile)
+    assert ImageCms.getDefaultIntent(profile) == ImageCms.Intent.RELATIVE_COLORIMETRIC
+    # libtiff (OpenImageIO's TIFF reader) reads the same pixels
+    import OpenImageIO as oiio
+
+    lib = oiio.ImageBuf(str(tiny_catalog / "chip_S002.tif"))
+    assert lib.spec().get_string_attribute("compression") == "lzw"
+    assert (np.asarray(lib.get_pixels(oiio.UINT16)) == px).all()
     assert (tiny_catalog / "chip_S002.png").stat().st_size < 64_000  # flat: small files
 
 
@@ -419,10 +441,17 @@ def test_exiftool_and_pngcheck_read_the_exports(tiny_catalog):
     assert p["XMP-anodic:Lab"] == " ".join(f"{x:.2f}" for x in rec["Lab"])
     assert p["XMP-anodic:Lab_D50_2"] == " ".join(f"{x:.2f}" for x in rec["Lab_D50_2"])
     assert p["XMP-anodic:Srgb_hex"] == rec["srgb_hex"] and json.loads(p["PNG:Swatchrecord"]) == rec
+    # the print chip PNG's intent (#18: relative colorimetric for colour chips)
+    assert p["PNG:SRGBRendering"] == "Relative Colorimetric"
     # the print chip TIFF: 16 bits, 300 dpi, an embedded sRGB profile
     assert t["IFD0:BitsPerSample"] == "16 16 16" and t["IFD0:XResolution"] == 300
     assert t["IFD0:ResolutionUnit"] == "inches" and "sRGB" in t["ICC_Profile:ProfileDescription"]
     assert t["IFD0:ImageDescription"].startswith("S002 Ti 75.5 nm")
+    assert t["ICC-header:RenderingIntent"] == "Media-Relative Colorimetric"
+    # #18: exiftool's validator finds nothing in either chip (it flagged Deflate and an empty DateTime)
+    check = subprocess.run([exiftool, "-validate", "-warning", "-error", "-a", "-s", str(chip_tif), str(chip_png)],
+                           capture_output=True, text=True, timeout=60)
+    assert check.returncode == 0 and check.stdout.count(": OK") == 2, check.stdout
 
 
 def test_cards_link_their_print_chips(tiny_catalog):

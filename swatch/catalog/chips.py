@@ -4,17 +4,20 @@ A chip is the swatch's colour at the reference geometry as sRGB from CIE 1931 2�
 (the hex code's colour, unquantised: 16 bits per channel), ``size_mm`` square at ``dpi``
 (default 50 mm at 300 dpi: 591 × 591 pixels). Both files say how to print them:
 
-* PNG: 16-bit RGB, ``sRGB`` chunk (perceptual intent; tagged sRGB), ``pHYs`` resolution, the
-  swatch's numbers as UTF-8 ``iTXt`` text and an XMP packet (:mod:`swatch.io.pngmeta`);
-* TIFF: 16-bit RGB, deflate-compressed, X/Y resolution in dots per inch, the sRGB ICC profile
-  embedded (LittleCMS's sRGB profile through Pillow's ImageCms, its creation date fixed so the
-  bytes are deterministic), a description with the swatch's numbers.
+* PNG: 16-bit RGB, ``sRGB`` chunk (relative colorimetric intent, the convention for colour
+  chips; tagged sRGB), ``pHYs`` resolution, the swatch's numbers as UTF-8 ``iTXt`` text and an
+  XMP packet (:mod:`swatch.io.pngmeta`);
+* TIFF: 16-bit RGB, LZW-compressed (what ``exiftool -validate`` accepts; a fixed DateTime), X/Y
+  resolution in dots per inch, the sRGB ICC profile embedded (LittleCMS's sRGB profile through
+  Pillow's ImageCms, its creation date fixed so the bytes are deterministic, its header's rendering
+  intent relative colorimetric, the profile ID recomputed), a description with the swatch's numbers.
 
 A flat chip costs little: one broadcast array and two compressed writes per swatch.
 """
 from __future__ import annotations
 
 import functools
+import hashlib
 import struct
 from pathlib import Path
 
@@ -25,7 +28,7 @@ from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
 from swatch.catalog.exports import ase_name
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.io.imageio import write_png, write_tiff
-from swatch.io.pngmeta import xmp_packet
+from swatch.io.pngmeta import CHIP_SRGB_INTENT, xmp_packet
 
 __all__ = ["chip_names", "srgb_icc_profile", "encoded_16bit",
            "chip_batches", "write_chips"]
@@ -41,10 +44,17 @@ def chip_names(rec: dict) -> tuple[str, str]:
 
 @functools.lru_cache(maxsize=1)
 def srgb_icc_profile() -> bytes:
-    """The sRGB ICC profile (LittleCMS, via Pillow) with a fixed creation date."""
-
+    """The sRGB ICC profile (LittleCMS, via Pillow) with a fixed creation date and the relative
+    colorimetric rendering intent in its header; the profile ID (MD5 over the profile with the
+    flags, intent and ID fields zeroed, ICC.1 7.2.18) recomputed when the profile carries one."""
     raw = bytearray(ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes())
     raw[24:36] = struct.pack(">6H", *_ICC_DATE)
+    raw[64:68] = struct.pack(">I", CHIP_SRGB_INTENT)
+    if any(raw[84:100]):
+        zeroed = bytearray(raw)
+        zeroed[44:48] = zeroed[64:68] = bytes(4)
+        zeroed[84:100] = bytes(16)
+        raw[84:100] = hashlib.md5(bytes(zeroed)).digest()
     return bytes(raw)
 
 
@@ -94,7 +104,8 @@ def write_chips(folder, header: dict, records: list[dict], values, metal: str, s
         pixels = np.broadcast_to(np.asarray(rgb, dtype=np.uint16), (n, n, 3))
         meta = {"id": rec["id"], "record": rec,
                 "chip": f"{size_mm:g} mm at {dpi:g} dpi; sRGB from CIE 1931 2° colorimetry"}
-        write_png(folder / png, pixels, meta, xmp=xmp_packet(title, description, props), dpi=dpi, flat=True)
+        write_png(folder / png, pixels, meta, xmp=xmp_packet(title, description, props), dpi=dpi, flat=True,
+                  intent=CHIP_SRGB_INTENT)
         write_tiff(folder / tif, pixels, dpi=dpi, icc_profile=srgb_icc_profile(), title=title,
                    description=description)
         names += [png, tif]

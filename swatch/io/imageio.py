@@ -36,7 +36,7 @@ import OpenImageIO as oiio
 from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_path
-from swatch.io.pngmeta import finish_png
+from swatch.io.pngmeta import SRGB_INTENT, finish_png
 
 __all__ = [
     "PREFIX",
@@ -44,6 +44,7 @@ __all__ = [
     "write_spectral_exr",
     "write_png",
     "write_tiff",
+    "TIFF_FIXED_DATETIME",
     "read_metadata",
     "read_channel_names",
     "reflective_channel_name",
@@ -252,12 +253,12 @@ def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None =
 
 
 def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, dpi: float | None = None,
-              flat: bool = False) -> Path:
+              flat: bool = False, intent: int | None = None) -> Path:
     """An sRGB PNG (gray, gray+alpha, RGB or RGBA; uint8, or uint16 for 16-bit) with metadata.
 
     Metadata values are UTF-8 ``iTXt`` chunks; ``xmp`` (see :func:`swatch.io.pngmeta.xmp_packet`)
     is embedded as the file's XMP packet; ``dpi`` sets the ``pHYs`` resolution. The ``sRGB``
-    chunk carries the perceptual rendering intent (:mod:`swatch.io.pngmeta`). ``flat``: the image is
+    chunk carries the perceptual rendering intent (:mod:`swatch.io.pngmeta`), or ``intent``. ``flat``: the image is
     flat colour, so PNG's row filters are skipped (no gain there, 2× faster).
     """
 
@@ -276,21 +277,33 @@ def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, d
     if flat:
         spec.attribute("png:filter", 8)  # PNG_FILTER_NONE
     _apply_metadata(spec, metadata, text_only=True)
-    return _write(path, spec, np.ascontiguousarray(arr), "png", finish=lambda blob: finish_png(blob, xmp, dpi))
+    chunk_intent = SRGB_INTENT if intent is None else intent
+    return _write(path, spec, np.ascontiguousarray(arr), "png",
+                  finish=lambda blob: finish_png(blob, xmp, dpi, chunk_intent))
+
+
+#: The TIFF DateTime of every TIFF written (the Unix epoch, as the CxF export's creation date).
+TIFF_FIXED_DATETIME = "1970:01:01 00:00:00"
 
 
 def write_tiff(path, rgb, dpi: float | None = None, icc_profile: bytes | None = None, title: str | None = None,
                description: str | None = None) -> Path:
-    """A deflate-compressed TIFF (uint8 or uint16, display-encoded) with resolution in dots per
-    inch, an embedded ICC profile and ``DocumentName`` / ``ImageDescription`` text."""
+    """An LZW-compressed TIFF (uint8 or uint16, display-encoded) with resolution in dots per
+    inch, an embedded ICC profile and ``DocumentName`` / ``ImageDescription`` text.
+
+    LZW, not Deflate: ``exiftool -validate`` flags Adobe Deflate (8) as an invalid IFD0
+    compression, LZW (5) is baseline-extension TIFF every reader (libtiff) has. ``DateTime`` is
+    :data:`TIFF_FIXED_DATETIME` (OpenImageIO stamps the current time when it writes text or a
+    profile, and an empty value is an invalid date): valid and byte-identical on rerun.
+    """
     oiio = _oiio()
     arr = _as_hwc(rgb, "TIFF pixels")
     if arr.dtype not in (np.uint8, np.uint16):
         raise SwatchError("TIFF pixels must be uint8 or uint16")
     h, w, c = arr.shape
     spec = oiio.ImageSpec(w, h, c, "uint8" if arr.dtype == np.uint8 else "uint16")
-    spec.attribute("compression", "zip")
-    spec.attribute("DateTime", "")  # no time stamp: deterministic files
+    spec.attribute("compression", "lzw")
+    spec.attribute("DateTime", TIFF_FIXED_DATETIME)
     if dpi is not None:
         spec.attribute("ResolutionUnit", "inch")
         spec.attribute("XResolution", float(dpi))

@@ -9,8 +9,9 @@ then rewrites the file's ancillary chunks (the PNG chunk layout is length, type,
 * an XMP packet (``iTXt`` keyword ``XML:com.adobe.xmp``, uncompressed as the XMP specification
   asks for PNG) with ``dc:title``, ``dc:description`` and swatch properties (Lab, thickness …),
   which Bridge, Lightroom and exiftool show;
-* the ``sRGB`` chunk's rendering intent becomes perceptual (0) — OpenImageIO writes absolute
-  colorimetric (3), which is meant for proofing, not for images;
+* the ``sRGB`` chunk's rendering intent becomes perceptual (0) for images, relative colorimetric
+  (1) for colour chips (:data:`CHIP_SRGB_INTENT`: a chip's colour is its measurement, to be kept,
+  not an image's look) — OpenImageIO writes absolute colorimetric (3), which is meant for proofing;
 * a ``pHYs`` chunk (pixels per metre) when a resolution in dots per inch is given;
 * OpenImageIO's empty ``eXIf`` and zero ``oFFs`` chunks are dropped.
 """
@@ -20,15 +21,18 @@ import struct
 import zlib
 from xml.sax.saxutils import escape
 
-__all__ = ["finish_png", "xmp_packet", "XMP_KEYWORD", "SWATCH_XMP_NS", "COMPRESS_OVER", "SRGB_INTENT"]
+__all__ = ["finish_png", "xmp_packet", "XMP_KEYWORD", "SWATCH_XMP_NS", "COMPRESS_OVER", "SRGB_INTENT",
+           "CHIP_SRGB_INTENT"]
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 XMP_KEYWORD = "XML:com.adobe.xmp"
-#: The namespace of swatch's own XMP properties.
-SWATCH_XMP_NS = "urn:anodic-swatch:xmp:1.0"
+#: The namespace of swatch's own XMP properties (XMP namespace URIs end in "/" or "#").
+SWATCH_XMP_NS = "urn:anodic-swatch:xmp:1.0/"
 COMPRESS_OVER = 1024
-#: sRGB chunk rendering intent: 0 perceptual (1 relative colorimetric, 3 absolute colorimetric).
+#: sRGB chunk rendering intent of images: 0 perceptual (1 relative colorimetric, 3 absolute colorimetric).
 SRGB_INTENT = 0
+#: ... of colour chips (and their ICC profile's header): relative colorimetric.
+CHIP_SRGB_INTENT = 1
 _INCH_M = 0.0254
 
 
@@ -78,8 +82,8 @@ def xmp_packet(title: str, description: str, properties: dict | None = None) -> 
     )
 
 
-def finish_png(blob: bytes, xmp: str | None = None, dpi: float | None = None) -> bytes:
-    """The PNG ``blob`` with its text in iTXt, the XMP packet, perceptual sRGB intent and DPI."""
+def finish_png(blob: bytes, xmp: str | None = None, dpi: float | None = None, intent: int = SRGB_INTENT) -> bytes:
+    """The PNG ``blob`` with its text in iTXt, the XMP packet, the sRGB ``intent`` and DPI."""
     out = [PNG_SIGNATURE]
     for kind, data in _chunks(blob):
         if kind == b"tEXt":
@@ -87,7 +91,7 @@ def finish_png(blob: bytes, xmp: str | None = None, dpi: float | None = None) ->
             out.append(_itxt(key.decode("latin-1"), text.decode("utf-8")))
             continue
         if kind == b"sRGB":
-            data = bytes([SRGB_INTENT])
+            data = bytes([intent])
         elif (kind == b"eXIf" and len(data) <= 14) or (kind in (b"oFFs", b"pHYs")
                                                          and (kind == b"pHYs" or not any(data[:8]))):
             # an empty eXIf (a TIFF header and an IFD without entries), or OIIO's own oFFs/pHYs
