@@ -24,7 +24,7 @@ import swatch  # noqa: F401  (silences colour-science's plotting notice)
 from swatch.catalog.exports import ase_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
-from swatch.pngmeta import SWATCH_XMP_NS
+from swatch.io.pngmeta import SWATCH_XMP_NS
 
 SWATCH = str(Path(sys.executable).with_name("swatch"))
 THICKNESSES = [20.0, 40.0, 75.5, 130.0, 172.5, 260.0]

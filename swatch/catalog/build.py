@@ -205,8 +205,8 @@ def _swatch_version() -> str:
 
 def _preset_figures() -> list[str]:
     """The presets' error keys, in catalog.json's order (max over mirror 0–60°, 0–45°, at 45:0)."""
+    from swatch.catalog.presets import FORMAT_FIGURES
     from swatch.presets import PRESET_FORMATS
-    from swatch.presets.catalog import FORMAT_FIGURES
 
     return [f"{prefix}{tail}" for fmt in PRESET_FORMATS for prefix in FORMAT_FIGURES[fmt]
             for tail in ("_max_delta_E_00", "_max_delta_E_00_45", "_delta_E_00_45_0")]
