@@ -3,9 +3,11 @@ colour-science (not our code), judged exactly as the tolerance says, voltage cor
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import colour
 import numpy as np
+import pytest
 from cli_helpers import assert_one_line_error, run_swatch
 from synthetic import tmm_half_vector_reflectance
 
@@ -144,3 +146,24 @@ def _lab_light_side(d, view):
     sd = colour.SpectralDistribution(dict(zip(wl, R, strict=True)))
     XYZ = colour.sd_to_XYZ(sd, colour.MSDS_CMFS[O10], colour.SDS_ILLUMINANTS["D65"]) / 100
     return colour.XYZ_to_Lab(XYZ, colour.CCS_ILLUMINANTS[O10]["D65"])
+
+
+def test_voltage_correction_follows_a_two_slope_growth_law(tmp_path):
+    """Above the knee the line grows 3.0 nm/V: a part 3 nm thick of nominal needs -1.0 V, not -3/2.032."""
+    from swatch.physics.process import load_process
+
+    base = load_process("titanium-fujii2019")
+    src = (Path(__file__).parents[1] / "swatch" / "tables" / "processes" / "titanium-fujii2019.toml").read_text(
+        encoding="utf-8")
+    prof = tmp_path / "knee.toml"
+    prof.write_text(src.replace("offset_nm =", "knee_V = 40.0\nnm_per_V_above_knee = 3.0\noffset_nm =", 1)
+                    .replace(f'name = "{base.name}"', 'name = "knee-line"'), encoding="utf-8")
+    d0 = 2.032 * 40.0 + 3.0 * 10.0  # 50 V
+    assert run_swatch("spec", "--voltage", "50", "--process", prof, "--out", tmp_path / "s").returncode == 0
+    spec = json.loads((tmp_path / "s" / "spec.json").read_text(encoding="utf-8"))
+    assert spec["nominal"]["thickness_nm"] == pytest.approx(d0, abs=0.05)
+    lab = _lab(d0 + 3.0, 45.0, 0.0)
+    p = tmp_path / "part.csv"
+    p.write_text("L,a,b\n" + ",".join(f"{x:.4f}" for x in lab) + "\n", encoding="utf-8")
+    out = json.loads(run_swatch("check", p, "--spec", tmp_path / "s" / "spec.json", "--json").stdout)
+    assert out["measurements"][0]["voltage_correction_V"] == pytest.approx(-1.0, abs=0.05)

@@ -9,8 +9,9 @@ must have been computed under them). A part passes when every geometry is within
 The part's thickness is fitted to its CIELAB at the measured geometries (spectra integrated first)
 by least squares in ΔE2000 near the nominal (±:data:`FIT_SPAN_NM`, so the fit stays on the spec's
 interference order), with no intensity scaling: the spec's colours are the half-vector model's
-absolute reflectance factor. The fit is vectorised over the parts of a file (one thickness table). The voltage correction is the voltage change that
-would grow the nominal thickness instead: ``(nominal − fitted) / nm_per_V`` (positive: raise it).
+absolute reflectance factor. The fit is vectorised over the parts of a file (one thickness
+table). The voltage correction is the voltage change that would grow the nominal thickness
+instead: ``V(nominal) − V(fitted)`` by the spec's growth law (one or two slopes; positive: raise it).
 """
 from __future__ import annotations
 
@@ -28,7 +29,7 @@ from swatch.io.instruments import InstrumentFile
 from swatch.io.measurements import LabMeasurement, SpectralMeasurement
 from swatch.physics import geometry
 from swatch.physics.materials import wavelength_grid
-from swatch.physics.model import get_coating
+from swatch.physics.model import get_coating, thickness_to_voltage_V
 from swatch.physics.spread import ThicknessSpread
 
 __all__ = ["load_spec_json", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
@@ -148,6 +149,10 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
         chips = [list(map(str, model_hex[i])) if c is None else c for i, c in enumerate(chips)]
     ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
     dE_all = np.atleast_2d(tol.delta_E(Lab_all, np.broadcast_to(ref, Lab_all.shape)))
+    def volts(x: float) -> float:  # the spec's growth law (one or two slopes)
+        return float(thickness_to_voltage_V(x, float(rate), float(proc.get("offset_nm", 0.0)), proc.get("knee_V"),
+                                            proc.get("nm_per_V_above_knee")))
+
     out = []
     for s, Lab, dE, d, chip in zip(f.samples, Lab_all, dE_all, d_fit, chips, strict=True):
         d = float(d)
@@ -161,6 +166,6 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
             "max_delta_E": round(float(dE.max()), 3), "metric": tol.metric,
             "Lab": {t["geometry"]: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
             "thickness_nm": round(d, 2), "thickness_offset_nm": round(d - d0, 2),
-            "voltage_correction_V": None if not rate else round((d0 - d) / float(rate), 2),
+            "voltage_correction_V": None if not rate else round(float(volts(d0) - volts(d)), 2),
         })
     return out

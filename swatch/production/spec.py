@@ -133,7 +133,6 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     flop = float(delta_E_00(Lab_f[0], Lab_f[1]))
     minus, plus, mcap, pcap = process_window(coating, cm, np.array([d]), REFERENCE, tolerance.max, WINDOW_SEARCH_NM,
                                              tolerance.metric)
-    rate = proc.nm_per_V
 
     def entry(i, g):
         e = {"geometry": g.name, "light_deg": g.light_deg, "view_deg": g.view_deg, "view_side": g.view_side,
@@ -162,8 +161,9 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
             "metric": tolerance.metric, "max": tolerance.max, "geometry": REFERENCE.name,
             "thickness_minus_nm": _r(minus[0], 1), "thickness_plus_nm": _r(plus[0], 1),
             "thickness_min_nm": _r(d - minus[0], 1), "thickness_max_nm": _r(d + plus[0], 1),
-            "voltage_minus_V": None if rate is None else _r(minus[0] / rate, 1),
-            "voltage_plus_V": None if rate is None else _r(plus[0] / rate, 1),
+            # through the growth law (one or two slopes): the voltage steps to the window's edges
+            "voltage_minus_V": None if v_nom is None else _r(v_nom - float(proc.voltage_V(d - minus[0])), 1),
+            "voltage_plus_V": None if v_nom is None else _r(float(proc.voltage_V(d + plus[0])) - v_nom, 1),
             "minus_capped": bool(mcap[0]), "plus_capped": bool(pcap[0]),
         },
         "process": proc.metadata(),
