@@ -279,7 +279,28 @@ def _progress(label: str, total: int, enabled: bool):
 
 def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = False,
                   log=None) -> BuildResult:
-    """Build (or bring up to date) the catalog of ``spec_path`` in ``out_dir``."""
+    """Build (or bring up to date) the catalog of ``spec_path`` in ``out_dir``.
+
+    Only what changed is rebuilt (tiles are cached under ``.swatch-catalog/``); the folder is
+    updated by an atomic commit, so a build that fails or is killed leaves the previous catalog.
+
+    Parameters
+    ----------
+    spec_path : str or path-like
+        The catalog spec (TOML; see docs/catalog.md).
+    out_dir : str or path-like
+        The catalog folder (the build's own: it writes and deletes only inside it).
+    jobs : int or None
+        Worker processes for the sheets (None: one per core, at most 8).
+    progress : bool
+        Report progress on stderr.
+    log : callable or None
+        Receives one line per step.
+
+    Returns
+    -------
+    BuildResult
+    """
     t0 = time.perf_counter()
     say = log or (lambda msg: None)
     spec, _raw = load_spec(spec_path)

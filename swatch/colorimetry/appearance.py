@@ -56,7 +56,39 @@ def thickness_colours(
     light_azimuth_deg: float = 0.0,
     view_azimuth_deg: float | None = None,
 ) -> ThicknessColours:
-    """All thicknesses in one vectorised evaluation and one matrix product."""
+    """The colours of a series of thicknesses at one light/view geometry.
+
+    All thicknesses are evaluated in one vectorised call of the half-vector model and turned into
+    colour by one matrix product (the colorimeter's tristimulus weights, ASTM E308).
+
+    Parameters
+    ----------
+    thickness_nm : array_like, shape (N,)
+        Film thicknesses, nm.
+    light_deg, view_deg : float
+        Polar angles of the light and the view from the surface normal, degrees, in [0, 90).
+    coating : Coating
+        Film, substrate and wavelength grid.
+    colorimeter : Colorimeter
+        Illuminant and observer of the Lab values (sRGB is always from CIE 1931 2°).
+    light_azimuth_deg, view_azimuth_deg : float
+        Azimuths, degrees; ``view_azimuth_deg`` None puts the view opposite the light (in plane).
+
+    Returns
+    -------
+    ThicknessColours
+        Reflectance (N, W), XYZ (N, 3) with Y = 100 for a perfect reflector, Lab, LCh, display sRGB,
+        gamut flags, hex codes and ΔE*ab to the previous row.
+
+    Examples
+    --------
+    >>> from swatch.colorimetry.colorimeter import get_colorimeter
+    >>> from swatch.physics.model import get_coating
+    >>> c = get_coating()
+    >>> tc = thickness_colours([50.8, 140.0], 45.0, 0.0, c, get_colorimeter(c.wavelength_nm))
+    >>> tc.Lab.shape
+    (2, 3)
+    """
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     refl, theta_d = coating.half_vector(d, light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
     R = refl.R

@@ -39,7 +39,26 @@ class Grade:
 
 @dataclass(frozen=True)
 class Tolerance:
-    """A bound ``max`` on the colour difference ``metric``; ``scheme``/``grade`` when it is a named grade."""
+    """A bound ``max`` on the colour difference ``metric``; ``scheme``/``grade`` when it is a named grade.
+
+    A tolerance is judged in the metric it is defined in (the CSAJ grades bound ΔE*ab).
+
+    Attributes
+    ----------
+    metric : str
+        ``dEab`` (CIE 1976 ΔE*ab), ``dE00`` (CIEDE2000) or another of :data:`METRICS`.
+    max : float
+        The largest difference that passes, in ``metric`` units.
+    scheme, grade : str or None
+        The grading scheme (``CSAJ``, ``NBS``) and grade (``AAA`` … ``E``) when it is a named grade.
+    description : str
+        The grade's wording (e.g. what a viewer perceives at that difference).
+
+    References
+    ----------
+    G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula", Color Res. Appl. 30,
+    21–30 (2005), doi:10.1002/col.20070.
+    """
 
     metric: str
     max: float
@@ -152,7 +171,26 @@ def _check_max(value) -> float:
 
 def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: str | None = None,
                   max: float | None = None) -> Tolerance:
-    """A named grade (``scheme``, ``grade``) or a written tolerance (``metric``, ``max``), not both."""
+    """A named grade (``scheme``, ``grade``) or a written tolerance (``metric``, ``max``), not both.
+
+    Parameters
+    ----------
+    scheme, grade : str or None
+        A grading scheme of ``tables/tolerance_grades.csv`` (``CSAJ``, ``NBS``) and one of its grades.
+    metric : str or None
+        A colour-difference metric (``dEab``, ``dE00`` …) for a written tolerance.
+    max : float or None
+        The written tolerance's bound, in ``metric`` units (0 < max ≤ ``MAX_TOLERANCE``).
+
+    Returns
+    -------
+    Tolerance
+
+    Raises
+    ------
+    SwatchError
+        For an unknown scheme, grade or metric, a bound out of range, or both forms given.
+    """
     if metric is not None or max is not None:
         if grade is not None:
             raise SwatchError("give a tolerance as a grade (scheme, grade) or as metric and max, not both")

@@ -220,11 +220,33 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
               illuminant: str = "D65", observer: str = "10", fit_scale: bool | None = None,
               name: str | None = None, search_tables: bool = True, film: str | None = None,
               substrate: str | None = None) -> Calibration:
-    """Fit a line's profile to ``coupons`` (see the module docstring), starting from ``base``.
+    """Fit a line's process profile to its test coupons (see the module docstring).
 
-    ``fit_scale``: True fits the film index scale (refused if the coupons cannot determine it),
-    False keeps the base's, None fits it when determined. ``search_tables``: choose the film and
-    substrate tables too (``film``/``substrate`` fix one of them); False keeps the base's.
+    Parameters
+    ----------
+    coupons : Coupons
+        Voltages (V) with measured CIELAB or spectra (:func:`swatch.io.coupons.read_coupons`).
+    base : Process
+        The profile to start from (its tables, scale and spread where they are not fitted).
+    light_deg, view_deg : float
+        The measuring geometry, degrees.
+    illuminant, observer : str
+        The conditions of the coupons' CIELAB.
+    fit_scale : bool or None
+        True fits the film index scale (refused if the coupons cannot determine it), False keeps
+        the base's, None fits it when determined.
+    name : str or None
+        The new profile's name.
+    search_tables : bool
+        Choose the film and substrate tables too, by leave-one-out ΔE2000 (``film``/``substrate``
+        fix one of them); False keeps the base's.
+    film, substrate : str or None
+
+    Returns
+    -------
+    Calibration
+        The fitted profile (offset nm, rate nm/V, scale, growth law), standard errors, per-coupon
+        ΔE2000 and outlier flags, and the ranking of the tables tried.
     """
     _check(coupons)
     geometry.check_polar_deg(light_deg, "light")

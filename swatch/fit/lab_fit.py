@@ -56,9 +56,41 @@ def fit_lab(
     film_index_scale: float = 1.0,
     spread=None,
 ) -> FitResult:
-    """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring);
-    ``film_index_scale`` is a process profile's scale of the film's real index, ``spread`` its thickness
-    spread (:class:`swatch.physics.spread.ThicknessSpread`; the model's colours are averaged over it)."""
+    """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring).
+
+    Parameters
+    ----------
+    measurement : LabMeasurement
+        CIELAB per geometry, with the illuminant and observer they were measured under.
+    film, substrate : str
+        Optical table names.
+    scale : {"energy", "lsq", "global", "none"}
+        The intensity correction applied to the model's spectra before their colour is compared.
+    exclude_mirror_deg : float
+        Geometries within this many degrees of the mirror direction are left out, degrees.
+    thickness_range : (float, float)
+        Search range, nm.
+    step_nm : float
+        Step of the global search, nm.
+    wavelength_nm : array_like or None
+        The model's wavelength grid, nm.
+    illuminant, observer : str
+        The conditions of the Lab values (e.g. ``D65``, ``10``).
+    scheme : str
+        Grading scheme of the fit's grade (judged in its own metric).
+    film_index_scale : float
+        A process profile's scale of the film's real index.
+    spread : ThicknessSpread or None
+        The film's thickness spread (the model's colours are averaged over it).
+
+    Returns
+    -------
+    FitResult
+
+    References
+    ----------
+    G. Sharma, W. Wu and E. N. Dalal (2005), doi:10.1002/col.20070 (CIEDE2000).
+    """
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
     coating = get_coating(film, substrate, wavelength_nm, film_index_scale, spread)

@@ -76,8 +76,34 @@ def match_colour(
 ) -> MatchResult:
     """Thicknesses whose colour at one geometry is closest to ``target_Lab`` (ranked by ΔE2000).
 
-    ``match_lightness`` scales the simulated colour so its Y equals the target's (compare hue
-    and chroma only, for targets of unknown lightness such as photographs).
+    Colours recur with interference order, so one candidate per local minimum (order) is kept.
+
+    Parameters
+    ----------
+    target_Lab : array_like, shape (3,)
+        The target colour, CIELAB under the colorimeter's illuminant and observer.
+    coating, colorimeter : Coating, Colorimeter or None
+        Defaults: the default process, D65, CIE 1964 10°.
+    light_deg, view_deg, light_azimuth_deg, view_azimuth_deg : float
+        The geometry, degrees (default 45°:0°).
+    thickness_range : (float, float)
+        Search range, nm.
+    step_nm : float
+        Search step, nm.
+    top : int
+        How many candidates to return.
+    nm_per_V : float
+        Growth rate for the candidates' voltages, nm/V.
+    grade, scheme : str
+        The tolerance the candidates are judged against (in its own metric).
+    match_lightness : bool
+        Scale the simulated colour so its Y equals the target's (compare hue and chroma only, for
+        targets of unknown lightness such as photographs).
+
+    Returns
+    -------
+    MatchResult
+        Candidates with ``thickness_nm``, ``voltage_V``, ``Lab``, ``delta_E_00`` and ``within_grade``.
     """
     target = np.asarray(target_Lab, dtype=np.float64).reshape(3)
     if not np.all(np.isfinite(target)) or not 0 <= target[0] <= 100:

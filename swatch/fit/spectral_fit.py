@@ -163,9 +163,39 @@ def fit_spectra(
 
 def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, grid_given: bool = False,
                     source: str | None = None, **options) -> FitResult:
-    """:func:`fit_spectra` of a spectral measurement or :func:`swatch.fit.lab_fit.fit_lab` of a CIELAB
-    one (on ``wavelength_nm``); ``options`` go to the fit. Spectra are fitted on their own
-    wavelengths: a grid the user gave (``grid_given``) is refused for them, naming ``source``."""
+    """The film thickness of a measurement: :func:`fit_spectra` of spectra, or
+    :func:`swatch.fit.lab_fit.fit_lab` of CIELAB values.
+
+    Least squares over every geometry outside the mirror region, with the paper's intensity
+    correction (Table 2's estimate), a global search over the thickness range and a bounded
+    refinement of the best minima.
+
+    Parameters
+    ----------
+    measurement : SpectralMeasurement or LabMeasurement
+        From :func:`swatch.io.measurements.read_measurement` or an instrument file.
+    film, substrate : str
+        Optical table names.
+    wavelength_nm : array_like or None
+        The model's grid for CIELAB measurements, nm. Spectra are fitted on their own wavelengths:
+        a grid the user gave (``grid_given``) is refused for them, naming ``source``.
+    grid_given : bool
+    source : str or None
+        How to name the grid's origin in a refusal (the CLI passes its flag).
+    **options
+        Passed to the fit (scale mode, mirror exclusion in degrees, thickness range and step in nm,
+        illuminant, observer, grading scheme, film index scale, spread).
+
+    Returns
+    -------
+    FitResult
+        ``thickness_nm``, ``uncertainty_nm`` (Gauss–Newton), residual, the second-best minimum,
+        mean ΔE*ab and ΔE2000 over the geometries used, and the grade.
+
+    References
+    ----------
+    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 and Table 2.
+    """
 
     if isinstance(measurement, LabMeasurement):
         return fit_lab(measurement, film, substrate, wavelength_nm=wavelength_nm, **options)

@@ -71,7 +71,24 @@ def _rows(path: Path, source: str):
 
 
 def read_coupons(path) -> Coupons:
-    """Read and validate a coupon CSV (see the module docstring)."""
+    """Read and validate a coupon file (CSV; see the module docstring).
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``voltage_V,L,a,b`` per coupon, or spectra in long form ``voltage_V,wavelength_nm,reflectance``;
+        an optional ``thickness_nm`` column (untrusted: size, rows and coupons capped).
+
+    Returns
+    -------
+    Coupons
+        Voltages (V), the measured CIELAB or spectra, and thicknesses where given (nm).
+
+    Raises
+    ------
+    SwatchError
+        One line naming the file and what is wrong in it.
+    """
     p = Path(path)
     source = str(path)
     rows = _rows(p, source)

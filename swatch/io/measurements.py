@@ -354,7 +354,29 @@ def _parse_lab(rows: _Rows, light_deg, view_deg, light_azimuth_deg, view_azimuth
 
 def read_measurement(path, percent: bool | None = None, light_deg: float = 45.0, view_deg: float = 0.0,
                      light_azimuth_deg: float = 0.0, view_azimuth_deg: float | None = None):
-    """Read a measurement CSV file (spectral or CIELAB; see the module docstring)."""
+    """Read a measurement CSV file (spectral or CIELAB; see the module docstring).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV (untrusted: size-capped before reading; non-regular files refused).
+    percent : bool or None
+        Reflectance given in percent (True) or as a fraction (False); None: detected from the values.
+    light_deg, view_deg : float
+        The geometry, degrees from the normal, for files without per-row angle columns.
+    light_azimuth_deg, view_azimuth_deg : float
+        Azimuths, degrees; ``view_azimuth_deg`` None puts the view opposite the light.
+
+    Returns
+    -------
+    SpectralMeasurement or LabMeasurement
+        Per-geometry spectra (reflectance factor, fraction) on the file's wavelengths, or CIELAB values.
+
+    Raises
+    ------
+    SwatchError
+        One line naming the file, the row or column, what is wrong and what is allowed.
+    """
     p = Path(path)
     if not p.exists():
         raise SwatchError(f"{p}: no such file")

@@ -60,12 +60,26 @@ def wavelength_grid(start_nm: float = 380.0, stop_nm: float = 780.0,
                     step_nm: float = 5.0) -> np.ndarray:
     """Evenly spaced vacuum wavelengths ``start_nm, start_nm + step_nm, ...`` up to ``stop_nm``.
 
-    ``stop_nm`` is included when it lies on the grid (to within 1e-9 of a step);
-    otherwise the grid ends at the last point below it.  Points are computed as
-    ``start_nm + i * step_nm`` (no accumulated rounding).  Returns float64.
+    Parameters
+    ----------
+    start_nm, stop_nm, step_nm : float
+        First wavelength, last wavelength (included when it lies on the grid, to within 1e-9 of a
+        step; otherwise the grid ends at the last point below it) and step, nm.
 
-    Raises SwatchError if a value is not finite, ``start_nm <= 0``,
-    ``start_nm >= stop_nm`` or ``step_nm <= 0``.
+    Returns
+    -------
+    numpy.ndarray, float64, shape (N,)
+        ``start_nm + i * step_nm`` (no accumulated rounding), at most ``MAX_WAVELENGTHS`` points.
+
+    Raises
+    ------
+    SwatchError
+        If a value is not finite, ``start_nm <= 0``, ``start_nm >= stop_nm`` or ``step_nm <= 0``.
+
+    Examples
+    --------
+    >>> wavelength_grid(380, 780, 5).size
+    81
     """
     try:
         start, stop, step = float(start_nm), float(stop_nm), float(step_nm)
@@ -104,10 +118,29 @@ def _fmt_nm(value: float) -> str:
 
 @dataclass(frozen=True, eq=False)
 class Material:
-    """Tabulated optical constants of one material (one CSV table).
+    """Tabulated optical constants of one material (one CSV table of ``tables/optical/``).
 
     Instances are immutable (arrays are read-only) and compare by identity, so they
     can be cached and shared.
+
+    Attributes
+    ----------
+    name : str
+        Table name, e.g. ``"TiO2-Siefke"`` (``<Material>-<Author>``).
+    role : str
+        ``"film"`` (a clear oxide) or ``"substrate"`` (a metal).
+    formula, reference, doi, source_file, license : str
+        Chemical formula, the measurement's reference and DOI, the file of the refractiveindex.info
+        database it was converted from, and the data's licence (CC0).
+    wavelength_nm : numpy.ndarray, float64, shape (M,)
+        Tabulated vacuum wavelengths, nm, strictly increasing.
+    n, k : numpy.ndarray, float64, shape (M,)
+        Real part of the refractive index and extinction coefficient (``N = n + i k``, k ≥ 0 absorbs).
+
+    References
+    ----------
+    M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data 11, 94 (2024),
+    doi:10.1038/s41597-023-02898-2.
     """
 
     name: str  #: table name, e.g. ``"TiO2-Siefke"``
@@ -240,8 +273,26 @@ def _load_cached(name: str) -> Material:
 def load_material(name: str) -> Material:
     """The material table called ``name`` (e.g. ``"Ti-Johnson"``); case-insensitive.
 
-    Tables are read once and cached.  Raises SwatchError listing the available
-    names if there is no such table.
+    Parameters
+    ----------
+    name : str
+        A table name as ``swatch materials list`` shows it.
+
+    Returns
+    -------
+    Material
+        Read once and cached (the same object on every call).
+
+    Raises
+    ------
+    SwatchError
+        Listing the available names, if there is no such table.
+
+    Examples
+    --------
+    >>> m = load_material("Ti-Johnson")
+    >>> m.role
+    'substrate'
     """
     files = _optical_files()
     if name not in files:
@@ -254,7 +305,23 @@ def load_material(name: str) -> Material:
 
 
 def list_materials(role: str | None = None) -> list[Material]:
-    """All material tables, sorted by name; only those of ``role`` if given."""
+    """All material tables, sorted by name; only those of ``role`` if given.
+
+    Parameters
+    ----------
+    role : {"film", "substrate"} or None
+        Keep only films (clear oxides) or substrates (metals); None: every table.
+
+    Returns
+    -------
+    list of Material
+        Sorted by table name.
+
+    Raises
+    ------
+    SwatchError
+        For a role other than those of :data:`ROLES`.
+    """
     if role is not None and role not in ROLES:
         raise SwatchError(f"role must be one of {', '.join(ROLES)} (got {role!r})")
     materials = [_load_cached(name) for name in sorted(_optical_files())]

@@ -90,8 +90,29 @@ def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offse
 
 def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
                            knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
-    """Anodising voltage for a film thickness, V (inverse of :func:`voltage_to_thickness_nm`; below the
-    initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film)."""
+    """Anodising voltage for a film thickness, V: the inverse of :func:`voltage_to_thickness_nm`.
+
+    Parameters
+    ----------
+    thickness_nm : array_like
+        Film thickness, nm.
+    nm_per_V : float
+        Growth rate, nm per volt (up to the knee, with one).
+    offset_nm : float
+        Thickness at 0 V (the initial oxide), nm.
+    knee_V, nm_per_V_above_knee : float or None
+        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
+
+    Returns
+    -------
+    numpy.ndarray, float64, the shape of ``thickness_nm``
+        Voltage, V. Below the initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film.
+
+    Examples
+    --------
+    >>> float(thickness_to_voltage_V(101.6, nm_per_V=2.032))
+    50.0
+    """
     d = np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)
     rate = _check_rate(nm_per_V)
     if knee_V is None or nm_per_V_above_knee is None:
@@ -151,9 +172,37 @@ class _HalfVector:
 class Coating(_HalfVector):
     """Ambient (air) / film / substrate with tabulated complex indices on a wavelength grid.
 
-    ``spread`` is the film's thickness non-uniformity (:mod:`swatch.physics.spread`): with one, every
-    reflectance is the incoherent average over the local thicknesses around the given (mean)
-    thickness; without (the default) the uniform film's code path runs unchanged.
+    The half-vector model of Fujii et al.: :meth:`half_vector` evaluates Airy's reflectance
+    (eq. 2–4) at the incidence angle θ_d on the facet whose normal is the half vector of light and
+    view (eq. 5); :meth:`reflectance` and :meth:`reflectance_cos` take the facet's incidence
+    directly. Thicknesses and angles broadcast together to a shape S; results are S + (W,).
+
+    Attributes
+    ----------
+    film, substrate : str
+        Table names (:func:`swatch.physics.materials.load_material`).
+    wavelength_nm : numpy.ndarray, float64, shape (W,)
+        Vacuum wavelengths, nm.
+    n_film, n_substrate : numpy.ndarray, complex128, shape (W,)
+        Complex indices ``n + i k`` on the grid (the film's real part times a process profile's
+        film index scale).
+    spread : ThicknessSpread
+        The film's thickness non-uniformity (:mod:`swatch.physics.spread`): with one, every
+        reflectance is the incoherent average over the local thicknesses around the given (mean)
+        thickness; without (the default) the uniform film's code path runs unchanged.
+
+    References
+    ----------
+    M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from
+    Fine Structure", IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030.
+    M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6 (Airy's formula for one film).
+
+    Examples
+    --------
+    >>> c = get_coating()
+    >>> R, theta_d = c.half_vector(50.8, 45.0, 0.0)
+    >>> R.R.shape, float(theta_d)
+    ((81,), 22.5)
     """
 
     film: str
@@ -260,7 +309,26 @@ class OvercoatedCoating(_HalfVector):
 
 
 def overcoat(spec: str, wavelength_nm) -> Overcoat:
-    """Parse ``N_OR_TABLE:THICKNESS_NM`` (``1.5:200`` or ``TiO2-Siefke:20``) into an :class:`Overcoat`."""
+    """Parse ``N_OR_TABLE:THICKNESS_NM`` (``1.5:200`` or ``TiO2-Siefke:20``) into an :class:`Overcoat`.
+
+    Parameters
+    ----------
+    spec : str
+        A constant real index from 1 to 5, or a film table's name, then ``:`` and the layer's
+        thickness in nm (more than 0, at most ``MAX_THICKNESS_NM``).
+    wavelength_nm : array_like, shape (W,)
+        The coating's wavelength grid, nm (the layer's index is evaluated on it).
+
+    Returns
+    -------
+    Overcoat
+        The layer (label, complex index (W,), thickness_nm), treated coherently by the transfer matrix.
+
+    Examples
+    --------
+    >>> overcoat("1.5:200", [500.0, 600.0]).label
+    'n=1.5'
+    """
     text = str(spec).strip()
     what, sep, thick = text.rpartition(":")
     if not sep or not what:
@@ -322,11 +390,30 @@ def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1
 
 def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wavelength_nm=None,
                 film_index_scale: float = 1.0, spread: ThicknessSpread | None = None) -> Coating:
-    """A cached :class:`Coating` for material names and a grid (default 380–780 nm, 5 nm).
+    """A cached :class:`Coating` for material names and a wavelength grid.
 
-    ``film_index_scale`` multiplies the real part of the film's index (an anodic film's density
-    differs from any tabulated film's; a process profile sets it), from 0.5 to 1.5. ``spread``:
-    the film's thickness spread (:class:`swatch.physics.spread.ThicknessSpread`; None or zero: uniform).
+    Parameters
+    ----------
+    film, substrate : str
+        Table names of the clear film and the metal (``swatch materials list``).
+    wavelength_nm : array_like or None
+        Vacuum wavelengths, nm (default 380–780 nm every 5 nm); within both tables.
+    film_index_scale : float
+        Multiplies the real part of the film's index (an anodic film's density differs from any
+        tabulated film's; a process profile sets it), from 0.5 to 1.5.
+    spread : ThicknessSpread or None
+        The film's thickness spread (:class:`swatch.physics.spread.ThicknessSpread`); None or zero:
+        a uniform film.
+
+    Returns
+    -------
+    Coating
+        Cached on all arguments (the same object for the same request).
+
+    Raises
+    ------
+    SwatchError
+        For an unknown table, a table of the wrong role, a grid outside a table, or a scale out of range.
     """
     scale = float(film_index_scale)
     if not (math.isfinite(scale) and 0.5 <= scale <= 1.5):

@@ -56,7 +56,32 @@ _CALIBRATION_TEXT = ("source", "measured", "geometry", "illuminant", "observer",
 
 @dataclass(frozen=True)
 class Process:
-    """One line's profile (see the module docstring). ``nm_per_V`` is None when no rate is known."""
+    """One anodising line's profile (see the module docstring and docs/processes.md).
+
+    Attributes
+    ----------
+    name, description : str
+        The profile's name (one line) and what it describes.
+    film, substrate : str
+        Optical table names of the oxide and the metal.
+    nm_per_V : float or None
+        Growth rate, nm per volt (up to ``knee_V`` with a two-slope law); None when no rate is
+        known (optics-only profiles: niobium, tantalum).
+    offset_nm : float
+        Thickness at 0 V, nm.
+    film_index_scale : float
+        Multiplies the real part of the film's index (0.5–1.5).
+    roughness : float or None
+        GGX alpha of the line's finish, when the profile states one.
+    spread : ThicknessSpread
+        The film's thickness non-uniformity (:mod:`swatch.physics.spread`).
+    knee_V, nm_per_V_above_knee : float or None
+        A two-slope growth law: ``nm_per_V`` up to ``knee_V`` (V), ``nm_per_V_above_knee`` beyond.
+    sources, calibration : tuple of (str, value) pairs
+        The source of each number, or the calibration that produced them.
+    origin : str
+        ``"preset"``, the profile file's name, or ``"..., overridden: ..."``.
+    """
 
     name: str
     description: str
@@ -256,7 +281,28 @@ def _parse(path: Path, source: str, origin: str) -> Process:
 
 
 def load_process(name_or_path: str) -> Process:
-    """A profile by preset name (``tables/processes/NAME.toml``) or from a TOML file."""
+    """A process profile by preset name (``tables/processes/NAME.toml``) or from a TOML file.
+
+    Parameters
+    ----------
+    name_or_path : str
+        A preset's name (``titanium-fujii2019`` …) or the path of a profile ``.toml`` (untrusted:
+        size-capped, unknown keys refused, every number range-checked).
+
+    Returns
+    -------
+    Process
+
+    Raises
+    ------
+    SwatchError
+        One line naming the file and what is wrong in it, or the presets available.
+
+    Examples
+    --------
+    >>> load_process("titanium-fujii2019").nm_per_V
+    2.032
+    """
     text = str(name_or_path).strip()
     if not text:
         raise SwatchError(f"--process is empty; give a preset ({', '.join(preset_names())}) or a TOML file")
@@ -270,7 +316,12 @@ def load_process(name_or_path: str) -> Process:
 
 
 def list_processes() -> list[Process]:
-    """Every preset profile, by name."""
+    """Every preset profile of ``tables/processes/``, sorted by name.
+
+    Returns
+    -------
+    list of Process
+    """
     return [load_process(n) for n in preset_names()]
 
 

@@ -33,7 +33,29 @@ def check_angular_size(n_light: int, n_view: int, n_wavelengths: int) -> None:
 
 @dataclass
 class AngularMap:
-    """Colour over light angle (rows) × view angle (columns), in plane, on opposite sides."""
+    """Colour over light angle (rows) × view angle (columns), in plane, on opposite sides.
+
+    Attributes
+    ----------
+    thickness_nm : float
+        Film thickness, nm.
+    light_deg, view_deg : numpy.ndarray, shapes (L,) and (V,)
+        The angles of the rows and columns, degrees from the normal.
+    theta_d_deg : numpy.ndarray, shape (L, V)
+        Incidence angle on the half-vector facet, degrees.
+    XYZ, Lab : numpy.ndarray, shape (L, V, 3)
+        Colour of the reflectance factor (Y = 100 for a white diffuser).
+    linear_rgb : numpy.ndarray, float, shape (L, V, 3)
+        Scene-referred linear RGB in the map's space.
+    display_rgb : numpy.ndarray, uint8, shape (L, V, 3)
+        Display sRGB with ``exposure`` applied.
+    exposure : float
+    spectral : numpy.ndarray, shape (L, V, W)
+        Reflectance factor per wavelength.
+    wavelength_nm : numpy.ndarray, shape (W,)
+    metadata : dict
+        What the files written from the map record about it.
+    """
 
     thickness_nm: float
     light_deg: np.ndarray
@@ -58,12 +80,38 @@ def angular_map(thickness_nm: float, light_deg=DEFAULT_ANGLES_DEG, view_deg=DEFA
                 space: str = "srgb") -> AngularMap:
     """The colour of one thickness over all in-plane light × view angles (the paper's Fig. 5/11).
 
-    ``spectral`` (L, V, W) is the reflectance factor per wavelength: the half-vector reflectance
-    ``F`` for the paper's model, ``π D G F / (4 cos θ_l cos θ_v)`` for the microfacet model (no
-    ``cos θ_l`` irradiance factor: a gonio-spectrophotometer's reflectance factor). ``XYZ``/``Lab``
-    are its colour (Y = 100 for a white diffuser; L* may exceed 100 in the mirror region);
-    ``linear_rgb`` in ``space``; ``display_rgb`` sRGB uint8 with ``exposure`` applied (1 for the
-    paper's model; for the microfacet model chosen as in :mod:`swatch.render.display`).
+    Parameters
+    ----------
+    thickness_nm : float
+        Film thickness, nm.
+    light_deg, view_deg : array_like, shapes (L,) and (V,)
+        Polar angles of the light and the view, degrees, on opposite sides of the normal (in plane).
+    coating, colorimeter : Coating, Colorimeter or None
+        The film and the colour conditions (defaults: the default process; D65 and CIE 1964 10° for
+        XYZ/Lab; RGB always from CIE 1931 2°).
+    model : {"paper", "microfacet"}
+        The half-vector reflectance alone, or D·G·F/(4 cos θl cos θv).
+    roughness_alpha : float
+        GGX/Beckmann alpha (microfacet model).
+    distribution : {"ggx", "beckmann"}
+    space : {"srgb", "acescg"}
+        Primaries of ``linear_rgb``.
+
+    Returns
+    -------
+    AngularMap
+        ``spectral`` (L, V, W) is the reflectance factor per wavelength: ``F`` for the paper's model,
+        ``π D G F / (4 cos θ_l cos θ_v)`` for the microfacet model (no ``cos θ_l`` irradiance factor:
+        a gonio-spectrophotometer's reflectance factor). ``XYZ``/``Lab`` are its colour (Y = 100 for a
+        white diffuser; L* may exceed 100 in the mirror region); ``linear_rgb`` in ``space``;
+        ``display_rgb`` sRGB uint8 with ``exposure`` applied (1 for the paper's model; for the
+        microfacet model chosen as in :mod:`swatch.render.display`).
+
+    References
+    ----------
+    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, Fig. 5 and 11.
+    B. Walter et al., "Microfacet models for refraction through rough surfaces", EGSR 2007,
+    doi:10.2312/EGWR/EGSR07/195-206.
     """
 
     d = float(check_thickness_nm(float(thickness_nm)))

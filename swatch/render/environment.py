@@ -362,7 +362,24 @@ def _builtin(name: str) -> Environment:
 
 
 def get_environment(name_or_path) -> Environment | None:
-    """The environment for ``--environment``: None for ``none``, a built-in, or a user's EXR."""
+    """An environment by name or file: None for ``none``, a built-in, or a user's map.
+
+    Parameters
+    ----------
+    name_or_path : str, path-like or Environment
+        ``none``, ``uniform``, ``studio``, or the path of an equirectangular EXR (y up, Rec.709
+        primaries, at most ``MAX_ENV_PIXELS``; checked from its header before pixels are read).
+
+    Returns
+    -------
+    Environment or None
+        Normalised so that a white diffuser facing up reflects 1.0; None for ``none`` (the point light).
+
+    Raises
+    ------
+    SwatchError
+        For an unknown name, or a file that is not a usable map (one line, what is allowed).
+    """
     key = str(name_or_path).strip()
     if key.lower() == "none":
         return None
