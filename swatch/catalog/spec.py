@@ -475,23 +475,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
 
 
 def load_spec(path) -> tuple[CatalogSpec, bytes]:
-    """Read and validate a catalog spec file.
-
-    Parameters
-    ----------
-    path : str or path-like
-        The spec (TOML, untrusted: size-capped, unknown keys refused, every number range-checked).
-
-    Returns
-    -------
-    (CatalogSpec, bytes)
-        The spec and the file's bytes (part of the build's fingerprint).
-
-    Raises
-    ------
-    SwatchError
-        One line naming the key, what is wrong and what is allowed.
-    """
+    """Read and validate a spec file; returns the spec and the file's bytes."""
     p = Path(path)
     source = str(path)
     text = read_text_capped(p, MAX_SPEC_BYTES, "catalog spec", "TOML", source)
