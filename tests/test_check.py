@@ -167,3 +167,15 @@ def test_voltage_correction_follows_a_two_slope_growth_law(tmp_path):
     p.write_text("L,a,b\n" + ",".join(f"{x:.4f}" for x in lab) + "\n", encoding="utf-8")
     out = json.loads(run_swatch("check", p, "--spec", tmp_path / "s" / "spec.json", "--json").stdout)
     assert out["measurements"][0]["voltage_correction_V"] == pytest.approx(-1.0, abs=0.05)
+
+
+def test_check_reads_an_argyll_ti3_of_parts_under_the_spec_colorimetry(tmp_path):
+    """The .ti3 states D50/2° for its CIE values; its spectra are judged under the spec's D65/10°."""
+    assert run_swatch("spec", "--thickness", "120", "--out", tmp_path / "s").returncode == 0
+    ti3 = Path(__file__).parent / "data" / "instruments" / "argyll_parts.ti3"
+    out = json.loads(run_swatch("check", ti3, "--spec", tmp_path / "s" / "spec.json", "--json").stdout)
+    got = {r["id"]: r for r in out["measurements"]}
+    assert got["2"]["max_delta_E"] < 0.3 and got["2"]["pass"]
+    for pid, d in (("1", 118.0), ("2", 120.0), ("3", 123.0)):
+        assert abs(got[pid]["voltage_correction_V"] - (120.0 - d) / 2.032) <= 0.2
+        assert got[pid]["srgb_from"].startswith("measured spectra")
