@@ -46,6 +46,8 @@ def test_synthetic_line_passes_and_fails_as_the_tolerance_says(tmp_path):
     for r in out["measurements"]:
         assert abs(r["voltage_correction_V"] - truth[r["id"]][1]) <= 0.2
         assert set(r["delta_E"]) == {g["geometry"] for g in geoms}
+        ref = spec["reference"]
+        assert r["delta_Lab"]["45:0"] == pytest.approx(np.subtract(r["Lab"]["45:0"], ref["Lab"]), abs=2e-3)
     assert out["pass"] is False and proc.returncode == 1
     assert (tmp_path / "qc" / "check.png").stat().st_size > 0
 

@@ -165,6 +165,9 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
             "delta_E": {t["geometry"]: round(float(e), 3) for t, e in zip(targets, dE, strict=True)},
             "max_delta_E": round(float(dE.max()), 3), "metric": tol.metric,
             "Lab": {t["geometry"]: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
+            # measured − specified: which way the part is off (darker, redder, yellower …) at each geometry
+            "delta_Lab": {t["geometry"]: [round(float(v), 3) for v in lab - np.asarray(t["Lab"])]
+                          for t, lab in zip(targets, Lab, strict=True)},
             "thickness_nm": round(d, 2), "thickness_offset_nm": round(d - d0, 2),
             "voltage_correction_V": None if not rate else round(float(volts(d0) - volts(d)), 2),
         })
