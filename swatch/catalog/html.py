@@ -20,7 +20,7 @@ from importlib import resources
 
 from swatch.core.choices import LIGHTINGS
 
-__all__ = ["index_html", "embed_json", "page_script", "page_style"]
+__all__ = ["index_html", "embed_json", "page_script", "page_style", "print_page_style", "css_string"]
 
 #: The page's script files, concatenated in this order inside one strict-mode function.
 SCRIPTS = ("colour.js", "envlight.js", "view.js", "page.js")
@@ -49,6 +49,23 @@ def page_script() -> str:
 
 def page_style() -> str:
     return _asset("page.css")
+
+
+def css_string(text: str) -> str:
+    """``text`` as a double-quoted CSS string: every character outside printable ASCII letters, digits,
+    space and a few marks written as a CSS escape (so no text from a spec can end the string or the
+    ``<style>`` element)."""
+    safe = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 .,:;()+-_/=%")
+    return '"' + "".join(ch if ch in safe else f"\\{ord(ch):x} " for ch in str(text)) + '"'
+
+
+def print_page_style(c: dict) -> str:
+    """The printed pages' margin boxes: the catalog and its process at the top of every page, the page
+    number at the bottom (CSS paged media, ``@page`` margin boxes)."""
+    top = f"{c['name']} · {c['film']} on {c['substrate']} · process {c['process']['name']}: {_growth_text(c['process'])}"
+    box = "font: 8pt system-ui, \"DejaVu Sans\", sans-serif; color: #555"
+    return (f"@page {{ @top-left {{ content: {css_string(top)}; {box}; }} "
+            f"@bottom-right {{ content: \"page \" counter(page) \" of \" counter(pages); {box}; }} }}")
 
 
 def _fmt(x, n: int) -> str:
@@ -195,10 +212,11 @@ def _tools(c: dict, env: dict | None = None) -> str:
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
 <div class="stage"><canvas id="view" width="800" height="600" role="img" aria-label="live view of the swatch"></canvas>
 <p class="hint" id="view-note">Drag the picture to turn the view; the lighting stays fixed. Colours are the
-thin-film physics of this catalog (embedded table), shaded with the microfacet model. Lighting: one point light
-(its angle on the slider, exposure from the picture) or an environment, the studio of the sheets'
-renders or uniform white, integrated over the microfacet lobe at exposure 1 (a white diffuser would be white),
-as <code>swatch render --environment</code>.</p></div>
+thin-film physics of this catalog (embedded table), shaded with the microfacet model. Lighting: the studio of
+the sheets' renders (at first) or uniform white, integrated over the microfacet lobe at exposure 1 (a white
+diffuser would be white), as <code>swatch render --environment</code>; or one point light (its angle on the
+slider, exposure from the picture) with a fill: a uniform white surround, so the side away from the light shows
+the film's colour dimmed rather than black. Outlines are antialiased.</p></div>
 <div class="panel">
 <h2>Live view</h2>
 <form id="live-form" autocomplete="off">
@@ -214,6 +232,8 @@ as <code>swatch render --environment</code>.</p></div>
 <div class="pair">{_lighting_select(env)}</div>
 <label><span>light angle <strong id="l-out"></strong></span><input id="light" type="range" min="0" max="85" step="0.5"></label>
 <label><span>light azimuth <strong id="la-out"></strong></span><input id="light-azimuth" type="range" min="-180" max="180" step="1"></label>
+<label><span>fill <strong id="f-out"></strong> (point light: a uniform white surround, 1 = the light that shows
+white paper as white; 0 = the bare light, black where it does not reach)</span><input id="fill" type="range" min="0" max="1" step="0.01"></label>
 <label><span>view angle <strong id="w-out"></strong></span><input id="view-deg" type="range" min="0" max="85" step="0.5"></label>
 </form>
 <div class="readout">
@@ -231,7 +251,7 @@ as <code>swatch render --environment</code>.</p></div>
 <label>picker<input id="find-picker" type="color" value="#2275b5"></label>
 <button type="submit">find</button>
 </form>
-<p class="hint" id="find-target"></p>
+<div class="find-target" id="find-target"></div>
 <ol id="find-results"></ol>
 </section>
 <section id="compare" class="tool" hidden aria-label="compare">
@@ -284,7 +304,8 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 <meta http-equiv="Content-Security-Policy" content="{e(csp)}">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{e(c["name"])} · swatch catalog</title>
-<style>{page_style()}</style>
+<style>{page_style()}
+{print_page_style(c)}</style>
 </head>
 <body>
 <header>

@@ -27,6 +27,19 @@ function voltageOf(T, d) { // the voltage growing d by the table's growth law (t
   return knee === null || x <= T.nm_per_V * knee ? x / T.nm_per_V : knee + (x - T.nm_per_V * knee) / T.nm_per_V_above_knee;
 }
 
+// WCAG 2 relative luminance of an sRGB hex colour and the contrast ratio of two (1 to 21)
+function relativeLuminance(hex) {
+  const h = String(hex).replace(/^#/, "");
+  const lin = [0, 2, 4].map((i) => { const c = parseInt(h.slice(i, i + 2), 16) / 255; return c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4; });
+  return 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2];
+}
+function contrastRatio(hexA, hexB) {
+  const a = relativeLuminance(hexA), b = relativeLuminance(hexB);
+  return (Math.max(a, b) + 0.05) / (Math.min(a, b) + 0.05);
+}
+// the ink (black or white) with the higher contrast on a chip: at least 4.58, above WCAG AA's 4.5
+function inkFor(hex) { return contrastRatio(hex, "#000000") >= contrastRatio(hex, "#ffffff") ? "#000000" : "#ffffff"; }
+
 function makeColour(T) {
   const grid = decodeBlock(T.grid);
   const col = decodeBlock(T.reference.values);
@@ -83,10 +96,11 @@ function makeColour(T) {
     const fx = f(X[0] / 100 / w[0]), fy = f(X[1] / 100 / w[1]), fz = f(X[2] / 100 / w[2]);
     return [116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)];
   }
-  function LabtoXYZ(Lab) {
+  function LabtoXYZ(Lab, white) { // colour.Lab_to_XYZ, on the Y = 100 scale
+    const w = white || W;
     const fy = (Lab[0] + 16) / 116, fx = fy + Lab[1] / 500, fz = fy - Lab[2] / 200;
     const inv = (t) => t ** 3 > 216 / 24389 ? t ** 3 : (116 * t - 16) / (24389 / 27);
-    return [inv(fx) * W[0] * 100, inv(fy) * W[1] * 100, inv(fz) * W[2] * 100];
+    return [inv(fx) * w[0] * 100, inv(fy) * w[1] * 100, inv(fz) * w[2] * 100];
   }
   function encode(c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * Math.pow(c, 1 / 2.4) - 0.055; }
   function decode(c) { return c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4); }
@@ -174,6 +188,16 @@ function makeColour(T) {
     return refLabs[o];
   }
   function refColour(d) { return describe(refAt(d)); }
+  // a chip for a target: a hex as it is (2° sRGB); an L*a*b* through XYZ against the 2° white to display
+  // sRGB (a display approximation when the catalog's observer is 10°)
+  function hexColour(hex) {
+    const Lab = hexToLab(hex), h = "#" + String(hex).trim().replace(/^#/, "").toLowerCase();
+    return {Lab, hex: h, in_srgb_gamut: true, display_p3: display(LabtoXYZ(Lab, T.white_XYZ2), T.XYZ2_to_p3_linear).encoded};
+  }
+  function labColour(Lab) {
+    const XYZ = LabtoXYZ(Lab, T.white_XYZ2), s = display(XYZ), p3 = display(XYZ, T.XYZ2_to_p3_linear);
+    return {Lab, hex: hexOf(s.encoded), in_srgb_gamut: s.inGamut, display_p3: p3.encoded};
+  }
   // as swatch.fitting.match_colour over the catalog's range: local minima of the sampled
   // CIEDE2000 curve (an end counts only when lower than every interior minimum), the best
   // refined within one step, kept at least min_separation apart, ranked by CIEDE2000.
@@ -244,6 +268,6 @@ function makeColour(T) {
     const hi = R.start + R.step * (nr - 1);
     return {minus: edge(-1), plus: edge(1)};
   }
-  return {colorAt, match, gridAt, rowLinearSrgb, refColour, windowAt, dE00, dEab, LCh, XYZtoLab, LabtoXYZ, hexToLab,
+  return {colorAt, match, gridAt, rowLinearSrgb, refColour, hexColour, labColour, windowAt, dE00, dEab, LCh, XYZtoLab, LabtoXYZ, hexToLab,
           cosThetaD, range: [d0, d0 + dstep * (nd - 1)], cosNodes: nc};
 }

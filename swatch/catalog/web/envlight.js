@@ -22,7 +22,8 @@ vec3 toPage(vec3 e) { return vec3(-e.z, -e.x, e.y); }
 float sgn(float x) { return x >= 0.0 ? 1.0 : -1.0; }
 void main() {
   vec3 d, n;
-  if (!surface(uv, d, n)) { outM = uvec4(0u); return; }
+  float cover = pixelSurface(d, n);  // antialiasing: the shade pass mixes in the background
+  if (cover <= 0.0) { outM = uvec4(0u); return; }
   vec3 v = -d;
   if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
   float cv = dot(n, v);
@@ -50,8 +51,9 @@ void main() {
     float r = texture(atlas, (vec2(L.x, 0.0) + f + 0.5) / atlasSize).r;
     m += texelFetch(wts, ivec2(i, j), 0) * r;
   }
+  // w: the fourth moment (half float, high 16 bits), bin + 1 (9 bits), coverage (7 bits)
   outM = uvec4(floatBitsToUint(m.x), floatBitsToUint(m.y), floatBitsToUint(m.z),
-               packHalf2x16(vec2(m.w, float(j + 1))));
+               (packHalf2x16(vec2(m.w, 0.0)) << 16u) | (uint(j + 1) << 7u) | uint(round(cover * 127.0)));
 }`;
 
 const ENV_SHADE = `
@@ -63,12 +65,13 @@ void main() {
   uvec4 q = texelFetch(mom, ivec2(gl_FragCoord.xy) >> lod, 0);
   vec3 lin = vec3(BG);
   if (q.w != 0u) {
-    vec2 hw = unpackHalf2x16(q.w);
-    int j = int(hw.y + 0.5) - 1;
+    float m3 = unpackHalf2x16(q.w >> 16u).x;
+    int j = int((q.w >> 7u) & 511u) - 1;
+    float cover = float(q.w & 127u) / 127.0;  // of the pixel covered by the object
     vec4 a = texelFetch(coef, ivec2(0, j), 0), b = texelFetch(coef, ivec2(1, j), 0), c = texelFetch(coef, ivec2(2, j), 0);
     vec3 rad = uintBitsToFloat(q.x) * a.xyz + uintBitsToFloat(q.y) * vec3(a.w, b.xy)
-             + uintBitsToFloat(q.z) * vec3(b.zw, c.x) + hw.x * c.yzw;
-    lin = vec3(tone(rad.r), tone(rad.g), tone(rad.b));
+             + uintBitsToFloat(q.z) * vec3(b.zw, c.x) + m3 * c.yzw;
+    lin = mix(vec3(BG), vec3(tone(rad.r), tone(rad.g), tone(rad.b)), cover);
   }
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
@@ -158,6 +161,16 @@ function makeEnvLight(gl, E, C) {
     }
     return out;
   }
+  // the directional albedo of each view bin (RGB; the radiance under uniform radiance 1): the point
+  // light's fill
+  function albedo(row) {
+    const out = new Float32Array(M * 4);
+    for (let j = 0; j < M; j++) {
+      for (let m = 0; m < nc; m++) { const hm = H[j * nc + m]; for (let ch = 0; ch < 3; ch++) out[4 * j + ch] += hm * row[4 * m + ch]; }
+      out[4 * j + 3] = 1;
+    }
+    return out;
+  }
   let lastD = null;
   function setThickness(d) {
     if (d === lastD) return;
@@ -188,7 +201,7 @@ function makeEnvLight(gl, E, C) {
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
   }
-  return {gather, setThickness, setupGather, setupShade, names: E.lightings.filter((n) => n in maps), samples: N,
+  return {gather, setThickness, setupGather, setupShade, albedo, bins: M, names: E.lightings.filter((n) => n in maps), samples: N,
     gatherSource: "#define NSAMPLES " + N + "\n" + ENV_GATHER, shadeSource: ENV_SHADE,
-    uniforms: ["samp", "wts", "atlas", "levels", "atlasSize", "bins", "mom", "coef", "lod"]};
+    uniforms: ["samp", "wts", "atlas", "levels", "atlasSize", "mom", "coef", "lod"]};
 }

@@ -40,7 +40,7 @@ function chip(c, cls, label) {
   const d = el("div", "chip " + (cls || ""));
   paint(d, c);
   if (!c.in_srgb_gamut) d.appendChild(el("span", "gamut", "outside sRGB"));
-  if (label) d.appendChild(el("span", "chip-label", label));
+  if (label) { const t = el("span", "chip-label", label); t.style.color = inkFor(c.hex); d.appendChild(t); }
   return d;
 }
 function geoArgs(g) { // a catalog geometry as colorAt arguments (in plane; view side)
@@ -74,9 +74,12 @@ $("controls").addEventListener("reset", () => setTimeout(update, 0));
 $("controls").addEventListener("submit", (e) => e.preventDefault());
 
 // -- live view -------------------------------------------------------------------------------
+// the point light's fill: a uniform white surround of this radiance (1 shows a white diffuser as display
+// white), so the side turned from the light is the film's colour dimmed, not black
+const DEFAULT_FILL = 0.1;
 const state = {thickness_nm: swatches.length ? swatches[0].thickness_nm : C.range[0], light_deg: ref.light_deg,
   view_deg: ref.view_deg, light_azimuth_deg: 0, view_azimuth_deg: ref.view_side === "light" ? 0 : 180,
-  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point"};
+  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point", fill: DEFAULT_FILL};
 const canvas = $("view");
 let view = null;
 try { view = makeView(canvas, C, {roughness: T.render.roughness}, ENV); } catch (e) { view = null; console.warn(String(e)); }
@@ -85,6 +88,8 @@ if (!view) {
   $("lighting").disabled = true;
 }
 for (const o of [...$("lighting").options]) if (!(view ? view.lightings : ["point"]).includes(o.value)) o.remove();
+// the live view opens under the studio light box (as the sheets' renders), where the page has it
+if (view && view.lightings.includes("studio") && state.model === "microfacet") state.lighting = "studio";
 const clampT = (d) => Math.min(Math.max(d, C.range[0]), C.range[1]);
 function readout() {
   const c = C.colorAt(state);
@@ -104,6 +109,7 @@ function readout() {
   $("v-out").textContent = fmt(toV(state.thickness_nm), 1) + " V";
   $("l-out").textContent = fmt(state.light_deg, 1) + "°";
   $("la-out").textContent = fmt(state.light_azimuth_deg, 0) + "°";
+  $("f-out").textContent = fmt(state.fill, 2);
   $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
 }
 let drag = null;
@@ -119,6 +125,7 @@ function syncInputs() {
   $("light").disabled = state.lighting !== "point"; // an environment lights from everywhere
   $("light-azimuth").value = ((state.light_azimuth_deg + 540) % 360) - 180;
   $("light-azimuth").disabled = state.lighting !== "point";
+  $("fill").value = state.fill; $("fill").disabled = state.lighting !== "point" || state.model === "paper";
 }
 function show(q) {
   q = q || {};
@@ -132,6 +139,7 @@ function show(q) {
   if (q.view_deg !== undefined) state.view_deg = n(q.view_deg, 0, 89);
   if (q.light_azimuth_deg !== undefined) state.light_azimuth_deg = n(q.light_azimuth_deg, -720, 720);
   if (q.view_azimuth_deg !== undefined) state.view_azimuth_deg = n(q.view_azimuth_deg, -720, 720);
+  if (q.fill !== undefined) state.fill = n(q.fill, 0, 1);
   if (q.shape !== undefined && view && view.SHAPES.includes(q.shape)) state.shape = q.shape;
   if (q.model === "paper" || q.model === "microfacet") {
     state.model = q.model;
@@ -159,6 +167,7 @@ $("live-form").addEventListener("input", (e) => {
   else if (id === "light") show({light_deg: e.target.value});
   else if (id === "light-azimuth") show({light_azimuth_deg: e.target.value});
   else if (id === "view-deg") show({view_deg: e.target.value});
+  else if (id === "fill") show({fill: e.target.value});
   else if (id === "shape") show({shape: e.target.value});
   else if (id === "model") show({model: e.target.value});
   else if (id === "lighting") show({lighting: e.target.value});
@@ -252,18 +261,37 @@ for (const s of swatches) {
 }
 
 // -- find by colour --------------------------------------------------------------------------
+// the target beside the results: its chip (a hex as typed; an L*a*b* shown in sRGB against the 2°
+// white, a display approximation), the nearest swatches with their CIEDE2000 and CIE 1976 ΔE*ab, whether
+// each lies within the catalog's tolerance (in its own metric) and its process window
+function findTarget(text, c) {
+  const box = $("find-target");
+  box.replaceChildren();
+  if (c) box.appendChild(chip(c, "small"));
+  if (text) box.appendChild(el("span", "", text));
+}
 function find(target) {
   const res = $("find-results");
   res.replaceChildren();
   let hits;
-  try { hits = C.match(target, 5); } catch (e) { res.appendChild(el("li", "error", String(e.message))); return; }
+  try { hits = C.match(target, 5); } catch (e) {
+    findTarget("");  // the previous target does not stay on screen beside an error
+    res.appendChild(el("li", "error", String(e.message)));
+    return;
+  }
   const tLab = hits.length ? hits[0].target_Lab : [];
   const obs = target.Lab ? T.observer : "2"; // a hex is sRGB: its L*a*b* is on the 2° observer (as swatch match --hex)
-  $("find-target").textContent = "target L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " + obs + "°)";
+  const tChip = target.Lab ? C.labColour(tLab) : C.hexColour(target.hex);
+  findTarget("target " + tChip.hex + " · L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " + obs + "°)", tChip);
   for (const h of hits) {
     const li = el("li");
     li.appendChild(chip(C.refColour(h.thickness_nm), "small"));
+    const dE = tol.metric === "dEab" ? h.delta_E_ab : h.delta_E_00;
+    const ok = dE <= bound;
+    const w = C.windowAt(h.thickness_nm, bound, tol.search_nm, tol.metric);
     li.appendChild(el("span", "num", fmt(h.thickness_nm, 2) + " nm · " + fmt(h.voltage_V, 1) + " V · ΔE00 " + fmt(h.delta_E_00, 2) + " · ΔE*ab " + fmt(h.delta_E_ab, 2)));
+    li.appendChild(el("span", ok ? "tol ok" : "tol out", (ok ? "within " : "outside ") + tol.metric + " ≤ " + bound +
+      " · window −" + fmt(w.minus.nm, 1) + " / +" + fmt(w.plus.nm, 1) + " nm"));
     const b = el("button", "", "live view"); b.type = "button";
     b.addEventListener("click", () => show({thickness_nm: h.thickness_nm}));
     const p = el("button", "", "compare"); p.type = "button";
@@ -277,6 +305,11 @@ $("find-form").addEventListener("submit", (e) => {
   const lab = $("find-lab").value.trim();
   if (lab) find({Lab: lab.split(/[\s,;]+/).map(Number)});
   else find({hex: $("find-hex").value});
+});
+// the picker follows a typed hex (and a picked colour fills in the hex)
+$("find-hex").addEventListener("input", (e) => {
+  const h = e.target.value.trim().replace(/^#?/, "#");
+  if (HEX.test(h)) $("find-picker").value = h.toLowerCase();
 });
 $("find-picker").addEventListener("input", (e) => { $("find-hex").value = e.target.value; $("find-lab").value = ""; find({hex: e.target.value}); });
 

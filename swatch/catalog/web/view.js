@@ -18,37 +18,74 @@ in vec2 uv;
 uniform vec3 eye, fwd, right, up;
 uniform float tanHalf, aspect, bendR, bendPhi;
 const float BG = 0.18;
-bool hitPlate(vec3 o, vec3 d, out float t, out vec3 n) {
-  if (abs(d.z) < 1e-6) return false;
-  t = -o.z / d.z; vec3 q = o + t * d; n = vec3(0, 0, 1);
-  return t > 0.0 && abs(q.x) <= 1.0 && abs(q.y) <= 1.0;
+// Each shape gives, for the pixel's ray d, a signed distance e to its outline (world units; > 0 on the
+// object) and the normal n of the nearest surface point, defined on both sides of the outline: the pass
+// turns e into the pixel's coverage with its screen-space derivative (analytic antialiasing: one ray a
+// pixel, no supersampling) and shades the edge pixels with n.
+const float FAR = -1e3;
+float edgePlate(vec3 o, vec3 d, out vec3 n) {
+  n = vec3(0, 0, 1);
+  float t = abs(d.z) < 1e-6 ? -1.0 : -o.z / d.z;
+  if (t <= 0.0) return FAR;
+  vec3 q = o + t * d;
+  return 1.0 - max(abs(q.x), abs(q.y));
 }
-bool hitBend(vec3 o, vec3 d, out float t, out vec3 n) {
+float edgeBend(vec3 o, vec3 d, out vec3 n) {
   vec3 c = vec3(0, 0, -bendR); vec2 oc = (o - c).xz; vec2 dd = d.xz;
-  float a = dot(dd, dd), b = dot(oc, dd), k = dot(oc, oc) - bendR * bendR, disc = b * b - a * k;
-  if (a < 1e-9 || disc < 0.0) return false;
-  float s = sqrt(disc);
-  for (int i = 0; i < 2; i++) {
-    t = (i == 0 ? (-b - s) : (-b + s)) / a; vec3 q = o + t * d; vec3 r = q - c;
-    if (t > 0.0 && abs(q.y) <= 1.0 && abs(atan(r.x, r.z)) <= bendPhi) { n = normalize(vec3(r.x, 0, r.z)); return true; }
+  float a = max(dot(dd, dd), 1e-9), b = dot(oc, dd), k = dot(oc, oc) - bendR * bendR, disc = b * b - a * k;
+  // beyond the tangent (the outline of the curved side): the distance of the ray from the axis, less R
+  vec2 near = oc - (b / a) * dd;
+  float tangent = bendR - length(near);
+  n = normalize(vec3(near.x, 0, near.y));
+  if (disc < 0.0) {  // the ray passes the cylinder: how far from the sheet's outline there
+    vec3 q = o - (b / a) * d;
+    return min(min(tangent, 1.0 - abs(q.y)), (bendPhi - abs(atan(near.x, near.y))) * bendR);
   }
-  return false;
+  float s = sqrt(disc), best = FAR;
+  for (int i = 0; i < 2; i++) {
+    float t = (i == 0 ? (-b - s) : (-b + s)) / a;
+    if (t <= 0.0) continue;
+    vec3 q = o + t * d; vec3 r = q - c;
+    float e = min(min(1.0 - abs(q.y), (bendPhi - abs(atan(r.x, r.z))) * bendR), i == 0 ? tangent : 1e3);
+    if (e > best) { best = e; n = normalize(vec3(r.x, 0, r.z)); }
+    if (e >= 0.0) break;  // the front layer where it is there, else the back one
+  }
+  return best;
 }
-bool hitSphere(vec3 o, vec3 d, out float t, out vec3 n) {
-  float b = dot(o, d), k = dot(o, o) - 1.0, disc = b * b - k;
-  if (disc < 0.0) return false;
-  t = -b - sqrt(disc); n = normalize(o + t * d); return t > 0.0;
+float edgeSphere(vec3 o, vec3 d, out vec3 n) {
+  float b = dot(o, d);
+  vec3 near = o - b * d;  // the ray's closest point to the centre
+  float r = length(near);
+  if (b >= 0.0) { n = vec3(0, 0, 1); return FAR; }
+  n = r < 1.0 ? normalize(o - (b + sqrt(1.0 - r * r)) * d) : near / r;
+  return 1.0 - r;
 }
-bool surface(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d and, on a hit, the normal n
+float edge(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d, the outline distance and the normal
   d = normalize(fwd + tanHalf * (p.x * aspect * right + p.y * up));
-  float t;
 #if SHAPE == 0
-  return hitPlate(eye, d, t, n);
+  return edgePlate(eye, d, n);
 #elif SHAPE == 1
-  return hitBend(eye, d, t, n);
+  return edgeBend(eye, d, n);
 #else
-  return hitSphere(eye, d, t, n);
+  return edgeSphere(eye, d, n);
 #endif
+}
+// the pixel's coverage by the object (0 to 1) from e and its change across the pixel (derivatives: in
+// uniform control flow), and the ray and normal to shade it with: the pixel's centre, or on the outline
+// the middle of the covered part (the silhouette itself is grazing: its shading is not the pixel's)
+float pixelSurface(out vec3 d, out vec3 n) {
+  float e = edge(uv, d, n);
+  vec2 g = vec2(dFdx(e), dFdy(e)), du = vec2(dFdx(uv.x), dFdy(uv.y));
+  // the change of e across the pixel, at most 20 pixels' width at the object's distance: e jumps where the
+  // bent sheet's front layer gives way to the back one, which is no outline
+  float w = min(abs(g.x) + abs(g.y), 20.0 * tanHalf * abs(du.y) * length(eye));
+  float cover = e <= FAR * 0.5 ? 0.0 : clamp(0.5 + e / max(w, 1e-7), 0.0, 1.0);
+  float glen = length(g);
+  if (cover > 0.0 && cover < 1.0 && glen > 0.0) {
+    vec3 d2, n2;
+    if (edge(uv + (g / glen) * (0.5 * (1.0 - cover) + 0.05) * du, d2, n2) > 0.0) { d = d2; n = n2; }
+  }
+  return cover;
 }
 float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
 float enc(float c) { c = clamp(c, 0.0, 1.0); return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055; }
@@ -58,35 +95,46 @@ const FS = `
 out vec4 outColor;
 uniform sampler2D row; uniform int nodes;
 uniform vec3 light;
-uniform float alpha, exposure;
+uniform float alpha, exposure, fill;
+uniform sampler2D alb;  // directional albedo per view bin (RGB), for the fill; bins = 0: F(theta_v) instead
+uniform int bins;
 vec3 tableAt(float c) {
   float x = clamp(c, 0.0, 1.0) * float(nodes - 1);
   int i = min(int(x), nodes - 2); float f = x - float(i);
   return mix(texelFetch(row, ivec2(i, 0), 0).rgb, texelFetch(row, ivec2(i + 1, 0), 0).rgb, f);
 }
+vec3 shade(vec3 d, vec3 n) {  // linear radiance of a surface point, at exposure 1 for the fill
+  vec3 v = -d;
+  if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
+  float cl = dot(n, light), cv = max(dot(n, v), 0.0);
+  float lv = dot(light, v); float cd = sqrt(max((lv + 1.0) * 0.5, 1e-12));
+  float ch = (cl + cv) * (0.5 / cd);
+  float s;
+#if MODEL == 1
+  s = (cl > 0.0 && cv > 0.0) ? 1.0 : 0.0;
+#else
+  {
+    float c = max(cl, 0.0), a2 = alpha * alpha, om = 1.0 - a2;
+    float den = ch * ch * (a2 - 1.0) + 1.0;
+    float vis = c * sqrt(cv * cv * om + a2) + cv * sqrt(c * c * om + a2);
+    s = 0.5 * a2 * c / max(den * den * vis, 1e-30);
+  }
+#endif
+  vec3 col = tableAt(cd) * s * exposure;
+  if (fill > 0.0) {  // a uniform white surround of radiance fill: the directional albedo of the view bin
+    vec3 a;
+    if (bins > 0) {
+      int j = bins - 1 - clamp(int(acos(clamp(cv, 0.0, 1.0)) * (float(bins) / 1.5707963267948966)), 0, bins - 1);
+      a = texelFetch(alb, ivec2(0, j), 0).rgb;
+    } else a = tableAt(cv);
+    col += fill * a;
+  }
+  return vec3(tone(col.r), tone(col.g), tone(col.b));
+}
 void main() {
   vec3 d, n;
-  vec3 lin = vec3(BG);
-  if (surface(uv, d, n)) {
-    vec3 v = -d;
-    if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
-    float cl = dot(n, light), cv = max(dot(n, v), 0.0);
-    float lv = dot(light, v); float cd = sqrt(max((lv + 1.0) * 0.5, 1e-12));
-    float ch = (cl + cv) * (0.5 / cd);
-    float s;
-#if MODEL == 1
-    s = (cl > 0.0 && cv > 0.0) ? 1.0 : 0.0;
-#else
-    {
-      float c = max(cl, 0.0), a2 = alpha * alpha, om = 1.0 - a2;
-      float den = ch * ch * (a2 - 1.0) + 1.0;
-      float vis = c * sqrt(cv * cv * om + a2) + cv * sqrt(c * c * om + a2);
-      s = 0.5 * a2 * c / max(den * den * vis, 1e-30);
-    }
-#endif
-    vec3 col = tableAt(cd) * s * exposure;
-    lin = vec3(tone(col.r), tone(col.g), tone(col.b));
-  }
+  float cover = pixelSurface(d, n);
+  vec3 lin = cover > 0.0 ? mix(vec3(BG), shade(d, n), cover) : vec3(BG);
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 
@@ -103,7 +151,7 @@ function makeView(canvas, C, settings, envData) {
   const programs = new Map();
   const vs = compile(gl.VERTEX_SHADER, VS);
   const UNIFORMS = ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
-    "bendR", "bendPhi"];
+    "bendR", "bendPhi", "fill", "alb", "bins"];
   let env = null;  // the environment passes (envlight.js), when the page embeds them
   function program(pass, shape, model) {
     const key = pass + "/" + shape + "/" + model;
@@ -119,7 +167,10 @@ function makeView(canvas, C, settings, envData) {
     const U = {};
     for (const name of UNIFORMS.concat(env ? env.uniforms : [])) U[name] = gl.getUniformLocation(prog, name);
     gl.useProgram(prog);
-    if (pass === "point") { gl.uniform1i(U.row, 0); gl.uniform1i(U.nodes, C.cosNodes); }
+    if (pass === "point") {
+      gl.uniform1i(U.row, 0); gl.uniform1i(U.nodes, C.cosNodes); gl.uniform1i(U.alb, ALB_UNIT);
+      gl.uniform1i(U.bins, env ? env.bins : 0);
+    }
     else if (pass === "gather") env.setupGather(prog, U);
     else env.setupShade(prog, U);
     const entry = {prog, U};
@@ -200,6 +251,12 @@ function makeView(canvas, C, settings, envData) {
     try { env = makeEnvLight(gl, envData, C); } catch (e) { env = null; console.warn("environment lighting is off: " + String(e)); }
   }
   let lastGather = null;
+  const ALB_UNIT = 6, albTex = gl.createTexture();  // the fill's directional albedo per view bin
+  gl.activeTexture(gl.TEXTURE0 + ALB_UNIT);
+  gl.bindTexture(gl.TEXTURE_2D, albTex);
+  for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+    [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, v);
+  gl.activeTexture(gl.TEXTURE0);
   function setCamera(U, cam, aspect) {
     gl.uniform3fv(U.eye, cam.eye); gl.uniform3fv(U.fwd, cam.fwd); gl.uniform3fv(U.right, cam.right);
     gl.uniform3fv(U.up, cam.up);
@@ -233,9 +290,16 @@ function makeView(canvas, C, settings, envData) {
     if (env && st.lighting !== "point" && env.names.includes(st.lighting)) return drawEnvironment(st, cam, shape, w, h);
     gl.viewport(0, 0, w, h);
     if (lastRowD !== st.thickness_nm) {
+      const row = C.rowLinearSrgb(st.thickness_nm);
       gl.activeTexture(gl.TEXTURE0);
       gl.bindTexture(gl.TEXTURE_2D, tex);
-      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, C.cosNodes, 1, 0, gl.RGBA, gl.FLOAT, C.rowLinearSrgb(st.thickness_nm));
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, C.cosNodes, 1, 0, gl.RGBA, gl.FLOAT, row);
+      if (env) {
+        gl.activeTexture(gl.TEXTURE0 + ALB_UNIT);
+        gl.bindTexture(gl.TEXTURE_2D, albTex);
+        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, 1, env.bins, 0, gl.RGBA, gl.FLOAT, env.albedo(row));
+        gl.activeTexture(gl.TEXTURE0);
+      }
       lastRowD = st.thickness_nm;
     }
     const light = dir(st.light_deg, st.light_azimuth_deg);
@@ -249,6 +313,7 @@ function makeView(canvas, C, settings, envData) {
     setCamera(U, cam, aspect);
     gl.uniform3fv(U.light, light);
     gl.uniform1f(U.alpha, settings.roughness); gl.uniform1f(U.exposure, k);
+    gl.uniform1f(U.fill, st.model === "paper" ? 0 : Math.max(0, Number(st.fill) || 0));
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     return k;
   }
