@@ -122,6 +122,7 @@ class CatalogSpec:
     chip_size_mm: float = 50.0
     chip_dpi: int = 300
     finish: str | None = None  # a named finish (swatch.physics.finishes); it sets ``roughness``
+    hero: bool = False  # per-swatch hero renders through Mitsuba (swatch.catalog.hero)
 
     @property
     def finish_spec(self):
@@ -407,7 +408,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)
 
     ren = c.table(data.get("render", {}), "render",
-                  ("shapes", "size_px", "model", "roughness", "finish", "angular_map"))
+                  ("shapes", "size_px", "model", "roughness", "finish", "angular_map", "hero"))
     shapes = ren.get("shapes", ["flat", "cylinder"])
     if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
         c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
@@ -420,14 +421,14 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     finish = None
     if "finish" in ren:
         if "roughness" in ren:
-            c.fail("render.finish", "give either finish or roughness, not both (a finish sets the roughness)",
-                   ren["finish"])
+            c.fail("render.finish", "give either finish or roughness, not both (a finish sets the roughness)", ren["finish"])
         finish = c.string(ren["finish"], "render.finish", 20, FINISHES)
-
         rough = get_finish(finish).roughness_alpha
         if get_finish(finish).anisotropic and model != "microfacet":
             c.fail("render.finish", f"{finish} is anisotropic: it needs model = \"microfacet\"", finish)
     amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
+    if (hero := c.boolean(ren.get("hero", False), "render.hero")) and model != "microfacet":
+        c.fail("render.hero", "hero renders are of the microfacet model (Mitsuba); set model = \"microfacet\"", True)
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
 
@@ -470,7 +471,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
-        finish=finish,
+        finish=finish, hero=hero,
     )
 
 

@@ -1,0 +1,130 @@
+"""Per-swatch hero renders (#23 item 4): each swatch as a sphere in the studio, path-traced by
+Mitsuba 3 with the exact thin-film BSDF (:mod:`swatch.mitsuba.engine`), written as
+``hero_S001.png`` beside the chips and named in the swatch's record (``hero``).
+
+A catalog spec turns them on with ``[render] hero = true`` (off by default: see docs/catalog.md
+for the cost). They are pictures at :data:`HERO_SIZE_PX` px and :data:`HERO_SPP` samples per
+pixel, seed 0 (the same inputs give the same bytes), in the engine's studio with the spec's
+finish (anisotropic for ``brushed``). Renders are cached in the catalog folder's cache as
+``hero-<key>.png``, keyed by everything they depend on (the film, finish, thickness, Mitsuba's
+version and the engine's code); a cached file is used only if it is a regular file of bounded
+size that reads back as an RGB PNG of the expected size (the cache is untrusted). Without a
+usable Mitsuba (not installed, or no libLLVM for its JIT) the build skips them and says so in
+one line.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib
+import json
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
+from swatch.core.safepath import is_regular_file
+from swatch.io.imageio import write_png
+
+__all__ = ["HERO_SIZE_PX", "HERO_SPP", "hero_name", "hero_unavailable", "hero_key", "hero_files"]
+
+HERO_SIZE_PX = 128
+HERO_SPP = 64
+HERO_SEED = 0
+
+
+def hero_name(rec: dict) -> str:
+    """The file name of a swatch's hero render."""
+    return f"hero_{rec['id']}.png"
+
+
+@functools.lru_cache(maxsize=1)
+def _engine():
+    return importlib.import_module("swatch.mitsuba.engine")
+
+
+def hero_unavailable(spec) -> str | None:
+    """Why hero renders cannot be made here (one line), or None when they can."""
+    if not spec.spread.is_zero:
+        return "hero renders skipped: the mitsuba engine renders a uniform film (the profile has a thickness spread)"
+    try:
+        eng = _engine()
+        eng.use_variant()
+    except ImportError as exc:
+        return f"hero renders skipped: Mitsuba is not installed ({exc.name}); pip install mitsuba (docs/mitsuba.md)"
+    except SwatchError as exc:
+        return f"hero renders skipped: {exc}"
+    return None
+
+
+@functools.lru_cache(maxsize=1)
+def _code_hash() -> str:
+    eng = Path(_engine().__file__).resolve().parent
+    h = hashlib.sha256()
+    for f in [*sorted(eng.glob("*.py")), Path(__file__).resolve()]:
+        h.update(f.name.encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()
+
+
+def _lobe(spec):
+    f = spec.finish_spec
+    return (f.alpha_u, f.alpha_v) if f is not None and f.anisotropic else float(spec.roughness)
+
+
+def hero_key(spec, thickness_nm: float) -> str:
+    """Content hash of everything a hero render depends on."""
+    doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
+           "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": HERO_SIZE_PX, "spp": HERO_SPP,
+           "seed": HERO_SEED, "mitsuba": importlib.import_module("mitsuba").__version__, "code": _code_hash()}
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
+
+
+def _cached(path: Path) -> bytes | None:
+    if not is_regular_file(path) or path.stat().st_size > MAX_CACHE_ENTRY_BYTES:
+        return None
+    blob = path.read_bytes()
+    try:
+        with Image.open(path) as im:
+            ok = im.format == "PNG" and im.size == (HERO_SIZE_PX, HERO_SIZE_PX) and im.mode == "RGB"
+    except (OSError, ValueError):
+        ok = False
+    return blob if ok else None
+
+
+def hero_files(spec, records: list[dict], cache: Path, say=None) -> tuple[dict[str, bytes], set[str]]:
+    """{file name: PNG bytes} of the hero renders of ``records`` (each gets ``hero``: its file name)
+    and the cache entries in use; nothing (and a line through ``say``) when Mitsuba is unusable."""
+    why = hero_unavailable(spec)
+    if why is not None:
+        if say is not None:
+            say(why)
+        return {}, set()
+    eng = _engine()
+    light = eng.resolve_lighting("studio", None)
+    files: dict[str, bytes] = {}
+    used: set[str] = set()
+    for rec in records:
+        d = float(rec["thickness_nm"])
+        entry = f"hero-{hero_key(spec, d)}.png"
+        used.add(entry)
+        path = cache / entry
+        blob = _cached(path)
+        if blob is None:
+            img = eng.render_swatch_mitsuba(d, shape="sphere", size_px=HERO_SIZE_PX, spp=HERO_SPP, seed=HERO_SEED,
+                                            lighting_name=light, roughness_alpha=_lobe(spec), film=spec.film,
+                                            substrate=spec.substrate, film_index_scale=spec.film_index_scale)
+            meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
+                                                 "thickness_nm") if k in img.metadata}
+            meta["swatch"] = rec["id"]
+            if spec.finish_spec is not None:
+                meta["finish"] = spec.finish_spec.label()
+            tmp = cache / f".{entry}.tmp.png"
+            write_png(tmp, np.ascontiguousarray(img.display_rgb[..., :3]), meta)
+            tmp.replace(path)
+            blob = path.read_bytes()
+        files[hero_name(rec)] = blob
+        rec["hero"] = {"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
+                       "size_px": HERO_SIZE_PX, "spp": HERO_SPP}
+    return files, used

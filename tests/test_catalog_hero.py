@@ -1,0 +1,80 @@
+"""Per-swatch hero renders through Mitsuba in a catalog (#23 item 4): a spec option, cached like
+the tiles (a rebuild reuses the bytes), skipped in one line without Mitsuba. (A cold rebuild is
+not byte-identical: the Mitsuba engine's renders vary between processes, see docs/catalog.md.)"""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from swatch.catalog import hero
+from swatch.catalog.build import build_catalog
+from swatch.catalog.spec import parse_spec
+from swatch.core.errors import SwatchError
+from tests.mitsuba_setup import mitsuba_variant
+
+SPEC = """
+name = "hero test"
+[thickness]
+list_nm = [50.8, 210]
+[render]
+finish = "brushed"
+hero = true
+size_px = 64
+angular_map = false
+[chips]
+enabled = false
+"""
+
+
+def test_hero_is_a_spec_option():
+    base = {"name": "h", "thickness": {"list_nm": [50]}}
+    assert parse_spec(base).hero is False
+    assert parse_spec(base | {"render": {"hero": True}}).hero is True
+    with pytest.raises(SwatchError, match="microfacet"):
+        parse_spec(base | {"render": {"hero": True, "model": "paper"}})
+
+
+@pytest.mark.slow
+def test_hero_renders_are_written_cached_and_deterministic(tmp_path):
+    mitsuba_variant()
+    spec_path = tmp_path / "spec.toml"
+    spec_path.write_text(SPEC)
+    build_catalog(spec_path, tmp_path / "a", jobs=1)
+    out = tmp_path / "a"
+    doc = json.loads((out / "catalog.json").read_text())
+    names = [r["hero"]["png"] for r in doc["swatches"]]
+    assert names == ["hero_S001.png", "hero_S002.png"]
+    first = [(out / n).read_bytes() for n in names]
+    for n in names:
+        im = np.asarray(Image.open(out / n).convert("RGB"), dtype=float)
+        assert im.shape == (hero.HERO_SIZE_PX, hero.HERO_SIZE_PX, 3) and 10 < im.mean() < 245
+    blue, green = (np.asarray(Image.open(out / n).convert("RGB"), dtype=float) for n in names)
+    c = slice(hero.HERO_SIZE_PX // 2 - 8, hero.HERO_SIZE_PX // 2 + 8)
+    assert blue[c, c, 2].mean() > blue[c, c, 0].mean() and green[c, c, 1].mean() > green[c, c, 2].mean()
+    cached = sorted(p.name for p in (out / ".swatch-catalog" / "cache").glob("hero-*.png"))
+    assert len(cached) == 2
+    # a full rebuild (another name) reads the cache: the same bytes
+    spec_path.write_text(SPEC.replace('name = "hero test"', 'name = "hero test 2"'))
+    build_catalog(spec_path, out, jobs=1)
+    assert [(out / n).read_bytes() for n in names] == first
+    # the cache is untrusted: a damaged entry is rendered again, not copied out
+    (out / ".swatch-catalog" / "cache" / cached[0]).write_bytes(b"not a png")
+    spec_path.write_text(SPEC)
+    build_catalog(spec_path, out, jobs=1)
+    for n in names:
+        assert Image.open(out / n).size == (hero.HERO_SIZE_PX, hero.HERO_SIZE_PX)
+    assert (out / ".swatch-catalog" / "cache" / cached[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_without_mitsuba_the_build_skips_heroes_in_one_line(tmp_path, monkeypatch):
+    monkeypatch.setattr(hero, "hero_unavailable", lambda spec: "hero renders skipped: Mitsuba is not installed")
+    spec_path = tmp_path / "spec.toml"
+    spec_path.write_text(SPEC)
+    said: list[str] = []
+    build_catalog(spec_path, tmp_path / "c", jobs=1, log=said.append)
+    assert said.count("hero renders skipped: Mitsuba is not installed") == 1
+    assert not list((tmp_path / "c").glob("hero_*.png"))
+    assert all("hero" not in r for r in json.loads((tmp_path / "c" / "catalog.json").read_text())["swatches"])
