@@ -49,6 +49,10 @@ def test_synthetic_line_passes_and_fails_as_the_tolerance_says(tmp_path):
         ref = spec["reference"]
         assert r["delta_Lab"]["45:0"] == pytest.approx(np.subtract(r["Lab"]["45:0"], ref["Lab"]), abs=2e-3)
     assert out["pass"] is False and proc.returncode == 1
+    fly = json.loads(run_swatch("check", p, "--thickness", "120", "--tolerance", "dE00:2", "--json").stdout)
+    assert fly["measurements"] == out["measurements"]  # a thickness instead of a spec.json: the same judgement
+    assert_one_line_error(run_swatch("check", p, "--thickness", "120", "--spec", tmp_path / "s" / "spec.json"),
+                          "exactly one of --spec")
     assert (tmp_path / "qc" / "check.png").stat().st_size > 0
 
 

@@ -38,17 +38,50 @@ def _figure(results: list[dict], spec: dict):
     return img
 
 
+def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observer) -> dict:
+    """The spec ``swatch spec --thickness/--voltage`` would write, in memory (checked as a spec.json is)."""
+    from swatch.colorimetry.tolerance import parse_tolerance
+    from swatch.commands.common import resolve_process
+    from swatch.core.errors import SwatchError
+    from swatch.physics.model import check_thickness_nm
+    from swatch.production.qc import check_spec
+    from swatch.production.spec import finish_spec
+
+    proc = resolve_process(process)
+    if voltage is not None:
+        if proc.nm_per_V is None:
+            raise SwatchError(f"process {proc.name} has no growth rate; give --thickness")
+        d = float(check_thickness_nm(proc.thickness_nm([voltage]))[0])
+    else:
+        d = float(check_thickness_nm([thickness])[0])
+    data = finish_spec({"kind": "thickness" if voltage is None else "voltage",
+                        "value": thickness if voltage is None else voltage, "thickness_nm": d}, proc,
+                       parse_tolerance(tolerance), illuminant=illuminant, observer=observer)
+    return check_spec(data, "the spec made from --thickness/--voltage")
+
+
 @click.command()
 @click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False, path_type=str))
-@click.option("--spec", "spec_path", required=True, type=click.Path(dir_okay=False, path_type=str),
+@click.option("--spec", "spec_path", default=None, type=click.Path(dir_okay=False, path_type=str),
               help="the spec.json written by swatch spec")
+@click.option("--thickness", type=float, default=None,
+              help="instead of --spec: the nominal thickness in nm (a spec made on the fly with --process, "
+                   "--tolerance, --illuminant, --observer)")
+@click.option("--voltage", type=float, default=None, help="instead of --spec: the nominal voltage in V")
+@click.option("--process", "process", default=None, metavar="NAME|FILE",
+              help="with --thickness/--voltage: the process profile [default: titanium-fujii2019]")
+@click.option("--tolerance", "tolerance", default="dE00:2", show_default=True, metavar="METRIC:MAX|SCHEME:GRADE",
+              help="with --thickness/--voltage: the tolerance, judged in its own metric")
+@click.option("--illuminant", default="D65", show_default=True, help="with --thickness/--voltage: CIE illuminant")
+@click.option("--observer", default="10", show_default=True, help="with --thickness/--voltage: 10 or 2")
 @click.option("--percent/--fraction", "percent", default=None,
               help="reflectance unit of spectra [default: percent if any value > 1.5, else fraction]")
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of text")
 @click.option("--report", "report_dir", default=None, type=click.Path(file_okay=False, path_type=str),
               help="write check.png (specified vs measured chips per angle) and check.json into this folder")
 @click.option("--force", is_flag=True, help="overwrite existing report files")
-def check(files, spec_path, percent, as_json, report_dir, force):
+def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, observer, percent, as_json,
+          report_dir, force):
     """Judge measured parts against a finish specification, per geometry, in the tolerance's metric.
 
     FILES: CxF3, CGATS or CSV measurement files (one or many parts each, CIELAB or spectra, one or
@@ -65,7 +98,13 @@ def check(files, spec_path, percent, as_json, report_dir, force):
     from swatch.io.instruments import Request
     from swatch.production.qc import check_file, load_spec_json
 
-    spec = load_spec_json(spec_path)
+    if sum(x is not None for x in (spec_path, thickness, voltage)) != 1:
+        raise SwatchError("give exactly one of --spec spec.json, --thickness NM or --voltage V")
+    if spec_path is not None:
+        spec = load_spec_json(spec_path)
+    else:
+        spec = _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observer)
+        spec_path = f"--thickness {thickness:g}" if thickness is not None else f"--voltage {voltage:g}"
     col = spec["colorimetry"]
     ref = spec["reference"]
     request = Request(light_deg=ref["light_deg"], view_deg=ref["view_deg"], illuminant=col["illuminant"],

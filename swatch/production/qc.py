@@ -32,7 +32,7 @@ from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import get_coating, thickness_to_voltage_V
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["load_spec_json", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
+__all__ = ["load_spec_json", "check_spec", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
 FIT_SPAN_NM = 40.0
@@ -50,6 +50,12 @@ def load_spec_json(path) -> dict:
         spec = json.loads(text)
     except (json.JSONDecodeError, RecursionError):
         raise SwatchError(f"{path}: not valid JSON; give the spec.json that swatch spec wrote") from None
+    return check_spec(spec, str(path))
+
+
+def check_spec(spec, path: str = "spec") -> dict:
+    """Check a spec dictionary (from a spec.json, or made by :func:`swatch.production.spec.finish_spec`)
+    and attach its tolerance (``_tolerance``); refused in one line when a key or number is wrong."""
     need = ("swatch_spec", "nominal", "colorimetry", "reference", "multi_angle", "tolerance", "process")
     if not isinstance(spec, dict) or any(k not in spec for k in need):
         raise SwatchError(f"{path}: not a swatch spec.json (keys {', '.join(need)} expected)")
