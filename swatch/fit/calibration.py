@@ -189,7 +189,7 @@ def _select(table, prob, robust, outlier, allow: dict, scale0: float):
             X0 = np.repeat(chosen.X[None], 3, axis=0)
             X0[:, 3] = (0.01, 0.03, 0.06)
         elif step == "+knee":
-            X0 = cs.knee_starts(chosen, prob.V, keep)
+            X0 = cs.knee_starts(chosen, prob.V, keep, count=6 if "knee" in robust.free else 12)
             if "knee" in robust.free:
                 rk = robust.X.copy()
                 rk[[0, 1, 5]] *= chosen.X[2] / robust.X[2]
@@ -201,7 +201,7 @@ def _select(table, prob, robust, outlier, allow: dict, scale0: float):
                 continue
         else:
             X0 = chosen.X[None]
-        cand = cs.fit_model(table, prob, free, X0, keep, robust=False, model=step)
+        cand = cs.fit_model(table, prob, free, X0, keep, robust=False, model=step, iters=15)
         cand.loo = cs.leave_one_out(table, prob, cand, keep)
         ok, why = _determined(table, prob, cand, keep, step)
         gain = 1.0 - cand.loo_mean / chosen.loo_mean if chosen.loo_mean > 0 else 0.0
