@@ -160,7 +160,8 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
         "process_window": {
             "metric": tolerance.metric, "max": tolerance.max, "geometry": REFERENCE.name,
             "thickness_minus_nm": _r(minus[0], 1), "thickness_plus_nm": _r(plus[0], 1),
-            "thickness_min_nm": _r(d - minus[0], 1), "thickness_max_nm": _r(d + plus[0], 1),
+            # from the rounded numbers the card prints, so that nominal − minus = min on paper too
+            "thickness_min_nm": _r(_r(d, 1) - _r(minus[0], 1), 1), "thickness_max_nm": _r(_r(d, 1) + _r(plus[0], 1), 1),
             # through the growth law (one or two slopes): the voltage steps to the window's edges
             "voltage_minus_V": None if v_nom is None else _r(v_nom - float(proc.voltage_V(d - minus[0])), 1),
             "voltage_plus_V": None if v_nom is None else _r(float(proc.voltage_V(d + plus[0])) - v_nom, 1),
