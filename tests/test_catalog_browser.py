@@ -122,10 +122,13 @@ def test_filter_and_sort(page):
     pg.fill("#tmin", "100")
     assert len(shown(pg)) == len([r for r in recs if r["thickness_nm"] >= 100])
     pg.fill("#tmin", "")
-    # hue family
-    fam = recs[3]["hue_family"]
+    # colour name: one list, each name once (issue 21: "blue" and "blue (name)" for the same set)
+    fam = recs[3]["colour_name"]
+    options = pg.eval_on_selector_all("#family option", "els => els.map(e => e.textContent)")
+    assert options[0] == "any" and len(options) == len(set(options)) and fam in options
+    assert set(options[1:]) == {r["colour_name"] for r in recs}
     pg.select_option("#family", fam)
-    assert len(shown(pg)) == len([r for r in recs if r["hue_family"] == fam])
+    assert len(shown(pg)) == len([r for r in recs if r["colour_name"] == fam])
     pg.select_option("#family", "")
     # hue range wrapping through 0°
     pg.fill("#hmin", "300")

@@ -105,8 +105,8 @@ def test_ase_lab_is_d50_2deg_at_the_reference_geometry(data):
 def test_ase_names_and_types(data):
     ase = parse_ase(ase_bytes(SPEC, data.records, "lab"))
     names = [c["name"] for c in ase["colours"]]
-    assert names[0] == "S001 Ti 20 nm (9.8 V)"
-    assert names[2] == "S003 Ti 75.5 nm (37.2 V)"
+    assert names[0] == "S001 Ti 20 nm (9.8 V) straw"  # the colour name of the sheets and the page (issue 21)
+    assert names[2].startswith("S003 Ti 75.5 nm (37.2 V) ")
     assert all(c["type"] == "global" and c["group"] == "Designer exports" for c in ase["colours"])
 
 
@@ -286,7 +286,7 @@ def test_sheet_png_text_is_utf8_itxt_with_xmp_intent_and_dpi(tiny_catalog):
     assert xmp["title"] == "Tiny – 10° catalog — sheet 1 of 1"
     assert "D65" in xmp["description"] and "1931 2°" in xmp["description"]
     rec = doc["swatches"][1]
-    assert f"S002 Ti 75.5 nm ({rec['voltage_V']:.1f} V): L*a*b* (D65/10°) " + " ".join(
+    assert f"S002 Ti 75.5 nm ({rec['voltage_V']:.1f} V) {rec['colour_name']}: L*a*b* (D65/10°) " + " ".join(
         f"{x:.2f}" for x in rec["Lab"]) in xmp["swatches"]
     assert xmp["thickness_nm"] == "40 75.5 130"
 
@@ -437,7 +437,7 @@ def test_exiftool_and_pngcheck_read_the_exports(tiny_catalog):
     assert s["PNG-pHYs:PixelsPerUnitX"] == round(150 / 0.0254) and s["PNG-pHYs:PixelUnits"] == "meters"
     # the print chip PNG: 16 bits, 300 dpi, the swatch's numbers in XMP
     assert p["PNG:BitDepth"] == 16 and p["PNG-pHYs:PixelsPerUnitX"] == round(300 / 0.0254)
-    assert p["XMP-dc:Title"] == f"S002 Ti 75.5 nm ({rec['voltage_V']:.1f} V)"
+    assert p["XMP-dc:Title"] == f"S002 Ti 75.5 nm ({rec['voltage_V']:.1f} V) {rec['colour_name']}"
     assert p["XMP-anodic:Lab"] == " ".join(f"{x:.2f}" for x in rec["Lab"])
     assert p["XMP-anodic:Lab_D50_2"] == " ".join(f"{x:.2f}" for x in rec["Lab_D50_2"])
     assert p["XMP-anodic:Srgb_hex"] == rec["srgb_hex"] and json.loads(p["PNG:Swatchrecord"]) == rec

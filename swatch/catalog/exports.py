@@ -8,7 +8,7 @@
   at every geometry, and sRGB at the reference. The schema requires a creation date: a fixed
   date (1970-01-01T00:00:00Z) keeps builds byte-identical (no clock).
 * ASE (Adobe Swatch Exchange, binary, big-endian): ``ASEF``, version 1.0, a group named after
-  the catalog holding one global colour per swatch, named ``S001 Ti 20 nm (9.8 V)``. Adobe
+  the catalog holding one global colour per swatch, named ``S001 Ti 20 nm (9.8 V) straw``. Adobe
   applications and GIMP read ASE Lab as D50 with the 2° observer (the ICC connection space,
   ISO 13655), so the ``LAB`` file holds the spectrum at the reference geometry under D50 and the
   CIE 1931 2° observer (L as 0–1, a, b as floats), not the catalog's own Lab; the ``RGB``
@@ -48,9 +48,11 @@ def metal_symbol(spec: CatalogSpec) -> str:
 
 
 def ase_name(rec: dict, metal: str = "Ti") -> str:
-    """``S001 Ti 20 nm (9.8 V)``: the swatch ID, metal, thickness and voltage (none without a growth rate)."""
+    """``S001 Ti 20 nm (9.8 V) straw``: the swatch ID, metal, thickness (0.1 nm), voltage (none without a
+    growth rate) and colour name (:mod:`swatch.colorimetry.names`, as the sheets and the page say it)."""
     volts = "" if rec["voltage_V"] is None else f" ({rec['voltage_V']:.1f} V)"
-    return f"{rec['id']} {metal} {rec['thickness_nm']:g} nm{volts}"
+    name = f" {rec['colour_name']}" if rec.get("colour_name") else ""
+    return f"{rec['id']} {metal} {round(rec['thickness_nm'], 1):g} nm{volts}{name}"
 
 
 # -- Adobe Swatch Exchange -------------------------------------------------------------------

@@ -18,6 +18,7 @@ import html
 import json
 from importlib import resources
 
+from swatch.colorimetry.names import colour_names
 from swatch.core.choices import LIGHTINGS
 
 __all__ = ["index_html", "embed_json", "page_script", "page_style", "print_page_style", "css_string"]
@@ -121,7 +122,6 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     rows = [
         (f"L*a*b* ({ref})", "  ".join(_fmt(v, 2) for v in s["Lab"])),
         ("L*C*h", f'{_fmt(s["LCh"][0], 2)}  {_fmt(s["LCh"][1], 2)}  {_fmt(s["LCh"][2], 1)}°'),
-        ("hue family", s["hue_family"]),
         (f'window ({pw["metric"]} ≤ {pw["max"]:g})',
          f'−{_fmt(pw["thickness_minus_nm"], 1)} / +{_fmt(pw["thickness_plus_nm"], 1)} nm'),
         ("", f'−{_fmt(pw["voltage_minus_V"], 2)} / +{_fmt(pw["voltage_plus_V"], 2)} V'),
@@ -287,9 +287,9 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     pw = c["tolerance"]
     swatches = catalog["swatches"]
     cards = "\n".join(_card(s, c, tiles, None if chips is None else chips[i]) for i, s in enumerate(swatches))
-    families = "".join(f'<option value="{e(f)}">{e(f)}</option>' for f in catalog.get("hue_families", []))
-    names = sorted({s.get("colour_name") for s in swatches if s.get("colour_name")})
-    families += "".join(f'<option value="{e(n)}">{e(n)} (name)</option>' for n in names)
+    # one vocabulary (swatch.colorimetry.names): the names in the catalog, in the order of NAME_RULES
+    present = {s.get("colour_name") for s in swatches}
+    families = "".join(f'<option value="{e(n)}">{e(n)}</option>' for n in colour_names() if n in present)
     tools = _tools(c, env) if table is not None else ""
     blocks = f'<script type="application/json" id="catalog-data">{embed_json(catalog)}</script>\n'
     if table is not None:
@@ -327,7 +327,7 @@ voltage deviations that keep the colour difference to the nominal colour within 
 <label>≤ nm<input id="tmax" type="number" step="any"></label></fieldset>
 <fieldset><label>voltage ≥ V<input id="vmin" type="number" step="any"></label>
 <label>≤ V<input id="vmax" type="number" step="any"></label></fieldset>
-<fieldset><label>hue family<select id="family"><option value="">any</option>{families}</select></label>
+<fieldset><label>colour<select id="family"><option value="">any</option>{families}</select></label>
 <label>hue from °<input id="hmin" type="number" min="0" max="360" step="any"></label>
 <label>to °<input id="hmax" type="number" min="0" max="360" step="any"></label></fieldset>
 <fieldset><button type="reset">reset</button></fieldset>

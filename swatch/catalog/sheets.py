@@ -51,7 +51,8 @@ from swatch.render.display import BACKGROUND_LINEAR
 if TYPE_CHECKING:
     from multiprocessing.context import BaseContext
 
-__all__ = ["tile_key", "load_tile", "render_missing", "make_pool", "compose_sheet", "Layout", "AMAP_ANGLES_DEG"]
+__all__ = ["tile_key", "load_tile", "render_missing", "make_pool", "compose_sheet", "Layout", "AMAP_ANGLES_DEG", "label_lines",
+           "chip_line", "label_width"]
 
 TILE_VERSION = 1
 #: Angular-map grid (light × view polar angles, degrees); 60 × 60 cells drawn at 2 px each.
@@ -323,32 +324,49 @@ def _num(x, width: int, nd: int) -> str:
     return ("–" if x is None else f"{x:.{nd}f}").replace("-", "−").rjust(width)
 
 
-def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
-    """The label block of a tile (uint8): numbers in DroidSansMono (it has Δ and the minus sign)."""
-
-    w = lay.tile_w - 2 * lay.PAD - (lay.amap + lay.GAP if lay.amap else 0)
-    h = max(lay.label_h, lay.amap)
-    img = _strip(w, h, CARD)
+def label_lines(rec: dict) -> list[str | None]:
+    """A tile's label text: the title (thickness to 0.1 nm, voltage), then the colour and window lines in
+    DroidSansMono (None: the chip, hex and colour name line, :func:`chip_line`)."""
     L, a, b = rec["Lab"]
     _, C, hue = rec["LCh"]
     pw = rec["process_window"]
     n = rec["delta_E_00_to_neighbours"]
-    mono, size, step = "DroidSansMono", 15, lay.LINE
-    y = 17
     volts = "" if rec["voltage_V"] is None else f"  ·  {rec['voltage_V']:.1f} V"
-    img = draw_text(img, _fit(f"{rec['thickness_nm']:g} nm{volts}", 18, w, "DroidSans-Bold"),
-                    0, y, 18, INK, font="DroidSans-Bold")
-    lines = [
+    lines: list[str | None] = [
+        f"{rec['thickness_nm']:.1f} nm{volts}",
         f"L*a*b* {_num(L, 5, 1)}{_num(a, 7, 1)}{_num(b, 7, 1)}",
         f"L*C*h  {_num(L, 5, 1)}{_num(C, 7, 1)}{_num(hue, 6, 0)}°",
-        None,  # chip + hex
+        None,  # chip + hex + colour name
         f"ΔE00 prev{_num(n['previous'], 5, 1)} next{_num(n['next'], 5, 1)}",
-        f"window{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm  {pw['metric']}≤{pw['max']:g}",
+        # the tolerance the window is judged in is the header's (one a catalog): the line fits the label
+        f"window{_num(-pw['thickness_minus_nm'], 5, 1)}/+{pw['thickness_plus_nm']:.1f} nm",
     ]
     if rec.get("presets"):  # max ΔE2000 (0–60°) of the glTF (as three.js shows it) / Blender / MaterialX presets
         p = rec["presets"]
-        lines.append(f"3D glTF{_num(p['threejs_max_delta_E_00'], 4, 1)} Bl{_num(p['blender_max_delta_E_00'], 4, 1)}"
-                     f" MtlX{_num(p['materialx_max_delta_E_00'], 4, 1)}")
+        lines.append(f"glTF {_fmt(p['threejs_max_delta_E_00'], 1)} Bl {_fmt(p['blender_max_delta_E_00'], 1)}"
+                     f" MtlX {_fmt(p['materialx_max_delta_E_00'], 1)}")
+    return lines
+
+
+def chip_line(rec: dict) -> str:
+    """The text beside a tile's small chip: the hex code and the colour name."""
+    return f"{rec['srgb_hex']}  {rec['colour_name']}"
+
+
+def label_width(lay: Layout) -> int:
+    """Width (px) of a tile's label block (beside the angular map when there is one)."""
+    return lay.tile_w - 2 * lay.PAD - (lay.amap + lay.GAP if lay.amap else 0)
+
+
+def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
+    """The label block of a tile (uint8): numbers in DroidSansMono (it has Δ and the minus sign)."""
+    w = label_width(lay)
+    h = max(lay.label_h, lay.amap)
+    img = _strip(w, h, CARD)
+    mono, size, step = "DroidSansMono", 15, lay.LINE
+    y = 17
+    title, *lines = label_lines(rec)
+    img = draw_text(img, _fit(str(title), 18, w, "DroidSans-Bold"), 0, y, 18, INK, font="DroidSans-Bold")
     y += 3
     for line in lines:
         y += step
@@ -356,7 +374,7 @@ def _tile_labels(rec: dict, spec: CatalogSpec, lay: Layout) -> np.ndarray:
             rgb = tuple(int(rec["srgb_hex"][i:i + 2], 16) for i in (1, 3, 5))
             img = draw_rect(img, 0, y - 13, 40, y + 4, rgb)
             img = draw_rect(img, 0, y - 13, 40, y + 4, RULE, fill=False)
-            img = draw_text(img, f"{rec['srgb_hex']}  {rec['hue_family']}", 48, y, size, INK, font=mono)
+            img = draw_text(img, chip_line(rec), 48, y, size, INK, font=mono)
             continue
         img = draw_text(img, line, 0, y, size, INK, font=mono)
     return img
@@ -394,7 +412,8 @@ def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
              if spec.finish_spec is not None else f"microfacet GGX, roughness {spec.roughness:g}")
     line1 = (f"Renders: {shapes}, {model}, {lighting_caption(spec)}."
              + ("  Map: colour over light angle (up) × view angle (right), 0–85°, paper model." if spec.angular_map else ""))
-    line2 = ("prev / next: CIEDE2000 to the neighbouring swatches."
+    line2 = ("prev / next: CIEDE2000 to the neighbouring swatches.  glTF / Bl / MtlX: the 3-D material presets'"
+             " largest CIEDE2000 from the swatch (glTF as three.js shows it, Blender, MaterialX)."
               "  Hex, chips and pictures: sRGB from CIE 1931 2° colorimetry."
               f"  swatch {header['swatch_version']}")
     img = draw_text(img, _fit(line1, 13, w, "DroidSans"), 0, 15, 13, MUTED)

@@ -493,7 +493,12 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
 def spec_summary(s: CatalogSpec) -> str:
     """One line: name, swatches, thickness range, sheets, materials, colorimetry, geometries, grade."""
     d, per = s.thickness_nm, s.per_sheet
-    return (f"{s.name!r}: {len(d)} swatches, {d[0]:g}–{d[-1]:g} nm, "
+    nm = f"{round(d[0], 1):g}–{round(d[-1], 1):g} nm"  # as the sheets print them (0.1 nm)
+    if s.voltage_V:
+        nm += f" ({s.voltage_V[0]:g}–{s.voltage_V[-1]:g} V)"
+    tol = (f"tolerance {s.metric} ≤ {s.max_delta_E:g}" if s.grade is None
+           else f"grade {s.scheme} {s.grade} ({s.metric} ≤ {s.max_delta_E:g})")
+    return (f"{s.name!r}: {len(d)} swatches, {nm}, "
             f"{(len(d) + per - 1) // per} sheet(s) of {s.columns}×{s.rows}; {s.film} on {s.substrate}; "
             f"{s.illuminant}/{s.observer}°; reference {s.reference.name}; "
-            f"{len(s.multi_angle)} multi-angle geometries; grade {s.scheme} {s.grade}")
+            f"{len(s.multi_angle)} multi-angle geometries; {tol}")

@@ -8,10 +8,15 @@ geometry). They are labels for people, not measurements: the numbers stay beside
 tried in order, the first whose bounds all hold wins (hue in ``[h_from, h_to)`` degrees, wrapping
 through 0 when ``h_from > h_to``; ``C_min <= C* < C_max``; ``L_min <= L* < L_max``; None = no bound).
 The page embeds the same rows for its live readout.
+
+One vocabulary: the sheets' labels, the page (cards, its colour filter, the live readout, compare) and
+the ASE swatch names all say these names (issue 21: the sheets said "yellow" for straw and "red" for
+plum). ``catalog.json`` and ``catalog.csv`` carry the name as ``colour_name``, beside ``hue_family``,
+the coarse CIELAB hue-angle class (:data:`swatch.catalog.records.HUE_FAMILIES`) kept for data users.
 """
 from __future__ import annotations
 
-__all__ = ["colour_name", "NAME_RULES", "NEUTRAL_CHROMA"]
+__all__ = ["colour_name", "colour_names", "NAME_RULES", "NEUTRAL_CHROMA"]
 
 #: Below this chroma a colour is "silver" (and its hue family "neutral").
 NEUTRAL_CHROMA = 10.0
@@ -47,3 +52,8 @@ def colour_name(L: float, C: float, h: float) -> str:
                 and (l0 is None or l0 <= L) and (l1 is None or l1 > L)):
             return name
     raise AssertionError("unreachable: every hue has a row without bounds")
+
+
+def colour_names() -> tuple[str, ...]:
+    """Every name :func:`colour_name` can give, once each, in the order of :data:`NAME_RULES`."""
+    return tuple(dict.fromkeys(r[0] for r in NAME_RULES))

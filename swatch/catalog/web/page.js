@@ -61,7 +61,7 @@ function update() {
   const shown = swatches.filter((s) =>
     (tmin === null || s.thickness_nm >= tmin) && (tmax === null || s.thickness_nm <= tmax) &&
     (vmin === null || s.voltage_V >= vmin) && (vmax === null || s.voltage_V <= vmax) &&
-    (fam === "" || s.hue_family === fam || s.colour_name === fam) &&
+    (fam === "" || s.colour_name === fam) &&
     ((hmin === null && hmax === null) || inHue(s.LCh[2], hmin === null ? 0 : hmin, hmax === null ? 360 : hmax)));
   const val = (s) => key === "hue" ? s.LCh[2] : key === "voltage" ? s.voltage_V : s.thickness_nm;
   shown.sort((a, b) => dir * (val(a) - val(b)) || (a.index - b.index));
