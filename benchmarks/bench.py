@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 
-SECTIONS = ["render", "environment", "mesh", "catalog", "explorer", "exports", "fit", "calibrate", "qc", "presets",
+SECTIONS = ["render", "environment", "mesh", "mitsuba", "catalog", "explorer", "exports", "fit", "calibrate", "qc", "presets",
             "engine"]
 
 

@@ -131,3 +131,30 @@ def test_docs_example_runs(mi, tmp_path, monkeypatch):
     centre = img[28:36, 28:36].reshape(-1, img.shape[-1])[:, :3].mean(axis=0)
     assert (tmp_path / "anodic_ball.exr").is_file()
     assert centre[2] > 1.5 * centre[0]  # 50.8 nm is blue
+
+
+@pytest.mark.slow
+def test_sigterm_ends_the_render_and_leaves_nothing(mi, tmp_path):
+    """#23: SIGTERM during a long Mitsuba render ends the process (between passes) with no output and no
+    process left behind."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "swatch.cli", "render", "--engine", "mitsuba", "--thickness", "50",
+                             "--size", "256", "--spp", "4096", "--environment", "uniform", "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(12)  # imports, JIT compilation, the first passes
+    assert proc.poll() is None, proc.communicate()
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    assert "Traceback" not in err
+    assert not out.exists() or not any(out.iterdir())
+    children = [p for p in os.listdir("/proc") if p.isdigit()
+                and Path(f"/proc/{p}/stat").exists()
+                and Path(f"/proc/{p}/stat").read_text().split()[3] == str(proc.pid)]
+    assert children == []
