@@ -2,7 +2,7 @@
 
     python3 scripts/mitsuba_gallery.py docs/        # writes docs/mitsuba-gallery.png (about 2 min on 2 cores)
 
-Four scenes, 50.8 nm (blue) unless noted, GGX α 0.25: a sphere and the bent sheet (120 nm, gold-magenta)
+Four scenes, 50.8 nm (blue) unless noted, GGX α 0.12: a sphere and the bent sheet (120 nm, gold-magenta)
 in the studio, a bowl (a mesh with a concavity: it reflects and shadows itself) in the studio, and a
 façade-like wall of slightly tilted panels (80 nm) under Mitsuba's sun and sky.
 """
@@ -53,17 +53,17 @@ def panel_wall() -> MeshShape:
 def main(out_dir: str) -> int:
     studio = resolve_lighting("studio")
     shots = [
-        render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.25),
-        render_swatch_mitsuba(120.0, "cylinder", SIZE, SPP, lighting_name=studio, roughness_alpha=0.25),
-        render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.25, mesh=bowl()),
-        render_swatch_mitsuba(80.0, "sphere", SIZE, SPP, lighting_name=resolve_lighting("sun", Sun(40.0, 35.0)),
-                              roughness_alpha=0.25, mesh=panel_wall()),
+        render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12),
+        render_swatch_mitsuba(120.0, "cylinder", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12),
+        render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12, mesh=bowl()),
+        render_swatch_mitsuba(80.0, "sphere", SIZE, SPP, lighting_name=resolve_lighting("sun", Sun(40.0, 60.0)),
+                              roughness_alpha=0.12, mesh=panel_wall(), exposure=0.3),
     ]
     strip = np.concatenate([s.display_rgb for s in shots], axis=1)
     out = Path(out_dir) / "mitsuba-gallery.png"
     imageio.write_png(out, strip, {"source": "scripts/mitsuba_gallery.py", "spp": SPP,
                                    "scenes": "sphere 50.8 nm studio; bent sheet 120 nm studio; bowl 50.8 nm studio; "
-                                             "panel wall 80 nm, sun 40 deg elevation, azimuth 35 deg, turbidity 3"})
+                                             "panel wall 80 nm, sun 40 deg elevation, azimuth 60 deg, turbidity 3, display exposure 0.3"})
     print(out)
     return 0
 

@@ -115,7 +115,7 @@ MAX_MITSUBA_PX = 4096
 MAX_MITSUBA_SAMPLES = 4 * 1024**3
 #: Samples one Mitsuba pass traces at once (its wavefront state is a few hundred bytes a lane:
 #: ~1 GB at this count); a render is split into passes of at most this many.
-MAX_PASS_LANES = 1 << 22
+MAX_PASS_LANES = 1 << 20
 #: ``--sun-date``: the years the solar-position model is stated for (and sane), and the sky
 #: model's turbidity range (Hosek–Wilkie's fit covers 1–10).
 MIN_YEAR, MAX_YEAR = 1900, 2100

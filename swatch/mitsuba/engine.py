@@ -150,7 +150,7 @@ class Lighting:
 
     def description(self) -> str:
         if self.kind == "studio":
-            return ("photographic studio (Mitsuba): light-grey cyclorama (albedo 0.6), overhead key soft box, strip "
+            return ("photographic studio (Mitsuba): grey cyclorama (albedo 0.45), overhead key soft box, strip "
                     "boxes left and right (rectangular area lights, D65), ambient fill 0.05")
         if self.kind == "sun":
             assert self.sun is not None
@@ -237,7 +237,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           background: str | None = None, view_deg: float | None = None,
                           view_azimuth_deg: float = 0.0, mesh=None, variant: str = DEFAULT_VARIANT,
                           progress: Callable[[int, int], None] | bool | None = None,
-                          bsdf_override: dict | None = None) -> SwatchImage:
+                          bsdf_override: dict | None = None, exposure: float = 1.0) -> SwatchImage:
     """Render one swatch with Mitsuba (module documentation): the public function of the engine.
 
     Parameters
@@ -276,6 +276,10 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         Called after each pass; True draws a bar on stderr when it is a terminal.
     bsdf_override : dict, optional
         Another BSDF for the object (tests and benchmarks: Mitsuba's own ``roughconductor``).
+    exposure : float
+        Display exposure of the PNG (the EXR keeps the scene values), 1/64 to 64; default 1 (the white
+        diffuser is display white). The sun is far brighter than a studio: about 0.3 keeps sunlit metal
+        out of the shoulder.
 
     Returns
     -------
@@ -309,6 +313,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     if photo_only and background != "environment":
         raise SwatchError(f"{light.kind} lighting shows its set behind the object; use --background environment "
                           "(or uniform lighting or a map for a grey or white background)")
+    exposure = _finite_in(exposure, 1.0 / 64.0, 64.0, "display exposure")
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
     if getattr(colorimeter, "illuminant", "D65") not in ("D65", None):
         raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
@@ -358,11 +363,11 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     alpha = np.clip(acc[..., 3], 0.0, 1.0).astype(np.float32)
     if background == "environment":
         coverage = np.ones((size, size), dtype=np.float32)
-        display = display_encode(rgb, 1.0)
+        display = display_encode(rgb, exposure)
     else:
         coverage = alpha
         bg = BACKGROUND_LINEAR if background == "grey" else _WHITE_BG
-        display = display_encode(rgb + (1.0 - coverage)[..., None] * np.float32(bg), 1.0)
+        display = display_encode(rgb * np.float32(exposure) + (1.0 - coverage)[..., None] * np.float32(bg), 1.0)
     linear = rgb
     if space != "srgb":
 
@@ -392,10 +397,11 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                   "lighting; " + ("the scene behind the object included (opaque)" if background == "environment"
                                   else "RGB premultiplied by alpha (coverage)")),
         "colour": "Mitsuba spectral film: CIE 1931 2 deg XYZ to linear sRGB; emitters D65 (sun and sky: their own)",
-        "exposure": 1.0,
-        "exposure_rule": "k = 1: the white diffuser under the same lighting is display white",
-        "display": f"sRGB-encoded PNG: linear x 1, composited on {background}, shoulder above 0.8",
+        "exposure": exposure,
+        "exposure_rule": "k = 1: the white diffuser under the same lighting is display white" if exposure == 1.0
+        else f"k = {exposure:g} (given)",
+        "display": f"sRGB-encoded PNG: linear x {exposure:g}, composited on {background}, shoulder above 0.8",
     })
     if alphas and len(alphas) == 2:
         meta["roughness_alpha_uv"] = [alphas[0], alphas[1]]
-    return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh), 1.0)
+    return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh), exposure)

@@ -8,8 +8,8 @@ BSDF is wrapped in ``twosided`` (a sheet's inner face and a mesh's back faces ar
 
 Lighting (:func:`lighting`)
 ---------------------------
-* ``studio``: a photographic studio: a light-grey cyclorama (floor sweeping up into a back wall,
-  diffuse albedo 0.6) under the object, an overhead key soft box, a tall strip box on the camera's
+* ``studio``: a photographic studio: a grey cyclorama (floor sweeping up into a back wall,
+  diffuse albedo 0.45) under the object, an overhead key soft box, a tall strip box on the camera's
   left and a weaker one on the right (rectangular area lights, neutral D65), and a dim ambient
   fill (0.05) so nothing is pitch black;
 * ``sun``: Mitsuba's ``sunsky`` (Hosek–Wilkie sky and sun, spectral) over a mid-grey ground
@@ -177,10 +177,10 @@ def lighting(kind: str, floor_y: float, sun: Sun | None = None, hdri: np.ndarray
         return {"light": {"type": "constant", "radiance": 1.0}}
     if kind == "studio":
         return {
-            "cyclorama": _cyclorama(floor_y, mi.load_dict({"type": "diffuse", "reflectance": 0.6})),
-            "key": _box((0.0, 3.2, -0.4), (0.0, 0.0, 0.0), (3.0, 2.0), 6.0),
-            "strip_left": _box((-3.2, 0.8, 0.6), (0.0, 0.0, 0.0), (0.8, 3.0), 5.0),
-            "strip_right": _box((3.2, 0.8, -0.8), (0.0, 0.0, 0.0), (0.8, 3.0), 2.5),
+            "cyclorama": _cyclorama(floor_y, mi.load_dict({"type": "diffuse", "reflectance": 0.45})),
+            "key": _box((0.0, 3.2, -0.4), (0.0, 0.0, 0.0), (3.0, 2.0), 8.0),
+            "strip_left": _box((-3.2, 0.8, 0.6), (0.0, 0.0, 0.0), (0.8, 3.0), 7.0),
+            "strip_right": _box((3.2, 0.8, -0.8), (0.0, 0.0, 0.0), (0.8, 3.0), 3.5),
             "fill": {"type": "constant", "radiance": 0.05},
         }
     if kind == "sun":
