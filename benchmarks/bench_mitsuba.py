@@ -17,8 +17,8 @@ def _irregular(wl, values):
 
 
 def run() -> list[str]:
-    from swatch.materials import load_material
     from swatch.mitsuba.engine import render_swatch_mitsuba, resolve_lighting
+    from swatch.physics.materials import load_material
 
     studio = resolve_lighting("studio")
     t0 = time.perf_counter()

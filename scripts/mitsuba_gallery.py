@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from swatch import imageio
-from swatch.mesh import MeshShape
+from swatch.io import imageio
 from swatch.mitsuba.engine import Sun, render_swatch_mitsuba, resolve_lighting
+from swatch.render.mesh import MeshShape
 
 SIZE, SPP = 224, 128
 
