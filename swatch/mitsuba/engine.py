@@ -10,8 +10,10 @@ derived from ``seed``: the same seed and spp give byte-identical images.
 
 Units: linear Rec.709/sRGB (Mitsuba's film: CIE 1931 2° XYZ to sRGB), scaled so that **1.0 = a
 perfect white diffuser facing up (+y) at the origin under the same lighting** (the built-in
-environment renders' unit): by a Mitsuba irradiance meter for ``studio`` and ``sun``, by
-quadrature of the map for an HDRI; ``uniform`` is radiance 1. Emitters are D65 white (the sun
+environment renders' unit): for ``studio`` lit directly by the emitters (each emitter's own
+direction sampling on a fixed grid, averaged in numpy: deterministic), by quadrature of the map
+for an HDRI; ``uniform`` is radiance 1; every ``sun`` shares one scale (:data:`SUN_SCALE`: the
+sun at 45°), so a low sun is darker. Emitters are D65 white (the sun
 and sky are their own spectra); the display PNG is exposure 1 through the renderer's shoulder.
 """
 from __future__ import annotations
@@ -45,7 +47,7 @@ from swatch.core.limits import (
     MIN_YEAR,
 )
 from swatch.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
-from swatch.mitsuba.scene import SUNSKY_TO_WORLD, Sun, camera_dict, lighting, object_shapes
+from swatch.mitsuba.scene import Sun, camera_dict, lighting, object_shapes
 from swatch.mitsuba.setup import DEFAULT_VARIANT, ENV_VAR, INSTALL_HINT, MIN_LLVM_MAJOR, check_variant, llvm_major
 from swatch.physics import microfacet
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
@@ -62,6 +64,9 @@ __all__ = ["MITSUBA_LIGHTINGS", "MAX_DEPTH", "Sun", "use_variant", "check_spp", 
 #: Built-in lightings of the Mitsuba engine (a path to an .exr or .hdr map also works).
 MITSUBA_LIGHTINGS = ("studio", "sun", "uniform")
 MAX_DEPTH = 12
+#: Sun and sky: 1.0 ≈ a white diffuser facing up under the sun at 45° elevation, turbidity 3, and its sky
+#: (measured with this engine: Y = 0.338 unscaled, 256 spp); every sun render shares it.
+SUN_SCALE = 1.0 / 0.338
 _WHITE_BG = 2.0  # the built-in renderer's white background (display white)
 _REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 
@@ -189,27 +194,40 @@ def _map_scale(img: np.ndarray) -> float:
     return math.pi / E
 
 
-def _irradiance_scale(light_entries: dict) -> float:
-    """π / E_up at the origin (a white diffuser facing up there reflects 1), by Mitsuba's irradiance meter."""
-    meter = {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([0.0, 1e-3, 0.0])
-             @ mi.ScalarTransform4f().rotate([1.0, 0.0, 0.0], -90.0) @ mi.ScalarTransform4f().scale(1e-3),
-             "sensor": {"type": "irradiancemeter",
-                        "film": {"type": "hdrfilm", "width": 1, "height": 1, "pixel_format": "rgb",
-                                 "rfilter": {"type": "box"}},
-                        "sampler": {"type": "independent", "sample_count": 16384}}}
-    scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": MAX_DEPTH},
-                          "meter": meter, **light_entries})
-    image = mi.render(scene, seed=0)  # type: ignore[arg-type]
-    E = float(np.asarray(image, dtype=np.float64).reshape(-1)[:3] @ _REC709_Y)
-    if not (math.isfinite(E) and E > 0):
+def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
+    """π / E_up at the origin: a white diffuser facing up there, lit directly by the emitters (no occlusion,
+    no bounce), reflects 1. Each emitter's own direction sampling on a fixed stratified grid of
+    ``grid``² points, at 5 nm steps weighted by CIE 1931 ȳ, relative to a D65 radiance 1 (whose white
+    diffuser reflects 1); averaged in numpy, so the same scene always gives the same scale."""
+    scene = mi.load_dict({"type": "scene", **light_entries})
+    wl = np.arange(380.0, 781.0, 5.0)
+    ybar = np.asarray(colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"][wl])[:, 1]
+    u = (np.arange(grid) + 0.5) / grid
+    su, sv = (a.ravel() for a in np.meshgrid(u, u, indexing="ij"))
+    n = su.size
+    reference = mi.load_dict({"type": "constant", "radiance": 1.0})
+    E = np.zeros(wl.size)
+    L1 = np.zeros(wl.size)
+    for k in range(0, wl.size, 4):
+        lam = np.resize(wl[k:k + 4], 4)
+        it = dr.zeros(mi.SurfaceInteraction3f, n)
+        it.p = mi.Point3f(0.0, 1e-3, 0.0)
+        it.wavelengths = mi.Spectrum(*(float(x) for x in lam))  # type: ignore[assignment]
+        for em in scene.emitters():
+            ds, w = em.sample_direction(it, mi.Point2f(su, sv), True)
+            cos = np.maximum(np.asarray(ds.d)[1], 0.0)
+            E[k:k + 4] += (np.nan_to_num(np.asarray(w, dtype=np.float64)) * cos).mean(axis=1)[:len(wl[k:k + 4])]
+        it.wi = mi.Vector3f(0.0, -1.0, 0.0)
+        L1[k:k + 4] += np.asarray(reference.eval(it), dtype=np.float64)[:, 0][:len(wl[k:k + 4])]
+    E_y, L_y = float(E @ ybar), float(L1 @ ybar)
+    if not (math.isfinite(E_y) and E_y > 0 and L_y > 0):
         raise SwatchError("the lighting sends no light onto an upward-facing surface at the object")
-    return math.pi / E
+    return math.pi * L_y / E_y
 
 
 def _sun_above_horizon(entry: dict) -> None:
     emitter = mi.load_dict(entry)
-    local = np.asarray(mi.traverse(emitter)["sun_direction"], dtype=np.float64).reshape(-1)[:3]
-    world = SUNSKY_TO_WORLD[:3, :3] @ local
+    world = np.asarray(mi.traverse(emitter)["sun_direction"], dtype=np.float64).reshape(-1)[:3]  # world frame
     if world[1] <= 0.0:
         raise SwatchError("the sun is below the horizon at that place, date and time; choose a daytime hour "
                           "(local time of the --sun-timezone)")
@@ -331,12 +349,21 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     lights = lighting(light.kind, _floor_y(shape, mesh), light.sun, light.hdri)
     if light.kind == "sun":
         _sun_above_horizon(lights["light"])
-    scale = 1.0 if light.kind == "uniform" else (_map_scale(light.hdri) if light.hdri is not None
-                                                  else _irradiance_scale(lights))
-    passes = max(1, -(-size * size * spp // MAX_PASS_LANES))
-    while spp % passes:
-        passes += 1
-    per = spp // passes
+    if light.kind == "uniform":
+        scale = 1.0
+    elif light.hdri is not None:
+        scale = _map_scale(light.hdri)
+    elif light.kind == "sun":
+        scale = SUN_SCALE  # one scale for every sun: a low sun is darker, as it is
+    else:
+        scale = _irradiance_scale(lights)
+    # Samples per pass: a power of two dividing spp (so a pixel's samples, laid out together, never straddle
+    # two of Dr.Jit's power-of-two thread blocks: the film's box-filter sums then run in one order, and the
+    # image is byte-identical from run to run), and at most MAX_PASS_LANES samples a pass.
+    per = spp & -spp
+    while per > 1 and size * size * per > MAX_PASS_LANES:
+        per //= 2
+    passes = spp // per
     sensor = camera_dict(scene_geo.camera, size, per)
     scene = mi.load_dict({"type": "scene",
                           "integrator": {"type": "path", "max_depth": MAX_DEPTH,

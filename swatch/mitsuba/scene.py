@@ -85,7 +85,7 @@ def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
         "far_clip": 1000.0,
         "to_world": _transform(m),
         "film": {"type": "hdrfilm", "width": int(size_px), "height": int(size_px), "pixel_format": "rgba",
-                 "component_format": "float32", "rfilter": {"type": "gaussian"}},
+                 "component_format": "float32", "rfilter": {"type": "box"}},
         "sampler": {"type": "independent", "sample_count": int(spp)},
     }
 
@@ -193,7 +193,7 @@ def lighting(kind: str, floor_y: float, sun: Sun | None = None, hdri: np.ndarray
         else:
             el, az = math.radians(float(sun.elevation_deg or 0.0)), math.radians(sun.azimuth_deg)
             world = np.array([math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)])
-            d["sun_direction"] = (SUNSKY_TO_WORLD[:3, :3].T @ world).tolist()
+            d["sun_direction"] = world.tolist()  # in world coordinates (sunsky applies to_world to its sky only)
         ground = {"type": "rectangle", "bsdf": {"type": "diffuse", "reflectance": 0.2},
                   "to_world": mi.ScalarTransform4f().translate([0.0, floor_y, 0.0])
                   @ mi.ScalarTransform4f().rotate([1.0, 0.0, 0.0], -90.0) @ mi.ScalarTransform4f().scale(200.0)}
