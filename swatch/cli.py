@@ -71,7 +71,14 @@ def cli():
 
 
 def _one_line(text: object) -> str:
-    return " ".join(str(text).split())
+    """One line, at most MAX_ERROR_CHARS characters (an error may quote what it was given: 100 kB of input
+    must not make a 100 kB line); control characters are shown escaped."""
+    from swatch.core.limits import MAX_ERROR_CHARS, MAX_ERROR_WORD_CHARS
+
+    words = [w if len(w) <= MAX_ERROR_WORD_CHARS else f"{w[:MAX_ERROR_WORD_CHARS]}…[{len(w)} characters]"
+             for w in str(text).split()]  # a quoted huge input is cut, what follows it (what is allowed) kept
+    line = "".join(ch if ch.isprintable() else repr(ch)[1:-1] for ch in " ".join(words))
+    return line if len(line) <= MAX_ERROR_CHARS else line[:MAX_ERROR_CHARS] + f" …[{len(line)} characters]"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -190,13 +190,19 @@ def test_issue12_stale_temporary_files_are_cleaned(small, tmp_path):
 def test_issue12_render_cleans_temp_files_of_dead_runs(tmp_path):
     out = tmp_path / "r"
     out.mkdir()
-    dead = out / ".flat_050.0nm.4194303.abcdefgh.tmp.png"  # pid above the kernel's maximum: never alive
-    alive = out / f".flat_050.0nm.{os.getppid()}.abcdefgh.tmp.png"  # a live run's: kept
-    dead.write_bytes(b"x")
-    alive.write_bytes(b"x")
+    dead = out / ".flat_050.0nm.swtmp.4194303.abcdefgh.tmp.png"  # pid above the kernel's maximum: never alive
+    alive = out / f".flat_050.0nm.swtmp.{os.getppid()}.abcdefgh.tmp.png"  # a live run's: kept
+    users = [out / ".flat_050.0nm.4194303.abcdefgh.tmp.png",  # issue 22: a user's files named like dead temps
+             out / ".flat_050.0nm.swtmp.4194303.abcdefgh.tmp.png.keep"]
+    for p in (dead, alive, *users):
+        p.write_bytes(b"x")
+        p.chmod(0o600)
+    mine = out / ".flat_050.0nm.swtmp.4194304.abcdefgh.tmp.png"  # the marked name, but the user's mode
+    mine.write_bytes(b"x")
+    mine.chmod(0o644)
     proc = run_swatch("render", "--thickness", "50", "--out", out, "--size", "16")
     assert proc.returncode == 0, proc.stderr
-    assert not dead.exists() and alive.exists()
+    assert not dead.exists() and alive.exists() and mine.exists() and all(p.exists() for p in users)
 
 
 def test_issue12_force_with_a_folder_in_the_way_writes_nothing(tmp_path):

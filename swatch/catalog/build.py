@@ -303,6 +303,8 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
     """
     t0 = time.perf_counter()
     say = log or (lambda msg: None)
+    if not str(out_dir).strip():  # (Path('') is the current folder)
+        raise SwatchError("--out is an empty string; give a folder path")
     spec, _raw = load_spec(spec_path)
     spec_name = Path(spec_path).name
     out = Path(out_dir)
@@ -339,6 +341,29 @@ def check_buildable(spec: CatalogSpec) -> None:
     check_colorimetry(spec)
     for step in (GRID_STEP_NM, MATCH_STEP_NM):
         thickness_axis(spec.thickness_nm, step)
+    plan_jobs(spec, 1)
+
+
+#: Leeway on the plan for one sheet composed in the building process (its base is counted twice there).
+WORKER_SLACK_BYTES = 300 * 1024 ** 2
+#: The building process itself (records, explorer tables, page) besides the sheets it composes.
+PARENT_BYTES = 600 * 1024 ** 2
+
+
+def plan_jobs(spec: CatalogSpec, jobs: int) -> int:
+    """Workers composing sheets at once, chosen from the memory budget (:data:`swatch.core.limits.MAX_RUN_BYTES`
+    for the whole build: the parent and its workers); a sheet too big for the budget even alone is refused."""
+    from swatch.catalog.sheets import Layout, sheet_bytes
+    from swatch.core.limits import MAX_RUN_BYTES
+
+    per = sheet_bytes(spec)
+    if per + PARENT_BYTES > MAX_RUN_BYTES + WORKER_SLACK_BYTES:
+        lay = Layout(spec)
+        raise SwatchError(f"a sheet of {lay.width} × {lay.height} px ({spec.per_sheet} tiles at size_px "
+                          f"{spec.size_px}) needs ~{(per + PARENT_BYTES) / 1024 ** 3:.1f} GB to compose, more than "
+                          f"the {MAX_RUN_BYTES / 1024 ** 3:g} GB a build may use; use fewer [sheet] columns or rows, "
+                          "fewer shapes or a smaller size_px")
+    return max(1, min(jobs, (MAX_RUN_BYTES - PARENT_BYTES) // per))
 
 
 def _check_jobs(jobs) -> int:
@@ -384,7 +409,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         # 1. tiles (renders), from the cache or rendered in parallel
         tile_keys = [sheetmod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
-        pool = sheetmod.make_pool(spec, min(jobs, max(len(missing), n_sheets)))
+        pool = sheetmod.make_pool(spec, plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
         rendered = sheetmod.render_missing(spec, data.thickness_nm, missing, tile_keys, cache, pool,
                                            lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)

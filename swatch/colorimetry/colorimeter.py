@@ -136,6 +136,9 @@ class Colorimeter:
         step = float(steps[0])
         if not np.allclose(steps, step) or not any(np.isclose(step, s) for s in ASTM_E308_STEPS_NM):
             raise SwatchError("colorimetry needs an evenly spaced 1, 5, 10 or 20 nm grid (ASTM E308)")
+        if not np.isclose(wl[0] / step, round(float(wl[0] / step)), rtol=0.0, atol=1e-6):
+            raise SwatchError(f"colorimetry needs a grid on the ASTM E308 tables' wavelengths (a start that is a "
+                              f"multiple of the {step:g} nm step), got a start of {wl[0]:g} nm; e.g. 380:780:5")
         self.observer_name = _observer_name(observer)
         self.illuminant_name = _illuminant_name(illuminant)
         cmfs = colour.MSDS_CMFS[self.observer_name]
@@ -158,6 +161,9 @@ class Colorimeter:
             self.weights = np.ascontiguousarray(
                 colour.msds_to_XYZ(basis, cmfs, self.illuminant_sd, method="ASTM E308")
             )
+        if self.weights.shape != (wl.size, 3):  # (the tables did not cover the grid point for point)
+            raise SwatchError(f"colorimetry: the ASTM E308 tables do not cover the grid {wl[0]:g}–{wl[-1]:g} nm "
+                              f"at {step:g} nm point for point; e.g. 380:780:5")
         self.white_XYZ = self.weights.sum(axis=0)
         self.white_xy = colour.XYZ_to_xy(self.white_XYZ / 100.0)
 

@@ -62,8 +62,11 @@ def calibrate(coupons, out_path, process, film, substrate, fixed_tables, name, l
     error (the report says what each bought). Data that cannot determine them are refused.
     """
     from swatch.fit.calibration import calibrate as fit
+    from swatch.physics.process import check_profile_name
     from swatch.report.calibration import calibration_paths, calibration_text, write_calibration
 
+    if name is not None:
+        check_profile_name(name)  # (a newline or ESC wrote a profile that --process then refused)
     out, png = calibration_paths(out_path, report_dir, force)
     resolve_process(process, film, substrate)  # checks --film/--substrate
     base = resolve_process(process)

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import click
 
+from swatch.commands import common
+
 
 def _figure(results: list[dict], spec: dict):
     """Specified vs measured chips per angle (rows: parts, columns: geometries); failing cells framed red.
@@ -74,8 +76,7 @@ def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observe
               help="with --thickness/--voltage: the tolerance, judged in its own metric")
 @click.option("--illuminant", default="D65", show_default=True, help="with --thickness/--voltage: CIE illuminant")
 @click.option("--observer", default="10", show_default=True, help="with --thickness/--voltage: 10 or 2")
-@click.option("--percent/--fraction", "percent", default=None,
-              help="reflectance unit of spectra [default: percent if any value > 1.5, else fraction]")
+@common.unit_options("reflectance is in percent (0–100) [default: percent if any value > 1.5, else fraction]")
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of text")
 @click.option("--report", "report_dir", default=None, type=click.Path(file_okay=False, path_type=str),
               help="write check.png (specified vs measured chips per angle) and check.json into this folder")

@@ -8,6 +8,7 @@ import click
 import numpy as np
 
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_OVERCOATS, MAX_THICKNESS_NM
 from swatch.core.ranges import parse_grid, parse_range
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
 from swatch.physics.model import check_thickness_nm
@@ -58,7 +59,9 @@ def resolve_process(process: str | None, film: str | None = None, substrate: str
     and ``--spread``."""
     from swatch.physics.process import DEFAULT_PROCESS, load_process
 
-    return load_process(process or DEFAULT_PROCESS).with_overrides(film, substrate, nm_per_volt, given_spread())
+    if process is not None and not process.strip():  # ('' silently took the default)
+        raise SwatchError("--process is an empty string; give a preset name or the path of a profile .toml file")
+    return load_process(DEFAULT_PROCESS if process is None else process).with_overrides(film, substrate, nm_per_volt, given_spread())
 
 
 def thickness_options(multiple: bool):
@@ -110,7 +113,14 @@ def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
     coating = proc.coating(resolve_grid(wavelengths))
     if not overcoats:
         return coating
-    return OvercoatedCoating(coating, tuple(overcoat(o, coating.wavelength_nm) for o in overcoats))
+    if len(overcoats) > MAX_OVERCOATS:
+        raise SwatchError(f"{len(overcoats)} --overcoat layers; at most {MAX_OVERCOATS}")
+    layers = tuple(overcoat(o, coating.wavelength_nm) for o in overcoats)
+    total = sum(o.thickness_nm for o in layers)
+    if total > MAX_THICKNESS_NM:
+        raise SwatchError(f"the --overcoat layers add up to {total:g} nm; at most {MAX_THICKNESS_NM:g} nm in all "
+                          "(a thicker stack is not coherent: its fringes are finer than the wavelength grid)")
+    return OvercoatedCoating(coating, layers)
 
 
 def grid_option(f):
@@ -171,3 +181,20 @@ def instrument_request(percent=None):
                    light_azimuth_deg=p.get("light_azimuth", 0.0) or 0.0, view_azimuth_deg=p.get("view_azimuth"),
                    illuminant=p.get("illuminant", "D65"), observer=p.get("observer", "10"), percent=percent,
                    given=frozenset(keys))
+
+
+def unit_options(help_text: str):
+    """``--percent`` / ``--fraction`` (the reflectance unit), passed to the command as ``percent``
+    (True, False, or None to detect); both together are refused (with a flag pair the last one won)."""
+    import functools
+
+    def deco(f):
+        @functools.wraps(f)
+        def run(*args, percent_flag=False, fraction_flag=False, **kwargs):
+            if percent_flag and fraction_flag:
+                raise SwatchError("give --percent or --fraction, not both (the reflectance unit of the spectra)")
+            return f(*args, percent=True if percent_flag else False if fraction_flag else None, **kwargs)
+
+        run = click.option("--fraction", "fraction_flag", is_flag=True, help="reflectance is a fraction (0–1)")(run)
+        return click.option("--percent", "percent_flag", is_flag=True, help=help_text)(run)
+    return deco

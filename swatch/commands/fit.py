@@ -18,8 +18,7 @@ _RANGE_DEFAULT = "{:g}:{:g}".format(*choices.DEFAULT_THICKNESS_RANGE_NM)
 # -- fit --------------------------------------------------------------------------------------------
 @click.command()
 @click.argument("measurements", nargs=-1, required=True, type=click.Path(dir_okay=False, path_type=str))
-@click.option("--percent/--fraction", "percent", default=None,
-              help="reflectance unit [default: percent if any value > 1.5, else fraction]")
+@common.unit_options("reflectance is in percent (0–100) [default: percent if any value > 1.5, else fraction]")
 @click.option("--scale", type=click.Choice(choices.SCALE_MODES), default="energy", show_default=True,
               help="intensity correction: energy = the paper's (match each geometry's mean energy), "
                    "lsq = least-squares scale per geometry, global = one scale, none = absolute")

@@ -25,18 +25,27 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     The renderer's own thin-film model (ported in swatch.presets) is fitted to the exact colour
     over facet angles 0–60° (D65, CIE 1931 2°); the largest error is printed.
     """
+    import math
+    from pathlib import Path
+
     from swatch.catalog.presets import preset_file_name, single_preset
     from swatch.commands.common import resolve_process, resolve_thickness
+    from swatch.core.errors import SwatchError
     from swatch.core.fileio import atomic_write_bytes, check_new, check_writable_dir
     from swatch.physics.finishes import finish_or_roughness
 
     finish = finish_or_roughness(finish_name, roughness)
     roughness = finish.roughness_alpha if finish is not None else (0.3 if roughness is None else roughness)
+    if roughness is not None and not math.isfinite(roughness):
+        raise SwatchError(f"--roughness must be a number from 0 to 1 (got {roughness})")
+    if not str(out).strip():
+        raise SwatchError("--out is an empty string; give a folder path")
     proc = resolve_process(process, film, substrate, nm_per_volt)
     d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
-    path = check_writable_dir(out) / preset_file_name(f"{float(d[0]):g}nm", fmt)
+    path = Path(out) / preset_file_name(f"{float(d[0]):g}nm", fmt)
     check_new([path], force)
     data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness,
-                                  proc.spread, finish)
+                                  proc.spread, finish)  # (before the folder is made: a bad input creates nothing)
+    check_writable_dir(out)
     atomic_write_bytes(path, data)
     click.echo(f"{path}: {summary}")

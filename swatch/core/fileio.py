@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from pathlib import Path
 
@@ -62,8 +63,10 @@ class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as
         self.suffix = self.path.suffix if suffix is None else suffix
 
     def __enter__(self) -> Path:
-        _remove_stale_temps(self.path.parent, f".{self.path.stem}.", f".tmp{self.suffix}")
-        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.{os.getpid()}.", suffix=f".tmp{self.suffix}",
+        _remove_stale_temps(self.path.parent, f".{self.path.stem}.{TEMP_MARK}.", f".tmp{self.suffix}")
+        # mkstemp: O_EXCL, mode 0600 until the rename (chmod 0644 then): with the marker in the name, what
+        # _remove_stale_temps can prove is a temporary file of ours
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.{TEMP_MARK}.{os.getpid()}.", suffix=f".tmp{self.suffix}",
                                    dir=self.path.parent)
         os.close(fd)
         self.tmp = Path(tmp)
@@ -79,10 +82,16 @@ class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as
         return False
 
 
+#: In every temporary file's name (``.<stem>.swtmp.<pid>.<random>.tmp<suffix>``).
+TEMP_MARK = "swtmp"
+
+
 def _remove_stale_temps(folder: Path, prefix: str, suffix: str) -> None:
     """Remove temporary files ``<prefix><pid>.<random><suffix>`` left by runs that were killed.
 
-    Only files whose process is gone are removed (a concurrent run's temporary file is kept).
+    Only what is provably such a file is removed: the marked name, a regular file (not a link) of
+    this user still at mkstemp's mode 0600, whose process is gone (a concurrent run's is kept). A
+    user's file that merely looks like one (another name, or its mode changed) is never touched.
     """
     try:
         names = [n for n in os.listdir(folder) if n.startswith(prefix) and n.endswith(suffix)]
@@ -92,6 +101,12 @@ def _remove_stale_temps(folder: Path, prefix: str, suffix: str) -> None:
         pid, _, rand = name[len(prefix):len(name) - len(suffix)].partition(".")
         if not pid.isdigit() or len(rand) != 8 or "." in rand or int(pid) == os.getpid():
             continue  # not ours (another output's stem), or this process's own
+        try:
+            st = os.lstat(folder / name)
+        except OSError:
+            continue
+        if not stat.S_ISREG(st.st_mode) or stat.S_IMODE(st.st_mode) != 0o600 or st.st_uid != os.getuid():
+            continue
         try:
             os.kill(int(pid), 0)
         except ProcessLookupError:

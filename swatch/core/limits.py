@@ -10,16 +10,18 @@ import stat
 
 from swatch.core.errors import SwatchError
 
-__all__ = ["MAX_METADATA_BYTES", "MAX_NAME_CHARS", "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS",
-           "MAX_MEASUREMENT_BYTES", "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE",
-           "MAX_RUN_BYTES", "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SPREAD_NM", "MAX_SPREAD_FRACTION", "MAX_SIZE_PX", "MAX_ANGULAR_SAMPLES",
-           "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX", "MAX_ANISO_RENDER_PX", "MAX_SWATCHES", "MAX_CHIP_PX",
-           "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES", "MAX_COUPON_ROWS", "MAX_COUPONS",
-           "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE", "MAX_REFLECTANCE", "MIN_REFLECTANCE",
-           "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_INSTRUMENT_SAMPLES",
-           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED",
-           "MAX_MITSUBA_PX", "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY",
-           "MAX_TURBIDITY", "read_capped", "read_text_capped"]
+__all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MAX_OVERCOATS", "MAX_ERROR_CHARS",
+           "MAX_ERROR_WORD_CHARS", "MAX_PROFILE_NAME_CHARS", "plan_rows", "MAX_METADATA_BYTES", "MAX_NAME_CHARS",
+           "MAX_CACHE_ENTRY_BYTES", "MAX_WAVELENGTHS", "MAX_RANGE_POINTS", "MAX_MEASUREMENT_BYTES",
+           "MAX_SPEC_BYTES", "MAX_CSV_FIELD_CHARS", "MAX_LAB_AB", "MIN_PEAK_REFLECTANCE", "MAX_RUN_BYTES",
+           "MAX_THICKNESS_NM", "MAX_VOLTAGE_V", "MAX_SPREAD_NM", "MAX_SPREAD_FRACTION", "MAX_SIZE_PX",
+           "MAX_ANGULAR_SAMPLES", "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX",
+           "MAX_SWATCHES", "MAX_CHIP_PX", "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES",
+           "MAX_COUPON_ROWS", "MAX_COUPONS", "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE",
+           "MAX_REFLECTANCE", "MIN_REFLECTANCE", "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_INSTRUMENT_SAMPLES",
+           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
+           "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
+           "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -46,9 +48,18 @@ MAX_LAB_AB = 200.0
 MIN_PEAK_REFLECTANCE = 1e-4
 #: Working memory one run may plan for; large jobs are done in chunks or refused beyond it.
 MAX_RUN_BYTES = 2 * 1024 ** 3
+#: Distinct geometries in one measurement to fit (an 86 × 86 sBRDF set has 7,396): one thickness of the
+#: search sweep at the cap (~20k facet angles × the wavelengths) stays well inside MAX_RUN_BYTES.
+MAX_FIT_GEOMETRIES = 20_000
 #: Largest film thickness accepted (anodic films are 10–300 nm; interference orders beyond a
 #: micrometre are not colours any more).
 MAX_THICKNESS_NM = 1000.0
+#: Longest error line the CLI prints, and longest word in it (a message that quotes a huge input
+#: has the quote cut, not what it says is allowed).
+MAX_ERROR_CHARS = 4000
+MAX_ERROR_WORD_CHARS = 200
+#: Clear layers over the oxide (``--overcoat``); their total thickness is capped at MAX_THICKNESS_NM too.
+MAX_OVERCOATS = 10
 #: Largest anodising voltage accepted.
 MAX_VOLTAGE_V = 300.0
 #: A film's thickness spread (1σ of the local thickness, swatch.physics.spread): the absolute part, nm, and the part
@@ -57,6 +68,12 @@ MAX_SPREAD_NM = 50.0
 MAX_SPREAD_FRACTION = 0.3
 #: Largest render size (pixels per side): a 4096² render peaks at ~1.2 GB (8192² would need ~4.5 GB).
 MAX_SIZE_PX = 4096
+#: Smallest render size under an environment (pixels per side): its shading grid needs 8
+#: (a point-light render takes any size from 1).
+MIN_ENV_RENDER_PX = 8
+#: Smallest microfacet roughness alpha: below it alpha² underflows in the distributions' terms
+#: (1e-300 gave NaN pixels); 0.001 is already a mirror at any render size.
+MIN_ROUGHNESS_ALPHA = 1e-3
 #: Largest angular map, in cells × wavelengths: its spectral array (8 bytes a sample) and the
 #: spectral EXR (4) stay near 0.6 GB within MAX_RUN_BYTES (e.g. 700 × 700 cells at 81 wavelengths).
 MAX_ANGULAR_SAMPLES = 40_000_000
@@ -88,6 +105,7 @@ MAX_COUPONS = 1000
 #: A process profile (TOML; the shipped ones are ~1 kB) and one of its text fields.
 MAX_PROFILE_BYTES = 64 * 1024
 MAX_PROFILE_TEXT_CHARS = 2000
+MAX_PROFILE_NAME_CHARS = 80
 #: Largest colour tolerance (ΔE, any metric) a spec or a grade may state.
 MAX_TOLERANCE = 100.0
 #: Largest reflectance factor accepted in a measurement (fraction). Near the mirror direction a
@@ -120,6 +138,18 @@ MAX_PASS_LANES = 1 << 20
 #: model's turbidity range (Hosek–Wilkie's fit covers 1–10).
 MIN_YEAR, MAX_YEAR = 1900, 2100
 MIN_TURBIDITY, MAX_TURBIDITY = 1.0, 10.0
+
+
+def plan_rows(bytes_per_row: int, what: str, hint: str = "", budget: int = MAX_RUN_BYTES // 2) -> int:
+    """Rows one chunk of work may hold (``bytes_per_row`` each) within half the run's memory budget
+    (the rest is the interpreter, the libraries and the inputs); SwatchError when not even one fits."""
+    from swatch.core.errors import SwatchError
+
+    per = max(1, int(bytes_per_row))
+    if per > budget:
+        raise SwatchError(f"{what} needs {per / 1024 ** 3:.1f} GB at once, more than a run may plan for "
+                          f"({MAX_RUN_BYTES / 1024 ** 3:g} GB){'; ' + hint if hint else ''}")
+    return budget // per
 
 
 def read_capped(path, limit: int, what: str) -> bytes:

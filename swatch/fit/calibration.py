@@ -34,7 +34,7 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00, get_colorimeter
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_VOLTAGE_V
+from swatch.core.limits import MAX_PROFILE_NAME_CHARS, MAX_VOLTAGE_V
 from swatch.fit import calibration_search as cs
 from swatch.io.coupons import Coupons
 from swatch.physics import geometry
@@ -368,7 +368,7 @@ def _result(coupons, base, name, fit, se, outlier, record, ranking, fixed, table
         sources["roughness"] = kept["roughness"]
     spread = ThicknessSpread(0.0, round(float(theta["spread_fraction"]), 5)) if "f" in fit.free else base.spread
     proc = dataclasses.replace(
-        base, name=name or f"{base.name}-calibrated", film=table.film, substrate=table.substrate,
+        base, name=name if name is not None else f"{base.name[:MAX_PROFILE_NAME_CHARS - 11]}-calibrated", film=table.film, substrate=table.substrate,
         nm_per_V=round(float(theta["nm_per_V"]), 5), offset_nm=round(float(theta["offset_nm"]), 3),
         film_index_scale=round(s, 5) if "s" in fit.free else base.film_index_scale, origin="calibrated",
         knee_V=round(float(theta["knee_V"]), 3) if knee else None,

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00
+from swatch.core.limits import MAX_COUPONS, plan_rows
 from swatch.physics import optics
 from swatch.physics.model import get_coating
 from swatch.physics.spread import node_count, spread_nodes
@@ -305,6 +306,9 @@ def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndar
     return out
 
 
+_GRID_BYTES_PER_CELL = 96  # working bytes per (rate, offset, coupon) cell of the grid (u, mask, index, cost)
+
+
 def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3) -> np.ndarray:
     """Distinct linear laws (count, 6) best by a global grid over optical rate and offset (robust ΔE2000
     sum), one per interference order: every coupon's ΔE2000 to every tabulated u is computed once."""
@@ -318,13 +322,20 @@ def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3
     v_max = float(V.max())
     rates = np.arange(0.4, 7.0 + 1e-9, min(0.03, 2.0 / v_max))  # ≤ 2 nm at the top voltage: the fit refines
     offsets = np.arange(-10.0, 40.0 + 1e-9, 2.0)
-    grid_u = offsets[None, :, None] + rates[:, None, None] * V[None, None, :]  # (R, O, N)
-    inside = (grid_u >= 0.0) & (grid_u <= U_MAX_NM)
-    idx = np.clip(np.rint(grid_u / (U_STEP_NM * stride)).astype(np.int64), 0, u.size - 1)
-    cost = cost_table[idx, np.arange(prob.n)]
-    if have.any():
-        cost = cost + np.where(have, ((grid_u / scale - np.nan_to_num(prob.d_meas)) / THICKNESS_SIGMA_NM) ** 2, 0.0)
-    total = np.where(inside.all(axis=2), cost.sum(axis=2), np.inf)
+
+    def totals(r: np.ndarray) -> np.ndarray:  # (len(r), O): the robust cost of each line
+        grid_u = offsets[None, :, None] + r[:, None, None] * V[None, None, :]  # (R, O, N)
+        inside = (grid_u >= 0.0) & (grid_u <= U_MAX_NM)
+        idx = np.clip(np.rint(grid_u / (U_STEP_NM * stride)).astype(np.int64), 0, u.size - 1)
+        cost = cost_table[idx, np.arange(prob.n)]
+        if have.any():
+            cost = cost + np.where(have, ((grid_u / scale - np.nan_to_num(prob.d_meas)) / THICKNESS_SIGMA_NM) ** 2, 0.0)
+        return np.where(inside.all(axis=2), cost.sum(axis=2), np.inf)
+
+    # the rate × offset × coupon grid in chunks of rates planned against the run's budget (issue 22)
+    rows = plan_rows(offsets.size * V.size * _GRID_BYTES_PER_CELL, "the calibration's grid search",
+                     f"at most {MAX_COUPONS} coupons")
+    total = np.concatenate([totals(rates[i:i + rows]) for i in range(0, rates.size, rows)])
     order = np.argsort(total, axis=None)
     picks: list[tuple[float, float]] = []
     for flat in order[:5000]:

@@ -63,11 +63,12 @@ from swatch.colorimetry.colorimeter import ASTM_E308_STEPS_NM, delta_E_00, delta
 from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.choices import SCALE_MODES
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_FIT_GEOMETRIES, MAX_WAVELENGTHS, plan_rows
 from swatch.physics import geometry, optics
 from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import DEFAULT_NM_PER_V, Coating, thickness_to_voltage_V
 
-__all__ = ["FitResult", "FacetModel", "mirror_angle_deg", "colour_grid", "check_scale", "delta_e_grid"]
+__all__ = ["FitResult", "FacetModel", "sweep_curve", "mirror_angle_deg", "colour_grid", "check_scale", "delta_e_grid"]
 
 #: Wavelength spacing of the coarse search (the spectra are smooth on this scale).
 COARSE_SPACING_NM = 10.0
@@ -120,6 +121,25 @@ def sweep_reflectance(coating: Coating, start: float, step: float, count: int, c
         d = float(start) + float(step) * np.arange(int(count))
         return sub.reflectance_cos(d[:, None], cos_u).R
     return film_at_angles(coating, cos_u, wl_index).sweep(start, step, count).R
+
+
+#: Working bytes per (thickness, facet angle, wavelength) sample of a sweep (complex Airy terms, the
+#: spread's accumulator), with a margin; the README's memory table has the measured peaks.
+SWEEP_BYTES_PER_SAMPLE = 320
+
+
+def sweep_curve(objective, coating: Coating, start: float, step: float, count: int, cos_u: np.ndarray,
+                wl_index: np.ndarray | None, objective_bytes_per_thickness: int) -> np.ndarray:
+    """``objective(R)`` (R: (n, U, W') reflectance of n thicknesses → (n,)) over ``start + step j``, ``j < count``,
+    in chunks of thicknesses planned against :data:`swatch.core.limits.MAX_RUN_BYTES` (a fine ``--step`` or many
+    geometries would otherwise build the whole (count, U, W') sweep at once)."""
+    n_wl = coating.wavelength_nm.size if wl_index is None else len(wl_index)
+    per_thickness = cos_u.size * n_wl * SWEEP_BYTES_PER_SAMPLE + int(objective_bytes_per_thickness)
+    rows = plan_rows(per_thickness, "the thickness search",
+                     f"at most {MAX_FIT_GEOMETRIES} geometries and {MAX_WAVELENGTHS} wavelengths")
+    out = [objective(sweep_reflectance(coating, start + step * j0, step, min(rows, count - j0), cos_u, wl_index))
+           for j0 in range(0, int(count), rows)]
+    return np.concatenate(out)
 
 
 class FacetModel:

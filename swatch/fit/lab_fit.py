@@ -15,7 +15,7 @@ from swatch.fit.fitting import (
     geometry_fields,
     model_reflectance,
     search_fields,
-    sweep_reflectance,
+    sweep_curve,
     unique_geometry,
     used_geometries,
 )
@@ -107,8 +107,8 @@ def fit_lab(
         dE = delta_E_00(Lab_s, np.broadcast_to(Lab_m, Lab_s.shape))
         return np.sum(dE * dE, axis=-1)
 
-    def curve():
-        return objective(cm.XYZ(sweep_reflectance(coating, lo, step, count, cu)))
+    def curve():  # in chunks of thicknesses; ΔE2000 holds ~40 temporaries a geometry
+        return sweep_curve(lambda R: objective(cm.XYZ(R)), coating, lo, step, count, cu, None, 40 * 8 * Lab_m.shape[0])
 
     facets = FacetModel(coating, cu)
 
@@ -121,7 +121,8 @@ def fit_lab(
     p = 1 + {"energy": G, "lsq": G, "global": 1, "none": 0}[scale]
     sigma = curvature_sigma(fine, d_best, f_best, lo, hi, 3 * G, p)
 
-    XYZ_all = cm.XYZ(model_reflectance(coating, d_best, cos_d))
+    cu_all, inv_all = unique_geometry(cos_d)  # (each distinct facet angle once, not a spectrum per geometry)
+    XYZ_all = cm.XYZ(model_reflectance(coating, d_best, cu_all))[inv_all]
     Y_all = cm.Lab_to_XYZ(Lab_m_all)[..., 1]
     if scale in ("energy", "lsq", "none"):
         Lab_s, a_all = _scaled_Lab(XYZ_all, Y_all, scale, cm)

@@ -20,7 +20,7 @@ from swatch.fit.fitting import (
     interp_rows,
     model_reflectance,
     search_fields,
-    sweep_reflectance,
+    sweep_curve,
     unique_geometry,
     used_geometries,
 )
@@ -112,9 +112,9 @@ def fit_spectra(
         wl_idx = np.arange(wl.size)
     Mc = M[:, wl_idx]
 
-    def curve():
-        S = sweep_reflectance(coating, lo, step, count, cu, wl_idx)[:, inv, :]
-        return _scales_and_ssr(S, Mc, scale)[1]
+    def curve():  # in chunks of thicknesses; the scaled residuals hold ~6 copies of (geometries, wavelengths)
+        return sweep_curve(lambda R: _scales_and_ssr(R[:, inv, :], Mc, scale)[1], coating, lo, step, count, cu,
+                           wl_idx, 6 * 8 * Mc.size)
 
     facets = FacetModel(coating, cu)
 

@@ -185,13 +185,14 @@ def write_exr(path, pixels, metadata: dict | None = None, channel_names=("R", "G
     written under their own names (no ``swatch:`` prefix), e.g. a layout's standard attributes.
     """
     oiio = _oiio()
-    arr = _as_hwc(pixels, "EXR pixels").astype(np.float32)
+    arr = _as_hwc(pixels, "EXR pixels").astype(np.float32, copy=False)  # (no copy of a float32 image)
     names = [str(c) for c in channel_names]
     if len(names) != arr.shape[2] or len(set(names)) != len(names):
         raise SwatchError(f"EXR needs {arr.shape[2]} distinct channel names, got {len(names)}")
-    if not np.all(np.isfinite(arr)):
+    lo, hi = (float(arr.min()), float(arr.max())) if arr.size else (0.0, 0.0)  # NaN propagates: no mask array
+    if not (np.isfinite(lo) and np.isfinite(hi)):
         raise SwatchError("EXR pixels contain NaN or inf")
-    if half:
+    if half and (lo < -HALF_MAX or hi > HALF_MAX):
         arr = np.clip(arr, -HALF_MAX, HALF_MAX)
     h, w, c = arr.shape
     spec = oiio.ImageSpec(w, h, c, "half" if half else "float")
@@ -425,30 +426,43 @@ def text_width(text: str, size_px: int, font: str = "DroidSans") -> int:
 
 
 def draw_text(image_uint8, text: str, x: int, y: int, size_px: int = 16, color=(0, 0, 0),
-              align: str = "left", valign: str = "baseline", font: str = "DroidSans") -> np.ndarray:
+              align: str = "left", valign: str = "baseline", font: str = "DroidSans",
+              inplace: bool = False) -> np.ndarray:
     """Render ``text`` into a copy of an (H, W, C) uint8 image with OpenImageIO (anti-aliased).
 
     ``(x, y)`` is the anchor: ``align`` left|center|right, ``valign`` baseline|top|center|bottom.
-    ``color`` as 0–255 or 0–1 values. Returns the new image (the input is not modified).
+    ``color`` as 0–255 or 0–1 values. Returns the new image (the input is not modified), or with
+    ``inplace`` the input itself, drawn on (a figure of many labels: no copy per label). Only the band
+    of rows the text can reach is converted, so a label costs the same on a tall figure as on a small one.
     """
     oiio = _oiio()
     img = _as_hwc(image_uint8, "image")
     if img.dtype != np.uint8:
         raise SwatchError("draw_text works on uint8 images")
     h, w, c = img.shape
-    buf = oiio.ImageBuf(oiio.ImageSpec(w, h, c, "float"))
-    buf.set_pixels(oiio.ROI(0, w, 0, h), img.astype(np.float32) / 255.0)
-    ok = oiio.ImageBufAlgo.render_text(buf, int(x), int(y), drawable_text(text, font), int(size_px), font_path(font),
-                                       _color_tuple(color, c), align, valign)
+    pad = 2 * int(size_px) + 4  # the glyphs lie within two sizes of the anchor, whatever the valign
+    y0, y1 = max(0, int(y) - pad), min(h, int(y) + pad)
+    out_img = img if inplace else img.copy()
+    if y1 <= y0:
+        return out_img
+    band = img[y0:y1]
+    buf = oiio.ImageBuf(oiio.ImageSpec(w, y1 - y0, c, "float"))
+    buf.set_pixels(oiio.ROI(0, w, 0, y1 - y0), band.astype(np.float32) / 255.0)
+    ok = oiio.ImageBufAlgo.render_text(buf, int(x), int(y) - y0, drawable_text(text, font), int(size_px),
+                                       font_path(font), _color_tuple(color, c), align, valign)
     if not ok:
         raise SwatchError(f"cannot draw text: {buf.geterror()}")
-    out = buf.get_pixels(oiio.FLOAT).reshape(h, w, c)
-    return np.clip(np.round(out * 255.0), 0, 255).astype(np.uint8)
+    out = buf.get_pixels(oiio.FLOAT).reshape(y1 - y0, w, c)
+    out_img[y0:y1] = np.clip(np.round(out * 255.0), 0, 255).astype(np.uint8)
+    return out_img
 
 
-def draw_rect(image_uint8, x0: int, y0: int, x1: int, y1: int, color, fill: bool = True, width: int = 1) -> np.ndarray:
-    """A filled (or outlined) axis-aligned rectangle [x0, x1) × [y0, y1) on a copy of the image."""
-    img = _as_hwc(image_uint8, "image").copy()
+def draw_rect(image_uint8, x0: int, y0: int, x1: int, y1: int, color, fill: bool = True, width: int = 1,
+              inplace: bool = False) -> np.ndarray:
+    """A filled (or outlined) axis-aligned rectangle [x0, x1) × [y0, y1) on a copy of the image (``inplace``:
+    on the image itself)."""
+    img = _as_hwc(image_uint8, "image")
+    img = img if inplace else img.copy()
     col = np.round(np.asarray(_color_tuple(color, img.shape[2])) * 255).astype(np.uint8)
     h, w = img.shape[:2]
     x0, x1 = max(0, int(x0)), min(w, int(x1))
@@ -466,11 +480,15 @@ def draw_rect(image_uint8, x0: int, y0: int, x1: int, y1: int, color, fill: bool
     return img
 
 
-def draw_line(image_uint8, x0: int, y0: int, x1: int, y1: int, color, width: int = 1) -> np.ndarray:
-    """A horizontal or vertical line (axes, ticks) of ``width`` pixels on a copy of the image."""
+def draw_line(image_uint8, x0: int, y0: int, x1: int, y1: int, color, width: int = 1,
+              inplace: bool = False) -> np.ndarray:
+    """A horizontal or vertical line (axes, ticks) of ``width`` pixels on a copy of the image (``inplace``:
+    on the image itself)."""
     if x0 != x1 and y0 != y1:
         raise SwatchError("draw_line draws horizontal or vertical lines only")
     t = int(width)
     if y0 == y1:
-        return draw_rect(image_uint8, min(x0, x1), y0 - t // 2, max(x0, x1) + 1, y0 - t // 2 + t, color)
-    return draw_rect(image_uint8, x0 - t // 2, min(y0, y1), x0 - t // 2 + t, max(y0, y1) + 1, color)
+        return draw_rect(image_uint8, min(x0, x1), y0 - t // 2, max(x0, x1) + 1, y0 - t // 2 + t, color,
+                         inplace=inplace)
+    return draw_rect(image_uint8, x0 - t // 2, min(y0, y1), x0 - t // 2 + t, max(y0, y1) + 1, color,
+                     inplace=inplace)

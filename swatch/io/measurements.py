@@ -30,6 +30,7 @@ import numpy as np
 
 from swatch.core.errors import SwatchError
 from swatch.core.limits import (
+    MAX_FIT_GEOMETRIES,
     MAX_LAB_AB,
     MAX_MEASUREMENT_BYTES,
     MAX_REFLECTANCE,
@@ -257,8 +258,11 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
     rank[order] = np.arange(order.size)
     g_idx = rank[g_inv]
     G = order.size
+    if G > MAX_FIT_GEOMETRIES:
+        raise rows.error(lines[int(np.sort(g_first)[MAX_FIT_GEOMETRIES])], f"more than {MAX_FIT_GEOMETRIES} "
+                         f"geometries; a measurement holds at most {MAX_FIT_GEOMETRIES} (an 86 × 86 sBRDF set: 7396)")
 
-    wl_key = np.round(wl, _KEY_DIGITS)
+    wl_key = np.where(np.abs(wl) < 1e12, np.round(wl, _KEY_DIGITS), wl)  # (rounding 2e300 overflowed: "appears twice")
     uwl, w_first, w_inv = np.unique(wl_key, return_index=True, return_inverse=True)
     w_inv = w_inv.reshape(-1)
     W = uwl.size
@@ -330,6 +334,9 @@ def _parse_lab(rows: _Rows, light_deg, view_deg, light_azimuth_deg, view_azimuth
     if not rows.has("light_deg") and len(rows.rows) > 1:
         raise rows.error(rows.rows[1][0], "several L,a,b rows need light_deg and view_deg columns "
                          "(one row per geometry)")
+    if len(rows.rows) > MAX_FIT_GEOMETRIES:
+        raise rows.error(rows.lines[MAX_FIT_GEOMETRIES], f"more than {MAX_FIT_GEOMETRIES} geometries; a measurement "
+                         f"holds at most {MAX_FIT_GEOMETRIES} (one L,a,b row each)")
     l, v, la, va = _geometry_columns(rows, light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
     cols = rows.columns(["l", "a", "b"])
     lines = rows.lines

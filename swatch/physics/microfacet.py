@@ -36,6 +36,7 @@ from scipy.special import erf
 
 from swatch.core.choices import DISTRIBUTIONS
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MIN_ROUGHNESS_ALPHA
 
 __all__ = [
     "DISTRIBUTIONS",
@@ -80,8 +81,8 @@ def check_roughness_alpha(roughness_alpha) -> float:
         a = float(roughness_alpha)
     except (TypeError, ValueError):
         raise SwatchError(f"roughness {roughness_alpha!r} is not a number; give a value in (0, 1]") from None
-    if not np.isfinite(a) or a <= 0.0 or a > 1.0:
-        raise SwatchError(f"roughness must be > 0 and <= 1, got {roughness_alpha!r}")
+    if not np.isfinite(a) or a < MIN_ROUGHNESS_ALPHA or a > 1.0:
+        raise SwatchError(f"roughness must be from {MIN_ROUGHNESS_ALPHA:g} to 1, got {str(roughness_alpha)[:40]!r}")
     return a
 
 

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 from swatch.core.errors import SwatchError
 from swatch.core.limits import (
     MAX_PROFILE_BYTES,
+    MAX_PROFILE_NAME_CHARS,
     MAX_PROFILE_TEXT_CHARS,
     MAX_SPREAD_FRACTION,
     MAX_SPREAD_NM,
@@ -185,8 +186,18 @@ def _number(value, key: str, lo: float, hi: float, source: str = "process") -> f
     return float(value)
 
 
+def check_profile_name(name: str, what: str = "--name") -> str:
+    """A profile name as a profile file may hold it (what ``--process`` reads back): one line of printable
+    text, not empty, at most MAX_PROFILE_NAME_CHARS characters; SwatchError otherwise."""
+    text = str(name)
+    if not text.strip() or len(text) > MAX_PROFILE_NAME_CHARS or not text.isprintable():
+        raise SwatchError(f"{what} must be one line of printable text of 1 to {MAX_PROFILE_NAME_CHARS} characters "
+                          f"(got {len(text)} characters{', with control characters' if not text.isprintable() else ''})")
+    return text
+
+
 def _text(value, key: str, source: str, limit: int = MAX_PROFILE_TEXT_CHARS) -> str:
-    if not isinstance(value, str) or len(value) > limit or any(ord(ch) < 32 for ch in value):
+    if not isinstance(value, str) or len(value) > limit or any(ord(ch) < 32 or ord(ch) == 127 for ch in value):
         raise _fail(source, f"{key} must be one line of text of at most {limit} characters")
     return value
 
@@ -205,7 +216,7 @@ def _from_dict(data: dict, source: str, origin: str) -> Process:
     for key in ("name", "film", "substrate"):
         if key not in data:
             raise _fail(source, f"missing key {key!r} (a profile needs name, film and substrate)")
-    name = _text(data["name"], "name", source, 80)
+    name = _text(data["name"], "name", source, MAX_PROFILE_NAME_CHARS)
     if not name.strip():
         raise _fail(source, "name is empty")
     rate = data.get("nm_per_V")

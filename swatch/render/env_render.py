@@ -32,7 +32,7 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import RGB_SPACES
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_ENV_RENDER_PX
+from swatch.core.limits import MAX_ENV_RENDER_PX, MIN_ENV_RENDER_PX
 from swatch.physics import geometry
 from swatch.physics.finishes import brush_tangent
 from swatch.render import env_shading, shading
@@ -45,7 +45,10 @@ from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, chec
 __all__ = ["check_env_size_px", "render_swatch_environment", "resolve_lighting", "Prepared", "prepared", "render_environment"]
 
 def check_env_size_px(size_px: int) -> int:
-    """The size of an environment-lit render, or SwatchError beyond :data:`MAX_ENV_RENDER_PX`."""
+    """The size of an environment-lit render, or SwatchError outside :data:`MIN_ENV_RENDER_PX`–:data:`MAX_ENV_RENDER_PX`."""
+    if int(size_px) < MIN_ENV_RENDER_PX:
+        raise SwatchError(f"environment-lit renders are at least {MIN_ENV_RENDER_PX} pixels per side (got "
+                          f"{int(size_px)}); use a larger --size, or --environment none")
     if int(size_px) > MAX_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
                           "use a smaller --size, or --environment none")

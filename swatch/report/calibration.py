@@ -64,43 +64,43 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
     p, u = cal.process, cal.uncertainty
     inl = ~cal.outlier
     img = draw_text(img, f"Calibration: {p.name}  ({p.film} on {p.substrate})", MARGIN, 32, 22, INK,
-                    font="DroidSans-Bold")
+                    font="DroidSans-Bold", inplace=True)
     line = (f"thickness = {_fmt(p.offset_nm, u['offset_nm'], 2)} nm + {_fmt(p.nm_per_V, u['nm_per_V'], 4)} nm/V × V"
             + (f" (to {p.knee_V:.1f} V, then {p.nm_per_V_above_knee:.3f} nm/V)" if p.knee_V is not None else "")
             + (f"   ·   spread {100 * p.spread.spread_fraction:.1f} %" if not p.spread.is_zero else "")
             + f"   ·   film index × {_fmt(p.film_index_scale, u['film_index_scale'], 4)}"
             + ("" if u["film_index_scale"] is not None else " (kept)"))
-    img = draw_text(img, line, MARGIN, 58, 16, INK)
+    img = draw_text(img, line, MARGIN, 58, 16, INK, inplace=True)
     line = (f"{n} coupons, {int(cal.outlier.sum())} outlier(s) set aside   ·   mean dE00 "
             f"{cal.delta_E_00[inl].mean():.2f}, max {cal.delta_E_00[inl].max():.2f} (without outliers)   ·   "
             f"light {cal.geometry['light_deg']:g}°, view {cal.geometry['view_deg']:g}°, {cal.illuminant}, "
             f"CIE {cal.observer}° observer")
-    img = draw_text(img, line, MARGIN, 80, 14, MUTED)
+    img = draw_text(img, line, MARGIN, 80, 14, MUTED, inplace=True)
 
     meas, pred = _chips(cal, model_R, measured_R, cm)
     order = np.argsort(cal.voltage_V, kind="stable")
     for k, i in enumerate(order):
         x = MARGIN + (k % COLS) * TILE_W
         y = top + (k // COLS) * TILE_H
-        img = draw_rect(img, x, y, x + CHIP, y + CHIP, tuple(int(c) for c in meas[i]))
-        img = draw_rect(img, x + CHIP, y, x + 2 * CHIP, y + CHIP, tuple(int(c) for c in pred[i]))
+        img = draw_rect(img, x, y, x + CHIP, y + CHIP, tuple(int(c) for c in meas[i]), inplace=True)
+        img = draw_rect(img, x + CHIP, y, x + 2 * CHIP, y + CHIP, tuple(int(c) for c in pred[i]), inplace=True)
         frame = RED if cal.outlier[i] else MUTED
         img = draw_rect(img, x - 1, y - 1, x + 2 * CHIP + 1, y + CHIP + 1, frame, fill=False,
-                        width=3 if cal.outlier[i] else 1)
-        img = draw_text(img, f"{cal.voltage_V[i]:g} V · {cal.thickness_nm[i]:.1f} nm", x, y + CHIP + 16, 13, INK)
+                        width=3 if cal.outlier[i] else 1, inplace=True)
+        img = draw_text(img, f"{cal.voltage_V[i]:g} V · {cal.thickness_nm[i]:.1f} nm", x, y + CHIP + 16, 13, INK, inplace=True)
         tag = "  OUTLIER" if cal.outlier[i] else ""
         img = draw_text(img, f"dE00 {cal.delta_E_00[i]:.2f}{tag}", x, y + CHIP + 32, 13,
-                        RED if cal.outlier[i] else INK)
-        img = draw_text(img, cal.labels[i][:16], x, y + CHIP + 47, 11, MUTED)
+                        RED if cal.outlier[i] else INK, inplace=True)
+        img = draw_text(img, cal.labels[i][:16], x, y + CHIP + 47, 11, MUTED, inplace=True)
     note = ("each pair: measured (left) | predicted by the fitted profile (right); "
             + ("display sRGB of the spectra (CIE 1931 2°)" if measured_R is not None
                else "display sRGB from the measured CIELAB (display only: a Lab carries no spectrum)"))
-    img = draw_text(img, note, MARGIN, top - 10, 12, MUTED)
+    img = draw_text(img, note, MARGIN, top - 10, 12, MUTED, inplace=True)
 
     # the fitted voltage -> colour strip, with the coupons' measured colours at their voltages
     x0, x1 = MARGIN, width - MARGIN
     img = draw_text(img, "fitted voltage -> colour (half-vector model at the measuring geometry); "
-                    "ticks: coupons, measured colour below", x0, strip_top - 10, 13, INK)
+                    "ticks: coupons, measured colour below", x0, strip_top - 10, 13, INK, inplace=True)
     cols, _ = cm.reflectance_display(strip_R)
     cols = np.round(cols * 255).astype(np.uint8)
     xs = np.linspace(x0, x1, strip_V.size + 1).astype(int)
@@ -114,13 +114,13 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
     for i in range(n):
         x = xv(cal.voltage_V[i])
         img = draw_rect(img, x - 4, strip_top + STRIP_H - 14, x + 5, strip_top + STRIP_H - 5,
-                        tuple(int(c) for c in meas[i]))
-        img = draw_line(img, x, strip_top - 4, x, strip_top, RED if cal.outlier[i] else INK)
+                        tuple(int(c) for c in meas[i]), inplace=True)
+        img = draw_line(img, x, strip_top - 4, x, strip_top, RED if cal.outlier[i] else INK, inplace=True)
     step = 10.0 if v_hi - v_lo <= 150 else 20.0
     for v in np.arange(np.ceil(v_lo / step) * step, v_hi + 1e-9, step):
         x = xv(v)
-        img = draw_line(img, x, strip_top + STRIP_H - 2, x, strip_top + STRIP_H + 4, INK)
-        img = draw_text(img, f"{v:g} V", x, strip_top + STRIP_H + 20, 12, INK, align="center")
+        img = draw_line(img, x, strip_top + STRIP_H - 2, x, strip_top + STRIP_H + 4, INK, inplace=True)
+        img = draw_text(img, f"{v:g} V", x, strip_top + STRIP_H + 20, 12, INK, align="center", inplace=True)
     return img
 
 

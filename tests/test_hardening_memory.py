@@ -1,0 +1,112 @@
+"""Issue #22 group 3: every command plans against MAX_RUN_BYTES (2 GB) before it allocates; at its
+largest allowed input each one runs (or is refused in one line) under a 2 GB address-space limit
+plus the interpreter's baseline (imports alone map 300–500 MB of address space: measured, a
+``swatch color`` run fails at 300 MB and runs at 500 MB)."""
+from __future__ import annotations
+
+import resource
+import subprocess
+import sys
+
+import pytest
+from cli_helpers import assert_one_line_error
+
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_COUPONS, MAX_FIT_GEOMETRIES, MAX_RUN_BYTES, plan_rows
+
+BASELINE_BYTES = 512 * 1024 ** 2  # the interpreter, numpy, scipy, colour-science, OpenImageIO and thread stacks
+CAP_BYTES = MAX_RUN_BYTES + BASELINE_BYTES
+
+
+def run_capped(*args, timeout: float = 900) -> subprocess.CompletedProcess:
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (CAP_BYTES, CAP_BYTES))
+
+    return subprocess.run([sys.executable, "-m", "swatch.cli", *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, preexec_fn=limit, check=False)
+
+
+def lab_file(path, n: int):
+    """``n`` distinct in-plane geometries (light, view on a 0.01° lattice) with one colour each."""
+    rows = [f"{(i // 8900) / 100:g},{(i % 8900) / 100:g},40,-1,-30" for i in range(n)]
+    path.write_text("light_deg,view_deg,L,a,b\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    return path
+
+
+def test_issue22_plan_rows_refuses_what_one_chunk_cannot_hold():
+    """Issue #22 group 3: chunks are sized from the budget; a row larger than it is one line, not an allocation."""
+    assert plan_rows(1024, "x") == MAX_RUN_BYTES // 2 // 1024
+    with pytest.raises(SwatchError, match="more than a run may plan for"):
+        plan_rows(MAX_RUN_BYTES, "the thickness search")
+
+
+def test_issue22_more_geometries_than_the_cap_are_refused_in_one_line(tmp_path):
+    """Issue #22 group 3: a 15 MB file of 768k Lab rows needed 23 GB; the count of geometries is capped."""
+    from cli_helpers import run_swatch
+
+    proc = run_swatch("fit", lab_file(tmp_path / "many.csv", MAX_FIT_GEOMETRIES + 1))
+    assert_one_line_error(proc, f"at most {MAX_FIT_GEOMETRIES}")
+    assert proc.returncode == 2
+
+
+def test_issue22_the_largest_sheet_is_composed_alone_and_a_bigger_one_refused(tmp_path, monkeypatch):
+    """Issue #22 group 3: 512 px tiles 8 × 8 (~3 GB a worker × --jobs before) get one worker; a sheet beyond the
+    budget (here: the plan's bytes per pixel raised) is refused by validate and build alike, nothing written."""
+    from cli_helpers import run_swatch
+
+    from swatch.catalog import sheets
+    from swatch.catalog.build import plan_jobs
+    from swatch.catalog.spec import load_spec
+
+    spec = tmp_path / "big.toml"
+    spec.write_text('name = "Big"\n[thickness]\nstart_nm = 20\nstop_nm = 335\nstep_nm = 5\n[render]\n'
+                    'size_px = 512\nshapes = ["flat", "sphere"]\nangular_map = true\n[sheet]\ncolumns = 8\nrows = 8\n',
+                    encoding="utf-8")
+    assert plan_jobs(load_spec(spec)[0], 64) == 1
+    assert run_swatch("catalog", "validate", spec).returncode == 0
+    monkeypatch.setattr(sheets, "SHEET_BYTES_PER_PX", 64)
+    for args in (["catalog", "validate", spec], ["catalog", "build", spec, "--out", tmp_path / "out"]):
+        proc = run_swatch(*args)
+        assert_one_line_error(proc, "GB", "fewer [sheet] columns or rows")
+        assert proc.returncode == 2
+    assert not (tmp_path / "out").exists()
+
+
+def test_issue22_sheet_workers_are_chosen_from_the_budget():
+    """Issue #22 group 3: the build's workers × one sheet each, plus the building process, stay within the budget."""
+    from swatch.catalog.build import PARENT_BYTES, plan_jobs
+    from swatch.catalog.sheets import sheet_bytes
+    from swatch.catalog.spec import load_spec
+
+    spec, _ = load_spec("catalog/titanium.toml")
+    jobs = plan_jobs(spec, 64)
+    assert 1 <= jobs < 64 and PARENT_BYTES + jobs * sheet_bytes(spec) <= MAX_RUN_BYTES
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", ["fit-step", "calibrate-1000", "fit-lab-cap"])
+def test_issue22_commands_at_their_caps_run_under_the_memory_limit(tmp_path, case):
+    """Issue #22 group 3: 8.7 GiB (fit --step 0.0021), 7.2 GB (calibrate, 1000 coupons) and 23 GB (fit, many Lab
+    rows) before; now each runs under a 2 GB (+ baseline) address-space limit."""
+    if case == "fit-step":
+        args = ["fit", "examples/blue_sbrdf_percent.csv", "--step", "0.0021", "--json"]
+    elif case == "fit-lab-cap":
+        args = ["fit", lab_file(tmp_path / "cap.csv", MAX_FIT_GEOMETRIES), "--json"]
+    else:
+        import numpy as np
+
+        from swatch.colorimetry.appearance import thickness_colours
+        from swatch.colorimetry.colorimeter import get_colorimeter
+        from swatch.physics.process import load_process
+
+        proc = load_process("titanium-fujii2019")
+        coating = proc.coating(np.arange(380.0, 781.0, 5.0))
+        volts = np.linspace(5.0, 140.0, MAX_COUPONS)
+        lab = thickness_colours(proc.nm_per_V * volts, 45.0, 0.0, coating,
+                                get_colorimeter(coating.wavelength_nm, "D65", "10")).Lab
+        path = tmp_path / "coupons.csv"
+        path.write_text("voltage_V,L,a,b\n" + "".join(f"{v:.4f},{L:.3f},{a:.3f},{b:.3f}\n"
+                                                       for v, (L, a, b) in zip(volts, lab, strict=True)))
+        args = ["calibrate", path, "--out", tmp_path / "p.toml"]
+    proc = run_capped(*args)
+    assert proc.returncode == 0, proc.stderr[-2000:]
