@@ -109,6 +109,13 @@ def main(argv: list[str] | None = None) -> int:
         click.echo(f"error: {_one_line(exc.strerror or exc)}: {exc.filename or ''}".rstrip(": "), err=True)
         return 2
     except Exception as exc:  # a bug: still one line unless debugging
+        from swatch.core.procguard import signal_received
+
+        sig = signal_received()
+        if sig is not None:  # (a worker gone or a pool broken while the run was being stopped)
+            click.echo(f"error: {'interrupted' if sig == 2 else 'terminated'}; nothing half-written was left behind",
+                       err=True)
+            return 130 if sig == 2 else 128 + sig
         if os.environ.get("SWATCH_DEBUG"):
             raise
         click.echo(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); set SWATCH_DEBUG=1 for a traceback", err=True)

@@ -114,3 +114,28 @@ def test_issue22_huge_wavelengths_are_not_reported_as_duplicates(tmp_path):
     proc = run_swatch("fit", p)
     assert_one_line_error(proc, "outside the table")
     assert "twice" not in proc.stderr
+
+
+def test_issue22_all_black_coupon_spectra_are_refused(tmp_path):
+    """Issue #22 group 7: all-black spectra calibrated to 0.17 ± 5.6 nm/V (ΔE 32) and wrote a profile."""
+    rows = "".join(f"{v},{w},0\n" for v in (10, 20, 30) for w in range(380, 781, 10))
+    path = tmp_path / "black.csv"
+    path.write_text("voltage_V,wavelength_nm,reflectance\n" + rows, encoding="utf-8")
+    proc = run_swatch("calibrate", path, "--out", tmp_path / "p.toml")
+    assert_one_line_error(proc, "implausibly dark", "at least")
+    assert proc.returncode == 2 and not (tmp_path / "p.toml").exists()
+
+
+def test_issue22_an_error_while_stopping_is_reported_as_the_stop(monkeypatch):
+    """Issue #22 group 5: a pool broken by the signal that stops a build was exit 70 ("initialization failed")."""
+    from swatch.core import procguard
+
+    monkeypatch.setattr(procguard, "_RECEIVED", [15])
+
+    def broken(*a, **k):
+        raise RuntimeError("A process in the process pool was terminated abruptly")
+
+    monkeypatch.setattr("swatch.cli.cli.main", broken)
+    proc = run_swatch("color", "--thickness", "50")
+    assert_one_line_error(proc, "terminated")
+    assert proc.returncode == 128 + 15

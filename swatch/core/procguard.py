@@ -15,7 +15,8 @@ import threading
 import time
 from multiprocessing import forkserver
 
-__all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts"]
+__all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts",
+           "signal_received"]
 
 
 class Terminated(KeyboardInterrupt):
@@ -26,8 +27,23 @@ class Terminated(KeyboardInterrupt):
         self.signum = signum
 
 
+_RECEIVED: list[int] = []  # the termination signals this process got (SIGINT, SIGTERM, SIGHUP)
+
+
 def _raise_terminated(signum, frame):
+    _RECEIVED.append(signum)
     raise Terminated(signum)
+
+
+def _raise_interrupt(signum, frame):
+    _RECEIVED.append(signum)
+    raise KeyboardInterrupt
+
+
+def signal_received() -> int | None:
+    """The first termination signal this process received, or None: an error raised while a run is
+    being stopped (a worker gone, a pool broken) is reported as the stop, not as a failure."""
+    return _RECEIVED[0] if _RECEIVED else None
 
 
 def handle_termination() -> None:
@@ -37,11 +53,15 @@ def handle_termination() -> None:
     for sig in (signal.SIGTERM, signal.SIGHUP):
         if signal.getsignal(sig) in (signal.SIG_DFL, None):
             signal.signal(sig, _raise_terminated)
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _raise_interrupt)  # (as Python's own, and remembered)
 
 
 def ignore_interrupts() -> None:
-    """For workers: Ctrl-C goes to the whole process group; only the parent reacts (one message)."""
+    """For workers: Ctrl-C and a hang-up go to the whole process group; only the parent reacts (one
+    message, no worker traceback). SIGTERM keeps its default (the pool ends broken workers with it)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)
 
 
 def start_forkserver_ignoring_interrupts() -> None:
@@ -56,10 +76,12 @@ def start_forkserver_ignoring_interrupts() -> None:
         forkserver.ensure_running()
         return
     old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    old_hup = signal.signal(signal.SIGHUP, signal.SIG_IGN)
     try:
         forkserver.ensure_running()
     finally:
         signal.signal(signal.SIGINT, old)
+        signal.signal(signal.SIGHUP, old_hup)
 
 
 def _watch_pidfd(fd: int) -> None:

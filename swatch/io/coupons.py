@@ -23,7 +23,14 @@ from pathlib import Path
 import numpy as np
 
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_COUPON_BYTES, MAX_COUPON_ROWS, MAX_COUPONS, MAX_VOLTAGE_V, read_text_capped
+from swatch.core.limits import (
+    MAX_COUPON_BYTES,
+    MAX_COUPON_ROWS,
+    MAX_COUPONS,
+    MAX_VOLTAGE_V,
+    MIN_PEAK_REFLECTANCE,
+    read_text_capped,
+)
 from swatch.io.tabular import split_table
 
 __all__ = ["Coupons", "read_coupons", "coupons_from_samples", "MAX_COUPON_BYTES", "MAX_COUPONS"]
@@ -173,6 +180,11 @@ def _spectra(source, groups, volts_V, thick_nm, labels, lines) -> Coupons:
     refl = np.array(spectra)
     if refl.max() > 1.5:  # percent
         refl = refl / 100.0
+    dark = np.flatnonzero(~(refl.max(axis=1) >= MIN_PEAK_REFLECTANCE))  # (all-black spectra calibrated to nonsense)
+    if dark.size:
+        i = int(dark[0])
+        raise SwatchError(f"{source}: coupon {labels[i]!r}: its spectrum peaks at {refl[i].max():g} (fraction), "
+                          f"implausibly dark for a measurement; the peak must be at least {MIN_PEAK_REFLECTANCE:g}")
     return Coupons(source, volts_V, thick_nm, labels, wavelength_nm=grid, reflectance=refl, lines=lines)
 
 

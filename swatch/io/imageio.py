@@ -165,11 +165,16 @@ def _write(path, spec, pixels: np.ndarray, fmt: str, finish=None) -> Path:
             raise SwatchError(f"cannot write {path}: {out.geterror()}")
         ok = out.write_image(np.ascontiguousarray(pixels))
         err = out.geterror()
-        out.close()
-        if not ok:
-            raise SwatchError(f"cannot write {path}: {err}")
+        closed = out.close()  # (a full disk may fail only here, when the last buffer is flushed)
+        err = err or out.geterror()
+        if not ok or closed is False:
+            raise SwatchError(f"cannot write {path}: {err or 'the image writer failed (is the disk full?)'}")
         if finish is not None:
-            Path(tmp).write_bytes(finish(Path(tmp).read_bytes()))
+            try:
+                blob = finish(Path(tmp).read_bytes())
+            except ValueError:  # what the writer left is not a whole image
+                raise SwatchError(f"cannot write {path}: the written image is incomplete (is the disk full?)") from None
+            Path(tmp).write_bytes(blob)
     return path
 
 

@@ -290,7 +290,7 @@ def read_equirect(path) -> np.ndarray:
         if abs(w - 2 * h) > 1:
             raise SwatchError(f"environment map {p.name!r} is {w}x{h}; an equirectangular map is twice as wide as tall")
         if nch < 1 or nch > 64:
-            raise SwatchError(f"environment map {p.name!r} has {nch} channels; give 1 (grey) or 3 or more (RGB)")
+            raise SwatchError(f"environment map {p.name!r} has {nch} channels; give 1 or 2 (grey; a second channel is ignored) or 3 or more (RGB)")
         pix = inp.read_image(0, 0, 0, min(nch, 3), "float")
     finally:
         inp.close()
