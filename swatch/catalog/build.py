@@ -149,7 +149,7 @@ def _remove_first_build(out: Path, meta: Path) -> None:
 # -- the build -------------------------------------------------------------------------------
 
 def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
-    from swatch.catalog.records import PROCESS_STEP_NM
+    from swatch.catalog.records import PROCESS_STEP_NM, process_json
     from swatch.colorimetry.tolerance import METRICS
 
     tol = spec.tolerance
@@ -159,14 +159,7 @@ def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
         "spec_file": spec_name,
         "film": spec.film,
         "substrate": spec.substrate,
-        "process": {"name": spec.process, "origin": spec.process_origin, "nm_per_V": spec.nm_per_V,
-                    "offset_nm": spec.offset_nm, "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
-                    **({} if spec.knee_V is None else {"knee_V": spec.knee_V,
-                                                       "nm_per_V_above_knee": spec.nm_per_V_above_knee}),
-                    "growth_law": ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None
-                                   else "thickness_nm = offset_nm + nm_per_V * voltage_V" if spec.knee_V is None
-                                   else "thickness_nm = offset_nm + nm_per_V * min(voltage_V, knee_V) + "
-                                        "nm_per_V_above_knee * max(voltage_V - knee_V, 0)")},
+        "process": process_json(spec),
         "illuminant": data.illuminant,
         "observer": data.observer,
         "observer_name": "1964 10°" if data.observer == "10" else "1931 2°",

@@ -31,7 +31,7 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_THICKNESS_NM
 from swatch.physics.materials import wavelength_grid
 
-__all__ = ["CatalogData", "compute", "hue_family", "PROCESS_STEP_NM", "HUE_FAMILIES"]
+__all__ = ["CatalogData", "compute", "hue_family", "process_json", "PROCESS_STEP_NM", "HUE_FAMILIES"]
 
 #: Grid step of the process-window search (the crossing is then interpolated linearly).
 PROCESS_STEP_NM = 0.05
@@ -237,3 +237,16 @@ def compute(spec: CatalogSpec) -> CatalogData:
         thickness_nm=d, voltage_V=volts, wavelength_nm=wl, reflectance=R, multi_reflectance=multi_R,
         Lab=Lab, LCh=LCh, Lab_D50_2=Lab_D50_2, srgb_hex=hexes, records=records, illuminant=cm.illuminant, observer=cm.observer,
     )
+
+
+def process_json(spec) -> dict:
+    """``catalog.json`` → ``catalog.process``: the profile's name, origin and growth law (a knee and a
+    thickness spread only when the profile has them, so a uniform, one-slope line's file is as before)."""
+    knee = {} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}
+    law = ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None
+           else "thickness_nm = offset_nm + nm_per_V * voltage_V" if spec.knee_V is None
+           else "thickness_nm = offset_nm + nm_per_V * min(voltage_V, knee_V) + "
+                "nm_per_V_above_knee * max(voltage_V - knee_V, 0)")
+    return {"name": spec.process, "origin": spec.process_origin, "nm_per_V": spec.nm_per_V,
+            "offset_nm": spec.offset_nm, "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
+            **knee, "growth_law": law}
