@@ -6,6 +6,7 @@ one line ``error: ...`` with exit status 2; no traceback (``SWATCH_DEBUG=1`` sho
 """
 from __future__ import annotations
 
+import difflib
 import importlib
 import os
 import sys
@@ -34,6 +35,10 @@ COMMANDS = {
 }
 
 
+#: other spellings of a command (British spelling is the project's own)
+ALIASES = {"colour": "color"}
+
+
 class _InterruptedError(Exception):
     """A KeyboardInterrupt carried past click (which would print a blank line and raise Abort)."""
 
@@ -53,11 +58,19 @@ class LazyGroup(click.Group):
         return sorted(COMMANDS)
 
     def get_command(self, ctx, name):
-        target = COMMANDS.get(name)
+        target = COMMANDS.get(ALIASES.get(name, name))
         if target is None:
             return None
         module, attr = target.split(":")
         return getattr(importlib.import_module(module), attr)
+
+    def resolve_command(self, ctx, args):
+        name = args[0] if args else ""
+        if name and not name.startswith("-") and self.get_command(ctx, name) is None:
+            near = difflib.get_close_matches(name.lower(), [*COMMANDS, *ALIASES], n=1, cutoff=0.6)
+            hint = f"; did you mean '{near[0]}'?" if near else f"; the commands: {', '.join(sorted(COMMANDS))}"
+            ctx.fail(f"no such command {name!r}{hint}")
+        return super().resolve_command(ctx, args)
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})

@@ -18,6 +18,7 @@ tristimulus values, :meth:`Colorimeter.rgb_linear` / :meth:`Colorimeter.display`
 """
 from __future__ import annotations
 
+import difflib
 import functools
 import warnings
 
@@ -97,6 +98,11 @@ def _illuminant_name(illuminant: str) -> str:
     for name in colour.SDS_ILLUMINANTS:
         if name.lower() == str(illuminant).strip().lower():
             return name
+    key = str(illuminant).strip().upper()
+    near = [n for n in illuminant_names() if n.upper().replace("FL", "F") == key.replace("FL", "F")]
+    near = near or difflib.get_close_matches(str(illuminant).strip(), illuminant_names(), n=1, cutoff=0.75)
+    if near:  # F11 is colour-science's FL11
+        raise SwatchError(f"unknown illuminant {illuminant!r}; did you mean {near[0]!r}?")
     raise SwatchError(
         f"unknown illuminant {illuminant!r}; use one of colour-science's: "
         + ", ".join(n for n in illuminant_names() if len(n) <= 6)
@@ -408,7 +414,7 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
     Parameters
     ----------
     text : str
-        Three comma-separated numbers, finite, L in [0, 100].
+        Three numbers separated by commas or whitespace, finite, L in [0, 100].
     what : str
         The option or field name, for the error message.
 
@@ -416,7 +422,9 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
     -------
     numpy.ndarray, shape (3,)
     """
-    parts = str(text).replace(" ", "").split(",")
+    # "60,5,30", "60, 5, 30" or "60 5 30" (as the catalog page takes it)
+    t = str(text).strip()
+    parts = [p.strip() for p in t.split(",")] if "," in t else t.split()
     try:
         if len(parts) != 3:
             raise ValueError

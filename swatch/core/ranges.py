@@ -11,11 +11,25 @@ import numpy as np
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_RANGE_POINTS
 
-__all__ = ["parse_range", "parse_pair", "parse_grid"]
+__all__ = ["parse_range", "parse_pair", "parse_grid", "DEFAULT_STEP"]
+
+
+#: The step of ``A:B`` without one, per unit: 1 nm, 0.5 V, 1°.
+DEFAULT_STEP = {"nm": 1.0, "V": 0.5, "deg": 1.0}
+
+
+def _strip_unit(tok: str, unit: str) -> str:
+    """``50nm``, ``50 nm``, ``25V`` → the number's text (the unit written after a number is allowed)."""
+    t = tok.strip()
+    for u in (unit, "°") if unit == "deg" else (unit,):
+        if t.lower().endswith(u.lower()) and t[: -len(u)].strip():
+            return t[: -len(u)].strip()
+    return t
 
 
 def parse_range(text: str, what: str, unit: str) -> np.ndarray:
-    """``A:B:STEP`` (inclusive of B when it falls on the grid), ``N,N,...`` or ``N``.
+    """``A:B:STEP`` (inclusive of B when it falls on the grid), ``A:B`` (the unit's :data:`DEFAULT_STEP`),
+    ``N,N,...`` or ``N``; each number may carry its unit (``50nm``, ``50 nm``, ``25V``, ``45°``).
 
     Parameters
     ----------
@@ -35,7 +49,7 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
 
     def num(tok: str) -> float:
         try:
-            v = float(tok)
+            v = float(_strip_unit(tok, unit))
         except ValueError:
             raise SwatchError(f"{what} {tok.strip()!r} is not a number; give A:B:STEP or N,N,... in {unit}") from None
         if not math.isfinite(v):
@@ -44,8 +58,10 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
 
     if ":" in s:
         parts = s.split(":")
+        if len(parts) == 2 and unit in DEFAULT_STEP:
+            parts.append(str(DEFAULT_STEP[unit]))
         if len(parts) != 3:
-            raise SwatchError(f"{what} range {s!r} must be A:B:STEP in {unit}")
+            raise SwatchError(f"{what} range {s!r} must be A:B:STEP or A:B in {unit}")
         a, b, step = (num(p) for p in parts)
         if step <= 0:
             raise SwatchError(f"{what} range {s!r} needs a step > 0")

@@ -275,12 +275,16 @@ def colour_table_text(rows: list[dict], coating, cm, light: float, view: float, 
 
     lines = [f"# {coating.film} on {coating.substrate}{overcoat_text(coating)}; light {light:g}°, view {view:g}° "
              f"(theta_d {theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; process {process}",
-             f"{'d_nm':>7} {'L*':>7} {'a*':>7} {'b*':>7} {'C*':>7} {'h':>6}  {'sRGB':7} {'gamut':5} {'dE_ab':>6}"]
+             ]
+    volts = bool(rows) and "voltage_V" in rows[0]  # given as voltages: a voltage column beside the thickness
+    lines.append(f"{'d_nm':>7}" + (f" {'volt_V':>7}" if volts else "")
+                 + f" {'L*':>7} {'a*':>7} {'b*':>7} {'C*':>7} {'h':>6}  {'sRGB':7} {'gamut':5} {'dE_ab':>6}")
     for r in rows:
         L, a, b = r["Lab"]
         _, C, h = r["LCh"]
         dE = "" if r["delta_E_ab_to_previous"] is None else f"{r['delta_E_ab_to_previous']:6.2f}"
-        lines.append(f"{r['thickness_nm']:7.1f} {L:7.2f} {a:7.2f} {b:7.2f} {C:7.2f} {h:6.1f}  "
+        lines.append(f"{r['thickness_nm']:7.1f}" + (f" {r['voltage_V']:7.2f}" if volts else "")
+                     + f" {L:7.2f} {a:7.2f} {b:7.2f} {C:7.2f} {h:6.1f}  "
                      f"{r['srgb_hex']:7} {'yes' if r['in_srgb_gamut'] else 'no':5} {dE:>6}")
     return lines
 
