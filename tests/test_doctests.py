@@ -17,6 +17,8 @@ MODULES_WITH_EXAMPLES = [
     "swatch.physics.model",
     "swatch.physics.process",
     "swatch.colorimetry.appearance",
+    "swatch.colorimetry.names",
+    "swatch.colorimetry.tolerance",
 ]
 
 

@@ -80,7 +80,13 @@ def check_rgb_space(space: str) -> str:
 
 
 def illuminant_names() -> list[str]:
-    """The illuminant names colour-science has spectra for."""
+    """The illuminant names colour-science has spectra for.
+
+    Returns
+    -------
+    list of str
+        The keys of ``colour.SDS_ILLUMINANTS``, sorted.
+    """
     return sorted(colour.SDS_ILLUMINANTS.keys())
 
 

@@ -44,7 +44,25 @@ NAME_RULES: tuple[tuple, ...] = (
 
 
 def colour_name(L: float, C: float, h: float) -> str:
-    """The plain name of a colour given as CIE L*, C*ab and hue angle h (degrees)."""
+    """The plain name of a colour given as CIE L*, C*ab and hue angle h (degrees).
+
+    Parameters
+    ----------
+    L, C : float
+        CIE 1976 lightness L* and chroma C*ab.
+    h : float
+        Hue angle h_ab, degrees (taken modulo 360).
+
+    Returns
+    -------
+    str
+        The name of the first row of :data:`NAME_RULES` whose bounds all hold.
+
+    Examples
+    --------
+    >>> colour_name(60.0, 3.0, 40.0)
+    'silver'
+    """
     h = float(h) % 360.0
     for name, h0, h1, c0, c1, l0, l1 in NAME_RULES:
         in_hue = (h0 <= h < h1) if h0 <= h1 else (h >= h0 or h < h1)

@@ -30,6 +30,20 @@ METRICS = {"dEab": "CIE 1976 ΔE*ab", "dE00": "CIEDE2000 ΔE00"}
 
 @dataclass(frozen=True)
 class Grade:
+    """One row of ``tables/tolerance_grades.csv``.
+
+    Parameters
+    ----------
+    scheme, name : str
+        The grading scheme (``csaj``, ``nbs``) and the grade's name (``AAA`` … ``E``, ``trace`` …).
+    metric : str
+        The colour difference its bound is on (one of :data:`METRICS`).
+    max : float
+        The bound, in ``metric`` units.
+    description : str
+        The grade's wording.
+    """
+
     scheme: str
     name: str
     metric: str
@@ -100,10 +114,33 @@ def _table() -> dict[str, tuple[Grade, ...]]:
 
 
 def schemes() -> list[str]:
+    """The grading schemes of ``tables/tolerance_grades.csv``, sorted (``csaj``, ``nbs``).
+
+    Returns
+    -------
+    list of str
+    """
     return sorted(_table())
 
 
 def grades(scheme: str = DEFAULT_SCHEME) -> tuple[Grade, ...]:
+    """A scheme's grades, tightest first.
+
+    Parameters
+    ----------
+    scheme : str
+        A scheme of :func:`schemes` (default ``csaj``; case-sensitive).
+
+    Returns
+    -------
+    tuple of Grade
+        Sorted by ``max``, ascending.
+
+    Raises
+    ------
+    SwatchError
+        For an unknown scheme.
+    """
     table = _table()
     if scheme not in table:
         raise SwatchError(f"unknown tolerance scheme {scheme!r}; use one of {', '.join(schemes())}")
@@ -111,7 +148,18 @@ def grades(scheme: str = DEFAULT_SCHEME) -> tuple[Grade, ...]:
 
 
 def grade_metric(scheme: str = DEFAULT_SCHEME) -> str:
-    """The metric a scheme's bounds are defined on."""
+    """The metric a scheme's bounds are defined on.
+
+    Parameters
+    ----------
+    scheme : str
+        A scheme of :func:`schemes` (default ``csaj``).
+
+    Returns
+    -------
+    str
+        One of :data:`METRICS` (``dEab`` for both CSAJ and NBS).
+    """
     return grades(scheme)[0].metric
 
 
@@ -125,14 +173,50 @@ def _grade(name: str, scheme: str) -> Grade:
 
 
 def grade_bound(name: str, scheme: str = DEFAULT_SCHEME) -> float:
-    """Upper bound of a named grade, in the scheme's metric (:func:`grade_metric`)."""
+    """Upper bound of a named grade, in the scheme's metric (:func:`grade_metric`).
+
+    Parameters
+    ----------
+    name : str
+        A grade of the scheme (case-insensitive).
+    scheme : str
+        A scheme of :func:`schemes` (default ``csaj``).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    SwatchError
+        For an unknown scheme or grade.
+
+    Examples
+    --------
+    >>> grade_bound("B")
+    3.2
+    """
     return _grade(name, scheme).max
 
 
 def grade_for(delta_E, scheme: str = DEFAULT_SCHEME):
     """The tightest grade whose bound is >= ``delta_E`` ("beyond" past the last); vectorised.
 
-    ``delta_E`` must be in the scheme's metric (:func:`grade_metric`).
+    Parameters
+    ----------
+    delta_E : float or array_like
+        Colour differences in the scheme's metric (:func:`grade_metric`), finite and ≥ 0.
+    scheme : str
+        A scheme of :func:`schemes` (default ``csaj``).
+
+    Returns
+    -------
+    str, or numpy.ndarray of str (dtype object) of the shape of ``delta_E``
+
+    Raises
+    ------
+    SwatchError
+        For a non-finite or negative difference, or an unknown scheme.
     """
     gs = grades(scheme)
     bounds = np.array([g.max for g in gs])
@@ -146,7 +230,29 @@ def grade_for(delta_E, scheme: str = DEFAULT_SCHEME):
 
 
 def delta_E(metric: str, Lab1, Lab2) -> np.ndarray:
-    """The colour difference ``metric`` (``dEab`` or ``dE00``) between CIELAB arrays (colour-science)."""
+    """The colour difference ``metric`` (``dEab`` or ``dE00``) between CIELAB arrays (colour-science).
+
+    Parameters
+    ----------
+    metric : str
+        ``dEab`` (CIE 1976) or ``dE00`` (CIEDE2000).
+    Lab1, Lab2 : array_like, shapes (..., 3) broadcasting together
+        CIELAB colours (same illuminant and observer).
+
+    Returns
+    -------
+    numpy.ndarray
+        The broadcast shape without the last axis.
+
+    Raises
+    ------
+    SwatchError
+        For an unknown metric.
+
+    References
+    ----------
+    G. Sharma, W. Wu and E. N. Dalal (2005), doi:10.1002/col.20070 (CIEDE2000).
+    """
     from swatch.colorimetry.colorimeter import delta_E_00, delta_E_ab
 
     if metric == "dEab":
@@ -203,7 +309,28 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
 
 
 def parse_tolerance(text: str) -> Tolerance:
-    """``METRIC:MAX`` (``dE00:2``, ``dEab:3.2``) or ``SCHEME:GRADE`` (``csaj:B``) from the command line."""
+    """``METRIC:MAX`` (``dE00:2``, ``dEab:3.2``) or ``SCHEME:GRADE`` (``csaj:B``) from the command line.
+
+    Parameters
+    ----------
+    text : str
+        The option's value (surrounding blanks ignored).
+
+    Returns
+    -------
+    Tolerance
+
+    Raises
+    ------
+    SwatchError
+        Without a colon, for a non-number bound, or a part before the colon that is neither a metric
+        nor a scheme (and as :func:`get_tolerance` does).
+
+    Examples
+    --------
+    >>> parse_tolerance("dE00:2").label
+    'dE00 ≤ 2'
+    """
     what, sep, value = str(text).strip().partition(":")
     if not sep:
         raise SwatchError(f"tolerance {text!r} must be METRIC:MAX (e.g. dE00:2.0) or SCHEME:GRADE (e.g. csaj:C)")

@@ -14,7 +14,25 @@ __all__ = ["check_writable_dir", "check_new", "atomic_write_bytes", "atomic_writ
 
 
 def check_writable_dir(path, create: bool = True) -> Path:
-    """The folder as a Path, created if needed; SwatchError if it cannot be written."""
+    """The folder as a Path, created if needed; SwatchError if it cannot be written.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output folder.
+    create : bool
+        Create it (with its parents) when absent (default); False: refuse an absent folder.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        For an empty path, a file, an absent folder (with ``create=False``), one that cannot be
+        created, or one not writable and searchable.
+    """
     if not str(path).strip():
         raise SwatchError("output folder is an empty string; give a folder path")
     p = Path(path)
@@ -37,6 +55,19 @@ def check_new(paths, force: bool) -> None:
 
     A folder (or anything but a file) where an output goes is refused even with ``force``, before
     any output of the batch is written.
+
+    Parameters
+    ----------
+    paths : iterable of str or os.PathLike
+        The outputs of a batch (iterated more than once: give a list or tuple).
+    force : bool
+        Allow replacing existing files.
+
+    Raises
+    ------
+    SwatchError
+        For a non-file at an output path; without ``force``, for an existing file (with the count of
+        the others).
     """
     for p in paths:
         if Path(p).exists() and not Path(p).is_file():
@@ -52,6 +83,13 @@ def check_new(paths, force: bool) -> None:
 
 class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as tmp`)
     """Context manager giving a temporary path next to ``path``; renamed onto it on success.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The final file; its folder must exist.
+    suffix : str or None
+        The temporary file's extension (default: ``path``'s, so that writers choose the format by it).
 
     >>> with atomic_path("out.exr") as tmp:  # write tmp with any library
     ...     write(tmp)
@@ -117,10 +155,34 @@ def _remove_stale_temps(folder: Path, prefix: str, suffix: str) -> None:
 
 
 def atomic_write_bytes(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically (:class:`atomic_path`); file mode 0644.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    data : bytes
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     with atomic_path(path) as tmp:
         tmp.write_bytes(data)
     return Path(path)
 
 
 def atomic_write_text(path, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically as UTF-8 (:func:`atomic_write_bytes`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    text : str
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return atomic_write_bytes(path, text.encode("utf-8"))

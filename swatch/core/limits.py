@@ -157,6 +157,25 @@ def read_capped(path, limit: int, what: str) -> bytes:
 
     Works for devices too (``/dev/zero``): at most ``limit + 1`` bytes are read. A pipe or socket
     is refused before it is opened (reading one blocks until a writer comes, maybe never).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    limit : int
+        Largest size allowed, bytes.
+    what : str
+        What the file is, for the messages.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    SwatchError
+        For a pipe or socket, or more than ``limit`` bytes.
+    OSError
+        When it cannot be opened or read (FileNotFoundError, IsADirectoryError, ...).
     """
 
     try:
@@ -178,7 +197,29 @@ def read_text_capped(path, limit: int, what: str, kind: str, source: str | None 
     """The text of ``path`` through :func:`read_capped`, with the one-line errors of a user's file:
     missing, a folder (``give a .{kind} file``), unreadable, or not UTF-8 (``a {what} is a {kind}
     file``). ``source`` names the file in the messages (default ``path``). A UTF-8 byte-order mark
-    (Windows editors write one) is dropped."""
+    (Windows editors write one) is dropped.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    limit : int
+        Largest size allowed, bytes.
+    what, kind : str
+        What the file is (``measurement file``) and its format (``CSV``), for the messages.
+    source : str or None
+        The file's name in the messages (default ``path``).
+    encoding : str
+        Default ``utf-8-sig``.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    SwatchError
+        For every failure above, and those of :func:`read_capped`.
+    """
 
     source = str(path) if source is None else source
     try:

@@ -83,7 +83,24 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
 
 
 def parse_pair(text: str, what: str) -> tuple[float, float]:
-    """``A:B`` (nm) as two finite floats, e.g. a search range ``0:400``."""
+    """``A:B`` (nm) as two finite floats, e.g. a search range ``0:400``.
+
+    Parameters
+    ----------
+    text : str
+        ``A:B``; the order of A and B is not checked.
+    what : str
+        The option's name, for the messages.
+
+    Returns
+    -------
+    (float, float)
+
+    Raises
+    ------
+    SwatchError
+        Unless there are exactly two finite numbers.
+    """
     parts = str(text).split(":")
     try:
         if len(parts) != 2:
@@ -98,7 +115,23 @@ def parse_pair(text: str, what: str) -> tuple[float, float]:
 
 def parse_grid(text: str) -> tuple[float, float, float]:
     """A wavelength grid ``START:STOP:STEP`` (nm) as three floats (checked by
-    :func:`swatch.physics.materials.wavelength_grid`)."""
+    :func:`swatch.physics.materials.wavelength_grid`).
+
+    Parameters
+    ----------
+    text : str
+        ``START:STOP:STEP``, nm.
+
+    Returns
+    -------
+    (float, float, float)
+        Start, stop and step, nm (not range-checked here).
+
+    Raises
+    ------
+    SwatchError
+        Unless there are exactly three numbers.
+    """
     parts = str(text).split(":")
     if len(parts) != 3:
         raise SwatchError(f"wavelength grid {text!r} must be START:STOP:STEP in nm")

@@ -21,7 +21,25 @@ __all__ = ["plain_name", "real_folder", "make_real_folder", "is_regular_file", "
 
 
 def plain_name(name, what: str) -> str:
-    """``name`` if it is one plain file name (no folder part, not ``.``/``..``, no control characters)."""
+    """``name`` if it is one plain file name (no folder part, not ``.``/``..``, no control characters).
+
+    Parameters
+    ----------
+    name : str
+        The name (at most ``MAX_NAME_CHARS`` characters).
+    what : str
+        Where it comes from, for the message.
+
+    Returns
+    -------
+    str
+        ``name`` unchanged.
+
+    Raises
+    ------
+    SwatchError
+        For a non-string, an empty name, ``.``, ``..``, a ``/`` or ``\\``, a control character, or too long.
+    """
     if not isinstance(name, str):
         raise SwatchError(f"{what}: a file name must be a text (got {type(name).__name__})")
     bad = (not name or name in (".", "..") or "/" in name or "\\" in name or len(name) > MAX_NAME_CHARS
@@ -34,7 +52,23 @@ def plain_name(name, what: str) -> str:
 
 
 def real_folder(path, what: str) -> Path:
-    """``path`` if it is absent or a real folder (not a symbolic link, not a file)."""
+    """``path`` if it is absent or a real folder (not a symbolic link, not a file).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    what : str
+        What the folder is, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        For a symbolic link or anything but a folder.
+    """
     p = Path(path)
     try:
         st = os.lstat(p)
@@ -49,7 +83,17 @@ def real_folder(path, what: str) -> Path:
 
 
 def is_regular_file(path) -> bool:
-    """True for a regular file that is not a symbolic link (False for links, folders, devices, FIFOs)."""
+    """True for a regular file that is not a symbolic link (False for links, folders, devices, FIFOs).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    bool
+        False too when ``path`` cannot be examined (absent, no permission).
+    """
     try:
         return stat.S_ISREG(os.lstat(path).st_mode)
     except OSError:
@@ -60,6 +104,24 @@ def make_real_folder(path, what: str) -> Path:
     """Create ``path`` (one level) unless it exists; it must then be a real folder, not a link.
 
     ``Path.mkdir(exist_ok=True)`` accepts a symbolic link to a folder anywhere; this does not.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder; its parent must exist.
+    what : str
+        What the folder is, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        When ``path`` exists as a link or a non-folder (:func:`real_folder`).
+    OSError
+        When it cannot be created.
     """
     p = Path(path)
     with contextlib.suppress(FileExistsError):
@@ -69,7 +131,24 @@ def make_real_folder(path, what: str) -> Path:
 
 
 def inside(path, folder, what: str) -> Path:
-    """``path`` if, with every link resolved, it lies inside ``folder`` (resolved too)."""
+    """``path`` if, with every link resolved, it lies inside ``folder`` (resolved too).
+
+    Parameters
+    ----------
+    path, folder : str or os.PathLike
+    what : str
+        What ``path`` is, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path`` as given (not resolved); ``folder`` itself counts as inside.
+
+    Raises
+    ------
+    SwatchError
+        When it resolves outside ``folder``.
+    """
     p, root = Path(path), os.path.realpath(folder)
     real = os.path.realpath(p)
     if real != root and not real.startswith(root.rstrip(os.sep) + os.sep):
@@ -78,7 +157,17 @@ def inside(path, folder, what: str) -> Path:
 
 
 def entry_kind(path) -> str | None:
-    """What ``path`` is, links not followed: None (absent), ``file``, ``dir``, ``link`` or ``other``."""
+    """What ``path`` is, links not followed: None (absent), ``file``, ``dir``, ``link`` or ``other``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    str or None
+        None too when a parent is not a folder.
+    """
     try:
         mode = os.lstat(path).st_mode
     except FileNotFoundError:

@@ -45,7 +45,22 @@ __all__ = ["FINISHES", "Finish", "get_finish", "finish_or_roughness", "highlight
 @dataclass(frozen=True)
 class Finish:
     """A finish: GGX ``alpha_u`` along the brushing direction and ``alpha_v`` across it (equal
-    when isotropic), what it looks like and what the numbers are based on."""
+    when isotropic), what it looks like and what the numbers are based on.
+
+    Parameters
+    ----------
+    name : str
+        The finish's name (one of ``swatch.core.choices.FINISHES``, or ``roughness α`` for
+        :func:`isotropic_finish`).
+    alpha_u, alpha_v : float
+        GGX roughness α (dimensionless) along and across the grain.
+    description : str
+        What it looks like.
+
+    References
+    ----------
+    B. Walter et al. (2007), doi:10.2312/EGWR/EGSR07/195-206 (GGX).
+    """
 
     name: str
     alpha_u: float
@@ -92,7 +107,22 @@ assert tuple(_TABLE) == FINISHES, "choices.FINISHES names the table's finishes"
 
 
 def get_finish(name: str) -> Finish:
-    """The finish of a name (case-insensitive), or SwatchError naming the choices."""
+    """The finish of a name (case-insensitive), or SwatchError naming the choices.
+
+    Parameters
+    ----------
+    name : str
+        One of ``swatch.core.choices.FINISHES``; surrounding blanks and case are ignored.
+
+    Returns
+    -------
+    Finish
+
+    Raises
+    ------
+    SwatchError
+        For an unknown name.
+    """
     key = str(name).strip().lower()
     if key not in _TABLE:
         raise SwatchError(f"unknown finish {name!r}; use one of {', '.join(FINISHES)}")
@@ -100,14 +130,43 @@ def get_finish(name: str) -> Finish:
 
 
 def isotropic_finish(roughness_alpha: float) -> Finish:
-    """An unnamed isotropic finish of a given GGX α (``--roughness``)."""
+    """An unnamed isotropic finish of a given GGX α (``--roughness``).
+
+    Parameters
+    ----------
+    roughness_alpha : float
+        GGX α (dimensionless), used for both ``alpha_u`` and ``alpha_v`` (not range-checked here).
+
+    Returns
+    -------
+    Finish
+        Named ``roughness <α>``.
+    """
     a = float(roughness_alpha)
     return Finish(f"roughness {a:g}", a, a, "GGX roughness given directly")
 
 
 def finish_or_roughness(finish: str | None, roughness: float | None) -> Finish | None:
     """The finish of ``--finish`` (or a spec's ``finish``); SwatchError when a roughness is given
-    too (one of the two); None when neither."""
+    too (one of the two); None when neither.
+
+    Parameters
+    ----------
+    finish : str or None
+        A finish's name (:func:`get_finish`).
+    roughness : float or None
+        A GGX α given instead (only checked for being given).
+
+    Returns
+    -------
+    Finish or None
+        None when ``finish`` is None (whatever ``roughness`` is).
+
+    Raises
+    ------
+    SwatchError
+        When both are given, or for an unknown finish.
+    """
     if finish is None:
         return None
     if roughness is not None:
@@ -142,7 +201,21 @@ _BRUSH_AXIS = {"flat": (1.0, 0.0, 0.0), "cylinder": (0.0, 1.0, 0.0), "sphere": (
 def brush_tangent(shape: str, normals) -> np.ndarray:
     """Unit tangents (P, 3) along the brushing direction at unit ``normals`` (P, 3) of a shape:
     its world axis (:data:`_BRUSH_AXIS`) projected onto the tangent plane; where that axis is
-    within ~1° of the normal, x is projected instead."""
+    within ~1° of the normal, x is projected instead.
+
+    Parameters
+    ----------
+    shape : str
+        ``flat`` (brushed along x), ``cylinder``, ``sphere`` or ``mesh`` (along y); any other
+        name is brushed along y.
+    normals : array_like, shape (..., 3)
+        Unit surface normals (world space); reshaped to (P, 3).
+
+    Returns
+    -------
+    numpy.ndarray, float32, shape (P, 3)
+        Unit tangents.
+    """
     n = np.asarray(normals, dtype=np.float32).reshape(-1, 3)
     axis = np.asarray(_BRUSH_AXIS.get(shape, (0.0, 1.0, 0.0)), dtype=np.float32)
     t = axis - (n @ axis)[:, None] * n

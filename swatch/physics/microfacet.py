@@ -89,6 +89,16 @@ def check_roughness_alpha(roughness_alpha) -> float:
 def check_distribution(name: str) -> str:
     """The distribution's key (one of :data:`swatch.core.choices.DISTRIBUTIONS`), case-insensitive.
 
+    Parameters
+    ----------
+    name : str
+        A distribution's name; surrounding blanks and case are ignored.
+
+    Returns
+    -------
+    str
+        The lower-case key.
+
     Raises
     ------
     SwatchError

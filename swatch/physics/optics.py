@@ -36,7 +36,12 @@ __all__ = ["Reflectance", "FilmAtAngles", "layer_q", "fresnel_r", "film_reflecta
 class Reflectance:
     """Reflectance of a coated surface for s and p polarisation (and the unpolarised mean).
 
-    ``r_s``/``r_p`` are the complex amplitude coefficients (``None`` when not requested).
+    Parameters
+    ----------
+    R_s, R_p : numpy.ndarray, float, one shape (..., W)
+        Intensity reflectance (fraction, 0–1) for s and p polarisation.
+    r_s, r_p : numpy.ndarray, complex, the same shape, or None
+        The complex amplitude coefficients (``None`` when not requested).
     """
 
     R_s: np.ndarray

@@ -22,11 +22,26 @@ WAVELENGTHS_NM = np.array([380.0, 480.0, 580.0, 680.0, 780.0])
 def rayleigh_criterion(ra_nm: float) -> dict:
     """The criterion's table and verdict for an arithmetic mean roughness ``ra_nm`` (nm).
 
+    Parameters
+    ----------
+    ra_nm : float
+        Arithmetic mean roughness Ra, nm, from 0 to ``MAX_RA_NM``.
+
     Returns
     -------
     dict
-        ``h_nm`` (angles × wavelengths, nm), ``h_min_nm``, ``h_max_nm``, ``verdict`` (``rough``,
-        ``smooth`` or ``partly rough``) and ``text`` (a sentence saying what it means).
+        ``h_nm`` (numpy.ndarray, shape (7, 5): :data:`ANGLES_DEG` × :data:`WAVELENGTHS_NM`, nm),
+        ``h_min_nm``, ``h_max_nm`` (float, nm), ``verdict`` (``rough`` when Ra > every h,
+        ``smooth`` when Ra < every h, else ``partly rough``) and ``text`` (what it means).
+
+    Raises
+    ------
+    SwatchError
+        For a non-finite or negative Ra, or one above ``MAX_RA_NM``.
+
+    References
+    ----------
+    M. Fujii et al. (2019), §2, doi:10.14923/transinfj.2018JDP7030.
     """
     if not np.isfinite(ra_nm) or ra_nm < 0 or ra_nm > MAX_RA_NM:
         raise SwatchError("--ra must be a roughness from 0 to 1e6 nm")
@@ -45,7 +60,20 @@ def rayleigh_criterion(ra_nm: float) -> dict:
 
 
 def rayleigh_text(r: dict, ra_nm: float) -> list[str]:
-    """The lines ``swatch roughness`` prints for :func:`rayleigh_criterion`'s result ``r``."""
+    """The lines ``swatch roughness`` prints for :func:`rayleigh_criterion`'s result ``r``.
+
+    Parameters
+    ----------
+    r : dict
+        The result of :func:`rayleigh_criterion`.
+    ra_nm : float
+        The roughness it was computed for, nm (printed in the verdict line).
+
+    Returns
+    -------
+    list of str
+        A header, the column titles, one row of h (nm) per angle, and the verdict.
+    """
     lines = [f"Rayleigh criterion h = λ/(8 cos θ): {r['h_min_nm']:.1f}–{r['h_max_nm']:.1f} nm over 380–780 nm, 0–60°",
              f"{'θ_deg':>6} " + " ".join(f"{w:>7.0f}nm" for w in WAVELENGTHS_NM)]
     lines += [f"{a:6.0f} " + " ".join(f"{v:9.1f}" for v in row) for a, row in zip(ANGLES_DEG, r["h_nm"], strict=True)]
@@ -53,6 +81,20 @@ def rayleigh_text(r: dict, ra_nm: float) -> list[str]:
 
 
 def rayleigh_json(r: dict, ra_nm: float) -> dict:
-    """``swatch roughness --json``: the criterion's table and verdict for ``ra_nm``."""
+    """``swatch roughness --json``: the criterion's table and verdict for ``ra_nm``.
+
+    Parameters
+    ----------
+    r : dict
+        The result of :func:`rayleigh_criterion`.
+    ra_nm : float
+        The roughness it was computed for, nm.
+
+    Returns
+    -------
+    dict
+        ``ra_nm``, ``h_min_nm``, ``h_max_nm``, ``verdict``, ``angle_deg`` (7), ``wavelength_nm`` (5)
+        and ``h_nm`` (7 lists of 5, nm): plain JSON types.
+    """
     return {"ra_nm": ra_nm, "h_min_nm": r["h_min_nm"], "h_max_nm": r["h_max_nm"], "verdict": r["verdict"],
             "angle_deg": ANGLES_DEG.tolist(), "wavelength_nm": WAVELENGTHS_NM.tolist(), "h_nm": r["h_nm"].tolist()}

@@ -44,7 +44,25 @@ NODE_CAP = 160
 
 @dataclass(frozen=True)
 class ThicknessSpread:
-    """A normal thickness distribution's standard deviation: ``spread_nm + spread_fraction × d`` (nm)."""
+    """A normal thickness distribution's standard deviation: ``spread_nm + spread_fraction × d`` (nm).
+
+    Parameters
+    ----------
+    spread_nm : float
+        Constant part of the 1σ spread, nm, from 0 to ``MAX_SPREAD_NM`` (default 0).
+    spread_fraction : float
+        Part proportional to the mean thickness ``d`` (dimensionless), from 0 to
+        ``MAX_SPREAD_FRACTION`` (default 0).
+
+    Raises
+    ------
+    SwatchError
+        For a bool, a non-number, a non-finite value or one outside its range.
+
+    References
+    ----------
+    M. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030.
+    """
 
     spread_nm: float = 0.0
     spread_fraction: float = 0.0
@@ -81,7 +99,22 @@ NO_SPREAD = ThicknessSpread()
 
 
 def parse_spread(text: str | None) -> ThicknessSpread | None:
-    """``--spread NM[,FRACTION]`` (``4`` or ``4,0.02`` or ``0,0.03``) → :class:`ThicknessSpread`; None → None."""
+    """``--spread NM[,FRACTION]`` (``4`` or ``4,0.02`` or ``0,0.03``) → :class:`ThicknessSpread`; None → None.
+
+    Parameters
+    ----------
+    text : str or None
+        ``NM`` (the fraction is then 0) or ``NM,FRACTION``.
+
+    Returns
+    -------
+    ThicknessSpread or None
+
+    Raises
+    ------
+    SwatchError
+        For more than two parts, an empty part, a non-number, or a value :class:`ThicknessSpread` refuses.
+    """
     if text is None:
         return None
     parts = str(text).split(",")
@@ -95,19 +128,57 @@ def parse_spread(text: str | None) -> ThicknessSpread | None:
 
 
 def spread_sigma_nm(thickness_nm, spread: ThicknessSpread) -> np.ndarray:
-    """σ (nm) of the local thickness at mean thicknesses ``thickness_nm`` (nm): see the module docstring."""
+    """σ (nm) of the local thickness at mean thicknesses ``thickness_nm`` (nm): see the module docstring.
+
+    Parameters
+    ----------
+    thickness_nm : array_like
+        Mean thicknesses, nm, any shape.
+    spread : ThicknessSpread
+
+    Returns
+    -------
+    numpy.ndarray, float64, the shape of ``thickness_nm``
+        ``spread_nm + spread_fraction × d``, capped at ``SIGMA_CAP_OF_THICKNESS × d``, nm.
+    """
     d = np.asarray(thickness_nm, dtype=np.float64)
     return np.minimum(spread.spread_nm + spread.spread_fraction * d, SIGMA_CAP_OF_THICKNESS * d)
 
 
 def node_count(sigma_max_nm: float, n_film_max: float, wavelength_min_nm: float) -> int:
-    """Gauss–Hermite nodes for a phase spread ``a = 4π n σ / λ`` (the largest on the grid)."""
+    """Gauss–Hermite nodes for a phase spread ``a = 4π n σ / λ`` (the largest on the grid).
+
+    Parameters
+    ----------
+    sigma_max_nm : float
+        Largest thickness σ on the grid, nm.
+    n_film_max : float
+        Largest real film index on the grid.
+    wavelength_min_nm : float
+        Shortest wavelength, nm.
+
+    Returns
+    -------
+    int
+        ``ceil(NODES_PER_PHASE × a) + BASE_NODES``, at most ``NODE_CAP``.
+    """
     a = 4.0 * math.pi * float(n_film_max) * float(sigma_max_nm) / float(wavelength_min_nm)
     return int(min(NODE_CAP, math.ceil(NODES_PER_PHASE * a) + BASE_NODES))
 
 
 def spread_nodes(count: int) -> tuple[np.ndarray, np.ndarray]:
-    """Probabilists' Gauss–Hermite nodes ``z`` and weights ``w`` normalised to ``Σ w = 1`` (``count`` each)."""
+    """Probabilists' Gauss–Hermite nodes ``z`` and weights ``w`` normalised to ``Σ w = 1`` (``count`` each).
+
+    Parameters
+    ----------
+    count : int
+        Number of nodes.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray), each of shape (count,)
+        Nodes ``z`` (in units of σ) and weights ``w`` (summing to 1), from ``numpy.polynomial.hermite_e.hermegauss``.
+    """
     z, w = hermegauss(int(count))
     return z, w / w.sum()
 
