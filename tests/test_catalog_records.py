@@ -1,6 +1,7 @@
 """Swatch records against independent references: tmm.coh_tmm spectra, colour.sd_to_XYZ, colour.delta_E."""
 from __future__ import annotations
 
+import dataclasses
 import functools
 import itertools
 
@@ -157,3 +158,29 @@ def test_hue_families():
     assert hue_family(30.0, 350.0) == "red" and hue_family(30.0, 10.0) == "red"
     assert hue_family(30.0, 260.0) == "blue"
     assert hue_family(30.0, 90.0) == "yellow"
+
+
+def _two_slope_voltage_V(t_nm: float, offset_nm: float, rate: float, knee_V: float, above: float) -> float:
+    """The inverse of a two-slope growth law, by hand: rate nm/V up to knee_V, ``above`` nm/V beyond."""
+    x = t_nm - offset_nm
+    return x / rate if x <= rate * knee_V else knee_V + (x - rate * knee_V) / above
+
+
+def test_process_window_voltages_follow_a_two_slope_growth_law():
+    """Issue 17 (polish): the catalog's window in V goes through the profile's knee law, as ``swatch spec``
+    does, not through the first slope alone."""
+    base = parse_spec({"name": "knee", "thickness": {"list_nm": [125.5, 150.0, 240.0]},
+                       "tolerance": {"grade": "B"}, "sheet": {"columns": 3, "rows": 1}})
+    law = {"offset_nm": 5.0, "nm_per_V": 2.0, "knee_V": 60.0, "nm_per_V_above_knee": 1.2}  # knee at 125 nm
+    spec = dataclasses.replace(base, **law)
+    straddles = above = 0
+    for rec in compute(spec).records:
+        pw, d = rec["process_window"], rec["thickness_nm"]
+        lo, hi = d - pw["thickness_minus_nm"], d + pw["thickness_plus_nm"]
+        v = _two_slope_voltage_V(d, 5.0, 2.0, 60.0, 1.2)
+        assert rec["voltage_V"] == pytest.approx(v, abs=1e-4)
+        assert pw["voltage_minus_V"] == pytest.approx(v - _two_slope_voltage_V(lo, 5.0, 2.0, 60.0, 1.2), abs=3e-3)
+        assert pw["voltage_plus_V"] == pytest.approx(_two_slope_voltage_V(hi, 5.0, 2.0, 60.0, 1.2) - v, abs=3e-3)
+        straddles += lo < 125.0 < hi
+        above += lo > 125.0
+    assert straddles >= 1 and above >= 1  # the cases the first-slope-only conversion got wrong

@@ -14,8 +14,9 @@ Process window: the largest thickness deviations ``-δ-`` / ``+δ+`` such that t
 difference between the colour at ``d ± δ`` and the colour at the nominal ``d`` (both at the
 reference geometry) stays within the tolerance for every deviation up to it, the difference
 computed in the tolerance's own metric (a CSAJ grade bounds ΔE*ab; a written tolerance such as
-``{ metric = "dE00", max = 2.0 }`` bounds ΔE2000). Voltage window = thickness window / growth
-rate (none when the process profile has no rate).
+``{ metric = "dE00", max = 2.0 }`` bounds ΔE2000). Voltage window: the thickness window's edges
+through the profile's growth law, one slope or two with a knee (:func:`window_voltage_V`; none when
+the process profile has no rate).
 """
 from __future__ import annotations
 
@@ -31,7 +32,8 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_THICKNESS_NM
 from swatch.physics.materials import wavelength_grid
 
-__all__ = ["CatalogData", "compute", "hue_family", "process_json", "PROCESS_STEP_NM", "HUE_FAMILIES"]
+__all__ = ["CatalogData", "compute", "hue_family", "process_json", "process_window", "window_voltage_V",
+           "PROCESS_STEP_NM", "HUE_FAMILIES"]
 
 #: Grid step of the process-window search (the crossing is then interpolated linearly).
 PROCESS_STEP_NM = 0.05
@@ -146,6 +148,33 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
     return out[0], out[2], out[1], out[3]
 
 
+def window_voltage_V(voltage_of, thickness_nm, minus_nm, plus_nm):
+    """The process window in volts: the voltage steps from the nominal to the window's edges.
+
+    The one definition for the catalog and ``swatch spec``: through the process profile's own growth
+    law (``voltage_of``: :meth:`swatch.catalog.spec.CatalogSpec.voltage_of` or
+    :meth:`swatch.physics.process.Process.voltage_V`, one slope or two with a knee), so a window
+    above or across the knee is converted at the slope(s) it spans.
+
+    Parameters
+    ----------
+    voltage_of : callable
+        Thickness (nm, array) → voltage (V, same shape), or None without a growth rate.
+    thickness_nm, minus_nm, plus_nm : array_like, one shape (N,)
+        Nominal thicknesses and the window's extents below and above them, nm.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray) or None
+        ``V(d) − V(d − minus)`` and ``V(d + plus) − V(d)``, V, shape (N,); None without a rate.
+    """
+    d = np.asarray(thickness_nm, dtype=np.float64)
+    v0 = voltage_of(d)
+    if v0 is None:
+        return None
+    return v0 - voltage_of(d - np.asarray(minus_nm)), voltage_of(d + np.asarray(plus_nm)) - v0
+
+
 def compute(spec: CatalogSpec) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
 
@@ -158,7 +187,6 @@ def compute(spec: CatalogSpec) -> CatalogData:
              else spec.voltage_of(d))
     if volts is None:  # the process has no growth rate: thicknesses only
         volts = np.full(n, np.nan)
-    rate = spec.nm_per_V
 
     R = _geometry_R(coating, d, spec.reference)
     XYZ = cm.XYZ(R)
@@ -189,6 +217,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
     tol = spec.tolerance
     minus, plus, minus_cap, plus_cap = process_window(coating, cm, d, spec.reference, tol.max, spec.search_nm,
                                                       tol.metric)
+    window_V = window_voltage_V(spec.voltage_of, d, minus, plus)
 
     def r(x, nd=4):
         return None if x is None or not np.isfinite(x) else round(float(x), nd)
@@ -223,8 +252,8 @@ def compute(spec: CatalogSpec) -> CatalogData:
                 "max": tol.max,
                 "thickness_minus_nm": r(minus[i], 3),
                 "thickness_plus_nm": r(plus[i], 3),
-                "voltage_minus_V": None if rate is None else r(minus[i] / rate, 3),
-                "voltage_plus_V": None if rate is None else r(plus[i] / rate, 3),
+                "voltage_minus_V": None if window_V is None else r(window_V[0][i], 3),
+                "voltage_plus_V": None if window_V is None else r(window_V[1][i], 3),
                 "minus_capped": bool(minus_cap[i]),
                 "plus_capped": bool(plus_cap[i]),
             },

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.catalog.records import process_window
+from swatch.catalog.records import process_window, window_voltage_V
 from swatch.catalog.spec import DEFAULT_ASPECULAR_DEG, Geometry
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter, srgb_hex
 from swatch.colorimetry.tolerance import Tolerance
@@ -133,6 +133,7 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     flop = float(delta_E_00(Lab_f[0], Lab_f[1]))
     minus, plus, mcap, pcap = process_window(coating, cm, np.array([d]), REFERENCE, tolerance.max, WINDOW_SEARCH_NM,
                                              tolerance.metric)
+    window_V = window_voltage_V(proc.voltage_V, np.array([d]), minus, plus)
 
     def entry(i, g):
         e = {"geometry": g.name, "light_deg": g.light_deg, "view_deg": g.view_deg, "view_side": g.view_side,
@@ -163,8 +164,8 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
             # from the rounded numbers the card prints, so that nominal − minus = min on paper too
             "thickness_min_nm": _r(_r(d, 1) - _r(minus[0], 1), 1), "thickness_max_nm": _r(_r(d, 1) + _r(plus[0], 1), 1),
             # through the growth law (one or two slopes): the voltage steps to the window's edges
-            "voltage_minus_V": None if v_nom is None else _r(v_nom - float(proc.voltage_V(d - minus[0])), 1),
-            "voltage_plus_V": None if v_nom is None else _r(float(proc.voltage_V(d + plus[0])) - v_nom, 1),
+            "voltage_minus_V": None if window_V is None else _r(float(window_V[0][0]), 1),
+            "voltage_plus_V": None if window_V is None else _r(float(window_V[1][0]), 1),
             "minus_capped": bool(mcap[0]), "plus_capped": bool(pcap[0]),
         },
         "process": proc.metadata(),
