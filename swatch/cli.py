@@ -13,6 +13,7 @@ import sys
 
 import click
 
+from swatch.commands.flags import speak_flags
 from swatch.core.errors import SwatchError
 from swatch.core.procguard import Terminated, handle_termination
 from swatch.core.version import __version__
@@ -100,8 +101,8 @@ def main(argv: list[str] | None = None) -> int:
     handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
     try:
         rv = cli.main(args=argv, prog_name="swatch", standalone_mode=False)
-    except SwatchError as exc:
-        click.echo(f"error: {_one_line(exc)}", err=True)
+    except SwatchError as exc:  # the library names parameters; the CLI speaks its flags
+        click.echo(f"error: {speak_flags(_one_line(exc))}", err=True)
         return 2
     except click.exceptions.Abort:
         click.echo("error: aborted", err=True)

@@ -363,7 +363,7 @@ def _check_jobs(jobs) -> int:
     if jobs is None:
         return max(1, min(os.cpu_count() or 1, 8))
     if not isinstance(jobs, int) or not 1 <= jobs <= 64:
-        raise SwatchError(f"--jobs must be a whole number from 1 to 64 (got {jobs!r})")
+        raise SwatchError(f"`jobs` must be a whole number from 1 to 64 (got {jobs!r})")
     return jobs
 
 

@@ -71,14 +71,14 @@ def check_new(paths, force: bool) -> None:
     """
     for p in paths:
         if Path(p).exists() and not Path(p).is_file():
-            raise SwatchError(f"{p} is a folder or special file where an output goes; --force replaces "
+            raise SwatchError(f"{p} is a folder or special file where an output goes; `force` replaces "
                               "files only; move it away")
     if force:
         return
     existing = [str(p) for p in paths if Path(p).exists()]
     if existing:
         more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
-        raise SwatchError(f"{existing[0]}{more} already exists; use --force to overwrite")
+        raise SwatchError(f"{existing[0]}{more} already exists; use `force` to overwrite")
 
 
 class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as tmp`)

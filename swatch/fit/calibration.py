@@ -259,7 +259,7 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
     can_scale = np.unique(V).size >= 3 and n >= 4
     if fit_scale and not can_scale:
         raise SwatchError(f"{coupons.source}: the film index scale needs coupons at three or more voltages "
-                          "(four or more coupons); fit without it (--fixed-scale)")
+                          "(four or more coupons); fit without it (`fit_scale=False`)")
     fixed: dict[str, str] = {}
     allow = {"+scale": fit_scale is not False and can_scale, "+spread": n >= 6, "+knee": n >= 8}
     if fit_scale is False:
@@ -324,7 +324,7 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
                           "the rest are at one voltage; add coupons at other voltages")
     if fit_scale and "s" not in fit.free:
         raise SwatchError(f"{coupons.source}: these coupons do not determine the film index scale; fit without "
-                          "it (--fixed-scale) or add coupons over a wider voltage range")
+                          "it (`fit_scale=False`) or add coupons over a wider voltage range")
     keep = ~outlier
     cov = cs.covariance(table, prob, fit, keep)
     if cov is None:

@@ -320,7 +320,7 @@ def used_geometries(mirror: np.ndarray, exclude_mirror_deg: float) -> np.ndarray
     if not used.any():
         raise SwatchError(
             f"all {mirror.size} geometries are within {x:g}° of the mirror direction; "
-            "lower --exclude-mirror (0 keeps every geometry)"
+            "lower `exclude_mirror_deg` (0 keeps every geometry)"
         )
     return used
 

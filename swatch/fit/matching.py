@@ -109,7 +109,7 @@ def match_colour(
     if not np.all(np.isfinite(target)) or not 0 <= target[0] <= 100:
         raise SwatchError("target Lab must be finite with L in [0, 100]")
     if not (isinstance(top, int) and 1 <= top <= 100):
-        raise SwatchError("--top must be an integer from 1 to 100")
+        raise SwatchError("`top` must be an integer from 1 to 100")
     bound = grade_bound(grade, scheme)
     coating = coating or get_coating()
     cm = colorimeter or get_colorimeter(coating.wavelength_nm)

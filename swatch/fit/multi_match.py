@@ -43,15 +43,15 @@ def parse_angles(text: str) -> list[tuple[str, float, float]]:
             light = float(a.group(1))
             view = float(geometry.aspecular_view_deg(light, float(a.group(2))))
         else:
-            raise SwatchError(f"--angles item {item.strip()!r} must be LIGHT:VIEW (e.g. 45:0, 45:-15 on the "
+            raise SwatchError(f"`angles` item {item.strip()!r} must be LIGHT:VIEW (e.g. 45:0, 45:-15 on the "
                               "light's side) or LIGHTasASPECULAR (e.g. 45as15)")
         if not (0 <= light < 90 and abs(view) < 90):
-            raise SwatchError(f"--angles item {item.strip()!r}: light and view must lie within 90° of the normal")
+            raise SwatchError(f"`angles` item {item.strip()!r}: light and view must lie within 90° of the normal")
         out.append((item.strip(), light, view))
     if not 1 <= len(out) <= MAX_INSTRUMENT_GEOMETRIES:
-        raise SwatchError(f"--angles takes 1 to {MAX_INSTRUMENT_GEOMETRIES} geometries")
+        raise SwatchError(f"`angles` takes 1 to {MAX_INSTRUMENT_GEOMETRIES} geometries")
     if len({(l, v) for _, l, v in out}) != len(out):
-        raise SwatchError("--angles repeats a geometry")
+        raise SwatchError("`angles` repeats a geometry")
     return out
 
 
@@ -77,9 +77,9 @@ def match_angles(targets_Lab, angles, coating, cm, tolerance, *, rank: str = "wo
         ``within_tolerance``), best first.
     """
     if rank not in RANKS:
-        raise SwatchError(f"--rank must be one of {', '.join(RANKS)}")
+        raise SwatchError(f"`rank` must be one of {', '.join(RANKS)}")
     if not (isinstance(top, int) and 1 <= top <= 100):
-        raise SwatchError("--top must be an integer from 1 to 100")
+        raise SwatchError("`top` must be an integer from 1 to 100")
     G = len(angles)
     target = np.broadcast_to(np.asarray(targets_Lab, dtype=np.float64), (G, 3))
     if not np.all(np.isfinite(target)) or np.any((target[:, 0] < 0) | (target[:, 0] > 100)):

@@ -200,6 +200,6 @@ def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, 
     if isinstance(measurement, LabMeasurement):
         return fit_lab(measurement, film, substrate, wavelength_nm=wavelength_nm, **options)
     if grid_given:
-        raise SwatchError(f"{source or measurement.source}: --wavelengths applies to CIELAB files; a spectral fit "
+        raise SwatchError(f"{source or measurement.source}: `wavelength_nm` applies to CIELAB files; a spectral fit "
                           "uses the measured wavelengths (crop the file to change them)")
     return fit_spectra(measurement, film, substrate, **options)

@@ -378,7 +378,7 @@ def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1
     wl = np.array(grid, dtype=np.float64)
     f = load_material(film)
     s = load_material(substrate)
-    for mat, role, option in ((f, "film", "--film"), (s, "substrate", "--substrate")):
+    for mat, role, option in ((f, "film", "`film`"), (s, "substrate", "`substrate`")):
         if mat.role != role:
             choices = ", ".join(m.name for m in list_materials(role))
             raise SwatchError(f"{option} {mat.name} is a {mat.role} table, not a {role}; use one of {choices}")

@@ -102,7 +102,7 @@ class Process:
     def _rate(self) -> float:
         if self.nm_per_V is None:
             raise SwatchError(f"process {self.name!r} has no growth rate (none published that we could cite); "
-                              "give --nm-per-volt, or calibrate the line from coupons (swatch calibrate)")
+                              "give `nm_per_V`, or calibrate the line from coupons (swatch calibrate)")
         return self.nm_per_V
 
     @property
@@ -143,7 +143,7 @@ class Process:
         if substrate is not None and substrate != self.substrate:
             changes["substrate"] = substrate
         if nm_per_V is not None and nm_per_V != self.nm_per_V:
-            changes["nm_per_V"] = _number(nm_per_V, "--nm-per-volt", *RATE_RANGE)
+            changes["nm_per_V"] = _number(nm_per_V, "`nm_per_V`", *RATE_RANGE)
         if not changes:
             return self
         return dataclasses.replace(self, origin=f"{self.origin}, overridden: {', '.join(sorted(changes))}",
@@ -316,7 +316,7 @@ def load_process(name_or_path: str) -> Process:
     """
     text = str(name_or_path).strip()
     if not text:
-        raise SwatchError(f"--process is empty; give a preset ({', '.join(preset_names())}) or a TOML file")
+        raise SwatchError(f"`process` is empty; give a preset ({', '.join(preset_names())}) or a TOML file")
     if text in preset_names():
         return _parse(_presets_dir() / f"{text}.toml", f"process {text}", "preset")
     path = Path(text)

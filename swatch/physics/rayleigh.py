@@ -44,7 +44,7 @@ def rayleigh_criterion(ra_nm: float) -> dict:
     M. Fujii et al. (2019), §2, doi:10.14923/transinfj.2018JDP7030.
     """
     if not np.isfinite(ra_nm) or ra_nm < 0 or ra_nm > MAX_RA_NM:
-        raise SwatchError("--ra must be a roughness from 0 to 1e6 nm")
+        raise SwatchError("`ra_nm` must be a roughness from 0 to 1e6 nm")
     h = WAVELENGTHS_NM[None, :] / (8.0 * np.cos(np.radians(ANGLES_DEG))[:, None])
     h_min, h_max = float(h.min()), float(h.max())
     if ra_nm > h_max:

@@ -119,11 +119,11 @@ def parse_spread(text: str | None) -> ThicknessSpread | None:
         return None
     parts = str(text).split(",")
     if len(parts) > 2 or not all(p.strip() for p in parts):
-        raise SwatchError(f"--spread {text!r} must be NM or NM,FRACTION (e.g. 4 or 3,0.02)")
+        raise SwatchError(f"`spread` {text!r} must be NM or NM,FRACTION (e.g. 4 or 3,0.02)")
     try:
         values = [float(p) for p in parts]
     except ValueError:
-        raise SwatchError(f"--spread {text!r} must be NM or NM,FRACTION (e.g. 4 or 3,0.02)") from None
+        raise SwatchError(f"`spread` {text!r} must be NM or NM,FRACTION (e.g. 4 or 3,0.02)") from None
     return ThicknessSpread(values[0], values[1] if len(values) == 2 else 0.0)
 
 

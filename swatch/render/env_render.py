@@ -51,7 +51,7 @@ def check_env_size_px(size_px: int) -> int:
                           f"{int(size_px)}); use a larger --size, or --environment none")
     if int(size_px) > MAX_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
-                          "use a smaller --size, or --environment none")
+                          "use a smaller `size_px`, or `environment=None`")
     return int(size_px)
 
 
@@ -258,8 +258,8 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     background = check_background(background)
     check_env_size_px(size)
     if model != "microfacet" or distribution != "ggx":
-        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
-                          "--distribution ggx, or --environment none for the point light")
+        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
+                          "`distribution='ggx'`, or `environment=None` for the point light")
     env = environment if isinstance(environment, envmod.Environment) else envmod.get_environment(environment)
     if env is None:
         raise SwatchError("environment 'none' is the point light; call without an environment")
@@ -315,10 +315,10 @@ def resolve_lighting(environment: str | None, model: str, distribution: str, siz
         environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
     env = get_environment(environment)
     if env is not None and (model != "microfacet" or distribution != "ggx"):
-        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use --model microfacet "
-                          "--distribution ggx, or --environment none")
+        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
+                          "`distribution='ggx'`, or `environment=None`")
     if env is not None:
         check_env_size_px(size_px)
     if env is None and background == "environment":
-        raise SwatchError("--background environment needs an environment; use grey or white with --environment none")
+        raise SwatchError("`background=environment` needs an environment; use grey or white with `environment=None`")
     return env

@@ -107,10 +107,10 @@ def check_finish_lighting(finish, environment, model: str, distribution: str, si
     if environment is None or model != "microfacet" or distribution != "ggx":
         raise SwatchError(f"the {finish.name} finish is anisotropic: the built-in engine renders it with the GGX "
                           "microfacet model under an environment (studio, uniform or an .exr), not the point "
-                          "light; use an isotropic finish or --roughness there")
+                          "light; use an isotropic finish or `roughness_alpha` there")
     if int(size_px) > MAX_ANISO_RENDER_PX:
         raise SwatchError(f"renders of the {finish.name} finish are at most {MAX_ANISO_RENDER_PX} pixels per side "
-                          "(memory); use a smaller --size")
+                          "(memory); use a smaller `size_px`")
 
 
 def finish_meta(finish) -> dict:

@@ -200,10 +200,10 @@ def calibration_paths(out_path: str, report_dir: str | None, force: bool):
 
     out = Path(out_path)
     if not str(out_path).strip() or out.suffix.lower() != ".toml":
-        raise SwatchError(f"--out {out_path!r} must name a .toml file")
+        raise SwatchError(f"`out_path` {out_path!r} must name a .toml file")
     png = Path(report_dir) / "calibration.png" if report_dir is not None else None
     if report_dir is not None and not str(report_dir).strip():
-        raise SwatchError("--report is an empty string; give a folder path")
+        raise SwatchError("`report_dir` is an empty string; give a folder path")
     check_new([out] + ([png] if png else []), force)
     return out, png
 

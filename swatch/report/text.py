@@ -73,7 +73,7 @@ def report_paths(report_dir, measurements, force: bool = False) -> dict:
     not empty and no file exists unless ``force``."""
 
     if not str(report_dir).strip():
-        raise SwatchError("--report is an empty string; give a folder path")
+        raise SwatchError("`report_dir` is an empty string; give a folder path")
     out = Path(report_dir)
     if len(measurements) == 1:
         maps = [(out / "delta_e_map.png", out / "delta_e_map.exr")]

@@ -1,0 +1,56 @@
+"""The library speaks parameters, the CLI speaks flags (issue 17).
+
+Library errors (:class:`swatch.core.errors.SwatchError`) name a parameter in backquotes, as Python
+code: ```size_px``` or ```environment=None```. :func:`speak_flags` rewrites them as the command
+line's options before the CLI prints the one-line error: ```size_px``` → ``--size``,
+```environment=None``` → ``--environment none``, ```fit_scale=False``` → ``--fixed-scale``.
+"""
+from __future__ import annotations
+
+import re
+
+__all__ = ["PARAMETER_FLAGS", "speak_flags"]
+
+#: Python parameter (or ``parameter=value``) -> command-line option.
+PARAMETER_FLAGS = {
+    "jobs": "--jobs",
+    "angles": "--angles",
+    "rank": "--rank",
+    "top": "--top",
+    "report_dir": "--report",
+    "out_path": "--out",
+    "ra_nm": "--ra",
+    "nm_per_V": "--nm-per-volt",
+    "process": "--process",
+    "film": "--film",
+    "substrate": "--substrate",
+    "size_px": "--size",
+    "roughness_alpha": "--roughness",
+    "environment": "--environment",
+    "model": "--model",
+    "distribution": "--distribution",
+    "background": "--background",
+    "wavelength_nm": "--wavelengths",
+    "exclude_mirror_deg": "--exclude-mirror",
+    "fit_scale=False": "--fixed-scale",
+    "force": "--force",
+    "spread": "--spread",
+}
+
+_QUOTED = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)(?:=([^`]*))?`")
+
+
+def speak_flags(message: str) -> str:
+    """``message`` with every backquoted parameter of :data:`PARAMETER_FLAGS` written as its option."""
+
+    def flag(m: re.Match) -> str:
+        name, value = m.group(1), m.group(2)
+        if value is not None and f"{name}={value}" in PARAMETER_FLAGS:
+            return PARAMETER_FLAGS[f"{name}={value}"]
+        if name not in PARAMETER_FLAGS:
+            return m.group(0)
+        if value is None:
+            return PARAMETER_FLAGS[name]
+        return f"{PARAMETER_FLAGS[name]} {value.strip(chr(39) + chr(34)).replace('None', 'none')}"
+
+    return _QUOTED.sub(flag, message)
