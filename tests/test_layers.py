@@ -35,6 +35,9 @@ ALLOWED_FUNCTION_IMPORTS = {
     ("swatch.catalog.build", "swatch.catalog.*"):
         "the output stages (colour-science, OpenImageIO) load only after the fingerprint check: no-op rebuild ≤ 2 s",
     ("swatch.catalog.build", "swatch.colorimetry.tolerance"): "as above (the header of a full build)",
+    ("swatch.catalog.spec", "swatch.physics.model"):
+        "the optics (0.1 s) only when a coating or a voltage is asked for: a no-op rebuild parses the spec without",
+    ("swatch.physics.process", "swatch.physics.model"): "as above (a profile parses without the optics)",
 }
 
 MAX_TOP_LEVEL_MODULES = 8

@@ -34,7 +34,6 @@ from swatch.core.limits import (
 )
 from swatch.physics.finishes import get_finish
 from swatch.physics.materials import list_materials, load_material
-from swatch.physics.model import get_coating, thickness_to_voltage_V
 from swatch.physics.process import DEFAULT_PROCESS, load_process, preset_names
 from swatch.physics.spread import ThicknessSpread
 
@@ -138,6 +137,7 @@ class CatalogSpec:
 
     def voltage_of(self, thickness_nm):
         """Voltage, V, growing ``thickness_nm`` by the spec's growth law; None without a rate."""
+        from swatch.physics.model import thickness_to_voltage_V  # lazy: see tests/test_layers.py
 
         if self.nm_per_V is None:
             return None
@@ -158,6 +158,7 @@ class CatalogSpec:
 
     def coating(self, wavelength_nm):
         """The spec's :class:`swatch.physics.model.Coating` on a wavelength grid (nm): film, substrate, index scale, spread."""
+        from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
         return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
 

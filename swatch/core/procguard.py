@@ -13,7 +13,6 @@ import select
 import signal
 import threading
 import time
-from multiprocessing import forkserver
 
 __all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts",
            "signal_received"]
@@ -71,6 +70,8 @@ def start_forkserver_ignoring_interrupts() -> None:
     The disposition SIG_IGN survives the server's exec, and the server restores it in each child.
     A server already running is left as it is.
     """
+    from multiprocessing import forkserver  # stdlib, 0.2 s: kept off every command's start (cli.main imports this)
+
 
     if threading.current_thread() is not threading.main_thread():
         forkserver.ensure_running()

@@ -30,7 +30,6 @@ from swatch.core.limits import (
     read_capped,
 )
 from swatch.physics.materials import list_materials, tables_dir
-from swatch.physics.model import get_coating, thickness_to_voltage_V, voltage_to_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 
 if TYPE_CHECKING:
@@ -116,11 +115,13 @@ class Process:
 
     def thickness_nm(self, voltage_V) -> np.ndarray:
         """Oxide thickness, nm, grown at ``voltage_V`` (V) by this line's growth law."""
+        from swatch.physics.model import voltage_to_thickness_nm  # lazy: see tests/test_layers.py
 
         return voltage_to_thickness_nm(voltage_V, self._rate(), self.offset_nm, self.knee_V, self.nm_per_V_above_knee)
 
     def voltage_V(self, thickness_nm) -> np.ndarray | None:
         """Voltage, V, that grows ``thickness_nm``; None when the profile has no growth rate."""
+        from swatch.physics.model import thickness_to_voltage_V  # lazy: see tests/test_layers.py
 
         if self.nm_per_V is None:
             return None
@@ -129,6 +130,7 @@ class Process:
 
     def coating(self, wavelength_nm=None):
         """The :class:`swatch.physics.model.Coating` of this profile on a wavelength grid (nm)."""
+        from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
         return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
 
