@@ -64,6 +64,7 @@ from swatch.catalog.folder import (
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
+from swatch.core.limits import MAX_RUN_BYTES
 from swatch.core.safepath import make_real_folder
 from swatch.core.sources import package_dir, source_files
 from swatch.core.version import __version__
@@ -233,7 +234,7 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
     t0 = time.perf_counter()
     say = log or (lambda msg: None)
     if not str(out_dir).strip():  # (Path('') is the current folder)
-        raise SwatchError("--out is an empty string; give a folder path")
+        raise SwatchError("`out_dir` is an empty string; give a folder path")
     spec, _raw = load_spec(spec_path)
     spec_name = Path(spec_path).name
     out = Path(out_dir)
@@ -283,7 +284,6 @@ def plan_jobs(spec: CatalogSpec, jobs: int) -> int:
     """Workers composing sheets at once, chosen from the memory budget (:data:`swatch.core.limits.MAX_RUN_BYTES`
     for the whole build: the parent and its workers); a sheet too big for the budget even alone is refused."""
     from swatch.catalog.sheets import Layout, sheet_bytes
-    from swatch.core.limits import MAX_RUN_BYTES
 
     per = sheet_bytes(spec)
     if per + PARENT_BYTES > MAX_RUN_BYTES + WORKER_SLACK_BYTES:

@@ -19,6 +19,7 @@ PARAMETER_FLAGS = {
     "top": "--top",
     "report_dir": "--report",
     "out_path": "--out",
+    "out_dir": "--out",
     "ra_nm": "--ra",
     "nm_per_V": "--nm-per-volt",
     "process": "--process",

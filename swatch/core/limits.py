@@ -143,8 +143,6 @@ MIN_TURBIDITY, MAX_TURBIDITY = 1.0, 10.0
 def plan_rows(bytes_per_row: int, what: str, hint: str = "", budget: int = MAX_RUN_BYTES // 2) -> int:
     """Rows one chunk of work may hold (``bytes_per_row`` each) within half the run's memory budget
     (the rest is the interpreter, the libraries and the inputs); SwatchError when not even one fits."""
-    from swatch.core.errors import SwatchError
-
     per = max(1, int(bytes_per_row))
     if per > budget:
         raise SwatchError(f"{what} needs {per / 1024 ** 3:.1f} GB at once, more than a run may plan for "

@@ -48,7 +48,7 @@ def check_env_size_px(size_px: int) -> int:
     """The size of an environment-lit render, or SwatchError outside :data:`MIN_ENV_RENDER_PX`–:data:`MAX_ENV_RENDER_PX`."""
     if int(size_px) < MIN_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at least {MIN_ENV_RENDER_PX} pixels per side (got "
-                          f"{int(size_px)}); use a larger --size, or --environment none")
+                          f"{int(size_px)}); use a larger `size_px`, or `environment=None`")
     if int(size_px) > MAX_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
                           "use a smaller `size_px`, or `environment=None`")
