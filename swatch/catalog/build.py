@@ -330,12 +330,9 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         from swatch.catalog.presets import catalog_presets
 
         preset_files = catalog_presets(spec, records, cache)  # adds each record's "presets"; fits cached
-        hero_out: dict[str, bytes] = {}
-        hero_used: set[str] = set()
-        if spec.hero:  # Mitsuba sphere per swatch (adds each record's "hero"; cached); skipped in a line without it
-            from swatch.catalog.hero import hero_files
+        from swatch.catalog.hero import catalog_heroes, prune_heroes
 
-            hero_out, hero_used = hero_files(spec, records, cache, say)
+        hero_out, hero_used = catalog_heroes(spec, records, cache, say)  # Mitsuba spheres when spec.hero; cached
         # 1. tiles (renders), from the cache or rendered in parallel
         tile_keys = [sheetmod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
@@ -384,8 +381,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             header["exports"]["ase"]: ase_bytes(spec, records, "lab"),
             header["exports"]["ase_srgb"]: ase_bytes(spec, records, "srgb"),
         }
-        outputs.update(preset_files)
-        outputs.update(hero_out)
+        outputs.update(preset_files | hero_out)
         page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
         outputs["index.html"] = _page(spec, data, page_doc, cache).encode("utf-8")
         for name, blob in outputs.items():
@@ -431,9 +427,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         for p in cache.glob("*.npz"):
             if p.name not in keep:
                 remove_tree(p)
-        for p in cache.glob("hero-*.png"):
-            if p.name not in hero_used:
-                remove_tree(p)
+        prune_heroes(cache, hero_used)
     except BaseException:
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)

@@ -23,12 +23,14 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from swatch.catalog.folder import remove_tree
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.safepath import is_regular_file
 from swatch.io.imageio import write_png
 
-__all__ = ["HERO_SIZE_PX", "HERO_SPP", "hero_name", "hero_unavailable", "hero_key", "hero_files"]
+__all__ = ["HERO_SIZE_PX", "HERO_SPP", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
+           "prune_heroes"]
 
 HERO_SIZE_PX = 128
 HERO_SPP = 64
@@ -128,3 +130,15 @@ def hero_files(spec, records: list[dict], cache: Path, say=None) -> tuple[dict[s
         rec["hero"] = {"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
                        "size_px": HERO_SIZE_PX, "spp": HERO_SPP}
     return files, used
+
+
+def catalog_heroes(spec, records: list[dict], cache: Path, say=None) -> tuple[dict[str, bytes], set[str]]:
+    """:func:`hero_files` when the spec asks for hero renders (``hero = true``), else nothing."""
+    return hero_files(spec, records, cache, say) if spec.hero else ({}, set())
+
+
+def prune_heroes(cache: Path, used: set[str]) -> None:
+    """Remove the cached hero renders not in ``used`` (after a build's commit)."""
+    for p in cache.glob("hero-*.png"):
+        if p.name not in used:
+            remove_tree(p)
