@@ -131,6 +131,10 @@ def test_find_by_colour_shows_the_target_and_clears_it_after_an_error(browser, b
         assert pg.locator("#find-results li.error").count() == 1
         assert pg.locator("#find-target").text_content() == ""
         assert pg.locator("#find-target .chip").count() == 0
+        # the page's CIEDE2000 (issue 17): the first published pair of Sharma, Wu & Dalal 2005
+        assert pg.evaluate("swatchCatalog.deltaE00([50, 2.6772, -79.7751], [50, 0, -82.7485])") == pytest.approx(2.0425, abs=5e-5)
+        assert "deltaE00: give two arrays" in pg.evaluate(
+            "() => { try { swatchCatalog.deltaE00([50, 1], [50, 0, 0]); return ''; } catch (e) { return e.message; } }")
         pg.fill("#find-lab", "60 5 30")  # whitespace-separated L*a*b*
         pg.click("#find-form button[type=submit]")
         assert pg.locator("#find-results li.error").count() == 0

@@ -328,6 +328,12 @@ update();
 show({});
 window.swatchCatalog = Object.freeze({
   colorAt: (q) => { const c = C.colorAt(q); return {Lab: c.Lab, hex: c.hex, in_srgb_gamut: c.in_srgb_gamut, theta_d_deg: c.theta_d_deg}; },
+  // CIEDE2000 of two L*a*b* (arrays of three numbers)
+  deltaE00: (lab1, lab2) => {
+    const a = Array.from(lab1 || [], Number), b = Array.from(lab2 || [], Number);
+    if (a.length !== 3 || b.length !== 3 || ![...a, ...b].every(Number.isFinite)) throw new Error("deltaE00: give two arrays of three finite numbers");
+    return deltaE00(a, b);
+  },
   match: (target, n) => C.match(target, n).map((h) => ({thickness_nm: h.thickness_nm, voltage_V: h.voltage_V, delta_E_00: h.delta_E_00})),
   show,
   // the displayed sRGB at a canvas pixel ({x, y}: drawing-buffer pixels from the top-left corner)
