@@ -276,7 +276,9 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
         node.setInputValue("intensity", 1.0, "float")
         return doc, [n for n in doc.getNodes() if n.getType() == "lightshader"]
 
-    def draw(doc, view_deg, light_deg):
+    def program(doc):
+        """Generate and compile the document's shader once (the light's type registered; its
+        direction is a uniform, bound at each render from the light handler)."""
         gen = mx_glsl.GlslShaderGenerator.create()
         ctx = mx_gen.GenContext(gen)
         ctx.registerSourceCodeSearchPath(search)
@@ -285,16 +287,19 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
         opts.hwMaxActiveLightSources = 1
         opts.hwShadowMap = False
         opts.targetColorSpaceOverride = "lin_rec709"
-        ldoc, sources = lights(light_deg)
+        ldoc, sources = lights(45.0)
         handler = mx_render.LightHandler.create()
         handler.registerLights(ldoc, sources, ctx)
+        renderer.createProgram(gen.generate("preset", mx_gen.findRenderableElements(doc)[0], ctx))
+        return handler
+
+    def draw(handler, view_deg, light_deg):
+        _, sources = lights(light_deg)
         handler.setLightSources(sources)
         handler.setIndirectLighting(False)
         handler.setEnvRadianceMap(black)
         handler.setEnvIrradianceMap(black)
         renderer.setLightHandler(handler)
-        shader = gen.generate("preset", mx_gen.findRenderableElements(doc)[0], ctx)
-        renderer.createProgram(shader)
         camera = renderer.getCamera()
         v = math.radians(view_deg)
         eye = mx.Vector3(200.0 * math.sin(v), 0.0, 200.0 * math.cos(v))  # on +x: the mirror of the light
@@ -319,10 +324,12 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
         return doc
 
     out = []
+    handler = program(load(mtlx_paths[0], white=True))  # the white metal: the same for every preset
+    reference = [draw(handler, v, li) for v, li in geometries]
     for path in mtlx_paths:
-        doc, white = load(path), load(path, white=True)
-        rows = [{"view": v, "light": li, "preset": draw(doc, v, li), "reference": draw(white, v, li)}
-                for v, li in geometries]
+        handler = program(load(path))
+        rows = [{"view": v, "light": li, "preset": draw(handler, v, li), "reference": ref}
+                for (v, li), ref in zip(geometries, reference, strict=True)]
         out.append({"file": str(path), "rows": rows})
     return out
 
