@@ -294,3 +294,17 @@ def test_issue22_explorer_axes_stay_within_the_model_thickness_limit(d):
         lo, hi, n = thickness_axis(d, step)
         assert 0.0 <= lo <= min(d) and max(d) - step < hi <= 1000.0 + 1e-9
         assert abs(lo + (n - 1) * step - hi) < 1e-6
+
+
+def test_issue22_read_only_catalog_no_op_succeeds_and_a_change_is_refused(cat, monkeypatch):
+    """Issue #22 group 8: a no-op rebuild of a read-only catalog was refused; it is answered "up to date",
+    and a build that would change it is refused in one line with nothing written. (Root ignores
+    permissions, so the folder's unwritability is simulated through os.access.)"""
+    spec, out, _ = cat
+    write_spec(spec, grade="C")  # the spec the catalog was built from
+    before = tree(out)
+    monkeypatch.setattr(os, "access", lambda path, mode, **k: not (mode & os.W_OK))
+    assert build_catalog(spec, out, jobs=1).noop
+    write_spec(spec, grade="A")
+    refuse(spec, out, "not writable", "not up to date")
+    assert tree(out) == before

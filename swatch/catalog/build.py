@@ -138,6 +138,15 @@ def _prepare_out_dir(out: Path) -> Path:
     return make_real_folder(meta, "catalog metadata folder")
 
 
+def _read_only(out: Path, meta: Path) -> str | None:
+    """Why an existing catalog folder cannot be written (a no-op rebuild is still answered), or None."""
+    if os.access(out, os.W_OK | os.X_OK) and (not os.path.isdir(meta) or os.access(meta, os.W_OK | os.X_OK)):
+        return None
+    if not (os.path.isdir(meta) and os.path.lexists(meta / MANIFEST)):
+        return None  # (no catalog there: the writability check refuses it as for any folder)
+    return f"output folder {out} is not writable"
+
+
 def _remove_first_build(out: Path, meta: Path) -> None:
     """A first build that failed leaves nothing: its metadata folder, and the folder if now empty."""
     remove_tree(meta)
@@ -240,6 +249,11 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
     out = Path(out_dir)
     jobs = _check_jobs(jobs)
     created = not out.exists()
+    read_only = _read_only(out, out / META_DIR) if not created else None
+    if read_only is not None:  # a read-only catalog: up to date is an answer; anything else is refused
+        meta = meta_folder(out)
+        with locked(meta, read_only=True):
+            return _check_up_to_date(spec, spec_name, out, meta, read_only, t0)
     meta = _prepare_out_dir(out)
     with locked(meta):  # only the lock holder creates, changes or removes anything
         try:
@@ -248,6 +262,20 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
             if created and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
                 _remove_first_build(out, meta)  # a first build that failed leaves nothing behind
             raise
+
+
+def _check_up_to_date(spec, spec_name, out, meta, why: str, t0) -> BuildResult:
+    """The no-op answer for a catalog folder that cannot be written; SwatchError if it is not up to date."""
+    if os.path.lexists(meta / JOURNAL):
+        raise SwatchError(f"{why}, and an interrupted build left a journal to finish; make it writable and build again")
+    fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": code_fingerprint()})
+    old = load_manifest(meta)
+    if old.get("fingerprint") == fingerprint and intact(out, old):
+        n_sheets = len([k for k in old.get("files", {}) if k.startswith("sheet_") and k.endswith(".png")])
+        return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
+                           files=sorted(old["files"]))
+    raise SwatchError(f"{why}, and the catalog there is not up to date with {spec_name}; make it writable, or "
+                      "build into another folder")
 
 
 def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildResult:

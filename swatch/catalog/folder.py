@@ -117,14 +117,19 @@ def cache_folder(meta: Path) -> Path:
 
 
 @contextmanager
-def locked(meta: Path):
-    """Hold ``meta/lock`` (flock) for one build; another build holding it is refused."""
+def locked(meta: Path, read_only: bool = False):
+    """Hold ``meta/lock`` (flock) for one build; another build holding it is refused. ``read_only``: the
+    folder cannot be written (a check that it is up to date): the lock is opened for reading and held
+    shared, so a writing build still excludes it."""
 
     busy = f"another catalog build is writing {meta.parent}; wait for it to finish"
+    flags = os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK
     try:
-        fd = os.open(meta / "lock", os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK, 0o644)
+        fd = (os.open(meta / "lock", os.O_RDONLY | flags) if read_only
+              else os.open(meta / "lock", os.O_RDWR | os.O_CREAT | flags, 0o644))
     except FileNotFoundError:  # the folder went away: a first build that held the lock failed
-        raise SwatchError(busy) from None
+        raise SwatchError(busy if not read_only else f"{meta.parent} cannot be written and has no build lock; "
+                          "build into a writable folder") from None
     except OSError as exc:
         raise SwatchError(f"cannot open the build lock {meta / 'lock'} ({exc.strerror}); it must be a regular "
                           "file of the catalog folder, not a link") from None
@@ -132,7 +137,7 @@ def locked(meta: Path):
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             raise SwatchError(f"the build lock {meta / 'lock'} is not a regular file; remove it")
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            fcntl.flock(fd, (fcntl.LOCK_SH if read_only else fcntl.LOCK_EX) | fcntl.LOCK_NB)
         except BlockingIOError:
             raise SwatchError(busy) from None
         yield
