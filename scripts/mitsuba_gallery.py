@@ -57,13 +57,13 @@ def main(out_dir: str) -> int:
         render_swatch_mitsuba(120.0, "cylinder", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12),
         render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12, mesh=bowl()),
         render_swatch_mitsuba(80.0, "sphere", SIZE, SPP, lighting_name=resolve_lighting("sun", Sun(40.0, 60.0)),
-                              roughness_alpha=0.12, mesh=panel_wall(), exposure=0.3),
+                              roughness_alpha=0.12, mesh=panel_wall(), exposure=1.0),
     ]
     strip = np.concatenate([s.display_rgb for s in shots], axis=1)
     out = Path(out_dir) / "mitsuba-gallery.png"
     imageio.write_png(out, strip, {"source": "scripts/mitsuba_gallery.py", "spp": SPP,
                                    "scenes": "sphere 50.8 nm studio; bent sheet 120 nm studio; bowl 50.8 nm studio; "
-                                             "panel wall 80 nm, sun 40 deg elevation, azimuth 60 deg, turbidity 3, display exposure 0.3"})
+                                             "panel wall 80 nm, sun 40 deg elevation, azimuth 60 deg, turbidity 3, display exposure 1"})
     print(out)
     return 0
 
