@@ -153,7 +153,7 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
                  ("materialx", "MaterialX", "materialx_max_delta_E_00"))
         title = ("3-D material presets; max " + str(p.get("conditions", "")) + "; at 0–45°: "
                  + ", ".join(f"{label} {_fmt(p.get(dk + '_45'), 1)}" for _, label, dk in kinds))
-        out.append(f'<div class="links presets" title="{e(title)}"><span>3-D (ΔE00):</span>'
+        out.append(f'<div class="links presets" title="{e(title)}"><span>3-D material presets, largest ΔE00 from this swatch:</span>'
                    + "".join(f'<a href="{e(str(p[k]))}">{label} {_fmt(p.get(dk), 1)}</a>'
                              for k, label, dk in kinds if p.get(k))
                    + "</div>")
@@ -312,8 +312,10 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 <h1 id="catalog-name">{e(c["name"])}</h1>
 <p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
 process {e(c["process"]["name"])}: {e(_growth_text(c["process"]))} · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
-L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}</p>
-<p class="sub">Multi-angle (flop strip under each chip, left to right): {e(multi)}. Process window: thickness and
+L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}
+(in plain words: the colour the oxide film's light interference gives, on the tiny facets that mirror the light into the eye)</p>
+<p class="sub">Multi-angle (flop strip under each chip, left to right): {e(multi)} (“45as15”: light at 45°, viewer 15° from
+the gloss, the mirror direction; “as−15” 15° past it). Process window: thickness and
 voltage deviations that keep the colour difference to the nominal colour within {e(pw["text"])}.</p>
 {_explain(c)}
 <p class="sub files">{links}</p>
