@@ -142,7 +142,30 @@ MIN_TURBIDITY, MAX_TURBIDITY = 1.0, 10.0
 
 def plan_rows(bytes_per_row: int, what: str, hint: str = "", budget: int = MAX_RUN_BYTES // 2) -> int:
     """Rows one chunk of work may hold (``bytes_per_row`` each) within half the run's memory budget
-    (the rest is the interpreter, the libraries and the inputs); SwatchError when not even one fits."""
+    (the rest is the interpreter, the libraries and the inputs); SwatchError when not even one fits.
+
+    Parameters
+    ----------
+    bytes_per_row : int
+        Memory one row needs, bytes (at least 1 is assumed).
+    what : str
+        The work, for the message.
+    hint : str
+        What to do instead, appended to the message (default none).
+    budget : int
+        Bytes the chunk may hold (default half of ``MAX_RUN_BYTES``).
+
+    Returns
+    -------
+    int
+        ``budget // bytes_per_row`` (≥ 1).
+
+    Raises
+    ------
+    SwatchError
+        When one row needs more than ``budget``.
+    """
+
     per = max(1, int(bytes_per_row))
     if per > budget:
         raise SwatchError(f"{what} needs {per / 1024 ** 3:.1f} GB at once, more than a run may plan for "
