@@ -3,7 +3,7 @@
 The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the exact thin film,
 :mod:`swatch.mitsuba.bsdf`) and is seen by the built-in renderer's camera
 (:mod:`swatch.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
-Mitsuba's ``path`` integrator (up to :data:`MAX_DEPTH` bounces: meshes shadow and reflect
+Mitsuba's ``path`` integrator (up to :data:`PATH_BOUNCES` bounces: meshes shadow and reflect
 themselves). Rendering is split into passes of at most :data:`swatch.core.limits.MAX_PASS_LANES`
 samples (bounded memory, a progress bar, Ctrl-C/SIGTERM between passes), each with its own seed
 derived from ``seed``: the same seed and spp give byte-identical images.
@@ -48,7 +48,7 @@ from swatch.core.limits import (
 )
 from swatch.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
 from swatch.mitsuba.scene import Sun, camera_dict, lighting, object_shapes
-from swatch.mitsuba.setup import DEFAULT_VARIANT, ENV_VAR, INSTALL_HINT, MIN_LLVM_MAJOR, check_variant, llvm_major
+from swatch.mitsuba.setup import DEFAULT_VARIANT, ENV_VAR, INSTALL_HINT, OLDEST_LLVM_MAJOR, check_variant, llvm_major
 from swatch.physics import microfacet
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
 from swatch.physics.model import check_thickness_nm
@@ -58,12 +58,12 @@ from swatch.render.image import SwatchImage, mesh_metadata
 from swatch.render.metadata import coating_and_colorimeter, common_metadata
 from swatch.render.scene import check_shape, make_scene
 
-__all__ = ["MITSUBA_LIGHTINGS", "MAX_DEPTH", "Sun", "use_variant", "check_spp", "check_seed", "check_sun",
+__all__ = ["MITSUBA_LIGHTINGS", "PATH_BOUNCES", "Sun", "use_variant", "check_spp", "check_seed", "check_sun",
            "resolve_lighting", "render_swatch_mitsuba", "Lighting"]
 
 #: Built-in lightings of the Mitsuba engine (a path to an .exr or .hdr map also works).
 MITSUBA_LIGHTINGS = ("studio", "sun", "uniform")
-MAX_DEPTH = 12
+PATH_BOUNCES = 12
 #: Sun and sky: 1.0 ≈ a white diffuser facing up under the sun at 45° elevation, turbidity 3, and its sky
 #: (measured with this engine: Y = 0.338 unscaled, 256 spp); every sun render shares it.
 SUN_SCALE = 1.0 / 0.338
@@ -80,7 +80,7 @@ def use_variant(variant: str = DEFAULT_VARIANT) -> str:
         if not path:
             raise SwatchError(INSTALL_HINT)
         major = llvm_major(path)
-        if 0 < major < MIN_LLVM_MAJOR:
+        if 0 < major < OLDEST_LLVM_MAJOR:
             raise SwatchError(f"{ENV_VAR} points at {os.path.basename(path)}; libLLVM {major} fails in Mitsuba's "
                               "JIT. " + INSTALL_HINT)
     try:
@@ -366,7 +366,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     passes = spp // per
     sensor = camera_dict(scene_geo.camera, size, per)
     scene = mi.load_dict({"type": "scene",
-                          "integrator": {"type": "path", "max_depth": MAX_DEPTH,
+                          "integrator": {"type": "path", "max_depth": PATH_BOUNCES,
                                          "hide_emitters": background != "environment"},
                           "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
     bar = None
@@ -416,7 +416,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         "size_px": size,
         "spp": spp,
         "seed": seed,
-        "integrator": f"Mitsuba path tracer, up to {MAX_DEPTH} bounces, {passes} pass(es) of {per} spp",
+        "integrator": f"Mitsuba path tracer, up to {PATH_BOUNCES} bounces, {passes} pass(es) of {per} spp",
         "rgb_space": space,
         "lighting": light.description(),
         "environment": light.kind if light.kind != "map" else light.name,

@@ -27,7 +27,7 @@ INSTALL_HINT = ("Mitsuba's LLVM backend needs libLLVM 19: on Debian/Ubuntu `apt-
 SPECTRAL_VARIANTS = ("llvm_ad_spectral", "scalar_spectral", "cuda_ad_spectral")
 DEFAULT_VARIANT = "llvm_ad_spectral"
 #: Oldest libLLVM major that Mitsuba 3.9's JIT runs with (14–16 fail on ``fminimum``).
-MIN_LLVM_MAJOR = 17
+OLDEST_LLVM_MAJOR = 17
 _SEARCH = ("/usr/lib/x86_64-linux-gnu/libLLVM.so.*", "/usr/lib/x86_64-linux-gnu/libLLVM-*.so*",
            "/usr/lib/aarch64-linux-gnu/libLLVM.so.*", "/usr/lib/aarch64-linux-gnu/libLLVM-*.so*",
            "/usr/lib/llvm-*/lib/libLLVM.so*", "/usr/lib/llvm-*/lib/libLLVM-*.so*", "/usr/lib64/libLLVM.so*",
@@ -43,7 +43,7 @@ def llvm_major(path: str) -> int:
 def find_libllvm() -> str | None:
     """The newest libLLVM of a usable version (≥ 17) in the usual system folders, or None."""
     found = [p for pattern in _SEARCH for p in glob.glob(pattern) if os.path.isfile(p)]
-    usable = sorted({os.path.realpath(p) for p in found if llvm_major(p) >= MIN_LLVM_MAJOR},
+    usable = sorted({os.path.realpath(p) for p in found if llvm_major(p) >= OLDEST_LLVM_MAJOR},
                     key=lambda p: (llvm_major(p), p))
     return usable[-1] if usable else None
 
