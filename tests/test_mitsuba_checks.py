@@ -49,22 +49,68 @@ np.save(sys.argv[1], np.stack(imgs))
 """
 
 
-def test_zero_thickness_renders_as_roughconductor(mi, tmp_path):
-    """#23: at thickness_nm = 0 the plugin (separable Smith, as roughconductor) renders the sphere in the studio
-    as Mitsuba's own roughconductor with Ti-Johnson's n, k (same scene, seed, spp): mean relative difference
-    ≤ 1e-3 (measured 3e-8 at 128², 64 spp).
+def _hemisphere(rng, n):
+    """n cosine-distributed unit vectors on the upper hemisphere, shape (3, n)."""
+    u = rng.random((2, n))
+    ct = np.sqrt(u[0])
+    st = np.sqrt(1.0 - ct * ct)
+    return np.stack([st * np.cos(2 * np.pi * u[1]), st * np.sin(2 * np.pi * u[1]), ct])
 
-    The pair is rendered in a fresh process: "same seed, same sample stream" holds there, while after other
-    Mitsuba renders in one process the sample stream can differ (seen in the full suite, not alone)."""
+
+def test_zero_thickness_bsdf_is_mitsubas_roughconductor(mi):
+    """#23: at thickness_nm = 0 the plugin (separable Smith, as roughconductor) is Mitsuba's own roughconductor
+    with Ti-Johnson's n, k: eval, pdf and sample (direction, weight; pdf where the sample counts) agree at 4096 random (wi, wo) pairs
+    and sampled wavelengths to 1e-5 relative (measured ≤ 6e-7). Evaluated directly, so no sample stream is
+    involved (a rendered same-seed pair differed once with a cold Dr.Jit kernel cache: CI, 2026-12-01)."""
+    import drjit as dr
+
+    s = load_material("Ti-Johnson")
+    film = mi.load_dict({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"})
+    rc = mi.load_dict({"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,
+                       "eta": _irregular(s.wavelength_nm, s.n), "k": _irregular(s.wavelength_nm, s.k)})
+    rng = np.random.default_rng(7)
+    n = 4096
+    wi, wo, u = _hemisphere(rng, n), _hemisphere(rng, n), rng.random((3, n))
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(*wi)
+    si.wavelengths = mi.Spectrum(*[mi.Float(w) for w in rng.uniform(380.0, 780.0, (4, n))])
+    si.n = mi.Normal3f(0.0, 0.0, 1.0)
+    si.sh_frame = mi.Frame3f(si.n)
+    ctx = mi.BSDFContext()
+    w = mi.Vector3f(*wo)
+
+    def close(a, b, what):
+        a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+        assert a.shape == b.shape and np.all(np.isfinite(a)), what
+        assert np.max(np.abs(a - b) / np.maximum(np.abs(b), 1e-3)) <= 1e-5, what
+
+    v_rc = np.asarray(rc.eval(ctx, si, w))
+    assert (v_rc > 1e-3).sum() > n  # the comparison is not of zeros
+    close(film.eval(ctx, si, w), v_rc, "eval")
+    close(film.pdf(ctx, si, w), rc.pdf(ctx, si, w), "pdf")
+    bs_f, w_f = film.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1], u[2]))
+    bs_r, w_r = rc.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1], u[2]))
+    close(bs_f.wo, bs_r.wo, "sampled direction")
+    close(w_f, w_r, "sample weight")
+    valid = np.asarray(w_r).max(axis=0) > 0  # roughconductor keeps a pdf on samples it weights 0 (below the horizon)
+    assert valid.sum() > n // 2
+    close(np.asarray(bs_f.pdf)[valid], np.asarray(bs_r.pdf)[valid], "sampled pdf")
+
+
+def test_zero_thickness_renders_as_roughconductor(mi, tmp_path):
+    """#23: rendered in the studio (same scene, seed, spp), the plugin at thickness_nm = 0 and Mitsuba's
+    roughconductor give the same image brightness: mean within 1 % (measured 0–0.2 %). The means, not the
+    pixels: with a cold Dr.Jit kernel cache the two renders can draw different sample streams (seen in CI),
+    so pixel-by-pixel equality is not what Mitsuba promises; the BSDFs themselves are compared exactly in
+    test_zero_thickness_bsdf_is_mitsubas_roughconductor. Rendered in a fresh process."""
     out = tmp_path / "pair.npy"
     root = Path(__file__).resolve().parents[1]
     proc = subprocess.run([sys.executable, "-c", _ZERO_THICKNESS_PAIR, str(out)], cwd=root, capture_output=True,
                           text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     a, b = np.load(out)
-    m = b > 1e-3
-    assert m.sum() > 1000
-    assert np.mean(np.abs(a[m] - b[m]) / b[m]) <= 1e-3
+    assert np.all(np.isfinite(a)) and b.mean() > 0.05
+    assert abs(a.mean() - b.mean()) / b.mean() <= 0.01
 
 
 @pytest.mark.parametrize("params", [
