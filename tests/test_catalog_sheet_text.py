@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from swatch.catalog.sheets import Layout, chip_line, label_lines, label_width
+from swatch.catalog.sheet_layout import Layout, chip_line, label_lines, label_width
 from swatch.catalog.spec import load_spec
 from swatch.io.imageio import text_width
 from tests.cli_helpers import run_swatch

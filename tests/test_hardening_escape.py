@@ -241,11 +241,11 @@ def test_issue22_npz_that_inflates_beyond_its_shapes_is_rendered_again(cat):
 
     import numpy as np
 
-    from swatch.catalog import sheets
+    from swatch.catalog import tiles
     from swatch.catalog.spec import load_spec
 
     spec, out, _ = cat
-    want = sheets._tile_shapes(load_spec(spec)[0])
+    want = tiles.tile_shapes(load_spec(spec)[0])
     cache = out / META_DIR / "cache"
     buf = io.BytesIO()
     np.save(buf, np.zeros(16 * 1024 * 1024, dtype=np.uint8))  # 16 MB that deflates to ~16 kB (a 64 px tile: 24 kB)
@@ -258,10 +258,10 @@ def test_issue22_npz_that_inflates_beyond_its_shapes_is_rendered_again(cat):
             zf.writestr(bomb, buf.getvalue())
             for name, blob in members.items():
                 zf.writestr(name, blob)
-        assert tile.stat().st_size < 1024 * 1024 and not sheets.npz_fits(tile, want)
+        assert tile.stat().st_size < 1024 * 1024 and not tiles.npz_fits(tile, want)
     (out / "sheet_01.png").unlink()  # its sheet is composed again from the cache
     build_catalog(spec, out, jobs=1)
-    assert all(sheets.npz_fits(t, want) for t in cache.glob("*.npz"))
+    assert all(tiles.npz_fits(t, want) for t in cache.glob("*.npz"))
 
 
 def test_issue22_journal_naming_a_missing_staging_folder_is_dropped(cat):

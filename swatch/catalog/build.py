@@ -311,7 +311,8 @@ PARENT_BYTES = 600 * 1024 ** 2
 def plan_jobs(spec: CatalogSpec, jobs: int) -> int:
     """Workers composing sheets at once, chosen from the memory budget (:data:`swatch.core.limits.MAX_RUN_BYTES`
     for the whole build: the parent and its workers); a sheet too big for the budget even alone is refused."""
-    from swatch.catalog.sheets import Layout, sheet_bytes
+    from swatch.catalog.sheet_layout import Layout
+    from swatch.catalog.sheets import sheet_bytes
 
     per = sheet_bytes(spec)
     if per + PARENT_BYTES > MAX_RUN_BYTES + WORKER_SLACK_BYTES:
@@ -333,6 +334,7 @@ def _check_jobs(jobs) -> int:
 
 def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0) -> BuildResult:
     from swatch.catalog import sheets as sheetmod
+    from swatch.catalog import tiles as tilemod
     from swatch.catalog.csv_table import csv_bytes
     from swatch.catalog.exports import ase_bytes, cxf_bytes
     from swatch.catalog.records import HUE_FAMILIES, compute
@@ -362,10 +364,10 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
 
         hero_out, hero_used = catalog_heroes(spec, records, cache, say)  # Mitsuba spheres when spec.hero; cached
         # 1. tiles (renders), from the cache or rendered in parallel
-        tile_keys = [sheetmod.tile_key(spec, d, fp) for d in data.thickness_nm]
+        tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
-        pool = sheetmod.make_pool(spec, plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
-        rendered = sheetmod.render_missing(spec, data.thickness_nm, missing, tile_keys, cache, pool,
+        pool = tilemod.make_pool(spec, plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
+        rendered = tilemod.render_missing(spec, data.thickness_nm, missing, tile_keys, cache, pool,
                                            lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)
         sheet_list = []

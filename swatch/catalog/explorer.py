@@ -33,7 +33,8 @@ import math
 import colour
 import numpy as np
 
-from swatch.catalog.sheets import AMAP_ANGLES_DEG, Layout
+from swatch.catalog.sheet_layout import Layout
+from swatch.catalog.tiles import AMAP_ANGLES_DEG
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.colorimetry.names import NAME_RULES
 from swatch.core.errors import SwatchError

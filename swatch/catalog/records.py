@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swatch.catalog.spec import CatalogSpec, Geometry
+from swatch.catalog.geometry import Geometry
+from swatch.catalog.spec import CatalogSpec
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
 from swatch.colorimetry.names import NEUTRAL_CHROMA, colour_name
 from swatch.colorimetry.tolerance import delta_E

@@ -11,74 +11,29 @@ See ``docs/catalog.md`` for the format.
 """
 from __future__ import annotations
 
-import math
 import tomllib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import NoReturn
 
 import numpy as np
 
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
+from swatch.catalog.geometry import DEFAULT_ASPECULAR_DEG, Geometry, geometry_name
+from swatch.catalog.spec_checks import SpecChecker, spec_material, spec_process, spec_range
 from swatch.colorimetry import tolerance
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.core.choices import FINISHES, MODELS, SHAPES
 from swatch.core.errors import SwatchError
-from swatch.core.limits import (
-    MAX_CHIP_PX,
-    MAX_SPEC_BYTES,
-    MAX_SWATCHES,
-    MAX_THICKNESS_NM,
-    MAX_VOLTAGE_V,
-    read_text_capped,
-)
+from swatch.core.limits import MAX_CHIP_PX, MAX_SPEC_BYTES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_text_capped
 from swatch.physics.finishes import get_finish
-from swatch.physics.materials import list_materials, load_material
-from swatch.physics.process import DEFAULT_PROCESS, load_process, preset_names
+from swatch.physics.process import DEFAULT_PROCESS
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["spec_summary", "CatalogSpec", "Geometry", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
+__all__ = ["spec_summary", "CatalogSpec", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
 RENDER_SHAPES = SHAPES
 RENDER_MODELS = MODELS
-#: Default multi-angle set: illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° (ASTM E2194 / E2539).
-DEFAULT_ASPECULAR_DEG = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
-
-
-@dataclass(frozen=True)
-class Geometry:
-    """One in-plane light/view geometry.
-
-    ``view_deg`` is the view's polar angle from the normal; ``view_side`` is ``"opposite"`` (the
-    usual side, across the normal from the light) or ``"light"`` (the same side as the light).
-    """
-
-    name: str
-    light_deg: float
-    view_deg: float
-    view_side: str = "opposite"
-    aspecular_deg: float | None = None
-
-    @property
-    def view_azimuth_deg(self) -> float | None:
-        """For swatch.physics.geometry: None = opposite side (azimuth + 180), 0 = the light's side."""
-        return None if self.view_side == "opposite" else 0.0
-
-    @property
-    def theta_d_deg(self) -> float:
-        """Incidence angle on the half-vector facet (in plane): half the angle between l and v."""
-        if self.view_side == "opposite":
-            return 0.5 * (self.light_deg + self.view_deg)
-        return 0.5 * abs(self.light_deg - self.view_deg)
-
-    def to_json(self) -> dict:
-        out = {"name": self.name, "light_deg": self.light_deg, "view_deg": self.view_deg,
-               "view_side": self.view_side}
-        if self.aspecular_deg is not None:
-            out["aspecular_deg"] = self.aspecular_deg
-        out["theta_d_deg"] = self.theta_d_deg
-        return out
 
 
 @dataclass(frozen=True)
@@ -175,172 +130,11 @@ class CatalogSpec:
         return d
 
 
-# -- validation helpers --------------------------------------------------------------------
-
-class _Checker:
-    def __init__(self, source: str):
-        self.source = source
-
-    def fail(self, key: str, what: str, got=None, show_got: bool = True) -> NoReturn:
-        msg = f"{self.source}: key {key}: {what}"
-        if show_got:
-            msg += f" (got {_show(got)})"
-        raise SwatchError(msg)
-
-    def table(self, data, key: str, allowed: tuple[str, ...]) -> dict:
-        if not isinstance(data, dict):
-            self.fail(key, "must be a table", data)
-        for k in data:
-            if k not in allowed:
-                where = f"{key}.{k}" if key else k
-                scope = f" in [{key}]" if key else ""
-                raise SwatchError(f"{self.source}: unknown key {where}; allowed{scope}: {', '.join(allowed)}")
-        return data
-
-    def number(self, value, key: str, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-        if ok:
-            v = float(value)
-            ok = (lo is None or (v > lo if lo_open else v >= lo)) and (hi is None or (v < hi if hi_open else v <= hi))
-        if not ok:
-            self.fail(key, f"must be a number {_bounds(lo, hi, lo_open, hi_open)}", value)
-        return float(value)
-
-    def integer(self, value, key: str, lo: int, hi: int) -> int:
-        if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
-            self.fail(key, f"must be a whole number from {lo} to {hi}", value)
-        return int(value)
-
-    def string(self, value, key: str, max_len: int = 200, choices=None, multiline: bool = False) -> str:
-        if not isinstance(value, str) or not value.strip() or len(value) > max_len:
-            self.fail(key, f"must be a non-empty text of at most {max_len} characters", value)
-        allowed = "\t\n\r" if multiline else ""
-        if any(_is_control(ch) and ch not in allowed for ch in value):
-            self.fail(key, "must not contain control characters"
-                      + (" (other than tab and line breaks)" if multiline else ""), value)
-        if choices is not None:
-            for c in choices:
-                if c.lower() == value.strip().lower():
-                    return c
-            self.fail(key, f"must be one of {', '.join(choices)}", value)
-        return value.strip()
-
-    def boolean(self, value, key: str) -> bool:
-        if not isinstance(value, bool):
-            self.fail(key, "must be true or false", value)
-        return value
-
-    def numbers(self, value, key: str, lo, hi, max_len: int = MAX_SWATCHES) -> list[float]:
-        if not isinstance(value, list) or not value:
-            self.fail(key, "must be a non-empty list of numbers", value)
-        if len(value) > max_len:
-            self.fail(key, f"must have at most {max_len} entries", f"{len(value)} entries", True)
-        return [self.number(v, f"{key}[{i}]", lo, hi) for i, v in enumerate(value)]
-
-
-def _is_control(ch: str) -> bool:
-    """C0/C1 controls, DEL and the XML non-characters (the exports are XML: CxF3)."""
-    o = ord(ch)
-    return o < 32 or 127 <= o < 160 or o in (0xFFFE, 0xFFFF) or 0xD800 <= o < 0xE000
-
-
-def _show(v) -> str:
-    if isinstance(v, str):
-        return repr(v if len(v) <= 60 else v[:57] + "...")
-    if isinstance(v, dict):
-        return "a table"
-    if isinstance(v, list):
-        return "a list"
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    return repr(v)
-
-
-def _bounds(lo, hi, lo_open, hi_open) -> str:
-    if lo is not None and hi is not None:
-        return f"{'>' if lo_open else '>='} {lo:g} and {'<' if hi_open else '<='} {hi:g}"
-    if lo is not None:
-        return f"{'>' if lo_open else '>='} {lo:g}"
-    if hi is not None:
-        return f"{'<' if hi_open else '<='} {hi:g}"
-    return ""
-
-
-def _range(c: _Checker, tbl: dict, key: str, unit: str, hi: float) -> list[float]:
-    """start_/stop_/step_ or list_ (unit nm or V) -> sorted values."""
-    suffix = "nm" if unit == "nm" else "V"
-    names = (f"start_{suffix}", f"stop_{suffix}", f"step_{suffix}", f"list_{suffix}")
-    c.table(tbl, key, names)
-    has_list = f"list_{suffix}" in tbl
-    has_range = any(n in tbl for n in names[:3])
-    if has_list == has_range:
-        raise SwatchError(
-            f"{c.source}: [{key}]: give either start_{suffix}, stop_{suffix}, step_{suffix} or list_{suffix}")
-    if has_list:
-        vals = c.numbers(tbl[f"list_{suffix}"], f"{key}.list_{suffix}", 0.0, hi)
-        if len(set(vals)) != len(vals):
-            c.fail(f"{key}.list_{suffix}", "must not repeat a value", tbl[f"list_{suffix}"])
-        return sorted(vals)
-    for n in names[:3]:
-        if n not in tbl:
-            raise SwatchError(f"{c.source}: [{key}]: missing key {key}.{n} (a number in {unit})")
-    start = c.number(tbl[names[0]], f"{key}.{names[0]}", 0.0, hi)
-    stop = c.number(tbl[names[1]], f"{key}.{names[1]}", 0.0, hi)
-    step = c.number(tbl[names[2]], f"{key}.{names[2]}", 0.0, None, lo_open=True)
-    if stop < start:
-        c.fail(f"{key}.{names[1]}", f"must be >= {names[0]} ({start:g})", tbl[names[1]])
-    span = (stop - start) / step  # inf for a subnormal step: compared before any conversion
-    if not span + 1 <= MAX_SWATCHES:
-        n = f"{math.floor(span + 1e-9) + 1}" if math.isfinite(span) else "too many"
-        c.fail(f"{key}.{names[2]}", f"gives {n} swatches; at most {MAX_SWATCHES} per catalog", tbl[names[2]])
-    count = math.floor(span + 1e-9) + 1
-    # start + i*step, rounded to 1e-9 to keep decimal steps exact in the outputs
-    return [round(start + i * step, 9) for i in range(count)]
-
-
-def _material(c: _Checker, value, key: str, role: str) -> str:
-    name = c.string(value, key)
-    try:
-        mat = load_material(name)
-    except SwatchError:
-        names = [m.name for m in list_materials(role)]
-        c.fail(key, f"unknown {role} table; use one of {', '.join(names)}", value)
-    if mat.role != role:
-        names = [m.name for m in list_materials(role)]
-        c.fail(key, f"{mat.name} is a {mat.role} table, not a {role}; use one of {', '.join(names)}", value)
-    if mat.wavelength_range_nm[0] > 380 or mat.wavelength_range_nm[1] < 780:
-        c.fail(key, f"{mat.name} does not cover 380–780 nm", value)
-    return mat.name
-
-
-def _geometry_name(light: float, aspecular: float) -> str:
-    return f"{light:g}as{aspecular:g}"
-
-
-def _process(c: _Checker, value, base_dir: Path | None):
-    """The spec's ``process``: a preset name, or a profile .toml inside the spec's folder."""
-
-    text = c.string(value, "process", 200)
-    if text in preset_names() or base_dir is None:
-        try:
-            return load_process(text)
-        except SwatchError as exc:
-            c.fail("process", str(exc), value, show_got=False)
-    root = base_dir.resolve()
-    path = (root / text).resolve()
-    if not path.is_relative_to(root):
-        c.fail("process", "a profile file must lie inside the spec's folder", value)
-    if path.suffix.lower() != ".toml" or not path.is_file():
-        c.fail("process", f"is neither a preset ({', '.join(preset_names())}) nor a .toml file next to the spec",
-               value)
-    return load_process(str(path))
-
-
 def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None) -> CatalogSpec:
     """Validate a decoded TOML document (``source`` names it in error messages; a ``process`` file is
     looked up inside ``base_dir``, the spec's folder)."""
 
-    c = _Checker(source)
+    c = SpecChecker(source)
     top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
            "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips")
     c.table(data, "", top)
@@ -348,9 +142,9 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
     name = c.string(data["name"], "name", 120)
     description = c.string(data["description"], "description", 1000, multiline=True) if "description" in data else ""
-    proc = _process(c, data.get("process", DEFAULT_PROCESS), base_dir)
-    film = _material(c, data["film"], "film", "film") if "film" in data else None
-    substrate = _material(c, data["substrate"], "substrate", "substrate") if "substrate" in data else None
+    proc = spec_process(c, data.get("process", DEFAULT_PROCESS), base_dir)
+    film = spec_material(c, data["film"], "film", "film") if "film" in data else None
+    substrate = spec_material(c, data["substrate"], "substrate", "substrate") if "substrate" in data else None
     if "nm_per_V" in data and "growth_nm_per_V" in data:
         raise SwatchError(f"{source}: give nm_per_V or its old name growth_nm_per_V, not both")
     rate_key = "growth_nm_per_V" if "growth_nm_per_V" in data else "nm_per_V"
@@ -361,13 +155,13 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     if ("thickness" in data) == ("voltage" in data):
         raise SwatchError(f"{source}: give exactly one of the tables [thickness] (nm) or [voltage] (V)")
     if "thickness" in data:
-        d = _range(c, data["thickness"], "thickness", "nm", MAX_THICKNESS_NM)
+        d = spec_range(c, data["thickness"], "thickness", "nm", MAX_THICKNESS_NM)
         volts = None
     else:
         if rate is None:
             raise SwatchError(f"{source}: process {proc.name} has no growth rate, so the catalog needs a "
                               "[thickness] table (or nm_per_V, or a calibrated profile)")
-        volts = _range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
+        volts = spec_range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
         d = [proc.offset_nm + v * rate for v in volts] if proc.knee_V is None else [
             proc.offset_nm + rate * min(v, proc.knee_V) + proc.nm_per_V_above_knee * max(v - proc.knee_V, 0.0)
             for v in volts]
@@ -403,7 +197,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
             c.fail(f"geometry.multi_angle.aspecular_deg[{i}]",
                    f"puts the view at {abs(v):g}° from the normal with light at {ma_light:g}°; "
                    f"aspecular angles must lie in ({ma_light - 90:g}, {ma_light + 90:g})", g)
-        multi.append(Geometry(_geometry_name(ma_light, g), ma_light, abs(v),
+        multi.append(Geometry(geometry_name(ma_light, g), ma_light, abs(v),
                               "opposite" if v >= 0 else "light", g))
     if len({g.name for g in multi}) != len(multi):
         c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)

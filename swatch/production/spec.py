@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from swatch.catalog.geometry import DEFAULT_ASPECULAR_DEG, Geometry
 from swatch.catalog.records import process_window, window_voltage_V
-from swatch.catalog.spec import DEFAULT_ASPECULAR_DEG, Geometry
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter, srgb_hex
 from swatch.colorimetry.tolerance import Tolerance
 from swatch.core.errors import SwatchError

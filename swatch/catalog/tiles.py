@@ -1,0 +1,242 @@
+"""A swatch's tile: its renders and angular map, keyed by content, cached and rendered in parallel.
+
+A tile holds the swatch rendered flat and curved (``swatch.render.render_swatch``, the spec's
+shapes, model and roughness, light 45° or the studio), and a small angular map
+(``swatch.render.angular.angular_map``, paper model: the colour over light × view angle, 0–85°).
+Tile renders are cached per swatch (``.npz`` keyed by :func:`tile_key`) and computed in
+parallel processes (``--jobs``); every job is a pure function of its inputs, so the result does
+not depend on the number of jobs. The sheets (``swatch.catalog.sheets``) paste them.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import multiprocessing as mp
+import os
+import zipfile
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from swatch.catalog.folder import remove_tree
+from swatch.catalog.spec import CatalogSpec
+from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
+from swatch.core.procguard import exit_with, ignore_interrupts, start_forkserver_ignoring_interrupts
+from swatch.core.safepath import is_regular_file
+from swatch.core.sources import package_dir, source_files
+from swatch.physics.finishes import get_finish
+from swatch.physics.materials import wavelength_grid
+from swatch.physics.model import get_coating
+from swatch.render import render_swatch
+from swatch.render.angular import angular_map
+
+if TYPE_CHECKING:
+    from multiprocessing.context import BaseContext
+
+__all__ = ["tile_key", "tile_shapes", "npz_fits", "load_tile", "render_missing", "make_pool", "tile_environment",
+           "lighting_caption", "AMAP_ANGLES_DEG", "AMAP_CELL_PX", "LIGHT_DEG", "ENVIRONMENT"]
+
+TILE_VERSION = 1
+#: Angular-map grid (light × view polar angles, degrees); 60 × 60 cells drawn at 2 px each.
+AMAP_ANGLES_DEG = np.linspace(0.0, 85.0, 60)
+AMAP_CELL_PX = 2
+LIGHT_DEG = 45.0
+
+#: Lighting of the tile renders for the microfacet model (GGX): the studio, exposure 1
+#: (swatch.render.env_render), so a render and its chip are on one scale; the paper model keeps the light.
+ENVIRONMENT = "studio"
+
+
+def tile_environment(spec: CatalogSpec) -> str | None:
+    return ENVIRONMENT if spec.model == "microfacet" else None
+
+
+def lighting_caption(spec: CatalogSpec) -> str:
+    if tile_environment(spec):
+        return "studio (soft boxes, dark walls, floor and horizon) at exposure 1 (white diffuser = white, as for the chip)"
+    return f"one light at {LIGHT_DEG:g}°, display exposure per render"
+
+
+
+@functools.lru_cache(maxsize=1)
+def _engine_code_hash() -> str:
+    """Hash of the engine modules (every module outside catalog/, presets/ and commands/) and this
+    file: a tile depends on all of them."""
+    pkg = package_dir()
+    h = hashlib.sha256()
+    for f in [*source_files(exclude=("catalog", "presets", "commands")), Path(__file__).resolve()]:
+        h.update(f.relative_to(pkg).as_posix().encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()
+
+
+def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
+    """Content hash of everything a swatch's renders depend on."""
+    doc = {
+        "v": TILE_VERSION, "code": _engine_code_hash(), "tables": fp["tables"], "versions": fp["versions"],
+        "film": spec.film, "substrate": spec.substrate, "film_index_scale": spec.film_index_scale,
+        "wl_step": spec.wavelength_step_nm,
+        "illuminant": spec.illuminant, "observer": spec.observer, "d": float(thickness_nm),
+        "shapes": list(spec.shapes), "size": spec.size_px, "model": spec.model, "roughness": spec.roughness,
+        "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
+        "environment": tile_environment(spec), **spec.spread.metadata(),
+        **({"finish": spec.finish} if spec.finish else {}),
+    }
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
+
+
+# -- rendering (worker side) -----------------------------------------------------------------
+
+def _render_job(args):
+    """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
+    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap, spread, finish) = args
+
+    wl = wavelength_grid(380.0, 780.0, wl_step)
+    coating = get_coating(film, substrate, wl, scale, spread)
+    cm = get_colorimeter(wl, illuminant, observer)
+    out: dict[str, Any] = {}
+    for i, shape in enumerate(shapes):
+        im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness_alpha=roughness, model=model,
+                           coating=coating, colorimeter=cm, space="srgb", workers=1,
+                           environment=ENVIRONMENT if model == "microfacet" else None,
+                           finish=None if finish is None else get_finish(finish))
+        # half floats: the sheet EXR is half anyway, and the cache stays small
+        out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
+        out[f"r{i}_alpha"] = np.asarray(im.coverage, dtype=np.float16)
+        out[f"r{i}_display"] = np.asarray(im.display_rgb, dtype=np.uint8)
+        out[f"r{i}_exposure"] = np.float64(im.exposure)
+    if amap:
+        am = angular_map(d, AMAP_ANGLES_DEG, AMAP_ANGLES_DEG, coating=coating, colorimeter=cm, model="paper")
+        # rows = light angle: flip so light 0° is at the bottom (as swatch.report.figures.angular_figure)
+        lin = np.asarray(am.linear_rgb, dtype=np.float32)[::-1] * np.float32(am.exposure)
+        disp = np.asarray(am.display_rgb, dtype=np.uint8)[::-1]
+        c = AMAP_CELL_PX
+        out["amap_linear"] = np.repeat(np.repeat(lin, c, 0), c, 1).astype(np.float16)
+        out["amap_display"] = np.repeat(np.repeat(disp, c, 0), c, 1)
+    return out
+
+
+def _job_args(spec: CatalogSpec, d: float):
+    return (float(d), spec.film, spec.substrate, spec.film_index_scale, spec.wavelength_step_nm, spec.illuminant,
+            spec.observer,
+            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map, spec.spread, spec.finish)
+
+
+def _save_npz(path: Path, arrays: dict) -> None:
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.npz")
+    try:
+        np.savez(tmp, **arrays)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def tile_shapes(spec: CatalogSpec) -> dict:
+    """Name -> (shape, dtype) of every array a tile of ``spec`` holds (see :func:`_render_job`)."""
+    s = spec.size_px
+    want = {}
+    for i in range(len(spec.shapes)):
+        want.update({f"r{i}_linear": ((s, s, 3), np.float16), f"r{i}_alpha": ((s, s), np.float16),
+                     f"r{i}_display": ((s, s, 3), np.uint8), f"r{i}_exposure": ((), np.float64)})
+    if spec.angular_map:
+        m = AMAP_ANGLES_DEG.size * AMAP_CELL_PX
+        want.update({"amap_linear": ((m, m, 3), np.float16), "amap_display": ((m, m, 3), np.uint8)})
+    return want
+
+
+def npz_fits(path: Path, want: dict) -> bool:
+    """Whether the ``.npz`` at ``path`` holds exactly the arrays ``want`` (name -> (shape, dtype)), judged
+    from its zip directory and each member's ``.npy`` header before any array is decompressed: a small
+    file that would inflate to gigabytes is refused unread (zipfile stops at the declared size)."""
+
+    try:
+        with zipfile.ZipFile(path) as zf:
+            infos = {i.filename: i for i in zf.infolist()}
+            if sorted(infos) != sorted(f"{k}.npy" for k in want):
+                return False
+            for k, (shape, dtype) in want.items():
+                info = infos[f"{k}.npy"]
+                if info.file_size > int(np.prod(shape)) * np.dtype(dtype).itemsize + 4096:
+                    return False
+                with zf.open(info) as fh:
+                    major, _minor = np.lib.format.read_magic(fh)
+                    read = np.lib.format.read_array_header_1_0 if major == 1 else np.lib.format.read_array_header_2_0
+                    got_shape, _fortran, got_dtype = read(fh)
+                if tuple(got_shape) != tuple(shape) or got_dtype != np.dtype(dtype):
+                    return False
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, RuntimeError):
+        return False
+    return True
+
+
+def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> dict:
+    """A tile's arrays from the cache; an entry that does not read back intact is rendered again.
+
+    The cache is the catalog folder's own but untrusted: only a regular file no larger than
+    :data:`swatch.core.limits.MAX_CACHE_ENTRY_BYTES` holding exactly the expected arrays is used.
+    """
+
+    path = cache / f"{key}.npz"
+    want = tile_shapes(spec)
+    if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES and npz_fits(path, want):
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                if sorted(z.files) == sorted(want):
+                    arrays = {k: z[k] for k in z.files}
+                    if all(arrays[k].shape == sh and arrays[k].dtype == dt for k, (sh, dt) in want.items()):
+                        return arrays
+        except (OSError, ValueError, KeyError, EOFError, MemoryError, zipfile.BadZipFile):
+            pass
+    arrays = _render_job(_job_args(spec, thickness_nm))
+    remove_tree(path)
+    _save_npz(path, arrays)
+    return arrays
+
+
+def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: list[str], cache: Path,
+                   pool, progress_factory) -> int:
+    """Render the swatches ``missing`` (indices) into ``cache`` (``<key>.npz``); returns how many.
+
+    ``pool``: a process pool (see :func:`make_pool`) or None to render in this process.
+    """
+    if not missing:
+        return 0
+    args = [_job_args(spec, thickness_nm[i]) for i in missing]
+    with progress_factory(len(missing)) as bar:
+        results = map(_render_job, args) if pool is None else pool.map(_render_job, args, chunksize=1)
+        for i, arrays in zip(missing, results, strict=True):
+            _save_npz(cache / f"{keys[i]}.npz", arrays)
+            bar.update(1)
+    return len(missing)
+
+
+def make_pool(spec: CatalogSpec, jobs: int):
+    """A process pool of ``jobs`` workers (forked after the shared tables are loaded), or None."""
+    if jobs <= 1:
+        return None
+
+    # Not "fork": a process that has used OpenImageIO (or any library with threads) may hold a
+    # lock at the fork and the child would deadlock. The fork server is a fresh process that
+    # imports the renderer once and forks the workers from there (cheap, and thread-free).
+    ctx: BaseContext
+    if "forkserver" in mp.get_all_start_methods():
+        ctx = mp.get_context("forkserver")
+        ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render.dispatch", "swatch.colorimetry.colorimeter",
+                                    "swatch.io.imageio", "OpenImageIO"])
+
+        start_forkserver_ignoring_interrupts()  # workers ignore Ctrl-C from birth (one message, the build's)
+    else:
+        ctx = mp.get_context("spawn")
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(spec, os.getpid()))
+
+
+def _warm(spec: CatalogSpec, parent_pid: int) -> None:
+    exit_with(parent_pid)  # a killed build leaves no worker (nor fork server, nor resource tracker)
+    ignore_interrupts()  # Ctrl-C: the build reports it once and shuts the pool down
+
+    wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
+    spec.coating(wl)
+    get_colorimeter(wl, spec.illuminant, spec.observer)
