@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import swatch  # noqa: F401
+from swatch.catalog.context import catalog_context
 from swatch.catalog.explorer import decode, explorer_data, grid_lookup
 from swatch.catalog.records import hue_family
 from swatch.catalog.spec import load_spec
@@ -23,7 +24,7 @@ from swatch.physics.model import get_coating
 def table():
     spec, _ = load_spec("catalog/titanium.toml")
     wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
-    return spec, wl, explorer_data(spec, wl)
+    return spec, wl, explorer_data(catalog_context(spec))
 
 
 def _direct(spec, wl, d, cos_d, observer):
@@ -84,9 +85,10 @@ def test_hue_family_and_name_are_total(L, C, h):
 
 def test_families_fixed_where_designers_disagreed():
     spec, _ = load_spec("catalog/titanium.toml")
+    from swatch.catalog.context import catalog_context
     from swatch.catalog.records import compute
 
-    recs = {r["thickness_nm"]: r for r in compute(spec).records}
+    recs = {r["thickness_nm"]: r for r in compute(catalog_context(spec)).records}
     assert recs[80.0]["hue_family"] == "neutral"  # C* 7.6 is not "cyan"
     for d in (85.0, 90.0, 95.0, 100.0):  # pale straw, not "green"
         assert recs[d]["hue_family"] in ("neutral", "yellow"), (d, recs[d]["hue_family"])
@@ -97,13 +99,14 @@ def test_families_fixed_where_designers_disagreed():
 
 
 def test_cards_flag_out_of_gamut_chips_and_carry_p3():
+    from swatch.catalog.context import catalog_context
     from swatch.catalog.explorer import chip_colours
     from swatch.catalog.html import index_html
     from swatch.catalog.records import compute
 
     spec, _ = load_spec("catalog/titanium.toml")
-    data = compute(spec)
-    chips = chip_colours(spec, data)
+    data = compute(catalog_context(spec))
+    chips = chip_colours(data)
     recs = data.records
     from swatch.catalog.build import _catalog_header
 
@@ -125,6 +128,7 @@ def test_cards_flag_out_of_gamut_chips_and_carry_p3():
 def test_table_follows_the_process_film_index_scale(tmp_path):
     """Regression: the table ignored the process profile's film index scale, so for a calibrated
     line the page's colours and matches differed from the cards (catalog.json records)."""
+    from swatch.catalog.context import catalog_context
     from swatch.catalog.records import compute
 
     profile = (Path("tables/processes/titanium-fujii2019.toml").read_text(encoding="utf-8")
@@ -136,12 +140,12 @@ def test_table_follows_the_process_film_index_scale(tmp_path):
     spec, _ = load_spec(tmp_path / "spec.toml")
     assert spec.film_index_scale == pytest.approx(1.12)
     wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
-    t = explorer_data(spec, wl)
+    t = explorer_data(catalog_context(spec))
     ref = t["reference"]
     col = decode(ref["values"])
     d = ref["thickness_nm"]["start"] + ref["thickness_nm"]["step"] * np.arange(ref["thickness_nm"]["count"])
     cm = get_colorimeter(wl, spec.illuminant, spec.observer)
-    for rec in compute(spec).records:
+    for rec in compute(catalog_context(spec)).records:
         i = int(np.argmin(np.abs(d - rec["thickness_nm"])))
         assert d[i] == pytest.approx(rec["thickness_nm"])
         assert float(delta_E_00(cm.Lab(col[i, :3]), np.asarray(rec["Lab"]))) < 0.02

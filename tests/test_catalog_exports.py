@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import swatch  # noqa: F401
+from swatch.catalog.context import catalog_context
 from swatch.catalog.exports import ase_bytes, cxf_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
@@ -19,7 +20,7 @@ SPEC = parse_spec({"name": "Exports <test> & co", "thickness": {"list_nm": [40.0
 
 @pytest.fixture(scope="module")
 def data():
-    return compute(SPEC)
+    return compute(catalog_context(SPEC))
 
 
 def read_ase(blob: bytes):

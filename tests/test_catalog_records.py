@@ -11,6 +11,7 @@ import pytest
 import tmm
 
 import swatch  # noqa: F401  (before colour: silences colour-science's plotting notice)
+from swatch.catalog.context import catalog_context
 from swatch.catalog.records import compute, hue_family
 from swatch.catalog.spec import parse_spec
 from swatch.colorimetry.tolerance import grade_bound
@@ -60,7 +61,7 @@ SPEC = parse_spec({"name": "test", "thickness": {"list_nm": [30.0, 50.8, 87.5, 1
 
 @pytest.fixture(scope="module")
 def data():
-    return compute(SPEC)
+    return compute(catalog_context(SPEC))
 
 
 def test_reference_Lab_matches_tmm_and_colour(data):
@@ -123,7 +124,7 @@ def test_process_window_edges_where_delta_E_ab_reaches_the_csaj_bound(data):
 def test_process_window_in_a_written_dE00_tolerance():
     spec = parse_spec({"name": "t", "thickness": {"list_nm": [50.8, 121.4]},
                        "tolerance": {"metric": "dE00", "max": 2.0}})
-    for rec in compute(spec).records:
+    for rec in compute(catalog_context(spec)).records:
         pw = rec["process_window"]
         assert pw["metric"] == "dE00" and pw["max"] == 2.0 and pw["scheme"] is None
         _check_window(rec, 2.0, "CIE 2000", spec.search_nm, spec.nm_per_V)
@@ -134,7 +135,7 @@ def test_grade_c_window_is_not_the_dE00_window():
     ab = parse_spec({"name": "t", "thickness": {"list_nm": [87.5, 160.6]}, "tolerance": {"grade": "C"}})
     e00 = parse_spec({"name": "t", "thickness": {"list_nm": [87.5, 160.6]},
                       "tolerance": {"metric": "dE00", "max": 6.5}})
-    for a, b in zip(compute(ab).records, compute(e00).records, strict=True):
+    for a, b in zip(compute(catalog_context(ab)).records, compute(catalog_context(e00)).records, strict=True):
         width_ab = a["process_window"]["thickness_minus_nm"] + a["process_window"]["thickness_plus_nm"]
         width_00 = b["process_window"]["thickness_minus_nm"] + b["process_window"]["thickness_plus_nm"]
         assert width_00 > 1.1 * width_ab
@@ -142,7 +143,7 @@ def test_grade_c_window_is_not_the_dE00_window():
 
 def test_process_window_capped_at_zero_thickness():
     spec = parse_spec({"name": "t", "thickness": {"list_nm": [2.0]}, "tolerance": {"grade": "E"}})
-    pw = compute(spec).records[0]["process_window"]
+    pw = compute(catalog_context(spec)).records[0]["process_window"]
     assert pw["thickness_minus_nm"] <= 2.0 and pw["minus_capped"]
 
 
@@ -174,7 +175,7 @@ def test_process_window_voltages_follow_a_two_slope_growth_law():
     law = {"offset_nm": 5.0, "nm_per_V": 2.0, "knee_V": 60.0, "nm_per_V_above_knee": 1.2}  # knee at 125 nm
     spec = dataclasses.replace(base, **law)
     straddles = above = 0
-    for rec in compute(spec).records:
+    for rec in compute(catalog_context(spec)).records:
         pw, d = rec["process_window"], rec["thickness_nm"]
         lo, hi = d - pw["thickness_minus_nm"], d + pw["thickness_plus_nm"]
         v = _two_slope_voltage_V(d, 5.0, 2.0, 60.0, 1.2)

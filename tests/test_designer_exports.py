@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import swatch  # noqa: F401  (silences colour-science's plotting notice)
+from swatch.catalog.context import catalog_context
 from swatch.catalog.exports import ase_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
@@ -33,7 +34,7 @@ SPEC = parse_spec({"name": "Designer exports", "thickness": {"list_nm": THICKNES
 
 @pytest.fixture(scope="module")
 def data():
-    return compute(SPEC)
+    return compute(catalog_context(SPEC))
 
 
 # -- Adobe Swatch Exchange ------------------------------------------------------------------------
@@ -124,7 +125,7 @@ def test_ase_srgb_variant_is_the_hex(data):
 def test_catalog_hex_is_2deg_srgb(illuminant, observer):
     spec = parse_spec({"name": "hex", "thickness": {"list_nm": THICKNESSES},
                        "colour": {"illuminant": illuminant, "observer": observer}})
-    data = compute(spec)
+    data = compute(catalog_context(spec))
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
     ill = colour.SDS_ILLUMINANTS[illuminant]
     with warnings.catch_warnings():
@@ -162,11 +163,11 @@ def test_cxf3_is_valid_against_the_official_schema(illuminant, observer):
 
     spec = parse_spec({"name": "schema", "thickness": {"list_nm": [40.0, 130.0]},
                        "colour": {"illuminant": illuminant, "observer": observer}})
-    doc = etree.fromstring(cxf_bytes(spec, compute(spec)))
+    doc = etree.fromstring(cxf_bytes(spec, compute(catalog_context(spec))))
     schema = cxf_schema()
     assert schema.validate(doc), schema.error_log
     # The schema can fail: an unknown method is refused
-    bad = etree.fromstring(cxf_bytes(spec, compute(spec)))
+    bad = etree.fromstring(cxf_bytes(spec, compute(catalog_context(spec))))
     bad.find(".//cc:Method", NS).text = "E308_Table7"
     assert not schema.validate(bad)
 

@@ -19,6 +19,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.colorimetry.appearance",
     "swatch.colorimetry.names",
     "swatch.colorimetry.tolerance",
+    "swatch.catalog.context",
 ]
 
 

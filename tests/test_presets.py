@@ -111,13 +111,14 @@ roughness = 0.3
 
 @pytest.fixture(scope="module")
 def written(tmp_path_factory):
+    from swatch.catalog.context import catalog_context
     from swatch.catalog.records import compute
     from swatch.catalog.spec import load_spec
 
     root = tmp_path_factory.mktemp("presets")
     (root / "s.toml").write_text(SPEC, encoding="utf-8")
     spec, _ = load_spec(root / "s.toml")
-    data = compute(spec)
+    data = compute(catalog_context(spec))
     files = catalog_presets(spec, data.records, root)
     for name, blob in files.items():
         (root / name).write_bytes(blob)
@@ -454,11 +455,12 @@ def test_default_catalog_meets_the_target():
     renders them; glTF as three.js shows it within 3 at the catalog's 45:0 for most swatches (#18:
     three.js evaluates the film at N·V, so a colour that changes fast with angle cannot be met at
     both 0° and 45:0; the files and catalog.json state the figure per swatch)."""
+    from swatch.catalog.context import catalog_context
     from swatch.catalog.records import compute
     from swatch.catalog.spec import load_spec
 
     spec, _ = load_spec(HERE.parent / "catalog" / "titanium.toml")
-    records = compute(spec).records
+    records = compute(catalog_context(spec)).records
     catalog_presets(spec, records, None)
     assert max(r["presets"]["blender_max_delta_E_00_45"] for r in records) <= 3.0
     at_45_0 = np.array([r["presets"]["threejs_delta_E_00_45_0"] for r in records])

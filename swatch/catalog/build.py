@@ -37,7 +37,7 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -69,6 +69,9 @@ from swatch.core.safepath import make_real_folder
 from swatch.core.sources import package_dir, source_files
 from swatch.core.version import __version__
 from swatch.physics.materials import tables_dir
+
+if TYPE_CHECKING:
+    from swatch.catalog.context import CatalogContext
 
 __all__ = ["build_catalog", "check_buildable", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
@@ -290,16 +293,18 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
     return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
 
 
-def check_buildable(spec: CatalogSpec) -> None:
+def check_buildable(spec: CatalogSpec) -> CatalogContext:
     """Refuse, without building, what the build would refuse beyond the spec parser (``catalog validate``
-    and the build run the same checks): the colorimetry, and the explorer's thickness axes."""
+    and the build run the same checks): the colorimetry, the explorer's thickness axes and the sheets'
+    memory. Returns the catalog's context (grid, coating, colorimeters, tolerance), built once here."""
+    from swatch.catalog.context import catalog_context
     from swatch.catalog.explorer import GRID_STEP_NM, MATCH_STEP_NM, thickness_axis
-    from swatch.catalog.records import check_colorimetry
 
-    check_colorimetry(spec)
+    ctx = catalog_context(spec)
     for step in (GRID_STEP_NM, MATCH_STEP_NM):
         thickness_axis(spec.thickness_nm, step)
     plan_jobs(spec, 1)
+    return ctx
 
 
 #: Leeway on the plan for one sheet composed in the building process (its base is counted twice there).
@@ -339,8 +344,8 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     from swatch.catalog.exports import ase_bytes, cxf_bytes
     from swatch.catalog.records import HUE_FAMILIES, compute
 
-    check_buildable(spec)  # (here, not before the no-op check: it imports colour-science)
-    data = compute(spec)
+    ctx = check_buildable(spec)  # (here, not before the no-op check: it imports colour-science)
+    data = compute(ctx)
     header = _catalog_header(spec, data, spec_name)
     records = data.records
     if spec.chips:
@@ -480,6 +485,6 @@ def _page(spec, data, page_doc: dict, cache: Path | None = None) -> str:
     from swatch.catalog.explorer_env import environment_data_cached
     from swatch.catalog.html import index_html
 
-    return index_html(page_doc, explorer_data(spec, data.wavelength_nm), tile_rects(spec, page_doc["swatches"]),
-                      chip_colours(spec, data), environment_data_cached(spec.roughness, COS_NODES, cache))
+    return index_html(page_doc, explorer_data(data.context), tile_rects(spec, page_doc["swatches"]),
+                      chip_colours(data), environment_data_cached(spec.roughness, COS_NODES, cache))
 

@@ -26,7 +26,6 @@ from PIL import ImageCms
 
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
 from swatch.catalog.exports import ase_name
-from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.io.imageio import write_png, write_tiff
 from swatch.io.pngmeta import CHIP_SRGB_INTENT, xmp_packet
 
@@ -61,7 +60,7 @@ def srgb_icc_profile() -> bytes:
 def encoded_16bit(data) -> np.ndarray:
     """(N, 3) uint16 display-encoded sRGB of the reference spectra (CIE 1931 2°)."""
 
-    cm = get_colorimeter(data.wavelength_nm, data.illuminant, data.observer)
+    cm = data.context.colorimeter
     enc, _ = cm.reflectance_display(data.reflectance, "srgb")
     return np.round(np.clip(enc, 0.0, 1.0) * 65535.0).astype(np.uint16)
 

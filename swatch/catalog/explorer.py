@@ -33,9 +33,10 @@ import math
 import colour
 import numpy as np
 
+from swatch.catalog.context import CatalogContext
+from swatch.catalog.records import CatalogData
 from swatch.catalog.sheet_layout import Layout
 from swatch.catalog.tiles import AMAP_ANGLES_DEG
-from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.colorimetry.names import NAME_RULES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
@@ -95,12 +96,11 @@ def thickness_axis(thickness_nm, step_nm: float) -> tuple[float, float, int]:
     return lo, lo + (count - 1) * step_nm, count
 
 
-def explorer_data(spec, wavelength_nm, reference_cos_d: float | None = None) -> dict:
+def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> dict:
     """The JSON block the page reads (see the module doc)."""
 
-    wl = np.asarray(wavelength_nm, dtype=np.float64)
-    coating = spec.coating(wl)  # as the records and tiles
-    cm = get_colorimeter(wl, spec.illuminant, spec.observer)
+    spec = ctx.spec
+    coating, cm = ctx.coating, ctx.colorimeter  # as the records (the tiles' workers build the same)
     cm2 = cm.display_colorimeter  # display RGB from CIE 1931 2° colorimetry
     ref = spec.reference
     if reference_cos_d is None:
@@ -187,11 +187,11 @@ def tile_rects(spec, records: list[dict]) -> dict:
             "amap_deg": [float(AMAP_ANGLES_DEG[0]), float(AMAP_ANGLES_DEG[-1])]}
 
 
-def chip_colours(spec, data) -> list[dict]:
+def chip_colours(data: CatalogData) -> list[dict]:
     """Per swatch: Display P3 encoded RGB at the reference geometry (``p3``, clipped to [0, 1]) and
     whether each multi-angle colour is inside sRGB (``multi_in_srgb_gamut``), both from CIE 1931 2°."""
 
-    cm = get_colorimeter(data.wavelength_nm, spec.illuminant, spec.observer)
+    spec, cm = data.context.spec, data.context.colorimeter
     enc, _ = cm.reflectance_display(data.reflectance, "display-p3")
     enc = np.atleast_2d(enc)
     names = [g.name for g in spec.multi_angle]

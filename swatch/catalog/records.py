@@ -24,14 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from swatch.catalog.context import CatalogContext
 from swatch.catalog.geometry import Geometry
-from swatch.catalog.spec import CatalogSpec
-from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, get_colorimeter, srgb_hex
+from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, srgb_hex
 from swatch.colorimetry.names import NEUTRAL_CHROMA, colour_name
 from swatch.colorimetry.tolerance import delta_E
-from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_THICKNESS_NM
-from swatch.physics.materials import wavelength_grid
 
 __all__ = ["CatalogData", "compute", "hue_family", "process_json", "process_window", "window_voltage_V",
            "PROCESS_STEP_NM", "HUE_FAMILIES"]
@@ -83,22 +81,7 @@ class CatalogData:
     records: list[dict]
     illuminant: str  # colour-science's name
     observer: str
-
-
-def _colorimeter(spec: CatalogSpec, wl):
-    try:
-        return get_colorimeter(wl, spec.illuminant, spec.observer)
-    except SwatchError as exc:
-        raise SwatchError(f"{spec.source}: key colour.illuminant: {exc}") from None
-
-
-def check_colorimetry(spec: CatalogSpec) -> None:
-    """Refuse what the build would refuse beyond the spec parser (an unknown illuminant), for validate."""
-    _colorimeter(spec, wavelengths(spec))
-
-
-def wavelengths(spec: CatalogSpec) -> np.ndarray:
-    return wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
+    context: CatalogContext  # what the numbers were computed with (grid, coating, colorimeters, tolerance)
 
 
 def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
@@ -176,12 +159,11 @@ def window_voltage_V(voltage_of, thickness_nm, minus_nm, plus_nm):
     return v0 - voltage_of(d - np.asarray(minus_nm)), voltage_of(d + np.asarray(plus_nm)) - v0
 
 
-def compute(spec: CatalogSpec) -> CatalogData:
+def compute(ctx: CatalogContext) -> CatalogData:
     """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
 
-    wl = wavelengths(spec)
-    coating = spec.coating(wl)
-    cm = _colorimeter(spec, wl)
+    spec = ctx.spec
+    wl, coating, cm = ctx.wavelength_nm, ctx.coating, ctx.colorimeter
     d = np.asarray(spec.thickness_nm, dtype=np.float64)
     n = d.size
     volts = (np.asarray(spec.voltage_V, dtype=np.float64) if spec.voltage_V is not None
@@ -195,7 +177,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
     LCh = Lab_to_LCh(Lab)
     enc, gamut = cm.reflectance_display(R, "srgb")  # sRGB from CIE 1931 2° colorimetry
     # What print workflows and Adobe applications assume Lab to be (ICC PCS, ISO 13655): D50, 2°.
-    cm_d50 = get_colorimeter(wl, "D50", "2")
+    cm_d50 = ctx.colorimeter_icc
     Lab_D50_2 = cm_d50.Lab(cm_d50.XYZ(R))
     hexes = [str(h) for h in np.atleast_1d(srgb_hex(enc))]
 
@@ -215,7 +197,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
         dab[1:, 0], dab[:-1, 1] = e_ab, e_ab
         d00[1:, 0], d00[:-1, 1] = e_00, e_00
 
-    tol = spec.tolerance
+    tol = ctx.tolerance
     minus, plus, minus_cap, plus_cap = process_window(coating, cm, d, spec.reference, tol.max, spec.search_nm,
                                                       tol.metric)
     window_V = window_voltage_V(spec.voltage_of, d, minus, plus)
@@ -266,6 +248,7 @@ def compute(spec: CatalogSpec) -> CatalogData:
     return CatalogData(
         thickness_nm=d, voltage_V=volts, wavelength_nm=wl, reflectance=R, multi_reflectance=multi_R,
         Lab=Lab, LCh=LCh, Lab_D50_2=Lab_D50_2, srgb_hex=hexes, records=records, illuminant=cm.illuminant, observer=cm.observer,
+        context=ctx,
     )
 
 
