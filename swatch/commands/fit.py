@@ -73,10 +73,11 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
                for p, f in zip(measurements, files, strict=True) for s in f.samples]
     dicts = [report.with_process(r.to_dict(proc.nm_per_V or DEFAULT_NM_PER_V), proc) for r in results]
     if paths:
-        from swatch.core.fileio import check_writable_dir
+        from swatch.core.fileio import output_batch
 
-        check_writable_dir(report_dir)  # created only once every measurement has been read and fitted
-        report.write_report(results, dicts, paths)
+        # created only once every measurement has been read and fitted; all its files or none (a full disk)
+        with output_batch(report_dir):
+            report.write_report(results, dicts, paths)
     if as_json:
         common.echo_json(dicts[0] if len(dicts) == 1 else report.multi_summary(dicts, scheme))
         return

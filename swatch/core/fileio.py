@@ -1,8 +1,14 @@
 """Safe output: atomic writes (temp file in the same folder, then rename) that never overwrite a
-user's file unless asked (``force``), and checks that an output folder is usable."""
+user's file unless asked (``force``), and checks that an output folder is usable.
+
+:func:`output_batch` makes the several files of one output (a report: images, tables) all-or-nothing:
+every atomic write inside it is renamed into place only when the whole batch has been written, and
+a batch that fails (a full disk, Ctrl-C) leaves neither its files nor the folders it created.
+"""
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import os
 import stat
 import tempfile
@@ -10,7 +16,8 @@ from pathlib import Path
 
 from swatch.core.errors import SwatchError
 
-__all__ = ["check_writable_dir", "check_new", "atomic_write_bytes", "atomic_write_text", "atomic_path"]
+__all__ = ["check_writable_dir", "check_creatable_dir", "check_new", "atomic_write_bytes", "atomic_write_text",
+           "atomic_path", "output_batch"]
 
 
 def check_writable_dir(path, create: bool = True) -> Path:
@@ -47,6 +54,39 @@ def check_writable_dir(path, create: bool = True) -> Path:
             raise SwatchError(f"cannot create output folder {p}: {exc.strerror}") from None
     if not os.access(p, os.W_OK | os.X_OK):
         raise SwatchError(f"output folder {p} is not writable")
+    return p
+
+
+def check_creatable_dir(path) -> Path:
+    """Check, before any work, that the output folder ``path`` exists or could be created; create nothing.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output folder (or the folder an output file goes into).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        For an empty path, a file where the folder (or one above it) would be, or a folder that is
+        not writable where it would be created.
+    """
+    if not str(path).strip():
+        raise SwatchError("output folder is an empty string; give a folder path")
+    p = Path(path)
+    above = p
+    while not os.path.lexists(above) and above != above.parent:
+        above = above.parent
+    if not above.is_dir():
+        what = "is a file" if above == p else f"cannot be created: {above} is a file"
+        raise SwatchError(f"output folder {p} {what}; give a folder")
+    if not os.access(above, os.W_OK | os.X_OK):
+        what = "is not writable" if above == p else f"cannot be created: {above} is not writable"
+        raise SwatchError(f"output folder {p} {what}; give a folder you can write")
     return p
 
 
@@ -111,13 +151,83 @@ class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb):
+        batch = _BATCH.get()
+        if exc_type is None and batch is not None:  # renamed with the rest of the batch
+            os.chmod(self.tmp, 0o644)
+            batch.append((self.tmp, self.path))
+            return False
         try:
             if exc_type is None:
                 os.chmod(self.tmp, 0o644)
                 os.replace(self.tmp, self.path)
         finally:
             self.tmp.unlink(missing_ok=True)  # (gone after a successful rename)
+        if isinstance(exc, OSError) and exc.errno is not None:  # a full disk, a quota: say which output
+            raise SwatchError(f"cannot write {self.path}: {exc.strerror}") from None
         return False
+
+
+class _Batch:
+    def __init__(self):
+        self.staged: list[tuple[Path, Path]] = []  # (temporary file, final path), in writing order
+        self.created: list[Path] = []  # folders this batch created
+
+    def append(self, pair: tuple[Path, Path]) -> None:
+        self.staged.append(pair)
+
+    def rollback(self) -> None:
+        for tmp, _ in self.staged:
+            tmp.unlink(missing_ok=True)
+        for d in sorted(self.created, key=lambda d: len(d.absolute().parts), reverse=True):
+            # deepest first; each only if empty (a concurrent run's files are kept)
+            with contextlib.suppress(OSError):
+                d.rmdir()
+
+
+#: The :func:`output_batch` being written, or None.
+_BATCH: contextvars.ContextVar[_Batch | None] = contextvars.ContextVar("swatch_batch", default=None)
+
+
+@contextlib.contextmanager
+def output_batch(folder=None):
+    """Write several outputs all-or-nothing: each :class:`atomic_path` inside is renamed into place
+    only once the block has finished; on an exception none is, and the temporaries are removed.
+
+    A batch inside a batch joins it (its files are renamed, or removed, with the outer batch's).
+
+    Parameters
+    ----------
+    folder : str or os.PathLike or None
+        The batch's output folder: created (with its parents) when absent, and removed again, with
+        the parents created here, when the batch fails. None: the outputs' folders exist.
+
+    Yields
+    ------
+    pathlib.Path or None
+        ``folder``.
+    """
+    outer = _BATCH.get()
+    batch = outer if outer is not None else _Batch()
+    token = _BATCH.set(batch) if outer is None else None
+    try:
+        try:
+            if folder is not None:
+                p = Path(folder)
+                while not os.path.lexists(p) and p != p.parent:
+                    batch.created.append(p)
+                    p = p.parent
+                check_writable_dir(folder)
+            yield None if folder is None else Path(folder)
+        finally:
+            if token is not None:
+                _BATCH.reset(token)
+        if outer is None:
+            for tmp, final in batch.staged:  # (renames: no space needed, the data are written)
+                os.replace(tmp, final)
+    except BaseException:
+        if outer is None:
+            batch.rollback()
+        raise
 
 
 #: In every temporary file's name (``.<stem>.swtmp.<pid>.<random>.tmp<suffix>``).

@@ -68,10 +68,12 @@ def parse_range(text: str, what: str, unit: str) -> np.ndarray:
         if b < a:
             raise SwatchError(f"{what} range {s!r} is reversed; give A <= B")
         span = (b - a) / step  # inf for a subnormal step: compared before any conversion
-        if not span + 1 <= MAX_RANGE_POINTS:
-            n = f"{span + 1:.3g}" if math.isfinite(span) else "too many"
-            raise SwatchError(f"{what} range {s!r} has {n} points; at most {MAX_RANGE_POINTS}")
-        count = math.floor(span + 1e-9) + 1
+        if not span < 1e15:  # (inf for a subnormal step) far beyond the cap: no exact count to print
+            raise SwatchError(f"{what} range {s!r} has more than {MAX_RANGE_POINTS} points; at most "
+                              f"{MAX_RANGE_POINTS}")
+        count = math.floor(span + 1e-9) + 1  # the exact number of points the range makes
+        if count > MAX_RANGE_POINTS:
+            raise SwatchError(f"{what} range {s!r} has {count} points; at most {MAX_RANGE_POINTS}")
         return a + step * np.arange(count)
     parts = s.split(",")
     if len(parts) > MAX_RANGE_POINTS:

@@ -36,6 +36,7 @@ import OpenImageIO as oiio
 from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_path
+from swatch.io.imagecheck import finished_whole
 from swatch.io.pngmeta import SRGB_INTENT, finish_png
 
 __all__ = [
@@ -169,12 +170,8 @@ def _write(path, spec, pixels: np.ndarray, fmt: str, finish=None) -> Path:
         err = err or out.geterror()
         if not ok or closed is False:
             raise SwatchError(f"cannot write {path}: {err or 'the image writer failed (is the disk full?)'}")
-        if finish is not None:
-            try:
-                blob = finish(Path(tmp).read_bytes())
-            except ValueError:  # what the writer left is not a whole image
-                raise SwatchError(f"cannot write {path}: the written image is incomplete (is the disk full?)") from None
-            Path(tmp).write_bytes(blob)
+        if not finished_whole(tmp, spec, finish):  # (libpng, OpenEXR at a full disk: a cut or 0-byte file, no error)
+            raise SwatchError(f"cannot write {path}: the written image is incomplete (is the disk full?)")
     return path
 
 

@@ -37,14 +37,28 @@ _INCH_M = 0.0254
 
 
 def _chunks(blob: bytes):
+    """The chunks of a whole PNG file; ValueError for one that is cut short (a writer that ran out of
+    disk space may leave a file whose last chunk is truncated and has no IEND) or damaged."""
     if blob[:8] != PNG_SIGNATURE:
         raise ValueError("not a PNG file")
     pos = 8
+    chunks = []
     while pos < len(blob):
+        if pos + 12 > len(blob):
+            raise ValueError("PNG file cut short")
         (n,) = struct.unpack_from(">I", blob, pos)
         kind = blob[pos + 4:pos + 8]
-        yield kind, blob[pos + 8:pos + 8 + n]
+        if pos + 12 + n > len(blob):
+            raise ValueError("PNG file cut short")
+        data = blob[pos + 8:pos + 8 + n]
+        (crc,) = struct.unpack_from(">I", blob, pos + 8 + n)
+        if crc != zlib.crc32(kind + data) & 0xFFFFFFFF:
+            raise ValueError(f"PNG chunk {kind!r} damaged (CRC)")
+        chunks.append((kind, data))
         pos += 12 + n
+    if not chunks or chunks[-1][0] != b"IEND":
+        raise ValueError("PNG file has no IEND chunk (cut short)")
+    return chunks
 
 
 def _chunk(kind: bytes, data: bytes) -> bytes:

@@ -30,6 +30,7 @@ import hashlib
 import io
 import json
 import struct
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -39,7 +40,7 @@ from trimesh.triangles import points_to_barycentric
 
 from swatch.core.choices import MESH_FORMATS
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_MESH_BYTES, MAX_MESH_TRIANGLES, read_capped
+from swatch.core.limits import MAX_MESH_BYTES, MAX_MESH_COORDINATE, MAX_MESH_TRIANGLES, read_capped
 
 __all__ = ["MESH_FORMATS", "SMOOTH_ANGLE_DEG", "MeshShape", "load_mesh"]
 
@@ -76,6 +77,29 @@ def _glb_is_self_contained(data: bytes, source: str) -> None:
     _check_gltf_buffers(data[20:20 + length], source)
 
 
+def _is_binary_stl(data: bytes) -> bool:
+    return len(data) >= 84 and len(data) == 84 + 50 * struct.unpack_from("<I", data, 80)[0]
+
+
+def _as_utf8_text(data: bytes, fmt: str, source: str) -> bytes:
+    """The text of an OBJ, ASCII STL, ASCII PLY header or glTF, checked to be UTF-8 (a byte-order mark
+    removed): trimesh would guess another encoding with charset_normalizer (not installed: an
+    ImportError) and parse what it guessed."""
+    if fmt in ("glb", "ply") or (fmt == "stl" and _is_binary_stl(data)):
+        head = data.split(b"end_header", 1)[0] if fmt == "ply" and b"end_header" in data[:65536] else b""
+        text, what = head, "PLY header"
+    else:
+        text, what = data, f"{fmt.upper()} file"
+    try:
+        text.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        allowed = ("an STL file is binary (84 bytes + 50 a triangle) or ASCII/UTF-8 text" if fmt == "stl" else
+                   f"{'an' if what[0] in 'AEFHILMNORSX' else 'a'} {what} is ASCII or UTF-8 text")
+        raise SwatchError(f"{source}: not UTF-8 text (byte 0x{text[exc.start]:02x} at offset {exc.start}); "
+                          f"{allowed}") from None
+    return data[3:] if data.startswith(b"\xef\xbb\xbf") and text is data else data
+
+
 def load_mesh(path) -> MeshShape:
     """Read and place a mesh file (see the module documentation).
 
@@ -104,8 +128,11 @@ def load_mesh(path) -> MeshShape:
     elif fmt == "glb":
         _glb_is_self_contained(data, p.name)
 
+    data = _as_utf8_text(data, fmt, p.name)
     try:
-        mesh = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False)
+        with warnings.catch_warnings(), np.errstate(all="ignore"):  # the error below says it in one line
+            warnings.simplefilter("ignore")
+            mesh = trimesh.load(io.BytesIO(data), file_type=fmt, force="mesh", process=False)
     except Exception as exc:  # the readers raise many kinds; any of them means an unreadable file
         raise SwatchError(f"{p.name}: cannot read the {fmt.upper()} mesh ({type(exc).__name__}: "
                           f"{str(exc).splitlines()[0][:120] if str(exc) else 'no detail'})") from None
@@ -117,11 +144,16 @@ def load_mesh(path) -> MeshShape:
         raise SwatchError(f"{p.name}: {faces.shape[0]} triangles; a mesh may have at most {MAX_MESH_TRIANGLES}")
     if not np.isfinite(vertices).all():
         raise SwatchError(f"{p.name}: vertex coordinates must be finite numbers (found NaN or infinity)")
+    if vertices.size and np.abs(vertices).max() > MAX_MESH_COORDINATE:
+        raise SwatchError(f"{p.name}: a vertex coordinate is {np.abs(vertices).max():.3g} in magnitude; "
+                          f"coordinates may be at most {MAX_MESH_COORDINATE:.0e} (scale the mesh down)")
     if faces.min() < 0 or faces.max() >= vertices.shape[0]:
         raise SwatchError(f"{p.name}: a triangle refers to a vertex that does not exist")
     # vertices at one position are merged unless their normals or texture coordinates differ (an
     # STL stores every triangle's corners apart: merged, its normals can be smoothed)
-    mesh.merge_vertices()
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        mesh.merge_vertices()
     return MeshShape(mesh, p.name, hashlib.sha256(data).hexdigest())
 
 
@@ -143,7 +175,8 @@ class MeshShape:
         area = placed.area_faces
         keep = area > 1e-14 * max(float(area.max()), 1e-300)
         if not keep.any():
-            raise SwatchError(f"{file_name}: every triangle is degenerate (zero area)")
+            raise SwatchError(f"{file_name}: every triangle has zero area (its corners on one line); a mesh "
+                              "needs at least one triangle with an area")
         self._mesh = trimesh.Trimesh(vertices=placed.vertices, faces=placed.faces[keep], process=False,
                                      validate=False)
         fn = self._mesh.face_normals

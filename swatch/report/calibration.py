@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.core.errors import SwatchError
-from swatch.core.fileio import atomic_write_text, check_new, check_writable_dir
+from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new, output_batch
 from swatch.fit.calibration import Calibration
 from swatch.io.imageio import draw_line, draw_rect, draw_text, write_png
 from swatch.physics.process import process_toml
@@ -205,6 +205,9 @@ def calibration_paths(out_path: str, report_dir: str | None, force: bool):
     if report_dir is not None and not str(report_dir).strip():
         raise SwatchError("`report_dir` is an empty string; give a folder path")
     check_new([out] + ([png] if png else []), force)
+    check_creatable_dir(out.parent)  # (before the fit: created, with its parents, when the profile is written)
+    if png is not None:
+        check_creatable_dir(png.parent)
     return out, png
 
 
@@ -212,8 +215,8 @@ def write_calibration(cal: Calibration, out, png, source: str) -> None:
     """Write the calibrated profile (TOML, atomically) and, when ``png`` is given, the figure."""
 
     header = f"process profile calibrated by swatch calibrate from {source}; format: docs/processes.md"
-    atomic_write_text(out, process_toml(cal.process, header=header))
-    if png is not None:
-
-        check_writable_dir(png.parent)
-        write_png(png, report_figure(cal), {"calibration": cal.to_dict()})
+    with output_batch(out.parent):  # the profile and its figure, or neither (a full disk, Ctrl-C)
+        atomic_write_text(out, process_toml(cal.process, header=header))
+        if png is not None:
+            with output_batch(png.parent):
+                write_png(png, report_figure(cal), {"calibration": cal.to_dict()})

@@ -12,7 +12,7 @@ import numpy as np
 
 from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.errors import SwatchError
-from swatch.core.fileio import atomic_write_text, check_new
+from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new
 from swatch.fit.fitting import delta_e_grid
 from swatch.io.imageio import write_exr, write_png
 from swatch.physics.model import overcoat_text
@@ -74,7 +74,7 @@ def report_paths(report_dir, measurements, force: bool = False) -> dict:
 
     if not str(report_dir).strip():
         raise SwatchError("`report_dir` is an empty string; give a folder path")
-    out = Path(report_dir)
+    out = check_creatable_dir(report_dir)  # (before the fit: a file in the way is refused at once)
     if len(measurements) == 1:
         maps = [(out / "delta_e_map.png", out / "delta_e_map.exr")]
     else:
