@@ -29,7 +29,7 @@ def run() -> list[str]:
     header = _catalog_header(spec, data, "titanium.toml")
     with tempfile.TemporaryDirectory(prefix="swatch-bench-chips-") as tmp:
         def write_all():
-            for args in chips.chip_batches(tmp, header, data, metal_symbol(spec), spec.chip_size_mm,
+            for args in chips.chip_batches(tmp, header, data, data.records, metal_symbol(spec), spec.chip_size_mm,
                                            spec.chip_dpi, 1):
                 chips.write_chips(*args)
 

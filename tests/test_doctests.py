@@ -20,6 +20,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.colorimetry.names",
     "swatch.colorimetry.tolerance",
     "swatch.catalog.context",
+    "swatch.catalog.record",
 ]
 
 

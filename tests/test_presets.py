@@ -119,10 +119,10 @@ def written(tmp_path_factory):
     (root / "s.toml").write_text(SPEC, encoding="utf-8")
     spec, _ = load_spec(root / "s.toml")
     data = compute(catalog_context(spec))
-    files = catalog_presets(spec, data.records, root)
+    files, entries = catalog_presets(spec, data.records, root)
     for name, blob in files.items():
         (root / name).write_bytes(blob)
-    return spec, data.records, root, files
+    return spec, [dict(r, presets=e) for r, e in zip(data.records, entries, strict=True)], root, files
 
 
 def _params_gltf(path):
@@ -190,7 +190,7 @@ def test_exact_colour_is_colour_science_of_the_tmm_spectrum():
 
 def test_preset_files_are_deterministic(written, tmp_path):
     spec, records, _, files = written
-    again = catalog_presets(spec, [dict(r) for r in records], None)
+    again, _ = catalog_presets(spec, [dict(r) for r in records], None)
     assert again == files
 
 
@@ -461,9 +461,9 @@ def test_default_catalog_meets_the_target():
 
     spec, _ = load_spec(HERE.parent / "catalog" / "titanium.toml")
     records = compute(catalog_context(spec)).records
-    catalog_presets(spec, records, None)
-    assert max(r["presets"]["blender_max_delta_E_00_45"] for r in records) <= 3.0
-    at_45_0 = np.array([r["presets"]["threejs_delta_E_00_45_0"] for r in records])
+    _, entries = catalog_presets(spec, records, None)
+    assert max(e["blender_max_delta_E_00_45"] for e in entries) <= 3.0
+    at_45_0 = np.array([e["threejs_delta_E_00_45_0"] for e in entries])
     assert np.median(at_45_0) <= 2.0 and (at_45_0 <= 3.0).mean() >= 0.8, at_45_0  # measured: 1.47, 47 of 57
 
 
@@ -475,4 +475,4 @@ def test_a_damaged_fit_cache_is_refitted(written, tmp_path):
     cache.mkdir()
     for junk in ('{"gltf": {"params": [[1, 2]]}}', "not json", '{"gltf": 3}'):
         (cache / caches[0].name).write_text(junk, encoding="utf-8")
-        assert catalog_presets(spec, [dict(r) for r in records], cache) == files
+        assert catalog_presets(spec, [dict(r) for r in records], cache)[0] == files

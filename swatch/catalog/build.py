@@ -34,7 +34,7 @@ import sys
 import tempfile
 import time
 from contextlib import contextmanager, suppress
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -347,14 +347,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     ctx = check_buildable(spec)  # (here, not before the no-op check: it imports colour-science)
     data = compute(ctx)
     header = _catalog_header(spec, data, spec_name)
-    records = data.records
-    if spec.chips:
-        from swatch.catalog.chips import chip_names
-
-        for rec in records:
-            png, tif = chip_names(rec)
-            rec["print_chip"] = {"png": png, "tiff": tif, "size_mm": spec.chip_size_mm, "dpi": spec.chip_dpi}
-    n = len(records)
+    n = len(data.swatches)
     per = spec.per_sheet
     n_sheets = (n + per - 1) // per
 
@@ -364,10 +357,11 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         cache = cache_folder(meta)
         from swatch.catalog.presets import catalog_presets
 
-        preset_files = catalog_presets(spec, records, cache)  # adds each record's "presets"; fits cached
+        preset_files, preset_entries = catalog_presets(spec, data.records, cache)  # fits cached
         from swatch.catalog.hero import catalog_heroes, prune_heroes
 
-        hero_out, hero_used = catalog_heroes(spec, records, cache, say)  # Mitsuba spheres when spec.hero; cached
+        hero_out, hero_used, hero_entries = catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
+        records = _final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
         # 1. tiles (renders), from the cache or rendered in parallel
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
@@ -402,7 +396,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             from swatch.catalog import chips as chipmod
             from swatch.catalog.exports import metal_symbol
 
-            for args in chipmod.chip_batches(staging, header, data, metal_symbol(spec), spec.chip_size_mm,
+            for args in chipmod.chip_batches(staging, header, data, records, metal_symbol(spec), spec.chip_size_mm,
                                              spec.chip_dpi, jobs):
                 chip_jobs.append(pool.submit(chipmod.write_chips, *args) if pool is not None else args)
         # 3. data files, page and exports (meanwhile the pool composes the sheets)
@@ -476,6 +470,18 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             pool.shutdown(wait=True)
     return BuildResult(out, False, n, n_sheets, rendered=rendered, composed=composed,
                        seconds=time.perf_counter() - t0, files=sorted(files))
+
+
+def _final_records(spec, data, preset_entries: list[dict], hero_entries: list) -> list[dict]:
+    """The typed records with the stages' entries (print chip, presets, hero), serialised once."""
+    from swatch.catalog.chips import chip_names
+    from swatch.catalog.record import PrintChip
+
+    out = []
+    for swatch, rec, presets, hero in zip(data.swatches, data.records, preset_entries, hero_entries, strict=True):
+        chip = PrintChip(*chip_names(rec), spec.chip_size_mm, spec.chip_dpi) if spec.chips else None
+        out.append(replace(swatch, print_chip=chip, presets=presets, hero=hero).to_json())
+    return out
 
 
 def _page(spec, data, page_doc: dict, cache: Path | None = None) -> str:

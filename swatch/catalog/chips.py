@@ -80,12 +80,15 @@ def _texts(rec: dict, metal: str, header: dict, size_mm: float, dpi: float) -> t
     return title, description, props
 
 
-def chip_batches(folder, header: dict, data, metal: str, size_mm: float, dpi: float, batches: int) -> list[tuple]:
-    """Arguments of :func:`write_chips` for ``batches`` groups of swatches (for a process pool)."""
+def chip_batches(folder, header: dict, data, records: list[dict], metal: str, size_mm: float, dpi: float,
+                 batches: int) -> list[tuple]:
+    """Arguments of :func:`write_chips` for ``batches`` groups of swatches (for a process pool): the colours
+    from ``data`` (:class:`swatch.catalog.records.CatalogData`), the metadata from ``records`` (as catalog.json
+    writes them)."""
     values = encoded_16bit(data)
-    n = len(data.records)
+    n = len(records)
     step = max(1, -(-n // max(1, batches)))
-    return [(folder, header, data.records[i:i + step], values[i:i + step], metal, size_mm, dpi)
+    return [(folder, header, records[i:i + step], values[i:i + step], metal, size_mm, dpi)
             for i in range(0, n, step)]
 
 

@@ -95,18 +95,21 @@ def _cached(path: Path) -> bytes | None:
     return blob if ok else None
 
 
-def hero_files(spec, records: list[dict], cache: Path, say=None) -> tuple[dict[str, bytes], set[str]]:
-    """{file name: PNG bytes} of the hero renders of ``records`` (each gets ``hero``: its file name)
-    and the cache entries in use; nothing (and a line through ``say``) when Mitsuba is unusable."""
+def hero_files(spec, records: list[dict], cache: Path,
+               say=None) -> tuple[dict[str, bytes], set[str], list[dict | None]]:
+    """{file name: PNG bytes} of the hero renders of ``records``, the cache entries in use and each
+    record's ``hero`` entry (its file name, engine, lighting; ``records`` are read only); nothing (and a
+    line through ``say``) when Mitsuba is unusable."""
     why = hero_unavailable(spec)
     if why is not None:
         if say is not None:
             say(why)
-        return {}, set()
+        return {}, set(), [None] * len(records)
     eng = _engine()
     light = eng.resolve_lighting("studio", None)
     files: dict[str, bytes] = {}
     used: set[str] = set()
+    entries: list[dict | None] = []
     for rec in records:
         d = float(rec["thickness_nm"])
         entry = f"hero-{hero_key(spec, d)}.png"
@@ -127,14 +130,15 @@ def hero_files(spec, records: list[dict], cache: Path, say=None) -> tuple[dict[s
             tmp.replace(path)
             blob = path.read_bytes()
         files[hero_name(rec)] = blob
-        rec["hero"] = {"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
-                       "size_px": HERO_SIZE_PX, "spp": HERO_SPP}
-    return files, used
+        entries.append({"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
+                        "size_px": HERO_SIZE_PX, "spp": HERO_SPP})
+    return files, used, entries
 
 
-def catalog_heroes(spec, records: list[dict], cache: Path, say=None) -> tuple[dict[str, bytes], set[str]]:
+def catalog_heroes(spec, records: list[dict], cache: Path,
+                   say=None) -> tuple[dict[str, bytes], set[str], list[dict | None]]:
     """:func:`hero_files` when the spec asks for hero renders (``hero = true``), else nothing."""
-    return hero_files(spec, records, cache, say) if spec.hero else ({}, set())
+    return hero_files(spec, records, cache, say) if spec.hero else ({}, set(), [None] * len(records))
 
 
 def prune_heroes(cache: Path, used: set[str]) -> None:

@@ -1,8 +1,8 @@
 """Presets of a catalog's swatches: fitted once per content (cached), written next to the catalog.
 
 :func:`catalog_presets` fits the three models for all the catalog's thicknesses (or reads the fit
-from the build cache, keyed by the hash of what it depends on), adds a ``presets`` entry to every
-record and returns the files to write:
+from the build cache, keyed by the hash of what it depends on) and returns the files to write and
+every record's ``presets`` entry (the build puts it on the typed record):
 
 ``preset_S001.gltf``, ``preset_S001_blender.py``, ``preset_S001.mtlx`` (flat names in the catalog
 folder), and in each record::
@@ -217,10 +217,11 @@ RENDERERS = {
 }
 
 
-def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, bytes]:
-    """Add ``presets`` to each record; return {file name: bytes} of the preset files."""
+def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict[str, bytes], list[dict]]:
+    """{file name: bytes} of the preset files and each record's ``presets`` entry (``records`` are read only)."""
     fits = _fits(spec, cache)
     files: dict[str, bytes] = {}
+    entries: list[dict] = []
     for i, rec in enumerate(records):
         entry: dict = {}
         for fmt in PRESET_FORMATS:
@@ -240,8 +241,8 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> dict[str, 
         entry["conditions"] = ("ΔE2000 vs exact colour, D65, CIE 1931 2°: *_max_delta_E_00 over mirror geometries "
                                "0–60° (_45: 0–45°), *_delta_E_00_45_0 at 45:0")
         entry["renderers"] = {p: RENDERERS[p] for f in PRESET_FORMATS for p in FORMAT_FIGURES[f]}
-        rec["presets"] = entry
-    return files
+        entries.append(entry)
+    return files, entries
 
 
 def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,

@@ -20,12 +20,14 @@ the process profile has no rate).
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
 from swatch.catalog.context import CatalogContext
 from swatch.catalog.geometry import Geometry
+from swatch.catalog.record import Neighbours, ProcessWindowEntry, SwatchRecord
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, srgb_hex
 from swatch.colorimetry.names import NEUTRAL_CHROMA, colour_name
 from swatch.colorimetry.tolerance import delta_E
@@ -67,7 +69,7 @@ def hue_family(chroma: float, hue_deg: float) -> str:
 
 @dataclass
 class CatalogData:
-    """Arrays for N swatches (reference geometry) plus JSON-ready records."""
+    """Arrays for N swatches (reference geometry) plus their typed records (:class:`SwatchRecord`)."""
 
     thickness_nm: np.ndarray
     voltage_V: np.ndarray
@@ -78,10 +80,16 @@ class CatalogData:
     LCh: np.ndarray
     Lab_D50_2: np.ndarray  # (N, 3) at the reference geometry, D50 and CIE 1931 2° (ICC / ISO 13655)
     srgb_hex: list[str]
-    records: list[dict]
+    swatches: tuple[SwatchRecord, ...]
     illuminant: str  # colour-science's name
     observer: str
     context: CatalogContext  # what the numbers were computed with (grid, coating, colorimeters, tolerance)
+
+    @functools.cached_property
+    def records(self) -> list[dict]:
+        """The swatches as ``catalog.json`` writes them before the build's later stages
+        (:meth:`SwatchRecord.to_json`; read them, the build adds chips, presets and heroes to the typed records)."""
+        return [s.to_json() for s in self.swatches]
 
 
 def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
@@ -206,48 +214,48 @@ def compute(ctx: CatalogContext) -> CatalogData:
         return None if x is None or not np.isfinite(x) else round(float(x), nd)
 
     per_sheet = spec.per_sheet
-    records = []
+    swatches: list[SwatchRecord] = []
     for i in range(n):
         sheet = i // per_sheet + 1
         slot = i % per_sheet
-        records.append({
-            "id": f"S{i + 1:03d}",
-            "index": i + 1,
-            "thickness_nm": r(d[i]),
-            "voltage_V": r(volts[i]),
-            "Lab": [r(v) for v in Lab[i]],
-            "LCh": [r(v) for v in LCh[i]],
-            "XYZ": [r(v) for v in XYZ[i]],
-            "Lab_D50_2": [r(v) for v in Lab_D50_2[i]],
-            "srgb_hex": hexes[i],
-            "in_srgb_gamut": bool(gamut[i]),
-            "hue_family": hue_family(float(LCh[i, 1]), float(LCh[i, 2])),
-            "colour_name": colour_name(*(float(v) for v in LCh[i])),
-            "multi_angle": {g.name: [r(v) for v in multi_Lab[j, i]] for j, g in enumerate(spec.multi_angle)},
-            "multi_angle_LCh": {g.name: [r(v) for v in multi_LCh[j, i]] for j, g in enumerate(spec.multi_angle)},
-            "multi_angle_srgb_hex": {g.name: str(multi_hex[j, i]) for j, g in enumerate(spec.multi_angle)},
-            "delta_E_ab_to_neighbours": {"previous": r(dab[i, 0]), "next": r(dab[i, 1])},
-            "delta_E_00_to_neighbours": {"previous": r(d00[i, 0]), "next": r(d00[i, 1])},
-            "process_window": {
-                "grade": tol.label,
-                "scheme": tol.scheme,
-                "metric": tol.metric,
-                "max": tol.max,
-                "thickness_minus_nm": r(minus[i], 3),
-                "thickness_plus_nm": r(plus[i], 3),
-                "voltage_minus_V": None if window_V is None else r(window_V[0][i], 3),
-                "voltage_plus_V": None if window_V is None else r(window_V[1][i], 3),
-                "minus_capped": bool(minus_cap[i]),
-                "plus_capped": bool(plus_cap[i]),
-            },
-            "sheet": sheet,
-            "sheet_png": f"sheet_{sheet:02d}.png",
-            "sheet_exr": f"sheet_{sheet:02d}.exr",
-            "tile": [slot // spec.columns + 1, slot % spec.columns + 1],
-        })
+        swatches.append(SwatchRecord(
+            id=f"S{i + 1:03d}",
+            index=i + 1,
+            thickness_nm=r(d[i]),
+            voltage_V=r(volts[i]),
+            Lab=tuple(r(v) for v in Lab[i]),
+            LCh=tuple(r(v) for v in LCh[i]),
+            XYZ=tuple(r(v) for v in XYZ[i]),
+            Lab_D50_2=tuple(r(v) for v in Lab_D50_2[i]),
+            srgb_hex=hexes[i],
+            in_srgb_gamut=bool(gamut[i]),
+            hue_family=hue_family(float(LCh[i, 1]), float(LCh[i, 2])),
+            colour_name=colour_name(*(float(v) for v in LCh[i])),
+            multi_angle={g.name: [r(v) for v in multi_Lab[j, i]] for j, g in enumerate(spec.multi_angle)},
+            multi_angle_LCh={g.name: [r(v) for v in multi_LCh[j, i]] for j, g in enumerate(spec.multi_angle)},
+            multi_angle_srgb_hex={g.name: str(multi_hex[j, i]) for j, g in enumerate(spec.multi_angle)},
+            delta_E_ab_to_neighbours=Neighbours(previous=r(dab[i, 0]), next=r(dab[i, 1])),
+            delta_E_00_to_neighbours=Neighbours(previous=r(d00[i, 0]), next=r(d00[i, 1])),
+            process_window=ProcessWindowEntry(
+                grade=tol.label,
+                scheme=tol.scheme,
+                metric=tol.metric,
+                max=tol.max,
+                thickness_minus_nm=r(minus[i], 3),
+                thickness_plus_nm=r(plus[i], 3),
+                voltage_minus_V=None if window_V is None else r(window_V[0][i], 3),
+                voltage_plus_V=None if window_V is None else r(window_V[1][i], 3),
+                minus_capped=bool(minus_cap[i]),
+                plus_capped=bool(plus_cap[i]),
+            ),
+            sheet=sheet,
+            sheet_png=f"sheet_{sheet:02d}.png",
+            sheet_exr=f"sheet_{sheet:02d}.exr",
+            tile=(slot // spec.columns + 1, slot % spec.columns + 1),
+        ))
     return CatalogData(
         thickness_nm=d, voltage_V=volts, wavelength_nm=wl, reflectance=R, multi_reflectance=multi_R,
-        Lab=Lab, LCh=LCh, Lab_D50_2=Lab_D50_2, srgb_hex=hexes, records=records, illuminant=cm.illuminant, observer=cm.observer,
+        Lab=Lab, LCh=LCh, Lab_D50_2=Lab_D50_2, srgb_hex=hexes, swatches=tuple(swatches), illuminant=cm.illuminant, observer=cm.observer,
         context=ctx,
     )
 

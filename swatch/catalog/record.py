@@ -1,0 +1,147 @@
+"""One swatch's record: a typed, immutable object with one serialiser (``catalog.json`` → ``swatches``).
+
+:func:`swatch.catalog.records.compute` makes a :class:`SwatchRecord` per swatch; the build adds the
+print chip, the 3-D presets and the hero render (each stage returns its entry, the build puts them
+on with :func:`dataclasses.replace`) and serialises every record once with :meth:`SwatchRecord.to_json`.
+The JSON view is what the writers (sheets, chips, exports, page) read; nothing mutates it.
+The keys and their order are those of ``catalog.json`` (docs/catalog.md).
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+__all__ = ["SwatchRecord", "ProcessWindowEntry", "Neighbours", "PrintChip", "to_json"]
+
+#: Trailing entries written only when a stage set them (in this order).
+OPTIONAL = ("print_chip", "presets", "hero")
+
+
+def to_json(value):
+    """A record's value as JSON-ready Python: dataclasses as dicts (field order), tuples as lists.
+
+    Parameters
+    ----------
+    value : object
+        A dataclass instance, tuple, list, dict or scalar.
+
+    Returns
+    -------
+    object
+        The same value with dataclasses turned into dicts and tuples into lists, recursively.
+
+    Examples
+    --------
+    >>> to_json(Neighbours(previous=None, next=2.5))
+    {'previous': None, 'next': 2.5}
+    >>> to_json({"a": (1, 2)})
+    {'a': [1, 2]}
+    """
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: to_json(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, (list, tuple)):
+        return [to_json(v) for v in value]
+    if isinstance(value, dict):
+        return {k: to_json(v) for k, v in value.items()}
+    return value
+
+
+@dataclass(frozen=True)
+class Neighbours:
+    """A colour difference to the previous and the next swatch (None at the ends), in its metric's units."""
+
+    previous: float | None
+    next: float | None
+
+
+@dataclass(frozen=True)
+class ProcessWindowEntry:
+    """The process window of one swatch (see :func:`swatch.catalog.records.process_window`).
+
+    Attributes
+    ----------
+    grade, scheme, metric : str, str or None, str
+        The tolerance: its label, its scheme (None for a written bound) and the colour difference it bounds.
+    max : float
+        The bound, in ``metric``.
+    thickness_minus_nm, thickness_plus_nm : float or None
+        The window's extent below and above the nominal thickness, nm (0.001 nm).
+    voltage_minus_V, voltage_plus_V : float or None
+        The same in volts through the process's growth law; None without a rate.
+    minus_capped, plus_capped : bool
+        The edge is the search limit (or zero thickness), not a crossing of the bound.
+    """
+
+    grade: str
+    scheme: str | None
+    metric: str
+    max: float
+    thickness_minus_nm: float | None
+    thickness_plus_nm: float | None
+    voltage_minus_V: float | None
+    voltage_plus_V: float | None
+    minus_capped: bool
+    plus_capped: bool
+
+
+@dataclass(frozen=True)
+class PrintChip:
+    """A swatch's print chip files (catalog-relative names), their size (mm) and resolution (dpi)."""
+
+    png: str
+    tiff: str
+    size_mm: float
+    dpi: int
+
+
+@dataclass(frozen=True)
+class SwatchRecord:
+    """Everything ``catalog.json`` says about one swatch (numbers rounded as written).
+
+    Colours are CIELAB / LCh / XYZ at the reference geometry under the catalog's illuminant and
+    observer (``Lab_D50_2``: D50, CIE 1931 2°); ``srgb_hex`` from CIE 1931 2° colorimetry; the
+    ``multi_angle*`` maps are keyed by geometry name (``45as15`` …). ``tile`` is (row, column) on
+    ``sheet``, from 1. ``print_chip``, ``presets`` and ``hero`` are set by their stages (None: absent).
+    """
+
+    id: str
+    index: int
+    thickness_nm: float | None
+    voltage_V: float | None
+    Lab: tuple[float | None, ...]
+    LCh: tuple[float | None, ...]
+    XYZ: tuple[float | None, ...]
+    Lab_D50_2: tuple[float | None, ...]
+    srgb_hex: str
+    in_srgb_gamut: bool
+    hue_family: str
+    colour_name: str
+    multi_angle: dict[str, list]
+    multi_angle_LCh: dict[str, list]
+    multi_angle_srgb_hex: dict[str, str]
+    delta_E_ab_to_neighbours: Neighbours
+    delta_E_00_to_neighbours: Neighbours
+    process_window: ProcessWindowEntry
+    sheet: int
+    sheet_png: str
+    sheet_exr: str
+    tile: tuple[int, int]
+    print_chip: PrintChip | None = None
+    presets: dict | None = None
+    hero: dict | None = None
+
+    def to_json(self) -> dict:
+        """The record as ``catalog.json`` writes it (the one serialiser): keys in field order, the
+        optional stages' entries only when set.
+
+        Returns
+        -------
+        dict
+            JSON-ready (lists, dicts, str, float, int, bool, None).
+        """
+        out = {f.name: to_json(getattr(self, f.name)) for f in dataclasses.fields(self) if f.name not in OPTIONAL}
+        for name in OPTIONAL:
+            value = getattr(self, name)
+            if value is not None:
+                out[name] = to_json(value)
+        return out
