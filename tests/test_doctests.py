@@ -21,6 +21,8 @@ MODULES_WITH_EXAMPLES = [
     "swatch.colorimetry.tolerance",
     "swatch.catalog.context",
     "swatch.catalog.record",
+    "swatch.production.spec",
+    "swatch.report.figures",
 ]
 
 

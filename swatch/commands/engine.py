@@ -17,7 +17,7 @@ from swatch.physics.model import overcoat_json, overcoat_text
 def spectrum(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, view_azimuth, film, substrate,
              overcoats, wavelengths, as_json):
     """Spectral reflectance of one thickness on the half-vector facet (R, R_s, R_p)."""
-    from swatch.report import text as report
+    from swatch.report import tables as report
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     d, _ = common.resolve_thickness(thickness, voltage, proc, multiple=False)
     coating = common.resolve_coating(proc, wavelengths, overcoats)
@@ -53,7 +53,7 @@ def color(thickness, voltage, process, nm_per_volt, light, view, light_azimuth, 
     """Colour of each thickness at one geometry: XYZ, CIELAB, LCh, sRGB and ΔE*ab to the previous row."""
     from swatch.colorimetry.appearance import thickness_colours
     from swatch.colorimetry.colorimeter import get_colorimeter
-    from swatch.report import text as report
+    from swatch.report import tables as report
 
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     d, v = common.resolve_thickness(thickness, voltage, proc, multiple=True)
@@ -85,7 +85,7 @@ def materials():
 def materials_list(role, as_json):
     """List the tables with their role, range and reference."""
     from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, list_materials
-    from swatch.report import text as report
+    from swatch.report import tables as report
 
     mats = list_materials(role)
     if as_json:
@@ -101,7 +101,7 @@ def materials_list(role, as_json):
 def materials_show(name, wavelengths, as_json):
     """n and k of one table on the wavelength grid, with its source."""
     from swatch.physics.materials import load_material
-    from swatch.report import text as report
+    from swatch.report import tables as report
 
     m = load_material(name)
     wl = common.resolve_grid(wavelengths)

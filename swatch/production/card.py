@@ -37,7 +37,20 @@ def _chip(c, x, y, w, h, hex_code, label):
 
 
 def write_spec_card(spec: dict, path: Path) -> None:
-    """Draw the card for ``spec`` (:func:`swatch.production.spec.finish_spec`) into ``path`` (a new PDF)."""
+    """Draw the one-page PDF spec card (A4, reportlab, invariant: the same spec gives the same bytes).
+
+    Parameters
+    ----------
+    spec : dict
+        The spec.json dictionary (:func:`swatch.production.spec.finish_spec`); every number is printed
+        as spec.json writes it.
+    path : pathlib.Path
+        The PDF to write (the caller makes it atomic and checks it is new).
+
+    Returns
+    -------
+    None
+    """
     c = canvas.Canvas(str(path), pagesize=A4, invariant=1, pageCompression=1)
     c.setTitle("Finish specification")
     c.setAuthor("swatch (anodic-swatch)")

@@ -44,7 +44,23 @@ GEOMETRY_MATCH_DEG = 0.5
 
 
 def load_spec_json(path) -> dict:
-    """Read and check a spec.json written by ``swatch spec`` (untrusted: capped, keys checked)."""
+    """Read and check a spec.json written by ``swatch spec`` (untrusted: size-capped, keys checked).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The spec.json file (at most :data:`swatch.core.limits.MAX_SPEC_BYTES`).
+
+    Returns
+    -------
+    dict
+        The spec, checked by :func:`check_spec` (with its ``_tolerance``).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The file is too big, not UTF-8, not JSON, or not a spec of layout 1 (one line: what and where).
+    """
     text = read_text_capped(Path(path), MAX_SPEC_BYTES, "spec", "JSON", str(path))
     try:
         spec = json.loads(text)
@@ -54,8 +70,26 @@ def load_spec_json(path) -> dict:
 
 
 def check_spec(spec, path: str = "spec") -> dict:
-    """Check a spec dictionary (from a spec.json, or made by :func:`swatch.production.spec.finish_spec`)
-    and attach its tolerance (``_tolerance``); refused in one line when a key or number is wrong."""
+    """Check a spec dictionary and attach its tolerance (``_tolerance``).
+
+    Parameters
+    ----------
+    spec : dict
+        From a spec.json, or made by :func:`swatch.production.spec.finish_spec`.
+    path : str
+        Names the spec in messages.
+
+    Returns
+    -------
+    dict
+        ``spec`` itself, with ``_tolerance`` (:class:`swatch.colorimetry.tolerance.Tolerance`) added.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A key is missing, the layout is not 1, or a number is not finite or out of range (thickness
+        0 to :data:`swatch.core.limits.MAX_THICKNESS_NM` nm, rate > 0).
+    """
     need = ("swatch_spec", "nominal", "colorimetry", "reference", "multi_angle", "tolerance", "process")
     if not isinstance(spec, dict) or any(k not in spec for k in need):
         raise SwatchError(f"{path}: not a swatch spec.json (keys {', '.join(need)} expected)")
@@ -96,10 +130,32 @@ def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
 
 def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coating, cm, lo: float,
                       hi: float) -> np.ndarray:
-    """Thickness (P,) of P parts whose CIELAB at G geometries is ``Lab_meas`` (P, G, 3): least squares in
-    ΔE2000 on one thickness → CIELAB table (every FINE_STEP_NM on [lo, hi], one sweep for all parts),
-    searched every COARSE_STEP_NM, then finely within one coarse step of each part's minimum.
-    Vectorised over parts; no intensity scaling."""
+    """Fit the oxide thickness of P parts to their CIELAB at G geometries (least squares in ΔE2000).
+
+    One thickness → CIELAB table every :data:`FINE_STEP_NM` on [``lo``, ``hi``] (one sweep for all
+    parts), searched every :data:`COARSE_STEP_NM`, then finely within one coarse step of each part's
+    minimum. Vectorised over parts; no intensity scaling (the half-vector model's absolute reflectance factor).
+
+    Parameters
+    ----------
+    Lab_meas : numpy.ndarray, shape (P, G, 3)
+        Measured CIELAB under the colorimeter's illuminant and observer.
+    light_deg, view_deg : array_like, shape (G,)
+        Polar angles of light and view from the normal, degrees.
+    same_side : array_like of bool, shape (G,)
+        The view is on the light's side (azimuth 0°) rather than across the normal (180°).
+    coating : swatch.physics.model.Coating
+        Film, substrate and wavelength grid.
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+        Illuminant and observer of ``Lab_meas`` on the coating's grid.
+    lo, hi : float
+        The thickness interval searched, nm.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P,)
+        Fitted thickness of each part, nm (to :data:`FINE_STEP_NM`).
+    """
     cos_d = np.atleast_1d(geometry.cos_theta_d(light_deg, view_deg, 0.0, np.where(same_side, 0.0, 180.0)))
     cu, inv = unique_geometry(cos_d)
     count = int(np.floor((hi - lo) / FINE_STEP_NM + 1e-9)) + 1
@@ -116,7 +172,29 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
 
 
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
-    """Judge every sample of ``f`` against ``spec`` (see the module docstring)."""
+    """Judge every sample of a measurement file against a spec (see the module docstring).
+
+    Parameters
+    ----------
+    f : swatch.io.instruments.InstrumentFile
+        CIELAB or spectra of P samples, at the same geometries in every sample.
+    spec : dict
+        A checked spec (:func:`check_spec`).
+
+    Returns
+    -------
+    list of dict
+        Per sample: ``pass``, ``delta_E`` and ``Lab`` per geometry (in the tolerance's metric, under the
+        spec's illuminant and observer), ``delta_Lab`` (measured − specified), the fitted
+        ``thickness_nm`` and its offset, nm, the ``voltage_correction_V`` (V; None without a growth
+        rate) and the sRGB chips (CIE 1931 2°).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The file's CIELAB is under another illuminant or observer than the spec's, or a sample is
+        measured at a geometry the spec does not give.
+    """
     col, proc, tol = spec["colorimetry"], spec["process"], spec["_tolerance"]
     ill, obs = col["illuminant"], col["observer"]
     d0 = float(spec["nominal"]["thickness_nm"])

@@ -42,7 +42,26 @@ WINDOW_SEARCH_NM = 50.0
 
 
 def multi_angle_geometries(light_deg: float = 45.0, aspecular_deg=DEFAULT_ASPECULAR_DEG) -> tuple[Geometry, ...]:
-    """The multi-angle set (ASTM E2194 / E2539): in plane, view = light − aspecular (negative: light's side)."""
+    """The multi-angle set of ASTM E2194 / E2539: in plane, view = light − aspecular.
+
+    Parameters
+    ----------
+    light_deg : float
+        Illumination polar angle from the normal, degrees.
+    aspecular_deg : sequence of float
+        Aspecular angles, degrees (default −15°, 15°, 25°, 45°, 75°, 110°); a view that comes out
+        negative lies on the light's side.
+
+    Returns
+    -------
+    tuple of swatch.catalog.geometry.Geometry
+        One per aspecular angle, named ``<light>as<aspecular>``.
+
+    Examples
+    --------
+    >>> [(g.name, g.view_deg, g.view_side) for g in multi_angle_geometries(45.0, (15.0, 110.0))]
+    [('45as15', 30.0, 'opposite'), ('45as110', 65.0, 'light')]
+    """
     out = []
     for a in aspecular_deg:
         v = light_deg - a

@@ -47,10 +47,26 @@ def _chips(cal: Calibration, model_R, measured_R, cm):
 
 
 def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, cm) -> np.ndarray:
-    """An (H, W, 3) uint8 figure.
+    """The calibration figure: measured against predicted chips per coupon and the voltage → colour strip.
 
-    ``model_R``: predicted spectra of the coupons (N, W); ``measured_R``: measured spectra or
-    None (colour coupons); ``strip_V`` (K,) voltages and ``strip_R`` (K, W) their predicted spectra.
+    Parameters
+    ----------
+    cal : swatch.fit.calibration.Calibration
+        The calibration (its coupons' voltages and CIELAB).
+    model_R : numpy.ndarray, shape (N, W)
+        Predicted reflectance factors of the N coupons.
+    measured_R : numpy.ndarray, shape (N, W), or None
+        Measured spectra; None for colour (CIELAB) coupons.
+    strip_V : numpy.ndarray, shape (K,)
+        Voltages of the strip, V.
+    strip_R : numpy.ndarray, shape (K, W)
+        Their predicted spectra.
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+        Colorimetry of the chips (display sRGB from CIE 1931 2°).
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape (H, W, 3)
     """
 
     n = cal.voltage_V.size
@@ -125,7 +141,17 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
 
 
 def report_figure(cal: Calibration) -> np.ndarray:
-    """The report figure of a calibration: chips per coupon and the voltage → colour strip."""
+    """The report figure of a calibration (:func:`calibration_figure` over 0 to 1.1 × the highest voltage).
+
+    Parameters
+    ----------
+    cal : swatch.fit.calibration.Calibration
+        A calibration from :func:`swatch.fit.calibration.calibrate` (it carries its colorimeter).
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape (H, W, 3)
+    """
     p = cal.process
     assert cal.cm is not None, "calibrate() gives a colorimeter"
     coating = p.coating(cal.cm.wavelength_nm)
@@ -136,10 +162,25 @@ def report_figure(cal: Calibration) -> np.ndarray:
 
 
 def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
-    """The lines ``swatch calibrate`` prints: the tables, the fitted parameters ± one standard error,
-    what each added parameter bought (held-out ΔE2000), what was fixed and why, the ranking of the
-    table pairs, the residual ΔE2000, the runner-up order and one line per coupon (``d`` =
-    :meth:`swatch.fit.calibration.Calibration.to_dict`)."""
+    """The lines ``swatch calibrate`` prints.
+
+    The tables, the fitted parameters ± one standard error, what each added parameter bought
+    (held-out ΔE2000), what was fixed and why, the ranking of the table pairs, the residual ΔE2000,
+    the runner-up order and one line per coupon.
+
+    Parameters
+    ----------
+    d : dict
+        :meth:`swatch.fit.calibration.Calibration.to_dict`.
+    base : swatch.physics.process.Process
+        The profile the calibration started from (its values are shown beside the fitted ones).
+    light, view : float
+        The measuring geometry's polar angles, degrees.
+
+    Returns
+    -------
+    list of str
+    """
     lines = []
     u = d["uncertainty"]
 
@@ -195,8 +236,27 @@ def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
 
 
 def calibration_paths(out_path: str, report_dir: str | None, force: bool):
-    """The profile to write (a .toml) and the report figure (or None), checked: names not empty,
-    no existing file unless ``force``."""
+    """The profile to write and the report figure, checked before the fit.
+
+    Parameters
+    ----------
+    out_path : str
+        The calibrated profile, a ``.toml`` file.
+    report_dir : str or None
+        The folder of ``calibration.png``, or None for no figure.
+    force : bool
+        Allow replacing existing files.
+
+    Returns
+    -------
+    (pathlib.Path, pathlib.Path or None)
+        The profile's path and the figure's (or None).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A name is empty or not a ``.toml``, a file exists without ``force``, or a folder cannot be created.
+    """
 
     out = Path(out_path)
     if not str(out_path).strip() or out.suffix.lower() != ".toml":
@@ -212,7 +272,23 @@ def calibration_paths(out_path: str, report_dir: str | None, force: bool):
 
 
 def write_calibration(cal: Calibration, out, png, source: str) -> None:
-    """Write the calibrated profile (TOML, atomically) and, when ``png`` is given, the figure."""
+    """Write the calibrated profile (TOML) and, when ``png`` is given, the figure: both or neither.
+
+    Parameters
+    ----------
+    cal : swatch.fit.calibration.Calibration
+        The calibration.
+    out : pathlib.Path
+        The profile (``.toml``; format docs/processes.md).
+    png : pathlib.Path or None
+        The figure (its metadata carries the calibration's dict).
+    source : str
+        The measurement file, named in the profile's header.
+
+    Returns
+    -------
+    None
+    """
 
     header = f"process profile calibrated by swatch calibrate from {source}; format: docs/processes.md"
     with output_batch(out.parent):  # the profile and its figure, or neither (a full disk, Ctrl-C)

@@ -30,8 +30,23 @@ _VIRIDIS = np.array([
 
 
 def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | None = None) -> np.ndarray:
-    """A labelled display figure of an angular map: light angle up the side, view angle along the
-    bottom (origin bottom-left, so the mirror diagonal runs bottom-left to top-right)."""
+    """A labelled display figure of an angular map: light angle up the side, view angle along the bottom
+    (origin bottom-left, so the mirror diagonal, dashed, runs bottom-left to top-right).
+
+    Parameters
+    ----------
+    amap : swatch.render.angular.AngularMap
+        The map (display sRGB, shape (L, V, 3), over light × view polar angles in degrees).
+    title : str, optional
+        Drawn above the map.
+    cell_px : int, optional
+        Pixels per map cell (default: about 516 px for the longer side).
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape (H, W, 3)
+        Display sRGB.
+    """
     nl, nv = amap.display_rgb.shape[:2]
     cell = int(cell_px or max(1, 516 // max(nl, nv)))
     mh, mw = nl * cell, nv * cell
@@ -93,7 +108,23 @@ def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | No
 
 
 def colormap(t: np.ndarray) -> np.ndarray:
-    """Viridis-like colours (..., 3) uint8 for t in [0, 1]."""
+    """Viridis-like colours for values in [0, 1] (the ΔE maps' scale; perceptually ordered dark to light).
+
+    Parameters
+    ----------
+    t : array_like
+        Values, any shape; clipped to [0, 1].
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape t.shape + (3,)
+        Display sRGB.
+
+    Examples
+    --------
+    >>> colormap([0.0, 1.0]).tolist()
+    [[68, 1, 84], [253, 231, 37]]
+    """
     t = np.clip(np.asarray(t, dtype=np.float64), 0.0, 1.0) * (len(_VIRIDIS) - 1)
     i = np.minimum(np.floor(t).astype(int), len(_VIRIDIS) - 2)
     f = (t - i)[..., None]
@@ -110,9 +141,29 @@ def _nice_max(x: float) -> float:
 
 
 def delta_e_figure(result: FitResult, title: str) -> tuple[np.ndarray, dict]:
-    """The light × view ΔE*ab map (uint8 RGB image) with labels and a colour scale; and its data.
+    """The light × view ΔE*ab map of a fit, with labels and a colour scale, and its data.
 
     Labels are ASCII ("dE*ab", "deg"): the font shipped with OpenImageIO has no Greek letters.
+
+    Parameters
+    ----------
+    result : swatch.fit.fitting.FitResult
+        The fit (its per-geometry ΔE*ab, CIE 1976).
+    title : str
+        Drawn above the map.
+
+    Returns
+    -------
+    image : numpy.ndarray of uint8, shape (H, W, 3)
+        Display sRGB.
+    data : dict
+        ``light_deg``, ``view_deg`` (degrees), ``grid`` (ΔE*ab, NaN where not measured), ``excluded``
+        (mirror region), ``signed`` (views on both sides) and ``vmax`` (the scale's top).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        OpenImageIO cannot draw the labels.
     """
 
     lv, vv, grid, excluded, signed = delta_e_grid(result, "delta_E_ab")

@@ -15,7 +15,6 @@ from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new
 from swatch.fit.fitting import delta_e_grid
 from swatch.io.imageio import write_exr, write_png
-from swatch.physics.model import overcoat_text
 from swatch.report.figures import delta_e_figure
 
 if TYPE_CHECKING:
@@ -23,20 +22,43 @@ if TYPE_CHECKING:
     from swatch.render.angular import AngularMap
 
 __all__ = ["multi_summary", "report_paths", "write_report", "angular_lab_csv", "angular_lab_json",
-           "fit_text", "multi_text", "match_text", "with_process", "grade_in_metric", "spectrum_text", "colour_table_text",
-           "materials_text", "material_text", "materials_json", "material_json"]
+           "fit_text", "multi_text", "match_text", "with_process", "grade_in_metric"]
 
 
 def grade_in_metric(d: dict, scheme: str) -> str:
-    """The scheme's grade of a mean colour difference (``d``'s ``mean_delta_E_ab`` or
-    ``mean_delta_E_00``), taken in the metric the scheme bounds."""
+    """The scheme's grade of a fit's mean colour difference, taken in the metric the scheme bounds.
+
+    Parameters
+    ----------
+    d : dict
+        A fit's dict with ``mean_delta_E_ab`` and ``mean_delta_E_00`` (ΔE*ab and ΔE2000, unitless).
+    scheme : str
+        A tolerance scheme of :func:`swatch.colorimetry.tolerance.schemes` (CSAJ grades bound ΔE*ab).
+
+    Returns
+    -------
+    str
+        The grade's name (e.g. ``"A"``), or the scheme's "beyond every grade" label.
+    """
 
     return grade_for(d["mean_delta_E_ab" if grade_metric(scheme) == "dEab" else "mean_delta_E_00"], scheme)
 
 
 def with_process(d: dict, proc) -> dict:
-    """A fit's dict with the voltage from the process's growth law, the profile, and the grade
-    in the scheme's metric."""
+    """Put a process's growth law on a fit's dict: the voltage, the rate, the profile and the grade.
+
+    Parameters
+    ----------
+    d : dict
+        :meth:`swatch.fit.fitting.FitResult.to_dict` (``thickness_nm`` in nm, ``scheme``); changed in place.
+    proc : swatch.physics.process.Process
+        The process profile (its ``voltage_V`` growth law, one slope or two with a knee).
+
+    Returns
+    -------
+    dict
+        ``d``, with ``voltage_V`` (V; None without a rate), ``nm_per_V``, ``process`` and ``grade``.
+    """
     v = proc.voltage_V(d["thickness_nm"])
     d["voltage_V"] = None if v is None else float(v)
     d["nm_per_V"] = proc.nm_per_V
@@ -46,8 +68,20 @@ def with_process(d: dict, proc) -> dict:
 
 
 def multi_summary(dicts: list[dict], scheme: str) -> dict:
-    """Several fits together: the mean ΔE*ab and ΔE2000 over the samples and the scheme's grade
-    of the mean, in the metric the scheme bounds."""
+    """Several fits together: the mean ΔE*ab and ΔE2000 over the samples and the scheme's grade of the mean.
+
+    Parameters
+    ----------
+    dicts : list of dict
+        The fits (:func:`with_process`), each with ``mean_delta_E_ab`` and ``mean_delta_E_00``.
+    scheme : str
+        The tolerance scheme the grade is taken in (its own metric).
+
+    Returns
+    -------
+    dict
+        ``samples`` (``dicts``), ``mean_delta_E_ab``, ``mean_delta_E_00``, ``scheme`` and ``grade``.
+    """
     out = {
         "samples": dicts,
         "mean_delta_E_ab": float(np.mean([d["mean_delta_E_ab"] for d in dicts])),
@@ -59,7 +93,18 @@ def multi_summary(dicts: list[dict], scheme: str) -> dict:
 
 
 def multi_text(s: dict) -> str:
-    """The closing line of ``swatch fit`` over several samples (``s`` = :func:`multi_summary`)."""
+    """The closing line of ``swatch fit`` over several samples.
+
+    Parameters
+    ----------
+    s : dict
+        :func:`multi_summary`.
+
+    Returns
+    -------
+    str
+        One line: the number of samples, the mean ΔE*ab and ΔE2000 and the grade.
+    """
     return (f"all {len(s['samples'])} samples: mean ΔE*ab {s['mean_delta_E_ab']:.2f}, "
             f"mean ΔE2000 {s['mean_delta_E_00']:.2f}, grade {s['grade']} ({s['scheme']})")
 
@@ -69,8 +114,28 @@ def _fmt(x, spec=".2f", none="—"):
 
 
 def report_paths(report_dir, measurements, force: bool = False) -> dict:
-    """The files of ``swatch fit --report`` (one ΔE map per measurement), checked: the folder name is
-    not empty and no file exists unless ``force``."""
+    """The files of ``swatch fit --report``, checked before the fit: one ΔE map (PNG and EXR) per
+    measurement and the summary CSV/Markdown and per-geometry CSV.
+
+    Parameters
+    ----------
+    report_dir : str or path-like
+        The report folder (created later if missing; a file in the way is refused now).
+    measurements : sequence of str or path-like
+        The measurement files (their stems name the maps when there are several, made unique).
+    force : bool
+        Allow replacing existing files.
+
+    Returns
+    -------
+    dict
+        ``maps`` (list of (PNG, EXR) paths), ``summary_csv``, ``summary_md``, ``geometries_csv``.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        ``report_dir`` is empty or not a creatable folder, or a file exists and ``force`` is not set.
+    """
 
     if not str(report_dir).strip():
         raise SwatchError("`report_dir` is an empty string; give a folder path")
@@ -100,6 +165,26 @@ def report_paths(report_dir, measurements, force: bool = False) -> dict:
 
 
 def write_report(results, dicts, paths) -> None:
+    """Write the files of ``swatch fit --report`` (atomically, each file whole or not at all).
+
+    The ΔE*ab maps (PNG figure; EXR with the data, one pixel per (light, view) cell: ΔE*ab, ΔE2000,
+    measured, excluded), ``summary.csv`` and ``summary.md`` (thickness, uncertainty nm, voltage V,
+    mean/max ΔE, grade; cf. Fujii et al. Tables 2 and 3) and ``geometries.csv`` (measured and
+    simulated CIELAB per geometry).
+
+    Parameters
+    ----------
+    results : sequence of swatch.fit.fitting.FitResult
+        The fits, in the order of ``paths["maps"]``.
+    dicts : list of dict
+        Their dicts (:func:`with_process`).
+    paths : dict
+        :func:`report_paths`.
+
+    Returns
+    -------
+    None
+    """
     for r, (png, exr) in zip(results, paths["maps"], strict=True):
         stem = Path(r.source).name
         title = f"dE*ab (CIE 1976)  {stem}   d = {r.thickness_nm:.1f} nm"
@@ -177,6 +262,19 @@ def write_report(results, dicts, paths) -> None:
 
 
 def angular_lab_csv(amap: AngularMap) -> str:
+    """An angular map's colours as CSV: one row per (light, view) cell.
+
+    Parameters
+    ----------
+    amap : swatch.render.angular.AngularMap
+        The map (light × view polar angles, degrees).
+
+    Returns
+    -------
+    str
+        Columns ``light_deg, view_deg, theta_d_deg, X, Y, Z, L, a, b`` (XYZ with Y = 100 for the
+        perfect diffuser, CIELAB under the map's illuminant and observer; 4 decimals).
+    """
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["light_deg", "view_deg", "theta_d_deg", "X", "Y", "Z", "L", "a", "b"])
@@ -189,6 +287,18 @@ def angular_lab_csv(amap: AngularMap) -> str:
 
 
 def angular_lab_json(amap: AngularMap) -> str:
+    """An angular map's CIELAB as JSON (sorted keys, 4 decimals, no NaN).
+
+    Parameters
+    ----------
+    amap : swatch.render.angular.AngularMap
+        The map.
+
+    Returns
+    -------
+    str
+        ``{"metadata", "light_deg", "view_deg", "Lab"}``: ``Lab`` nested as (light, view, 3).
+    """
     out = {
         "metadata": amap.metadata,
         "light_deg": amap.light_deg.tolist(),
@@ -199,7 +309,19 @@ def angular_lab_json(amap: AngularMap) -> str:
 
 
 def fit_text(d: dict) -> list[str]:
-    """The lines ``swatch fit`` prints for one fit (``d`` = :meth:`FitResult.to_dict`)."""
+    """The lines ``swatch fit`` prints for one fit.
+
+    Parameters
+    ----------
+    d : dict
+        :meth:`swatch.fit.fitting.FitResult.to_dict` with the process (:func:`with_process`).
+
+    Returns
+    -------
+    list of str
+        Header (geometries, data, materials, colorimetry), thickness ± uncertainty (nm) and voltage (V),
+        residual, second minimum, the mean/max ΔE and grade, and one line per geometry.
+    """
     lines = []
     n_ex = d["n_geometries"] - d["n_used"]
     head = f"# {d['source']}: {d['n_geometries']} geometr{'y' if d['n_geometries'] == 1 else 'ies'}"
@@ -240,7 +362,29 @@ def fit_text(d: dict) -> list[str]:
 
 def match_text(res: MatchResult, target_hex: str | None, thickness_range: str, cm, coating, process: str,
                tol) -> list[str]:
-    """The table ``swatch match`` prints (target, geometry, candidates, and a note when none is within grade)."""
+    """The table ``swatch match`` prints: target, geometry, candidates, and a note when none is within grade.
+
+    Parameters
+    ----------
+    res : swatch.fit.matching.MatchResult
+        The candidates (thickness nm, voltage V, CIELAB, ΔE2000 and ΔE*ab).
+    target_hex : str or None
+        The target's sRGB hex code when it was given as one.
+    thickness_range : str
+        The searched range as given (``A:B``, nm), for the note.
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+        Illuminant and observer of the CIELAB values.
+    coating : swatch.physics.model.Coating
+        Film and substrate (named in the header).
+    process : str
+        The process profile's label.
+    tol : swatch.colorimetry.tolerance.Tolerance
+        The tolerance the ``within_grade`` column judges.
+
+    Returns
+    -------
+    list of str
+    """
     lines = []
     L, a, b = res.target_Lab
     src = f" (from {target_hex})" if target_hex is not None else ""
@@ -257,63 +401,3 @@ def match_text(res: MatchResult, target_hex: str | None, thickness_range: str, c
     if not res.any_within_grade:
         lines.append(f"no thickness in {thickness_range} nm comes within {tol.text} at this geometry")
     return lines
-
-
-# -- the engine commands' tables -------------------------------------------------------------------
-def spectrum_text(out: dict, under: str = "", process: str = "") -> list[str]:
-    """``swatch spectrum``'s table from its JSON dictionary (``under``: the overcoat description)."""
-    lines = [f"# {out['film']} on {out['substrate']}{under}, d = {out['thickness_nm']:g} nm, "
-             f"theta_d = {out['theta_d_deg']:.3f} deg; process {process}", f"{'wavelength_nm':>13} {'R':>10} {'R_s':>10} {'R_p':>10}"]
-    for row in zip(out["wavelength_nm"], out["reflectance"], out["reflectance_s"], out["reflectance_p"], strict=True):
-        lines.append(f"{row[0]:13.1f} {row[1]:10.6f} {row[2]:10.6f} {row[3]:10.6f}")
-    return lines
-
-
-def colour_table_text(rows: list[dict], coating, cm, light: float, view: float, theta_d_deg: float,
-                      process: str = "") -> list[str]:
-    """``swatch color``'s table from :meth:`swatch.colorimetry.appearance.ThicknessColours.rows`."""
-
-    lines = [f"# {coating.film} on {coating.substrate}{overcoat_text(coating)}; light {light:g}°, view {view:g}° "
-             f"(theta_d {theta_d_deg:.2f}°); {cm.illuminant}, {cm.observer}° observer; process {process}",
-             ]
-    volts = bool(rows) and "voltage_V" in rows[0]  # given as voltages: a voltage column beside the thickness
-    lines.append(f"{'d_nm':>7}" + (f" {'volt_V':>7}" if volts else "")
-                 + f" {'L*':>7} {'a*':>7} {'b*':>7} {'C*':>7} {'h':>6}  {'sRGB':7} {'gamut':5} {'dE_ab':>6}")
-    for r in rows:
-        L, a, b = r["Lab"]
-        _, C, h = r["LCh"]
-        dE = "" if r["delta_E_ab_to_previous"] is None else f"{r['delta_E_ab_to_previous']:6.2f}"
-        lines.append(f"{r['thickness_nm']:7.1f}" + (f" {r['voltage_V']:7.2f}" if volts else "")
-                     + f" {L:7.2f} {a:7.2f} {b:7.2f} {C:7.2f} {h:6.1f}  "
-                     f"{r['srgb_hex']:7} {'yes' if r['in_srgb_gamut'] else 'no':5} {dE:>6}")
-    return lines
-
-
-def materials_text(mats, defaults: tuple[str, ...]) -> list[str]:
-    """``swatch materials list``: one line per table, defaults starred."""
-    lines = []
-    for m in mats:
-        lo, hi = m.wavelength_range_nm
-        star = "*" if m.name in defaults else " "
-        lines.append(f"{star}{m.name:24} {m.role:9} {lo:8.1f}–{hi:<9.1f} nm  doi:{m.doi}")
-    return [*lines, "(* default)"]
-
-
-def material_text(m, wl: np.ndarray, nk: np.ndarray) -> list[str]:
-    """``swatch materials show``: the source, then n and k per wavelength."""
-    lines = [f"# {m.name} ({m.role}): {' '.join(m.reference.split())}", f"# doi:{m.doi}; {m.license}",
-             f"{'wavelength_nm':>13} {'n':>9} {'k':>9}"]
-    return lines + [f"{w:13.1f} {n:9.4f} {k:9.4f}" for w, n, k in zip(wl, nk.real, nk.imag, strict=True)]
-
-
-def materials_json(mats, defaults: tuple[str, ...]) -> list[dict]:
-    """``swatch materials list --json``."""
-    return [{"name": m.name, "role": m.role, "formula": m.formula, "reference": m.reference, "doi": m.doi,
-             "wavelength_range_nm": list(m.wavelength_range_nm), "default": m.name in defaults} for m in mats]
-
-
-def material_json(m, wl: np.ndarray, nk: np.ndarray) -> dict:
-    """``swatch materials show --json``: the table's source and n, k on the grid."""
-    return {"name": m.name, "role": m.role, "formula": m.formula,
-            "source": {"reference": m.reference, "doi": m.doi, "file": m.source_file, "license": m.license},
-            "wavelength_nm": wl.tolist(), "n": nk.real.tolist(), "k": nk.imag.tolist()}
