@@ -17,10 +17,10 @@ def _irregular(wl, values):
 
 
 def run() -> list[str]:
-    from swatch.mitsuba.engine import render_swatch_mitsuba, resolve_lighting
     from swatch.physics.materials import load_material
+    from swatch.render.mitsuba.engine import mitsuba_lighting, render_swatch_mitsuba
 
-    studio = resolve_lighting("studio")
+    studio = mitsuba_lighting("studio")
     t0 = time.perf_counter()
     render_swatch_mitsuba(80.0, "sphere", 64, 4, lighting_name=studio)
     compile_s = time.perf_counter() - t0

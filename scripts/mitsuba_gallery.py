@@ -16,8 +16,8 @@ import numpy as np
 import trimesh
 
 from swatch.io import imageio
-from swatch.mitsuba.engine import Sun, render_swatch_mitsuba, resolve_lighting
 from swatch.render.mesh import MeshShape
+from swatch.render.mitsuba.engine import Sun, mitsuba_lighting, render_swatch_mitsuba
 
 SIZE, SPP = 224, 128
 
@@ -51,12 +51,12 @@ def panel_wall() -> MeshShape:
 
 
 def main(out_dir: str) -> int:
-    studio = resolve_lighting("studio")
+    studio = mitsuba_lighting("studio")
     shots = [
         render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12),
         render_swatch_mitsuba(120.0, "cylinder", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12),
         render_swatch_mitsuba(50.8, "sphere", SIZE, SPP, lighting_name=studio, roughness_alpha=0.12, mesh=bowl()),
-        render_swatch_mitsuba(80.0, "sphere", SIZE, SPP, lighting_name=resolve_lighting("sun", Sun(40.0, 60.0)),
+        render_swatch_mitsuba(80.0, "sphere", SIZE, SPP, lighting_name=mitsuba_lighting("sun", Sun(40.0, 60.0)),
                               roughness_alpha=0.12, mesh=panel_wall(), exposure=1.0),
     ]
     strip = np.concatenate([s.display_rgb for s in shots], axis=1)

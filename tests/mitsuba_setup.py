@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from swatch.mitsuba.setup import configure_llvm
+from swatch.render.mitsuba.setup import configure_llvm
 
 
 def mitsuba_variant(variant: str = "llvm_ad_spectral"):
@@ -17,7 +17,7 @@ def mitsuba_variant(variant: str = "llvm_ad_spectral"):
         pytest.skip("no libLLVM 17+ for Mitsuba's LLVM variant (apt-get install libllvm19)")
     import mitsuba as mi
 
-    from swatch.mitsuba.engine import use_variant
+    from swatch.render.mitsuba.engine import use_variant
 
     use_variant(variant)
     return mi

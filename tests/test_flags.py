@@ -14,7 +14,6 @@ PKG = Path(__file__).resolve().parent.parent / "swatch"
 
 #: Library modules whose errors still name CLI flags, each with its reason (to convert with their owners).
 STILL_NAMING_FLAGS = {
-    "mitsuba/engine.py": "the Mitsuba engine's own options (--spp, --sun-*) are checked there; its branch converts them",
     "io/cgats.py": "instrument files checked against --light/--view/--illuminant; its branch converts them",
     "io/cxf_in.py": "as io/cgats.py (--illuminant, --observer of a CxF file)",
 }

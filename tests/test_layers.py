@@ -20,7 +20,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("colorimetry",),
     ("io",),
     ("render", "fit", "presets"),
-    ("mitsuba",),  # the Mitsuba 3 engine: on the render layer's image and scene; reached from commands/ only
+    ("mitsuba",),  # the face of the Mitsuba plugin (swatch.mitsuba.register); the engine is swatch.render.mitsuba
     ("report",),
     ("catalog",),
     ("production",),  # the finish spec, its card and QC: on the catalog's process window
@@ -38,6 +38,8 @@ ALLOWED_FUNCTION_IMPORTS = {
     ("swatch.catalog.spec", "swatch.physics.model"):
         "the optics (0.1 s) only when a coating or a voltage is asked for: a no-op rebuild parses the spec without",
     ("swatch.physics.process", "swatch.physics.model"): "as above (a profile parses without the optics)",
+    ("swatch.render.dispatch", "swatch.render.mitsuba.engine"):
+        "Mitsuba and Dr.Jit (optional; a JIT on libLLVM, seconds to load) only for `engine='mitsuba'` (#23)",
 }
 
 MAX_TOP_LEVEL_MODULES = 8
@@ -253,3 +255,16 @@ def test_function_import_counts_are_in_the_graph():
         graph[f].add(t)
     assert "swatch.catalog.spec" in graph[False]
     assert "swatch.catalog.sheets" in graph[True]
+
+
+def test_the_builtin_render_path_never_loads_mitsuba():
+    """Issue #17/#23: the dispatcher reaches the Mitsuba engine, but a built-in render (and ``swatch
+    --help``) imports neither Mitsuba nor Dr.Jit."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from swatch.render import render_swatch; render_swatch(50.0, 'flat', 8, environment=None); "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('mitsuba', 'drjit') "
+            "or m.startswith('swatch.render.mitsuba')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert ast.literal_eval(out) == []

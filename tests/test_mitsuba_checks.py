@@ -34,7 +34,7 @@ def _irregular(wl, values):
 _ZERO_THICKNESS_PAIR = """
 import sys
 import numpy as np
-from swatch.mitsuba.engine import render_swatch_mitsuba
+from swatch.render.mitsuba.engine import render_swatch_mitsuba
 from swatch.physics.materials import load_material
 from tests.mitsuba_setup import mitsuba_variant
 from tests.test_mitsuba_checks import _irregular
@@ -197,7 +197,7 @@ def test_white_furnace_sphere_equals_tmm_quadrature(mi, d_nm):
     """#23: a sphere under uniform light (radiance 1, D65), averaged over its fully covered pixels, equals the
     mean of tmm + Gauss–Legendre quadrature of the single-scattering lobe over the same pixels' view angles:
     ΔE00 ≤ 0.5 (CIE 1931 2°, D65, α 0.3 GGX)."""
-    from swatch.mitsuba.engine import render_swatch_mitsuba
+    from swatch.render.mitsuba.engine import render_swatch_mitsuba
     from swatch.render.scene import make_scene, scene_geometry
 
     size, alpha = 48, 0.3
@@ -242,8 +242,8 @@ def _centre_lab(img, c, r):
 def test_engine_matches_builtin_under_uniform(mi, shape):
     """#23: --engine mitsuba vs the built-in engine under uniform light (radiance 1, D65) at the plate centre and
     the sphere centre (5 × 5 pixels of a 64² render, 256 spp), 30/80/160 nm: ΔE00 ≤ 1 (CIE 1931 2°, D65)."""
-    from swatch.mitsuba.engine import render_swatch_mitsuba
     from swatch.render import render_swatch
+    from swatch.render.mitsuba.engine import render_swatch_mitsuba
 
     for d in (30.0, 80.0, 160.0):
         m = render_swatch_mitsuba(d, shape, 64, 256, seed=2, lighting_name="uniform")
@@ -302,10 +302,10 @@ def test_engine_under_studio_light(mi, tmp_path, shape):
     D65). The built-in engine is not asserted here: it reads 1–4 % brighter at the plate centre (ΔE00 0.7–1.0
     against this engine) and 8–12 % at the sphere centre (ΔE00 up to 1.9), its filtered-environment
     approximation (docs/mitsuba.md), left to its owners."""
-    from swatch.mitsuba.engine import render_swatch_mitsuba, resolve_lighting
+    from swatch.render.mitsuba.engine import mitsuba_lighting, render_swatch_mitsuba
 
     env = _studio_map(tmp_path / "studio.exr")
-    lit = resolve_lighting(env)
+    lit = mitsuba_lighting(env)
     block = [(r, c) for r in (15, 16, 17) for c in (15, 16, 17)]
     for d in (30.0, 80.0):
         m = _centre_lab(render_swatch_mitsuba(d, shape, 32, 2048, seed=2, lighting_name=lit), 16, 1)

@@ -27,7 +27,7 @@ def _tmm_R(d_nm, theta_rad, wl_nm, n_film, n_sub):
 def test_drjit_airy_matches_tmm(mi):
     """#23: the plugin's Dr.Jit Airy formula equals tmm.coh_tmm (s, p averaged) to 2e-6 over angles,
     wavelengths and thicknesses (single precision against double)."""
-    from swatch.mitsuba.film import airy_reflectance
+    from swatch.render.mitsuba.film import airy_reflectance
 
     f, s = load_material("TiO2-Siefke"), load_material("Ti-Johnson")
     rng = np.random.default_rng(23)
@@ -141,7 +141,7 @@ def test_bad_parameters_are_refused(mi):
 def test_missing_libllvm_is_one_line(monkeypatch):
     """#23: without DRJIT_LIBLLVM_PATH (none found) the engine says in one line what to install."""
     from swatch.core.errors import SwatchError
-    from swatch.mitsuba import engine
+    from swatch.render.mitsuba import engine
 
     monkeypatch.delenv("DRJIT_LIBLLVM_PATH", raising=False)
     with pytest.raises(SwatchError, match="apt-get install libllvm19") as exc:

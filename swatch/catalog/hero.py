@@ -1,5 +1,5 @@
 """Per-swatch hero renders (#23 item 4): each swatch as a sphere in the studio, path-traced by
-Mitsuba 3 with the exact thin-film BSDF (:mod:`swatch.mitsuba.engine`), written as
+Mitsuba 3 with the exact thin-film BSDF (:mod:`swatch.render.mitsuba.engine`), written as
 ``hero_S001.png`` beside the chips and named in the swatch's record (``hero``).
 
 A catalog spec turns them on with ``[render] hero = true`` (off by default: see docs/catalog.md
@@ -44,7 +44,7 @@ def hero_name(rec: dict) -> str:
 
 @functools.lru_cache(maxsize=1)
 def _engine():
-    return importlib.import_module("swatch.mitsuba.engine")
+    return importlib.import_module("swatch.render.mitsuba.engine")
 
 
 def hero_unavailable(spec) -> str | None:
@@ -106,7 +106,7 @@ def hero_files(spec, records: list[dict], cache: Path,
             say(why)
         return {}, set(), [None] * len(records)
     eng = _engine()
-    light = eng.resolve_lighting("studio", None)
+    light = eng.mitsuba_lighting("studio", None)
     files: dict[str, bytes] = {}
     used: set[str] = set()
     entries: list[dict | None] = []

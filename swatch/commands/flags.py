@@ -36,6 +36,11 @@ PARAMETER_FLAGS = {
     "fit_scale=False": "--fixed-scale",
     "force": "--force",
     "spread": "--spread",
+    "engine": "--engine",
+    "spp": "--spp",
+    "seed": "--seed",
+    "timezone_h": "--sun-timezone",
+    "illuminant": "--illuminant",
 }
 
 _QUOTED = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)(?:=([^`]*))?`")

@@ -145,12 +145,12 @@ def _sun_options(f):
 
 
 def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
-    """The :class:`swatch.mitsuba.scene.Sun` of the sun options, or None when none is given (checked later)."""
+    """The :class:`swatch.render.mitsuba.scene.Sun` of the sun options, or None when none is given (checked later)."""
     if all(v is None for v in (elevation, azimuth, place, date, time, timezone, turbidity)):
         return None
     import re
 
-    from swatch.mitsuba.scene import Sun
+    from swatch.render.mitsuba.scene import Sun
 
     kw: dict = {"turbidity": 3.0 if turbidity is None else turbidity, "azimuth_deg": azimuth or 0.0}
     if place is None:
@@ -172,61 +172,6 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
     return Sun(elevation_deg=None, latitude_deg=lat, longitude_deg=lon, timezone_h=timezone or 0.0,
                year=int(m.group(1)), month=int(m.group(2)), day=int(m.group(3)),
                hour=int(t.group(1)) + int(t.group(2)) / 60.0, **kw)
-
-
-def _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, environment,
-                    view_deg, view_azimuth_deg, background, spp, seed, sun, model, roughness, distribution, space,
-                    force, film, substrate, illuminant, observer, wavelengths, finish=None):
-    """``swatch render --engine mitsuba``: everything checked before the first pass, then one render a thickness."""
-    from swatch.core.fileio import check_new, check_writable_dir
-    from swatch.io import imageio
-    from swatch.io.pngmeta import image_xmp
-    from swatch.physics import geometry
-    from swatch.render.image import finish_meta
-    from swatch.render.mesh import load_mesh
-    from swatch.render.metadata import file_stems, with_voltage
-
-    if model != "microfacet":
-        raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
-    if str(illuminant).strip().upper() != "D65":
-        raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
-    from swatch.mitsuba import engine as mit
-
-    mit.check_spp(spp)
-    mit.check_seed(seed)
-    if view_deg is not None:
-        geometry.check_polar_deg(view_deg, "view")
-    geometry.check_azimuth_deg(view_azimuth_deg, "view")
-    env = (environment or "studio").strip()
-    if env.lower() == "none":
-        raise SwatchError("the mitsuba engine has no point light; use --environment studio, sun, uniform or a map")
-    light = mit.resolve_lighting(env, sun)
-    if sun is not None and light.kind != "sun":
-        raise SwatchError("the sun options need --environment sun")
-    mesh = None if mesh_file is None else load_mesh(mesh_file)
-    shape = "mesh" if mesh is not None else shape
-    d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
-                                               observer, wavelengths)
-    if not proc.spread.is_zero:
-        raise SwatchError("the mitsuba engine renders a uniform film; a thickness spread is not modelled there "
-                          "(use the built-in engine, or a profile without spread)")
-    stems = file_stems(shape, d)
-    check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
-    # the first render checks size, spp, background and the setup before anything is written
-    out = None
-    written = []
-    for i in range(d.size):
-        img = mit.render_swatch_mitsuba(d[i], shape, size_px, spp, seed, light, None, roughness, distribution,
-                                        proc.film, proc.substrate, proc.film_index_scale, coating, cm, space,
-                                        background, view_deg, view_azimuth_deg, mesh, progress=True)
-        out = out or check_writable_dir(out_dir)
-        meta = with_voltage(img.metadata, volts[i], note, proc) | finish_meta(finish)
-        exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
-        imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
-        imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm (Mitsuba)", meta))
-        written += [str(exr), str(png)]
-    for p in written:
-        click.echo(p)
 
 
 @click.command()
@@ -272,44 +217,58 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch.physics import geometry
     from swatch.physics.finishes import finish_or_roughness
     from swatch.render import render_swatch
-    from swatch.render.env_render import resolve_lighting
     from swatch.render.image import check_finish_lighting, check_size_px
+    from swatch.render.lighting import resolve_lighting
     from swatch.render.mesh import load_mesh
     from swatch.render.metadata import file_stems, with_voltage
 
     finish = finish_or_roughness(finish_name, roughness)
     roughness = finish.roughness_alpha if finish is not None else _roughness(roughness, process)
     sun = _sun(sun_elevation, sun_azimuth, sun_place, sun_date, sun_time, sun_timezone, turbidity)
-    if engine == "mitsuba":
-        lobe = (finish.alpha_u, finish.alpha_v) if finish is not None and finish.anisotropic else roughness
-        _render_mitsuba(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, environment,
-                        view_deg, view_azimuth_deg, background, spp, seed, sun, model, lobe, distribution, space,
-                        force, film, substrate, illuminant, observer, wavelengths, finish)
-        return
-    if sun is not None or (environment or "").strip().lower() == "sun":
+    mitsuba = engine == "mitsuba"
+    if mitsuba:
+        if model != "microfacet":
+            raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
+        if str(illuminant).strip().upper() != "D65":
+            raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
+        from swatch.render.mitsuba.engine import check_mitsuba_request
+
+        check_mitsuba_request(size_px, spp, seed)
+    elif sun is not None or (environment or "").strip().lower() == "sun":
         raise SwatchError("sun and sky lighting is the mitsuba engine's; add --engine mitsuba")
-    background = background or "grey"
+    else:
+        background = background or "grey"
+        check_size_px(size_px)
+        geometry.check_polar_deg(light_deg, "light")
+    light = resolve_lighting(environment, engine, sun, model, distribution, None if mitsuba else size_px, background,
+                             view_deg, view_azimuth_deg)
+    if not mitsuba:
+        check_finish_lighting(finish, light.environment, model, distribution, size_px)
     mesh = None if mesh_file is None else load_mesh(mesh_file)
     shape = "mesh" if mesh is not None else shape
-    size = check_size_px(size_px)
-    geometry.check_polar_deg(light_deg, "light")
-    env = resolve_lighting(environment, model, distribution, size, background, view_deg, view_azimuth_deg)
-    check_finish_lighting(finish, env, model, distribution, size)
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
+    if mitsuba and not proc.spread.is_zero:
+        raise SwatchError("the mitsuba engine renders a uniform film; a thickness spread is not modelled there "
+                          "(use the built-in engine, or a profile without spread)")
     stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
-    out = check_writable_dir(out_dir)  # created only once every input has been checked
+    # builtin: every input is checked; mitsuba: the first render checks the rest (the scene) before anything is written
+    out = None if mitsuba else check_writable_dir(out_dir)
     written = []
-    with _iterate(list(range(d.size)), f"{shape} swatches") as it:
+    items = list(range(d.size))  # mitsuba draws its own bar per render
+    with nullcontext(items) if mitsuba else _iterate(items, f"{shape} swatches") as it:
         for i in it:
-            img = render_swatch(d[i], shape, size, light_deg, roughness, model, coating, cm, space, distribution,
-                                environment=env, background=background, view_deg=view_deg,
-                                view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish)
+            img = render_swatch(d[i], shape, size_px, light_deg, roughness, model, coating, cm, space, distribution,
+                                environment=light, background=background, view_deg=view_deg,
+                                view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine, spp=spp,
+                                seed=seed, progress=True if mitsuba else None)
+            out = out or check_writable_dir(out_dir)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
             imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
-            imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(f"{shape} swatch, {d[i]:g} nm", meta))
+            title = f"{shape} swatch, {d[i]:g} nm" + (" (Mitsuba)" if mitsuba else "")
+            imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(title, meta))
             written += [str(exr), str(png)]
     for p in written:
         click.echo(p)

@@ -16,6 +16,7 @@ __all__ = [
     "ENVIRONMENTS",
     "BACKGROUNDS",
     "ENGINES",
+    "MITSUBA_LIGHTINGS",
     "LIGHTINGS",
     "SCALE_MODES",
     "DEFAULT_THICKNESS_RANGE_NM",
@@ -50,6 +51,9 @@ BACKGROUNDS = ("grey", "white", "environment")
 #: Render engines: ``builtin`` (the table-lookup renderer, the default and the sheets' fast path) and
 #: ``mitsuba`` (Mitsuba 3's spectral path tracer with the ``anodic_film`` plugin, docs/mitsuba.md).
 ENGINES = ("builtin", "mitsuba")
+#: Built-in lightings of the ``mitsuba`` engine (a path to an .exr or .hdr map also works): ``studio``
+#: (cyclorama and soft boxes), ``sun`` (Mitsuba's ``sunsky``), ``uniform`` (radiance 1).
+MITSUBA_LIGHTINGS = ("studio", "sun", "uniform")
 #: Intensity corrections of the thickness fit: ``energy`` (the paper's mean-energy match per
 #: geometry), ``lsq`` (least-squares scale per geometry), ``global`` (one scale), ``none``.
 SCALE_MODES = ("energy", "lsq", "global", "none")

@@ -190,6 +190,9 @@ class Coating(_HalfVector):
         The film's thickness non-uniformity (:mod:`swatch.physics.spread`): with one, every
         reflectance is the incoherent average over the local thicknesses around the given (mean)
         thickness; without (the default) the uniform film's code path runs unchanged.
+    film_index_scale : float
+        The factor already applied to the film's real index (kept for engines that build the
+        indices from the tables themselves, such as the Mitsuba plugin).
 
     References
     ----------
@@ -211,6 +214,7 @@ class Coating(_HalfVector):
     n_film: np.ndarray
     n_substrate: np.ndarray
     spread: ThicknessSpread = NO_SPREAD
+    film_index_scale: float = 1.0
 
     def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
         """Reflectance for thicknesses and incidence cosines broadcast together (shape S + (W,))."""
@@ -385,7 +389,7 @@ def _coating(film: str, substrate: str, grid: tuple, film_index_scale: float = 1
     n_film = f.nk(wl)
     if film_index_scale != 1.0:
         n_film = film_index_scale * n_film.real + 1j * n_film.imag
-    return Coating(f.name, s.name, wl, n_film, s.nk(wl), spread)
+    return Coating(f.name, s.name, wl, n_film, s.nk(wl), spread, float(film_index_scale))
 
 
 def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wavelength_nm=None,

@@ -5,6 +5,10 @@ Engines
 -------
 ``builtin`` (the default) is the table-lookup renderer of this package: :mod:`swatch.render.pointlight`
 for one directional light, :mod:`swatch.render.env_render` when an environment lights the swatch.
+``mitsuba`` is Mitsuba 3's spectral path tracer with the exact thin-film BSDF
+(:mod:`swatch.render.mitsuba.engine`), imported only when it is asked for (Mitsuba and Dr.Jit are an
+optional dependency that takes seconds to load). The lighting of either is resolved once
+(:func:`swatch.render.lighting.resolve_lighting`) into one :class:`swatch.render.lighting.Lighting`.
 Every engine returns a :class:`swatch.render.image.SwatchImage`. How a further engine plugs in is
 described in docs/DEVNOTES.md.
 """
@@ -16,6 +20,7 @@ from swatch.physics import microfacet
 from swatch.physics.model import check_thickness_nm
 from swatch.render import env_render, shading
 from swatch.render.image import SwatchImage, check_background, check_finish_lighting, check_size_px, finish_meta
+from swatch.render.lighting import Sun, check_engine, resolve_lighting
 from swatch.render.metadata import coating_and_colorimeter, common_metadata
 from swatch.render.pointlight import render_pointlight
 from swatch.render.scene import check_shape, make_scene
@@ -23,16 +28,19 @@ from swatch.render.scene import check_shape, make_scene
 __all__ = ["DISPATCHED_ENGINES", "render_swatch"]
 
 #: Engines :func:`render_swatch` runs (of :data:`swatch.core.choices.ENGINES`; ``mitsuba`` is reached
-#: through :mod:`swatch.mitsuba.engine` for now).
+#: through :mod:`swatch.render.mitsuba.engine` for now).
 DISPATCHED_ENGINES = ("builtin",)
 
 
 def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg: float = 45.0,
                   roughness_alpha: float = 0.3, model: str = "microfacet", coating=None, colorimeter=None,
                   space: str = "srgb", distribution: str = "ggx", workers: int | None = None,
-                  environment=None, background: str = "grey", view_deg: float | None = None,
-                  view_azimuth_deg: float = 0.0, mesh=None, finish=None, engine: str = "builtin") -> SwatchImage:
-    """Render one swatch (see :mod:`swatch.render.pointlight` for scene, units and exposure).
+                  environment=None, background: str | None = None, view_deg: float | None = None,
+                  view_azimuth_deg: float = 0.0, mesh=None, finish=None, engine: str = "builtin",
+                  spp: int = 64, seed: int = 0, sun: Sun | None = None, progress=None) -> SwatchImage:
+    """Render one swatch with an engine (builtin: :mod:`swatch.render.pointlight` and
+    :mod:`swatch.render.env_render` for scene, units and exposure; mitsuba:
+    :mod:`swatch.render.mitsuba.engine`).
 
     Parameters
     ----------
@@ -43,7 +51,7 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     size_px : int
         Image size, pixels per side.
     light_deg : float
-        Polar angle of the light (degrees from the normal).
+        Polar angle of the builtin engine's point light (degrees from the normal).
     roughness_alpha : float
         Microfacet roughness α (GGX or Beckmann).
     model, distribution : str
@@ -56,10 +64,13 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     workers : int, optional
         Threads for the point-light engine.
     environment
-        None (the point light) or an environment (name, path or
-        :class:`swatch.render.environment.Environment`).
-    background : str
-        ``grey``, ``white`` or (with an environment) ``environment``.
+        The lighting: a :class:`swatch.render.lighting.Lighting` resolved for ``engine`` (reuse one
+        across thicknesses), or what :func:`swatch.render.lighting.resolve_lighting` takes (a name, a
+        map's path, an :class:`swatch.render.environment.Environment`). None: builtin's point light,
+        mitsuba's studio.
+    background : str, optional
+        ``grey``, ``white`` or (with an environment) ``environment``; default grey (mitsuba under
+        studio and sun: environment, the only choice there).
     view_deg, view_azimuth_deg : float
         The camera (:func:`swatch.render.scene.make_scene`; degrees).
     mesh
@@ -68,7 +79,13 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         A :class:`swatch.physics.finishes.Finish`: its roughness replaces ``roughness_alpha``; an
         anisotropic one (brushed) is rendered under an environment only.
     engine : str
-        One of :data:`DISPATCHED_ENGINES`.
+        ``builtin`` or ``mitsuba`` (:data:`swatch.core.choices.ENGINES`).
+    spp, seed : int
+        mitsuba: samples per pixel and the seed (the same values give byte-identical images).
+    sun : swatch.render.lighting.Sun, optional
+        mitsuba: the sun of ``environment="sun"``.
+    progress : callable(done, total) or bool, optional
+        mitsuba: called after each pass; True draws a bar on stderr when it is a terminal.
 
     Returns
     -------
@@ -77,11 +94,13 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         ``coverage`` (H, W); ``display_rgb`` (H, W, 3) uint8 sRGB, exposure applied and composited on
         the background; ``metadata``.
     """
-    if engine not in DISPATCHED_ENGINES:
-        raise SwatchError(f"render engine {engine!r} is not run by render_swatch; use one of "
-                          f"{', '.join(DISPATCHED_ENGINES)}")
+    engine = check_engine(engine)
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = "mesh" if mesh is not None else check_shape(shape)
+    if engine == "mitsuba":
+        return _render_mitsuba(d, shape, size_px, roughness_alpha, model, coating, colorimeter, space, distribution,
+                               environment, background, view_deg, view_azimuth_deg, mesh, finish, spp, seed, sun,
+                               progress)
     size = check_size_px(size_px)
     if finish is not None:
         roughness_alpha = finish.roughness_alpha
@@ -91,14 +110,42 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     distribution = microfacet.check_distribution(distribution)
     space = check_rgb_space(space)
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
+    background = check_background("grey" if background is None else background)
+    light = resolve_lighting("none" if environment is None else environment, "builtin", sun, model, distribution,
+                             size, background, view_deg, view_azimuth_deg)
     scene = make_scene(shape, light_deg, view_deg, view_azimuth_deg, mesh)
-    background = check_background(background)
     meta = common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha)
-    if environment is not None:
+    if light.environment is not None:
         return env_render.render_swatch_environment(
-            d, shape, scene, size, environment, background, roughness_alpha, model, distribution, coating, colorimeter,
-            space, meta | finish_meta(finish), (light_deg, view_deg, view_azimuth_deg), finish)
+            d, shape, scene, size, light.environment, background, roughness_alpha, model, distribution, coating,
+            colorimeter, space, meta | finish_meta(finish), (light_deg, view_deg, view_azimuth_deg), finish)
     img = render_pointlight(d, shape, scene, size, background, roughness_alpha, model, distribution, coating,
                             colorimeter, space, meta, light_deg, workers, mesh)
+    img.metadata |= finish_meta(finish)
+    return img
+
+
+def _render_mitsuba(d: float, shape: str, size_px, roughness_alpha, model, coating, colorimeter, space, distribution,
+                    environment, background, view_deg, view_azimuth_deg, mesh, finish, spp, seed, sun,
+                    progress) -> SwatchImage:
+    """The ``mitsuba`` branch of :func:`render_swatch` (thickness and shape checked there)."""
+    from swatch.render.mitsuba.engine import render_swatch_mitsuba  # Mitsuba loads only when asked for
+
+    if model != "microfacet":
+        raise SwatchError("the mitsuba engine renders the microfacet model; use `model='microfacet'`")
+    if finish is not None:
+        lobe = (finish.alpha_u, finish.alpha_v) if finish.anisotropic else finish.roughness_alpha
+    else:
+        lobe = microfacet.check_roughness_alpha(roughness_alpha)
+    coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
+    if getattr(coating, "overcoats", ()):
+        raise SwatchError("the mitsuba engine renders one film on the metal; drop the overcoats")
+    if not coating.spread.is_zero:
+        raise SwatchError("the mitsuba engine renders a uniform film; a thickness spread is not modelled there "
+                          "(use `engine='builtin'`, or a coating without `spread`)")
+    light = resolve_lighting(environment, "mitsuba", sun, view_deg=view_deg, view_azimuth_deg=view_azimuth_deg)
+    img = render_swatch_mitsuba(d, shape, size_px, spp, seed, light, None, lobe, distribution, coating.film,
+                                coating.substrate, coating.film_index_scale, coating, colorimeter, space, background,
+                                view_deg, view_azimuth_deg, mesh, progress=progress)
     img.metadata |= finish_meta(finish)
     return img

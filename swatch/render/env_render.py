@@ -33,16 +33,14 @@ import numpy as np
 from swatch.colorimetry.colorimeter import RGB_SPACES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_ENV_RENDER_PX, MIN_ENV_RENDER_PX
-from swatch.physics import geometry
 from swatch.physics.finishes import brush_tangent
 from swatch.render import env_shading, shading
 from swatch.render import environment as envmod
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
 from swatch.render.env_aniso import AnisoSampleSet, aniso_sample_set, combine_aniso, gather_aniso
-from swatch.render.environment import get_environment
 from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, check_background, edge_pixels, mesh_metadata
 
-__all__ = ["check_env_size_px", "render_swatch_environment", "resolve_lighting", "Prepared", "prepared", "render_environment"]
+__all__ = ["check_env_size_px", "render_swatch_environment", "Prepared", "prepared", "render_environment"]
 
 def check_env_size_px(size_px: int) -> int:
     """The size of an environment-lit render, or SwatchError outside :data:`MIN_ENV_RENDER_PX`–:data:`MAX_ENV_RENDER_PX`."""
@@ -299,26 +297,3 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     if shape == "mesh":
         meta["lighting"] += "; not occluded by the mesh itself (no self-shadowing or interreflection)"
     return SwatchImage(linear, coverage, display, meta | mesh_metadata(scene.shape if shape == "mesh" else None), 1.0)
-
-
-def resolve_lighting(environment: str | None, model: str, distribution: str, size_px: int, background: str,
-                     view_deg: float | None = None, view_azimuth_deg: float = 0.0):
-    """The lighting of ``swatch render``: ``--environment``'s map (or None for one directional light),
-    by default the studio for the GGX microfacet model and none otherwise; checked against
-    the model, the image size, the background and the camera angles."""
-
-    if view_deg is not None:
-        geometry.check_polar_deg(view_deg, "view")
-    geometry.check_azimuth_deg(view_azimuth_deg, "view")
-
-    if environment is None:
-        environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
-    env = get_environment(environment)
-    if env is not None and (model != "microfacet" or distribution != "ggx"):
-        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
-                          "`distribution='ggx'`, or `environment=None`")
-    if env is not None:
-        check_env_size_px(size_px)
-    if env is None and background == "environment":
-        raise SwatchError("`background=environment` needs an environment; use grey or white with `environment=None`")
-    return env

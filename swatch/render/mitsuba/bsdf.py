@@ -1,7 +1,7 @@
 """The ``anodic_film`` BSDF for Mitsuba 3: the exact thin film on a rough metal.
 
 A rough conductor whose facets carry the anodic film: on the facet of the half vector ``m``, the
-Fresnel factor is the Airy reflectance (:func:`swatch.mitsuba.film.airy_reflectance`) of air /
+Fresnel factor is the Airy reflectance (:func:`swatch.render.mitsuba.film.airy_reflectance`) of air /
 film / substrate with the tables' complex dispersive indices at each sampled wavelength (the
 film's real part times ``film_index_scale``), s and p averaged — the physics of
 :mod:`swatch.physics.optics` and the built-in renderer. The microfacet part is Mitsuba's own
@@ -40,9 +40,9 @@ import numpy as np
 from swatch.core.choices import DISTRIBUTIONS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_THICKNESS_NM
-from swatch.mitsuba.film import airy_reflectance
-from swatch.mitsuba.setup import SPECTRAL_VARIANTS
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
+from swatch.render.mitsuba.film import airy_reflectance
+from swatch.render.mitsuba.setup import SPECTRAL_VARIANTS
 
 __all__ = ["PLUGIN_NAME", "SHADOWING", "register", "table_texture", "index_textures", "check_parameters"]
 
@@ -107,7 +107,7 @@ def _define_class():
     """The plugin class for the current variant (Mitsuba's base classes are per variant)."""
 
     class AnodicFilmBSDF(mi.BSDF):
-        """See the module documentation of :mod:`swatch.mitsuba.bsdf`."""
+        """See the module documentation of :mod:`swatch.render.mitsuba.bsdf`."""
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)

@@ -1,8 +1,8 @@
 """``swatch render --engine mitsuba``: a swatch rendered by Mitsuba 3's spectral path tracer.
 
 The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the exact thin film,
-:mod:`swatch.mitsuba.bsdf`) and is seen by the built-in renderer's camera
-(:mod:`swatch.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
+:mod:`swatch.render.mitsuba.bsdf`) and is seen by the built-in renderer's camera
+(:mod:`swatch.render.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
 Mitsuba's ``path`` integrator (up to :data:`PATH_BOUNCES` bounces: meshes shadow and reflect
 themselves). Rendering is split into passes of at most :data:`swatch.core.limits.MAX_PASS_LANES`
 samples (bounded memory, a progress bar, Ctrl-C/SIGTERM between passes), each with its own seed
@@ -18,13 +18,10 @@ and sky are their own spectra); the display PNG is exposure 1 through the render
 """
 from __future__ import annotations
 
-import datetime as dt
 import math
 import os
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
-from pathlib import Path
 
 import click
 import colour
@@ -35,34 +32,29 @@ import numpy as np
 from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
 from swatch.core.choices import BACKGROUNDS, DISTRIBUTIONS
 from swatch.core.errors import SwatchError
-from swatch.core.limits import (
-    MAX_MITSUBA_PX,
-    MAX_MITSUBA_SAMPLES,
-    MAX_PASS_LANES,
-    MAX_SEED,
-    MAX_SPP,
-    MAX_TURBIDITY,
-    MAX_YEAR,
-    MIN_TURBIDITY,
-    MIN_YEAR,
-)
-from swatch.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
-from swatch.mitsuba.scene import Sun, camera_dict, lighting, object_shapes
-from swatch.mitsuba.setup import DEFAULT_VARIANT, ENV_VAR, INSTALL_HINT, OLDEST_LLVM_MAJOR, check_variant, llvm_major
+from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_PASS_LANES, MAX_SEED, MAX_SPP
 from swatch.physics import microfacet
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
 from swatch.physics.model import check_thickness_nm
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
-from swatch.render.environment import read_equirect
 from swatch.render.image import SwatchImage, mesh_metadata
+from swatch.render.lighting import Lighting, Sun, resolve_lighting
 from swatch.render.metadata import coating_and_colorimeter, common_metadata
+from swatch.render.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
+from swatch.render.mitsuba.scene import camera_dict, lighting, load_scene, object_shapes
+from swatch.render.mitsuba.setup import (
+    DEFAULT_VARIANT,
+    ENV_VAR,
+    INSTALL_HINT,
+    OLDEST_LLVM_MAJOR,
+    check_variant,
+    llvm_major,
+)
 from swatch.render.scene import check_shape, make_scene
 
-__all__ = ["MITSUBA_LIGHTINGS", "PATH_BOUNCES", "Sun", "use_variant", "check_spp", "check_seed", "check_sun",
-           "resolve_lighting", "render_swatch_mitsuba", "Lighting"]
+__all__ = ["PATH_BOUNCES", "Sun", "use_variant", "check_spp", "check_seed", "mitsuba_lighting",
+           "render_swatch_mitsuba", "Lighting", "check_mitsuba_request"]
 
-#: Built-in lightings of the Mitsuba engine (a path to an .exr or .hdr map also works).
-MITSUBA_LIGHTINGS = ("studio", "sun", "uniform")
 PATH_BOUNCES = 12
 #: Sun and sky: 1.0 ≈ a white diffuser facing up under the sun at 45° elevation, turbidity 3, and its sky
 #: (measured with this engine: Y = 0.338 unscaled, 256 spp); every sun render shares it.
@@ -113,73 +105,44 @@ def check_seed(seed) -> int:
     return int(seed)
 
 
-def _finite_in(value, lo: float, hi: float, what: str, unit: str = "") -> float:
-    v = float(value)
-    if not (math.isfinite(v) and lo <= v <= hi):
-        raise SwatchError(f"{what} must be from {lo:g} to {hi:g}{unit}, got {value!r}")
-    return v
+def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
+    """(size, spp, seed) checked: size ≤ :data:`swatch.core.limits.MAX_MITSUBA_PX`, spp ≤ MAX_SPP, seed ≤
+    MAX_SEED, and size² × spp ≤ MAX_MITSUBA_SAMPLES; SwatchError (one line) otherwise."""
+    try:
+        size = int(size_px)
+        ok = float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
+    spp = check_spp(spp)
+    seed = check_seed(seed)
+    if size * size * spp > MAX_MITSUBA_SAMPLES:
+        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
+                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower `spp` or `size_px`)")
+    return size, spp, seed
 
 
-def check_sun(sun: Sun) -> Sun:
-    """The sun, checked: angles, place, a real calendar date in [MIN_YEAR, MAX_YEAR], hour, turbidity."""
-    _finite_in(sun.turbidity, MIN_TURBIDITY, MAX_TURBIDITY, "sun turbidity")
-    _finite_in(sun.azimuth_deg, -360.0, 360.0, "sun azimuth", " deg")
-    if sun.by_place:
-        if sun.longitude_deg is None:
-            raise SwatchError("a sun by place needs both latitude and longitude")
-        _finite_in(sun.latitude_deg, -90.0, 90.0, "latitude", " deg")
-        _finite_in(sun.longitude_deg, -180.0, 180.0, "longitude", " deg")
-        _finite_in(sun.timezone_h, -12.0, 14.0, "time zone", " h from UTC")
-        if not MIN_YEAR <= int(sun.year) <= MAX_YEAR:
-            raise SwatchError(f"sun date: the year must be from {MIN_YEAR} to {MAX_YEAR}, got {sun.year}")
-        try:
-            dt.date(int(sun.year), int(sun.month), int(sun.day))
-        except ValueError as exc:
-            raise SwatchError(f"sun date {sun.year}-{sun.month}-{sun.day} is not a calendar date ({exc})") from None
-        h = float(sun.hour)
-        if not (math.isfinite(h) and 0.0 <= h < 24.0):
-            raise SwatchError(f"sun time must be from 00:00 to 23:59, got hour {sun.hour!r}")
-    else:
-        _finite_in(sun.elevation_deg, 0.0, 90.0, "sun elevation", " deg above the horizon")
-    return sun
+def mitsuba_lighting(lighting_name: str | None = "studio", sun: Sun | None = None) -> Lighting:
+    """The :class:`swatch.render.lighting.Lighting` of this engine: ``studio`` (default), ``sun`` (with
+    ``sun``, default 45° elevation), ``uniform``, or an .exr/.hdr map (read and checked once; reuse the
+    result across thicknesses)."""
+    return resolve_lighting(lighting_name, "mitsuba", sun)
 
 
-@dataclass(frozen=True)
-class Lighting:
-    """A resolved lighting: ``kind`` (studio, sun, uniform, map), the sun, a map's pixels and name."""
-
-    kind: str
-    sun: Sun | None = None
-    hdri: np.ndarray | None = None
-    name: str = ""
-
-    def description(self) -> str:
-        if self.kind == "studio":
-            return ("photographic studio (Mitsuba): grey cyclorama (albedo 0.45), overhead key soft box, strip "
-                    "boxes left and right (rectangular area lights, D65), ambient fill 0.05")
-        if self.kind == "sun":
-            assert self.sun is not None
-            return self.sun.description() + "; mid-grey ground (albedo 0.2)"
-        if self.kind == "uniform":
-            return "uniform: radiance 1 (D65) from every direction"
-        assert self.hdri is not None
-        return (f"equirectangular map {self.name} ({self.hdri.shape[1]}x{self.hdri.shape[0]}), y up, Rec.709 "
-                "primaries assumed (Mitsuba envmap)")
-
-
-def resolve_lighting(lighting_name: str | None, sun: Sun | None = None) -> Lighting:
-    """``studio`` (default), ``sun`` (with ``sun``, default 45° elevation), ``uniform``, or a map file
-    (.exr / .hdr, read and checked by :func:`swatch.render.environment.read_equirect`)."""
-    key = "studio" if lighting_name is None else str(lighting_name).strip()
-    low = key.lower()
-    if low in MITSUBA_LIGHTINGS:
-        if low == "sun":
-            return Lighting("sun", check_sun(sun if sun is not None else Sun()))
-        return Lighting(low)
-    if not low.endswith((".exr", ".hdr")):
-        raise SwatchError(f"unknown lighting {key!r} for the mitsuba engine; use one of "
-                          f"{', '.join(MITSUBA_LIGHTINGS)} or an equirectangular .exr or .hdr file")
-    return Lighting("map", hdri=read_equirect(key), name=Path(key).name)
+def _description(light: Lighting) -> str:
+    """The metadata's words for a Mitsuba lighting."""
+    if light.kind == "studio":
+        return ("photographic studio (Mitsuba): grey cyclorama (albedo 0.45), overhead key soft box, strip "
+                "boxes left and right (rectangular area lights, D65), ambient fill 0.05")
+    if light.kind == "sun":
+        assert light.sun is not None
+        return light.sun.description() + "; mid-grey ground (albedo 0.2)"
+    if light.kind == "uniform":
+        return "uniform: radiance 1 (D65) from every direction"
+    assert light.hdri is not None
+    return (f"equirectangular map {light.name} ({light.hdri.shape[1]}x{light.hdri.shape[0]}), y up, Rec.709 "
+            "primaries assumed (Mitsuba envmap)")
 
 
 def _map_scale(img: np.ndarray) -> float:
@@ -199,7 +162,7 @@ def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
     no bounce), reflects 1. Each emitter's own direction sampling on a fixed stratified grid of
     ``grid``² points, at 5 nm steps weighted by CIE 1931 ȳ, relative to a D65 radiance 1 (whose white
     diffuser reflects 1); averaged in numpy, so the same scene always gives the same scale."""
-    scene = mi.load_dict({"type": "scene", **light_entries})
+    scene = load_scene({"type": "scene", **light_entries})
     wl = np.arange(380.0, 781.0, 5.0)
     ybar = np.asarray(colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"][wl])[:, 1]
     u = (np.arange(grid) + 0.5) / grid
@@ -230,7 +193,7 @@ def _sun_above_horizon(entry: dict) -> None:
     world = np.asarray(mi.traverse(emitter)["sun_direction"], dtype=np.float64).reshape(-1)[:3]  # world frame
     if world[1] <= 0.0:
         raise SwatchError("the sun is below the horizon at that place, date and time; choose a daytime hour "
-                          "(local time of the --sun-timezone)")
+                          "(local time of the sun's time zone, `timezone_h`)")
 
 
 def _floor_y(shape: str, mesh) -> float:
@@ -307,14 +270,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
 
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = "mesh" if mesh is not None else check_shape(shape)
-    size = int(size_px)
-    if not (float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX):
-        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
-    spp = check_spp(spp)
-    seed = check_seed(seed)
-    if size * size * spp > MAX_MITSUBA_SAMPLES:
-        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
-                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower --spp or --size)")
+    size, spp, seed = check_mitsuba_request(size_px, spp, seed)
     if distribution not in DISTRIBUTIONS:
         raise SwatchError(f"unknown distribution {distribution!r}; use one of {', '.join(DISTRIBUTIONS)}")
     alphas = tuple(roughness_alpha) if isinstance(roughness_alpha, tuple | list) else (roughness_alpha,)
@@ -323,18 +279,20 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     alphas = tuple(microfacet.check_roughness_alpha(a) for a in alphas)
     check_parameters(d, float(film_index_scale), distribution, "correlated")
     space = check_rgb_space(space)
-    light = lighting_name if isinstance(lighting_name, Lighting) else resolve_lighting(lighting_name, sun)
+    light = resolve_lighting(lighting_name, "mitsuba", sun)
     photo_only = light.kind in ("studio", "sun")
     background = ("environment" if photo_only else "grey") if background is None else str(background).lower()
     if background not in BACKGROUNDS:
         raise SwatchError(f"unknown background {background!r}; use one of {', '.join(BACKGROUNDS)}")
     if photo_only and background != "environment":
-        raise SwatchError(f"{light.kind} lighting shows its set behind the object; use --background environment "
+        raise SwatchError(f"{light.kind} lighting shows its set behind the object; use `background='environment'` "
                           "(or uniform lighting or a map for a grey or white background)")
-    exposure = _finite_in(exposure, 1.0 / 64.0, 64.0, "display exposure")
+    exposure = float(exposure)
+    if not (math.isfinite(exposure) and 1.0 / 64.0 <= exposure <= 64.0):
+        raise SwatchError(f"display exposure must be from {1.0 / 64.0:g} to 64, got {exposure!r}")
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
     if getattr(colorimeter, "illuminant", "D65") not in ("D65", None):
-        raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
+        raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use `illuminant='D65'`")
     variant = use_variant(variant)
 
     scene_geo = make_scene("sphere" if shape == "mesh" else shape, 45.0, view_deg, view_azimuth_deg, mesh)
@@ -365,7 +323,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         per //= 2
     passes = spp // per
     sensor = camera_dict(scene_geo.camera, size, per)
-    scene = mi.load_dict({"type": "scene",
+    scene = load_scene({"type": "scene",
                           "integrator": {"type": "path", "max_depth": PATH_BOUNCES,
                                          "hide_emitters": background != "environment"},
                           "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
@@ -418,7 +376,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         "seed": seed,
         "integrator": f"Mitsuba path tracer, up to {PATH_BOUNCES} bounces, {passes} pass(es) of {per} spp",
         "rgb_space": space,
-        "lighting": light.description(),
+        "lighting": _description(light),
         "environment": light.kind if light.kind != "map" else light.name,
         "units": ("scene-referred linear; 1.0 = perfect white diffuser facing up (+y) at the origin under the same "
                   "lighting; " + ("the scene behind the object included (opaque)" if background == "environment"

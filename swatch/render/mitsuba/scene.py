@@ -22,48 +22,29 @@ Lighting (:func:`lighting`)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import mitsuba as mi
 import numpy as np
 
+from swatch.render.lighting import Sun
 from swatch.render.scene import Camera
 
-__all__ = ["Sun", "camera_dict", "object_shapes", "lighting", "triangle_mesh", "half_cylinder_arrays",
+__all__ = ["Sun", "load_scene", "camera_dict", "object_shapes", "lighting", "triangle_mesh", "half_cylinder_arrays",
            "SUNSKY_TO_WORLD"]
 
 #: sunsky's frame (z up, x south, y west) into the world (y up, +z south, +x west, −z north).
 SUNSKY_TO_WORLD = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 
 
-@dataclass(frozen=True)
-class Sun:
-    """The sun and sky of ``sun`` lighting: by angles (``elevation_deg``, ``azimuth_deg`` about +y from
-    +z towards +x) or by place and time (``latitude_deg``, ``longitude_deg``, ``timezone_h``, the
-    local ``year``, ``month``, ``day``, ``hour``); ``turbidity`` 1–10 (Hosek–Wilkie)."""
+def load_scene(scene: dict):
+    """``mitsuba.load_dict`` of a whole scene, with the parser's object merging off.
 
-    elevation_deg: float | None = 45.0
-    azimuth_deg: float = 0.0
-    latitude_deg: float | None = None
-    longitude_deg: float | None = None
-    timezone_h: float = 0.0
-    year: int = 2026
-    month: int = 6
-    day: int = 21
-    hour: float = 12.0
-    turbidity: float = 3.0
-
-    @property
-    def by_place(self) -> bool:
-        return self.latitude_deg is not None
-
-    def description(self) -> str:
-        if self.by_place:
-            return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie) at latitude {self.latitude_deg:g}, longitude "
-                    f"{self.longitude_deg:g}, {self.year:04d}-{self.month:02d}-{self.day:02d} {self.hour:g} h "
-                    f"(UTC{self.timezone_h:+g}), turbidity {self.turbidity:g}; -z north")
-        return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie), sun {self.elevation_deg:g} deg above the horizon at "
-                f"azimuth {self.azimuth_deg:g} deg, turbidity {self.turbidity:g}")
+    Mitsuba 3.9's ``optimize`` pass (merging identical objects) leaves the scene's shapes and
+    emitters in an order that changes from load to load (the two strip boxes swapped in about one
+    load in eight, in this process or the next); the light sampler picks emitters by index, so the
+    same seed then drew a different sample stream (a different image, #23). Without it the order is
+    the dictionary's, every time."""
+    return mi.load_dict(scene, optimize=False)
 
 
 def _transform(matrix) -> mi.ScalarTransform4f:
