@@ -23,6 +23,10 @@ MODULES_WITH_EXAMPLES = [
     "swatch.catalog.record",
     "swatch.production.spec",
     "swatch.report.figures",
+    "swatch.fit.search",
+    "swatch.fit.multi_match",
+    "swatch.fit.fitting",
+    "swatch.fit.result",
 ]
 
 

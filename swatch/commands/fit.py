@@ -164,8 +164,8 @@ def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, 
                   illuminant, observer, thickness_range, step, top, as_json):
     """``swatch match --angles`` / ``--measurement``: ranked by the worst or mean ΔE2000 over the geometries."""
     from swatch.colorimetry.colorimeter import get_colorimeter, hex_to_Lab, parse_Lab
-    from swatch.fit.fitting import colour_grid, interp_rows
     from swatch.fit.multi_match import match_angles, parse_angles
+    from swatch.fit.result import colour_grid, interp_rows
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.measurements import LabMeasurement
 

@@ -4,7 +4,8 @@ the fits share (geometry, the facet model, the result).
 Pure functions on arrays, in four modules: :mod:`swatch.fit.spectral_fit` (:func:`fit_spectra`),
 :mod:`swatch.fit.lab_fit` (:func:`fit_lab`), :mod:`swatch.fit.matching` (:func:`match_colour`) and the
 generic multimodal 1-D search they all use, :mod:`swatch.fit.search`. The CLI (``swatch fit``,
-``swatch match``) is in swatch/commands/fit.py; the reports in :mod:`swatch.report.text`.
+``swatch match``) is in swatch/commands/fit.py; the result and its colour comparison in
+:mod:`swatch.fit.result`; the reports in :mod:`swatch.report.text`.
 
 Spectral fit (:func:`fit_spectra`) — the paper estimates each sample's thickness by the least mean
 squared error between simulated and measured spectra (Table 2):
@@ -55,30 +56,45 @@ the local minima of ΔE2000 to the target (one per interference order), each ref
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from swatch.colorimetry.colorimeter import ASTM_E308_STEPS_NM, delta_E_00, delta_E_ab
-from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.choices import SCALE_MODES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_FIT_GEOMETRIES, MAX_WAVELENGTHS, plan_rows
 from swatch.physics import geometry, optics
-from swatch.physics.materials import wavelength_grid
-from swatch.physics.model import DEFAULT_NM_PER_V, Coating, thickness_to_voltage_V
+from swatch.physics.model import Coating
 
-__all__ = ["FitResult", "FacetModel", "sweep_curve", "mirror_angle_deg", "colour_grid", "check_scale", "delta_e_grid"]
+__all__ = ["FacetModel", "sweep_curve", "sweep_reflectance", "film_at_angles", "model_reflectance", "unique_geometry",
+           "mirror_angle_deg", "check_scale", "COARSE_SPACING_NM"]
 
 #: Wavelength spacing of the coarse search (the spectra are smooth on this scale).
 COARSE_SPACING_NM = 10.0
-_COLOUR_GRID_STEP_NM = 5.0
-_CMF_RANGE_NM = (360.0, 830.0)
 
 
 # -- geometry --------------------------------------------------------------------------------------
 def mirror_angle_deg(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None) -> np.ndarray:
-    """Angle (degrees) between the view vector and the mirror reflection of the light vector."""
+    """Angle between the view vector and the mirror reflection of the light vector.
+
+    Parameters
+    ----------
+    light_deg, view_deg : array_like
+        Polar angles from the normal, degrees (broadcast together).
+    light_azimuth_deg : array_like
+        The light's azimuth, degrees.
+    view_azimuth_deg : array_like or None
+        The view's azimuth, degrees (None: the opposite side, light + 180°).
+
+    Returns
+    -------
+    numpy.ndarray
+        Degrees, 0 in the mirror direction; the broadcast shape.
+
+    Examples
+    --------
+    >>> float(mirror_angle_deg(45.0, 45.0)), float(mirror_angle_deg(45.0, 0.0))
+    (0.0, 45.0)
+    """
     la = np.asarray(light_azimuth_deg, dtype=np.float64)
     va = geometry.resolve_view_azimuth_deg(la, view_azimuth_deg)
     m = geometry.direction(light_deg, la) * np.array([-1.0, -1.0, 1.0])
@@ -87,7 +103,23 @@ def mirror_angle_deg(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_de
 
 
 def check_scale(scale: str) -> str:
-    """The intensity correction's name (one of :data:`swatch.core.choices.SCALE_MODES`), or SwatchError."""
+    """Check an intensity correction's name.
+
+    Parameters
+    ----------
+    scale : str
+        One of :data:`swatch.core.choices.SCALE_MODES` (``energy``, ``lsq``, ``global``, ``none``).
+
+    Returns
+    -------
+    str
+        ``scale``.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Any other name.
+    """
     if scale not in SCALE_MODES:
         raise SwatchError(f"unknown intensity scale {scale!r}; use one of {', '.join(SCALE_MODES)}")
     return scale
@@ -97,23 +129,74 @@ def check_scale(scale: str) -> str:
 def unique_geometry(cos_d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Distinct facet incidence cosines and the index of each geometry into them.
 
-    The half-vector model depends on the geometry only through ``theta_d``; measurement grids
-    repeat it (in plane, theta_d = (light + view) / 2), so each distinct value is evaluated once.
+    The half-vector model depends on the geometry only through ``theta_d``; measurement grids repeat
+    it (in plane, theta_d = (light + view) / 2), so each distinct value is evaluated once.
+
+    Parameters
+    ----------
+    cos_d : numpy.ndarray, shape (G,)
+        cos(theta_d) of each geometry.
+
+    Returns
+    -------
+    cos_u : numpy.ndarray, shape (U,)
+        The distinct cosines (to 1e-12), sorted.
+    inv : numpy.ndarray of int, shape (G,)
+        ``cos_u[inv]`` is ``cos_d``.
+
+    Examples
+    --------
+    >>> cu, inv = unique_geometry(np.array([0.5, 1.0, 0.5]))
+    >>> cu.tolist(), inv.tolist()
+    ([0.5, 1.0], [0, 1, 0])
     """
     cu, inv = np.unique(np.round(cos_d, 12), return_inverse=True)
     return cu, inv.reshape(-1)
 
 
 def film_at_angles(coating: Coating, cos_u: np.ndarray, wl_index: np.ndarray | None = None) -> optics.FilmAtAngles:
-    """The coating at fixed facet angles (Fresnel terms computed once), optionally on a sub-grid."""
+    """The coating at fixed facet angles (Fresnel terms computed once), optionally on a sub-grid.
+
+    Parameters
+    ----------
+    coating : swatch.physics.model.Coating
+        Film, substrate and wavelength grid.
+    cos_u : numpy.ndarray, shape (U,)
+        Facet incidence cosines.
+    wl_index : numpy.ndarray of int, optional
+        Wavelength indices of a sub-grid (the coarse search's).
+
+    Returns
+    -------
+    swatch.physics.optics.FilmAtAngles
+    """
     sel = slice(None) if wl_index is None else wl_index
     return optics.FilmAtAngles(cos_u, coating.wavelength_nm[sel], coating.n_film[sel], coating.n_substrate[sel])
 
 
 def sweep_reflectance(coating: Coating, start: float, step: float, count: int, cos_u: np.ndarray,
                       wl_index: np.ndarray | None = None) -> np.ndarray:
-    """Unpolarised reflectance (count, U, W') for thicknesses ``start + step j`` in one sweep
-    (a film with a thickness spread: averaged over it, through the coating)."""
+    """Unpolarised reflectance for the thicknesses ``start + step j`` (``j < count``) in one sweep (a film
+    with a thickness spread: averaged over it, through the coating).
+
+    Parameters
+    ----------
+    coating : swatch.physics.model.Coating
+        Film, substrate, grid and spread.
+    start, step : float
+        First thickness and step, nm.
+    count : int
+        Number of thicknesses.
+    cos_u : numpy.ndarray, shape (U,)
+        Facet incidence cosines.
+    wl_index : numpy.ndarray of int, optional
+        Wavelength indices of a sub-grid (W' of them; default all W).
+
+    Returns
+    -------
+    numpy.ndarray, shape (count, U, W')
+        Reflectance factors, 0–1.
+    """
     if not coating.spread.is_zero:
         sub = coating if wl_index is None else dataclasses.replace(
             coating, wavelength_nm=coating.wavelength_nm[wl_index], n_film=coating.n_film[wl_index],
@@ -130,9 +213,29 @@ SWEEP_BYTES_PER_SAMPLE = 320
 
 def sweep_curve(objective, coating: Coating, start: float, step: float, count: int, cos_u: np.ndarray,
                 wl_index: np.ndarray | None, objective_bytes_per_thickness: int) -> np.ndarray:
-    """``objective(R)`` (R: (n, U, W') reflectance of n thicknesses → (n,)) over ``start + step j``, ``j < count``,
-    in chunks of thicknesses planned against :data:`swatch.core.limits.MAX_RUN_BYTES` (a fine ``--step`` or many
-    geometries would otherwise build the whole (count, U, W') sweep at once)."""
+    """An objective over a thickness sweep, in chunks planned against the run's memory budget.
+
+    A fine ``--step`` or many geometries would otherwise build the whole (count, U, W') sweep at once;
+    the chunk size comes from :func:`swatch.core.limits.plan_rows` (:data:`swatch.core.limits.MAX_RUN_BYTES`).
+
+    Parameters
+    ----------
+    objective : callable
+        Reflectance of n thicknesses, shape (n, U, W') → objective values, shape (n,).
+    coating, start, step, count, cos_u, wl_index
+        As :func:`sweep_reflectance`.
+    objective_bytes_per_thickness : int
+        The objective's own working bytes per thickness.
+
+    Returns
+    -------
+    numpy.ndarray, shape (count,)
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Not even one thickness fits in the budget.
+    """
     n_wl = coating.wavelength_nm.size if wl_index is None else len(wl_index)
     per_thickness = cos_u.size * n_wl * SWEEP_BYTES_PER_SAMPLE + int(objective_bytes_per_thickness)
     rows = plan_rows(per_thickness, "the thickness search",
@@ -143,8 +246,20 @@ def sweep_curve(objective, coating: Coating, start: float, step: float, count: i
 
 
 class FacetModel:
-    """Half-vector reflectance at fixed facet angles for any thicknesses (refinement fast path):
-    ``facets(d)`` has shape ``d.shape + (U, W)``."""
+    """Half-vector reflectance at fixed facet angles for any thicknesses (the refinement's fast path).
+
+    Parameters
+    ----------
+    coating : swatch.physics.model.Coating
+        Film, substrate, grid and spread.
+    cos_u : numpy.ndarray, shape (U,)
+        Facet incidence cosines.
+
+    Notes
+    -----
+    ``model(d)`` gives reflectance factors of shape ``d.shape + (U, W)``, d in nm (finite, ≥ 0,
+    else :class:`swatch.core.errors.SwatchError`).
+    """
 
     def __init__(self, coating: Coating, cos_u: np.ndarray):
         self.film = film_at_angles(coating, cos_u)
@@ -161,222 +276,21 @@ class FacetModel:
 
 
 def model_reflectance(coating: Coating, thickness_nm, cos_u: np.ndarray) -> np.ndarray:
-    """Reflectance (..., U, W) at arbitrary thicknesses (shape ...) through the engine."""
+    """Reflectance at arbitrary thicknesses through the coating (any spread included).
+
+    Parameters
+    ----------
+    coating : swatch.physics.model.Coating
+        Film, substrate, grid and spread.
+    thickness_nm : array_like, shape S
+        Thicknesses, nm.
+    cos_u : numpy.ndarray, shape (U,)
+        Facet incidence cosines.
+
+    Returns
+    -------
+    numpy.ndarray, shape S + (U, W)
+        Reflectance factors, 0–1.
+    """
     d = np.asarray(thickness_nm, dtype=np.float64)
     return coating.reflectance_cos(d[..., None], cos_u).R
-
-
-# -- results ----------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
-class FitResult:
-    """Estimated thickness and the per-geometry colour comparison at it."""
-
-    kind: str  # "spectral" or "lab"
-    source: str
-    thickness_nm: float
-    uncertainty_nm: float | None
-    residual: float  # spectral: mean squared error (fraction²); lab: mean squared ΔE00
-    second_best_thickness_nm: float | None
-    second_best_residual: float | None
-    minima: list  # [(thickness_nm, residual), ...] lowest first
-    scale_mode: str
-    exclude_mirror_deg: float
-    light_deg: np.ndarray
-    view_deg: np.ndarray
-    light_azimuth_deg: np.ndarray
-    view_azimuth_deg: np.ndarray
-    theta_d_deg: np.ndarray
-    mirror_angle_deg: np.ndarray
-    used: np.ndarray  # (G,) bool: in the fit and the means
-    scale: np.ndarray  # (G,) intensity scale applied to the simulation
-    Lab_measured: np.ndarray
-    Lab_simulated: np.ndarray
-    delta_E_ab: np.ndarray
-    delta_E_00: np.ndarray
-    mean_delta_E_ab: float
-    mean_delta_E_00: float
-    grade: str
-    scheme: str
-    film: str
-    substrate: str
-    illuminant: str
-    observer: str
-    colour_wavelength_nm: np.ndarray
-    colour_grid_interpolated: bool
-    wavelength_nm: np.ndarray | None = None
-    reflectance_unit: str | None = None
-    reflectance_unit_detected: bool | None = None
-    search_thickness_nm: np.ndarray | None = field(default=None, repr=False)
-    search_residual: np.ndarray | None = field(default=None, repr=False)
-
-    def to_dict(self, nm_per_V: float = DEFAULT_NM_PER_V) -> dict:
-        """JSON-ready dictionary (the contract of ``swatch fit --json``)."""
-        def opt(x):
-            return None if x is None else float(x)
-
-        geoms = []
-        for i in range(self.light_deg.size):
-            geoms.append({
-                "light_deg": float(self.light_deg[i]),
-                "view_deg": float(self.view_deg[i]),
-                "light_azimuth_deg": float(self.light_azimuth_deg[i]),
-                "view_azimuth_deg": float(self.view_azimuth_deg[i]),
-                "theta_d_deg": float(self.theta_d_deg[i]),
-                "mirror_angle_deg": float(self.mirror_angle_deg[i]),
-                "excluded": bool(not self.used[i]),
-                "scale": float(self.scale[i]),
-                "Lab_measured": [float(v) for v in self.Lab_measured[i]],
-                "Lab_simulated": [float(v) for v in self.Lab_simulated[i]],
-                "delta_E_ab": float(self.delta_E_ab[i]),
-                "delta_E_00": float(self.delta_E_00[i]),
-            })
-        out = {
-            "source": self.source,
-            "kind": self.kind,
-            "thickness_nm": float(self.thickness_nm),
-            "uncertainty_nm": opt(self.uncertainty_nm),
-            "voltage_V": float(thickness_to_voltage_V(self.thickness_nm, nm_per_V)),
-            "nm_per_V": float(nm_per_V),
-            "residual": float(self.residual),
-            "second_best_thickness_nm": opt(self.second_best_thickness_nm),
-            "second_best_residual": opt(self.second_best_residual),
-            "minima": [{"thickness_nm": float(d), "residual": float(f)} for d, f in self.minima],
-            "mean_delta_E_ab": float(self.mean_delta_E_ab),
-            "mean_delta_E_00": float(self.mean_delta_E_00),
-            "max_delta_E_ab": float(np.max(self.delta_E_ab[self.used])),
-            "grade": self.grade,
-            "scheme": self.scheme,
-            "scale_mode": self.scale_mode,
-            "exclude_mirror_deg": float(self.exclude_mirror_deg),
-            "n_geometries": int(self.used.size),
-            "n_used": int(self.used.sum()),
-            "film": self.film,
-            "substrate": self.substrate,
-            "illuminant": self.illuminant,
-            "observer": self.observer,
-            "colour_wavelength_nm": [float(self.colour_wavelength_nm[0]), float(self.colour_wavelength_nm[-1]),
-                                     float(self.colour_wavelength_nm[1] - self.colour_wavelength_nm[0])],
-            "colour_grid_interpolated": bool(self.colour_grid_interpolated),
-        }
-        if self.kind == "spectral" and self.wavelength_nm is not None:
-            wl = self.wavelength_nm
-            out["wavelength_nm"] = [float(wl[0]), float(wl[-1]), int(wl.size)]
-            out["reflectance_unit"] = self.reflectance_unit
-            out["reflectance_unit_detected"] = bool(self.reflectance_unit_detected)
-        out["geometries"] = geoms
-        return out
-
-
-#: colour-science's spectral interpolation (used by ASTM E308) needs six samples.
-MIN_COLOUR_SAMPLES = 6
-
-
-def colour_grid(wavelength_nm) -> tuple[np.ndarray, bool]:
-    """The grid used for colorimetry and whether the measurement must be interpolated onto it."""
-    wl = np.asarray(wavelength_nm, dtype=np.float64)
-    lo_cmf, hi_cmf = _CMF_RANGE_NM
-    if wl.size >= MIN_COLOUR_SAMPLES:
-        steps = np.diff(wl)
-        step = float(steps[0])
-        even = np.allclose(steps, step, rtol=0, atol=1e-6)
-        astm = any(np.isclose(step, s) for s in ASTM_E308_STEPS_NM)
-        aligned = np.isclose(wl[0] / step, np.round(wl[0] / step), rtol=0, atol=1e-6)
-        if even and astm and aligned and wl[0] >= lo_cmf and wl[-1] <= hi_cmf:
-            return wl, False
-    s = _COLOUR_GRID_STEP_NM
-    a = np.ceil(max(wl[0], lo_cmf) / s - 1e-9) * s
-    b = np.floor(min(wl[-1], hi_cmf) / s + 1e-9) * s
-    if b - a < (MIN_COLOUR_SAMPLES - 1) * s:
-        raise SwatchError(
-            f"the measured range {wl[0]:g}–{wl[-1]:g} nm is too narrow for colorimetry; "
-            f"it needs at least {(MIN_COLOUR_SAMPLES - 1) * s:g} nm inside {lo_cmf:g}–{hi_cmf:g} nm"
-        )
-    return wavelength_grid(a, b, s), True
-
-
-def interp_rows(x_new: np.ndarray, x: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """Linear interpolation of each row of Y (G, W) from x onto x_new (inside x's range)."""
-    i1 = np.clip(np.searchsorted(x, x_new, side="right"), 1, x.size - 1)
-    i0 = i1 - 1
-    t = (x_new - x[i0]) / (x[i1] - x[i0])
-    return Y[:, i0] * (1.0 - t) + Y[:, i1] * t
-
-
-def geometry_arrays(m):
-    l, v = m.light_deg, m.view_deg
-    la, va = m.light_azimuth_deg, m.view_azimuth_deg
-    geometry.check_light_view_deg(l, v)
-    cos_d = geometry.cos_theta_d(l, v, la, va)
-    theta_d = geometry.theta_d_deg(l, v, la, va)
-    mirror = mirror_angle_deg(l, v, la, va)
-    return cos_d, theta_d, mirror
-
-
-def used_geometries(mirror: np.ndarray, exclude_mirror_deg: float) -> np.ndarray:
-    x = float(exclude_mirror_deg)
-    if not (np.isfinite(x) and 0 <= x < 180):
-        raise SwatchError(f"mirror exclusion must be in [0, 180) degrees (got {x:g})")
-    used = mirror > x if x > 0 else np.ones(mirror.shape, dtype=bool)
-    if not used.any():
-        raise SwatchError(
-            f"all {mirror.size} geometries are within {x:g}° of the mirror direction; "
-            "lower `exclude_mirror_deg` (0 keeps every geometry)"
-        )
-    return used
-
-
-def colour_summary(Lab_m, Lab_s, used, scheme):
-    dEab = np.atleast_1d(delta_E_ab(Lab_m, Lab_s))
-    dE00 = np.atleast_1d(delta_E_00(Lab_m, Lab_s))
-    mean_ab = float(dEab[used].mean())
-    mean_00 = float(dE00[used].mean())
-    # the grade in the metric the scheme bounds (CSAJ and NBS: ΔE*ab)
-    return dEab, dE00, mean_ab, mean_00, grade_for(mean_ab if grade_metric(scheme) == "dEab" else mean_00, scheme)
-
-
-def search_fields(kept: list[tuple[float, float]], norm: float) -> dict:
-    """FitResult fields from the search's minima (lowest first), residuals normalised by ``norm``."""
-    _d_best, f_best = kept[0]
-    second = kept[1] if len(kept) > 1 else (None, None)
-    return dict(
-        residual=f_best * norm, second_best_thickness_nm=second[0],
-        second_best_residual=None if second[1] is None else second[1] * norm,
-        minima=[(d, f * norm) for d, f in kept],
-    )
-
-
-def geometry_fields(measurement) -> dict:
-    return dict(
-        light_deg=measurement.light_deg, view_deg=measurement.view_deg,
-        light_azimuth_deg=measurement.light_azimuth_deg, view_azimuth_deg=measurement.view_azimuth_deg,
-    )
-
-
-def delta_e_grid(result: FitResult, which: str = "delta_E_ab"):
-    """ΔE over a light × view grid of the measured geometries (the paper's Fig. 12).
-
-    Returns ``(light_values, view_values, grid, excluded, signed)``: ``grid`` (nL, nV) holds the
-    mean ΔE of the geometries in each cell (NaN where none was measured), ``excluded`` marks cells
-    whose geometries are all in the mirror region. When every geometry is in the plane of incidence
-    the view axis is signed (negative: on the light's side); otherwise it is the view's polar angle
-    and geometries differing only in azimuth share a cell.
-    """
-    values = getattr(result, which)
-    dphi = np.mod(result.view_azimuth_deg - result.light_azimuth_deg, 360.0)
-    far = np.isclose(dphi, 180.0, atol=1e-6)
-    near = np.isclose(dphi, 0.0, atol=1e-6) | np.isclose(dphi, 360.0, atol=1e-6) | (result.view_deg == 0)
-    signed = bool(np.all(far | near))
-    view = np.where(far | (result.view_deg == 0), result.view_deg, -result.view_deg) if signed else result.view_deg
-    lv = np.unique(np.round(result.light_deg, 6))
-    vv = np.unique(np.round(view, 6))
-    li = np.searchsorted(lv, np.round(result.light_deg, 6))
-    vi = np.searchsorted(vv, np.round(view, 6))
-    total = np.zeros((lv.size, vv.size))
-    n = np.zeros((lv.size, vv.size))
-    n_used = np.zeros((lv.size, vv.size))
-    np.add.at(total, (li, vi), values)
-    np.add.at(n, (li, vi), 1.0)
-    np.add.at(n_used, (li, vi), result.used.astype(np.float64))
-    grid = np.divide(total, n, out=np.full(total.shape, np.nan), where=n > 0)
-    excluded = (n > 0) & (n_used == 0)
-    return lv, vv, grid, excluded, signed

@@ -6,17 +6,13 @@ import numpy as np
 from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00, get_colorimeter
 from swatch.colorimetry.tolerance import DEFAULT_SCHEME
 from swatch.core.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
-from swatch.fit.fitting import (
-    FacetModel,
+from swatch.fit.fitting import FacetModel, check_scale, model_reflectance, sweep_curve, unique_geometry
+from swatch.fit.result import (
     FitResult,
-    check_scale,
     colour_summary,
     geometry_arrays,
     geometry_fields,
-    model_reflectance,
     search_fields,
-    sweep_curve,
-    unique_geometry,
     used_geometries,
 )
 from swatch.fit.search import check_search_range, curvature_sigma, multimodal_search

@@ -24,6 +24,30 @@ MATCH_MIN_SEPARATION_NM = 5.0
 
 @dataclass(frozen=True)
 class MatchResult:
+    """The thicknesses whose colour at one geometry is closest to a target (:func:`match_colour`).
+
+    Attributes
+    ----------
+    target_Lab : numpy.ndarray, shape (3,)
+        The target's CIELAB under the colorimeter's illuminant and observer.
+    light_deg, view_deg : float
+        Polar angles of light and view from the normal, degrees.
+    light_azimuth_deg : float
+        The light's azimuth, degrees.
+    view_azimuth_deg : float or None
+        The view's azimuth, degrees (None: the opposite side, light + 180°).
+    theta_d_deg : float
+        Incidence angle on the half-vector facet, degrees (Fujii et al. eq. 5).
+    grade, scheme : str
+        The tolerance grade judged and its scheme.
+    grade_max_delta_E_ab : float
+        The grade's bound (ΔE*ab for CSAJ).
+    match_lightness : bool
+        Whether L* counted (otherwise chromaticity only).
+    candidates : list of dict
+        Best first: ``thickness_nm`` (nm), ``voltage_V`` (V or None), ``Lab``, ``delta_E_00``,
+        ``delta_E_ab``, ``within_grade``, ``at_range_bound``.
+    """
     target_Lab: np.ndarray
     light_deg: float
     view_deg: float
@@ -38,9 +62,22 @@ class MatchResult:
 
     @property
     def any_within_grade(self) -> bool:
+        """Whether any candidate is within the grade.
+
+        Returns
+        -------
+        bool
+        """
         return any(c["within_grade"] for c in self.candidates)
 
     def to_dict(self) -> dict:
+        """The result as JSON-ready Python (``swatch match --json``).
+
+        Returns
+        -------
+        dict
+            The attributes (``target_Lab`` as a list) and ``any_within_grade``.
+        """
         return {
             "target_Lab": [float(v) for v in self.target_Lab],
             "light_deg": self.light_deg,
@@ -169,10 +206,21 @@ def match_colour(
 
 
 def judge_candidates(res: MatchResult, voltage_of, tolerance) -> None:
-    """Set each candidate's voltage by a process's growth law and its within-tolerance flag.
+    """Set each candidate's voltage by a process's growth law and its within-tolerance flag (in place).
 
-    ``voltage_of(thickness_nm)`` gives the voltage (None without a growth rate); ``tolerance``
-    (:func:`swatch.colorimetry.tolerance.get_tolerance`) is judged in its own metric (ΔE*ab or ΔE2000).
+    Parameters
+    ----------
+    res : MatchResult
+        The match; its candidates' ``voltage_V`` and ``within_grade`` are set.
+    voltage_of : callable
+        Thickness (nm) → voltage (V), or None without a growth rate
+        (:meth:`swatch.physics.process.Process.voltage_V`).
+    tolerance : swatch.colorimetry.tolerance.Tolerance
+        Judged in its own metric (ΔE*ab or ΔE2000).
+
+    Returns
+    -------
+    None
     """
     for c in res.candidates:
         v = voltage_of(c["thickness_nm"])

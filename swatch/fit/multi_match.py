@@ -32,8 +32,30 @@ _PAIR = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*:\s*(-?\d+(?:\.\d+)?)\s*$")
 
 
 def parse_angles(text: str) -> list[tuple[str, float, float]]:
-    """``45:0,45:60`` (light:view, a negative view on the light's side) or ``45as15,45as110``
-    (ASTM E2194 aspecular) → [(name, light_deg, signed view_deg)]."""
+    """Parse a list of measuring geometries.
+
+    Parameters
+    ----------
+    text : str
+        ``45:0,45:60`` (light:view polar angles in degrees, a negative view on the light's side) or
+        ``45as15,45as110`` (light and ASTM E2194 aspecular angle), comma-separated.
+
+    Returns
+    -------
+    list of (str, float, float)
+        (name as given, light_deg, signed view_deg).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        An item of neither form, an angle 90° or more from the normal, a repeated geometry, or more
+        than :data:`swatch.core.limits.MAX_INSTRUMENT_GEOMETRIES` of them.
+
+    Examples
+    --------
+    >>> parse_angles("45:0, 45as110")
+    [('45:0', 45.0, 0.0), ('45as110', 45.0, -65.0)]
+    """
     out = []
     for item in str(text).split(","):
         m, a = _PAIR.match(item), _ASPEC.match(item)

@@ -11,20 +11,22 @@ from swatch.core.errors import SwatchError
 from swatch.fit.fitting import (
     COARSE_SPACING_NM,
     FacetModel,
-    FitResult,
     check_scale,
+    model_reflectance,
+    sweep_curve,
+    unique_geometry,
+)
+from swatch.fit.lab_fit import fit_lab
+from swatch.fit.result import (
+    FitResult,
     colour_grid,
     colour_summary,
     geometry_arrays,
     geometry_fields,
     interp_rows,
-    model_reflectance,
     search_fields,
-    sweep_curve,
-    unique_geometry,
     used_geometries,
 )
-from swatch.fit.lab_fit import fit_lab
 from swatch.fit.search import CURVATURE_STEP_NM, check_search_range, multimodal_search
 from swatch.io.measurements import LabMeasurement, SpectralMeasurement, check_in_tables
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
@@ -54,12 +56,31 @@ def _scales_and_ssr(S: np.ndarray, M: np.ndarray, scale: str) -> tuple[np.ndarra
 
 
 def spectral_sigma(facets, inv, M, scale, d, lo, hi) -> float | None:
-    """1-sigma of the thickness: Gauss–Newton with per-geometry noise (a sandwich estimate).
+    """One-sigma thickness uncertainty of a spectral fit: Gauss–Newton with per-geometry noise (a sandwich estimate).
 
-    ``J = d r / d d`` of the residual vector ``r = a S - M`` (scales profiled), by central
-    differences; the noise variance of each geometry is its residual's mean square, so geometries
-    of different intensity (and noise) are weighted correctly:
-    ``sigma² = sum_g s_g² |J_g|² / (sum_g |J_g|²)²``.
+    ``J = ∂r/∂d`` of the residual vector ``r = a S − M`` (scales profiled), by central differences;
+    the noise variance of each geometry is its residual's mean square, so geometries of different
+    intensity (and noise) are weighted correctly: ``σ² = Σ_g s_g² |J_g|² / (Σ_g |J_g|²)²``.
+
+    Parameters
+    ----------
+    facets : callable
+        Thicknesses (nm, shape (3,)) → model reflectance factors at the unique facet angles, shape (3, U, W).
+    inv : numpy.ndarray of int, shape (G,)
+        Maps each geometry to its unique facet angle.
+    M : numpy.ndarray, shape (G, W)
+        Measured reflectance factors.
+    scale : str
+        The intensity correction (:func:`swatch.fit.fitting.check_scale`).
+    d : float
+        The fitted thickness, nm.
+    lo, hi : float
+        The search range, nm.
+
+    Returns
+    -------
+    float or None
+        σ, nm; None at the range's edge or where the Jacobian vanishes.
     """
     h = CURVATURE_STEP_NM
     if d - h < lo or d + h > hi:
@@ -94,9 +115,48 @@ def fit_spectra(
     film_index_scale: float = 1.0,
     spread=None,
 ) -> FitResult:
-    """Least-squares thickness of spectral measurements (see the module docstring); ``film_index_scale``
-    is a process profile's scale of the film's real index, ``spread`` its thickness spread
-    (:class:`swatch.physics.spread.ThicknessSpread`; the model's spectra are averaged over it)."""
+    """Least-squares thickness of spectral measurements with the paper's intensity correction.
+
+    A global search over ``thickness_range`` (every ``step_nm``, the interference orders' minima
+    screened and refined), geometries within ``exclude_mirror_deg`` of the mirror direction left out;
+    the colour differences are then computed under ``illuminant`` and ``observer``.
+
+    Parameters
+    ----------
+    measurement : swatch.io.measurements.SpectralMeasurement
+        Reflectance factors (G, W) at G geometries.
+    film, substrate : str
+        Optical table names (they must cover the measured wavelengths).
+    scale : str
+        Intensity correction: ``energy`` (the paper's), ``lsq``, ``global`` or ``none``.
+    exclude_mirror_deg : float
+        Geometries whose view is within this of the mirror direction are left out, degrees.
+    thickness_range : (float, float)
+        The searched thicknesses, nm.
+    step_nm : float
+        The search grid's step, nm.
+    illuminant, observer : str
+        Colorimetry of the ΔE figures (CIE illuminant name; ``"2"`` or ``"10"``).
+    scheme : str
+        The tolerance scheme the grade is taken in.
+    film_index_scale : float
+        A process profile's scale of the film's real index (0.5–1.5).
+    spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread (the model's spectra are averaged over it).
+
+    Returns
+    -------
+    swatch.fit.result.FitResult
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A bad scale, range or step, or tables that do not cover the measured wavelengths.
+
+    References
+    ----------
+    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 (intensity correction) and Table 2.
+    """
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
     check_in_tables(measurement, film, substrate)

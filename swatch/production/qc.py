@@ -24,7 +24,8 @@ from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter, srgb_hex
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
-from swatch.fit.fitting import colour_grid, interp_rows, sweep_reflectance, unique_geometry
+from swatch.fit.fitting import sweep_reflectance, unique_geometry
+from swatch.fit.result import colour_grid, interp_rows
 from swatch.io.instruments import InstrumentFile
 from swatch.io.measurements import LabMeasurement, SpectralMeasurement
 from swatch.physics import geometry

@@ -12,12 +12,12 @@ import numpy as np
 import OpenImageIO as oiio
 
 from swatch.core.errors import SwatchError
-from swatch.fit.fitting import delta_e_grid
+from swatch.fit.result import delta_e_grid
 from swatch.io import imageio
 from swatch.io.imageio import drawable_text, font_path
 
 if TYPE_CHECKING:
-    from swatch.fit.fitting import FitResult
+    from swatch.fit.result import FitResult
     from swatch.render.angular import AngularMap
 
 __all__ = ["angular_figure", "delta_e_figure", "colormap"]
@@ -147,7 +147,7 @@ def delta_e_figure(result: FitResult, title: str) -> tuple[np.ndarray, dict]:
 
     Parameters
     ----------
-    result : swatch.fit.fitting.FitResult
+    result : swatch.fit.result.FitResult
         The fit (its per-geometry ΔE*ab, CIE 1976).
     title : str
         Drawn above the map.

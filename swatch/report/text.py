@@ -13,7 +13,7 @@ import numpy as np
 from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new
-from swatch.fit.fitting import delta_e_grid
+from swatch.fit.result import delta_e_grid
 from swatch.io.imageio import write_exr, write_png
 from swatch.report.figures import delta_e_figure
 
@@ -50,7 +50,7 @@ def with_process(d: dict, proc) -> dict:
     Parameters
     ----------
     d : dict
-        :meth:`swatch.fit.fitting.FitResult.to_dict` (``thickness_nm`` in nm, ``scheme``); changed in place.
+        :meth:`swatch.fit.result.FitResult.to_dict` (``thickness_nm`` in nm, ``scheme``); changed in place.
     proc : swatch.physics.process.Process
         The process profile (its ``voltage_V`` growth law, one slope or two with a knee).
 
@@ -174,7 +174,7 @@ def write_report(results, dicts, paths) -> None:
 
     Parameters
     ----------
-    results : sequence of swatch.fit.fitting.FitResult
+    results : sequence of swatch.fit.result.FitResult
         The fits, in the order of ``paths["maps"]``.
     dicts : list of dict
         Their dicts (:func:`with_process`).
@@ -314,7 +314,7 @@ def fit_text(d: dict) -> list[str]:
     Parameters
     ----------
     d : dict
-        :meth:`swatch.fit.fitting.FitResult.to_dict` with the process (:func:`with_process`).
+        :meth:`swatch.fit.result.FitResult.to_dict` with the process (:func:`with_process`).
 
     Returns
     -------
