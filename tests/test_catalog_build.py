@@ -42,8 +42,13 @@ def write_spec(path: Path, thicknesses=THICKNESSES, grade="C") -> Path:
     return path
 
 
+def outputs(folder: Path) -> list[Path]:
+    """The catalog's files: the top and its subfolders (sheets/, chips/, presets/), not its metadata."""
+    return sorted(p for p in folder.rglob("*") if p.is_file() and META_DIR not in p.relative_to(folder).parts)
+
+
 def digest(folder: Path) -> dict[str, str]:
-    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()}
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest() for p in outputs(folder)}
 
 
 @pytest.fixture(scope="module")
@@ -57,10 +62,10 @@ def built(tmp_path_factory):
 
 EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf", "test-catalog.ase",
                   "test-catalog-srgb.ase",
-                  "sheet_01.png", "sheet_01.exr", "sheet_02.png", "sheet_02.exr"}
-EXPECTED_FILES |= {f"preset_S{i + 1:03d}{end}" for i in range(len(THICKNESSES))
+                  "sheets/sheet_01.png", "sheets/sheet_01.exr", "sheets/sheet_02.png", "sheets/sheet_02.exr"}
+EXPECTED_FILES |= {f"presets/preset_S{i + 1:03d}{end}" for i in range(len(THICKNESSES))
                    for end in (".gltf", "_blender.py", ".mtlx")}  # 3-D material presets
-EXPECTED_FILES |= {f"chip_S{i:03d}.{ext}" for i in range(1, len(THICKNESSES) + 1) for ext in ("png", "tif")}
+EXPECTED_FILES |= {f"chips/chip_S{i:03d}.{ext}" for i in range(1, len(THICKNESSES) + 1) for ext in ("png", "tif")}
 
 
 def test_outputs_and_records(built):
@@ -113,7 +118,7 @@ def test_sheet_metadata_and_pixels(built):
     _, out, _ = built
     doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
     by_id = {r["id"]: r for r in doc["swatches"]}
-    for name in ("sheet_01", "sheet_02"):
+    for name in ("sheets/sheet_01", "sheets/sheet_02"):
         for ext in ("png", "exr"):
             meta = read_metadata(out / f"{name}.{ext}")
             assert meta["catalog"]["name"] == "Test catalog"
@@ -130,8 +135,8 @@ def test_sheet_metadata_and_pixels(built):
         tiles = read_metadata(out / f"{name}.png")["sheet"]["tiles"]
         assert len(tiles) == len(ids)
     # The EXR is the PNG in linear light (outside the renders): compare the page background.
-    p = oiio.ImageBuf(str(out / "sheet_01.png")).get_pixels(oiio.FLOAT)[5, 5]
-    e = oiio.ImageBuf(str(out / "sheet_01.exr")).get_pixels(oiio.FLOAT)[5, 5]
+    p = oiio.ImageBuf(str(out / "sheets/sheet_01.png")).get_pixels(oiio.FLOAT)[5, 5]
+    e = oiio.ImageBuf(str(out / "sheets/sheet_01.exr")).get_pixels(oiio.FLOAT)[5, 5]
 
     assert np.allclose(colour.models.eotf_sRGB(p), e, atol=2e-3)
 
@@ -146,7 +151,7 @@ def test_deterministic_and_independent_of_jobs(built, tmp_path):
 
 def test_noop_rebuild_is_fast_and_touches_nothing(built):
     spec, out, _ = built
-    before = {p.name: p.stat().st_mtime_ns for p in out.iterdir() if p.is_file()}
+    before = {p: p.stat().st_mtime_ns for p in outputs(out)}
     res = build_catalog(spec, out)
     assert res.noop
     t0 = time.perf_counter()
@@ -156,7 +161,7 @@ def test_noop_rebuild_is_fast_and_touches_nothing(built):
     assert proc.returncode == 0, proc.stderr
     assert "up to date" in proc.stdout
     assert wall <= 2.0, wall
-    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir() if p.is_file()} == before
+    assert {p: p.stat().st_mtime_ns for p in outputs(out)} == before
 
 
 def test_fingerprint_covers_every_engine_module_a_build_uses(built):
@@ -185,17 +190,17 @@ def test_incremental_rebuilds_only_what_changed(tmp_path):
     doc = json.loads((out / "catalog.json").read_text(encoding="utf-8"))
     assert all(r["process_window"]["grade"] == "B" for r in doc["swatches"])
     # one thickness on the second sheet changed: one render, one sheet; sheet 1 untouched
-    inode = (out / "sheet_01.png").stat().st_ino
+    inode = (out / "sheets/sheet_01.png").stat().st_ino
     write_spec(spec, [*THICKNESSES[:-1], 210], grade="B")
     res = build_catalog(spec, out, jobs=1)
     assert (res.rendered, res.composed) == (1, 1)
-    assert (out / "sheet_01.png").stat().st_ino == inode
+    assert (out / "sheets/sheet_01.png").stat().st_ino == inode
     # back to the first spec: the outputs are the first build's, byte for byte
     write_spec(spec)
     build_catalog(spec, out, jobs=1)
     assert digest(out) == first
     # a deleted output is noticed and restored
-    (out / "sheet_02.png").unlink()
+    (out / "sheets/sheet_02.png").unlink()
     res = build_catalog(spec, out, jobs=1)
     assert not res.noop and res.rendered == 0
     assert digest(out) == first
@@ -207,8 +212,8 @@ def test_fewer_sheets_removes_old_ones(tmp_path):
     build_catalog(spec, out, jobs=1)
     write_spec(spec, THICKNESSES[:3])
     build_catalog(spec, out, jobs=1)
-    assert not (out / "sheet_02.png").exists() and not (out / "sheet_02.exr").exists()
-    assert (out / "sheet_01.png").exists()
+    assert not (out / "sheets/sheet_02.png").exists() and not (out / "sheets/sheet_02.exr").exists()
+    assert (out / "sheets/sheet_01.png").exists()
 
 
 def test_failed_build_leaves_previous_catalog(tmp_path, monkeypatch):

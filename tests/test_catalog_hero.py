@@ -46,7 +46,7 @@ def test_hero_renders_are_written_cached_and_deterministic(tmp_path):
     out = tmp_path / "a"
     doc = json.loads((out / "catalog.json").read_text())
     names = [r["hero"]["png"] for r in doc["swatches"]]
-    assert names == ["hero_S001.png", "hero_S002.png"]
+    assert names == ["heroes/hero_S001.png", "heroes/hero_S002.png"]
     first = [(out / n).read_bytes() for n in names]
     for n in names:
         im = np.asarray(Image.open(out / n).convert("RGB"), dtype=float)

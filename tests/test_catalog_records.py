@@ -151,7 +151,7 @@ def test_voltages_and_layout(data):
     for i, rec in enumerate(data.records):
         assert rec["voltage_V"] == pytest.approx(rec["thickness_nm"] / SPEC.nm_per_V, abs=1e-4)
         assert rec["sheet"] == i // 4 + 1
-        assert rec["sheet_png"] == f"sheet_{rec['sheet']:02d}.png"
+        assert rec["sheet_png"] == f"sheets/sheet_{rec['sheet']:02d}.png"
 
 
 def test_hue_families():

@@ -269,7 +269,7 @@ def test_sheet_png_text_is_utf8_itxt_with_xmp_intent_and_dpi(tiny_catalog):
     from PIL import Image
 
     doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
-    png = tiny_catalog / "sheet_01.png"
+    png = tiny_catalog / "sheets/sheet_01.png"
     kinds = png_chunk_types(png)
     assert b"tEXt" not in kinds and b"iTXt" in kinds
     assert kinds.index(b"pHYs") < kinds.index(b"IDAT")
@@ -353,11 +353,11 @@ def test_print_chips_png_and_tiff(tiny_catalog):
 
     doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
     rec = doc["swatches"][1]
-    assert rec["print_chip"] == {"png": "chip_S002.png", "tiff": "chip_S002.tif", "size_mm": 50.0, "dpi": 300}
+    assert rec["print_chip"] == {"png": "chips/chip_S002.png", "tiff": "chips/chip_S002.tif", "size_mm": 50.0, "dpi": 300}
     side = round(50 / 25.4 * 300)  # 591 px
     want8 = np.array([int(rec["srgb_hex"][i:i + 2], 16) for i in (1, 3, 5)])
     # PNG: 16-bit RGB (IHDR bit depth), tagged sRGB, 300 dpi, the record in UTF-8 text, XMP
-    png = tiny_catalog / "chip_S002.png"
+    png = tiny_catalog / "chips/chip_S002.png"
     ihdr = png.read_bytes()[16:29]
     width, height, depth, ctype = struct.unpack(">IIBB", ihdr[:10])
     assert (width, height, depth, ctype) == (side, side, 16, 2)
@@ -369,7 +369,7 @@ def test_print_chips_png_and_tiff(tiny_catalog):
         f"{x:.2f}" for x in rec["Lab_D50_2"])
     # TIFF: 16-bit, flat, the same colour, 300 dpi, an embedded sRGB ICC profile LittleCMS reads;
     # #18: LZW (what exiftool -validate accepts), a valid fixed DateTime (an empty one is an invalid date)
-    with tifffile.TiffFile(tiny_catalog / "chip_S002.tif") as tf:
+    with tifffile.TiffFile(tiny_catalog / "chips/chip_S002.tif") as tf:
         page = tf.pages[0]
         px = page.asarray()
         assert px.dtype == np.uint16 and px.shape == (side, side, 3)
@@ -386,10 +386,10 @@ def test_print_chips_png_and_tiff(tiny_catalog):
     # libtiff (OpenImageIO's TIFF reader) reads the same pixels
     import OpenImageIO as oiio
 
-    lib = oiio.ImageBuf(str(tiny_catalog / "chip_S002.tif"))
+    lib = oiio.ImageBuf(str(tiny_catalog / "chips/chip_S002.tif"))
     assert lib.spec().get_string_attribute("compression") == "lzw"
     assert (np.asarray(lib.get_pixels(oiio.UINT16)) == px).all()
-    assert (tiny_catalog / "chip_S002.png").stat().st_size < 64_000  # flat: small files
+    assert (tiny_catalog / "chips/chip_S002.png").stat().st_size < 64_000  # flat: small files
 
 
 def test_chip_spec_limits():
@@ -423,7 +423,7 @@ def test_exiftool_and_pngcheck_read_the_exports(tiny_catalog):
     exiftool, pngcheck = _require_tool("exiftool"), _require_tool("pngcheck")
     doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
     rec = doc["swatches"][1]
-    sheet, chip_png, chip_tif = (tiny_catalog / n for n in ("sheet_01.png", "chip_S002.png", "chip_S002.tif"))
+    sheet, chip_png, chip_tif = (tiny_catalog / n for n in ("sheets/sheet_01.png", "chips/chip_S002.png", "chips/chip_S002.tif"))
     for png in (sheet, chip_png):
         check = subprocess.run([pngcheck, "-v", str(png)], capture_output=True, text=True, timeout=60)
         assert check.returncode == 0 and "No errors detected" in check.stdout, check.stdout[-500:]

@@ -43,7 +43,9 @@ def write_spec(path: Path, grade: str = "C") -> Path:
 
 
 def digest(folder: Path) -> dict[str, str]:
-    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()}
+    """The catalog's files (the top and its subfolders, #21; not the metadata) by relative name."""
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file() and META_DIR not in p.relative_to(folder).parts}
 
 
 def tree(folder: Path) -> dict[str, bytes | None]:
@@ -201,17 +203,18 @@ def test_issue12_loser_of_two_first_builds_removes_nothing(tmp_path, monkeypatch
 def test_issue12_folder_in_the_way_is_refused_and_previous_catalog_kept(cat):
     spec, out, _ = cat
     before = digest(out)
-    (out / "sheet_02.png").unlink()  # the file is replaced by a folder of the user's
-    (out / "sheet_02.png").mkdir()
-    (out / "sheet_02.png" / "mine.txt").write_text("mine")
-    del before["sheet_02.png"]
+    (out / "sheets/sheet_02.png").unlink()  # the file is replaced by a folder of the user's
+    (out / "sheets/sheet_02.png").mkdir()
+    (out / "sheets/sheet_02.png" / "mine.txt").write_text("mine")
+    del before["sheets/sheet_02.png"]
+    before["sheets/sheet_02.png/mine.txt"] = hashlib.sha256(b"mine").hexdigest()
     refuse(spec, out, "sheet_02.png", "folder")
     assert digest(out) == before
-    assert (out / "sheet_02.png" / "mine.txt").read_text() == "mine"
+    assert (out / "sheets/sheet_02.png" / "mine.txt").read_text() == "mine"
     assert not list((out / META_DIR).glob("staging-*")) and not (out / META_DIR / JOURNAL).exists()
-    shutil.rmtree(out / "sheet_02.png")
+    shutil.rmtree(out / "sheets/sheet_02.png")
     res = build_catalog(spec, out, jobs=1)  # the next build recovers
-    assert not res.noop and (out / "sheet_02.png").is_file()
+    assert not res.noop and (out / "sheets/sheet_02.png").is_file()
 
 
 def test_issue12_failure_during_commit_restores_previous_catalog(cat, monkeypatch):

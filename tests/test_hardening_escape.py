@@ -259,7 +259,7 @@ def test_issue22_npz_that_inflates_beyond_its_shapes_is_rendered_again(cat):
             for name, blob in members.items():
                 zf.writestr(name, blob)
         assert tile.stat().st_size < 1024 * 1024 and not tiles.npz_fits(tile, want)
-    (out / "sheet_01.png").unlink()  # its sheet is composed again from the cache
+    (out / "sheets/sheet_01.png").unlink()  # its sheet is composed again from the cache
     build_catalog(spec, out, jobs=1)
     assert all(tiles.npz_fits(t, want) for t in cache.glob("*.npz"))
 

@@ -2,7 +2,11 @@
 
 Layout of an output folder ``DIR``::
 
-    DIR/index.html, catalog.json, catalog.csv, <slug>.cxf, <slug>.ase, sheet_NN.png, sheet_NN.exr
+    DIR/index.html, catalog.json, catalog.csv, <slug>.cxf, <slug>.ase, <slug>-srgb.ase   the page, data, exports
+    DIR/sheets/sheet_NN.png, sheet_NN.exr                  the sheets
+    DIR/chips/chip_S001.png, chip_S001.tif ...             print chips (when the spec has them)
+    DIR/presets/preset_S001.gltf, _blender.py, .mtlx ...   3-D material presets
+    DIR/heroes/hero_S001.png ...                           hero renders (``hero = true``)
     DIR/.swatch-catalog/manifest.json   what the last build wrote (file hashes, input fingerprint)
     DIR/.swatch-catalog/cache/*.npz     tile renders, keyed by the hash of what they depend on
     DIR/.swatch-catalog/lock            one build at a time (flock)
@@ -22,7 +26,9 @@ build's files that are no longer produced, writes the manifest and deletes the j
 build that fails or is interrupted before the commit leaves the previous catalog untouched (its
 staging folder is removed on the next run); one killed during the commit is completed from the
 journal by the next run, and one whose commit fails is rolled back (``swatch.catalog.folder``).
-Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. A non-empty ``DIR`` that has no
+Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. A folder an older
+build wrote flat (everything at the top) is migrated by the next build's commit: the flat files are
+retired like any file the build no longer writes, a user's file is never touched. A non-empty ``DIR`` that has no
 manifest is not a swatch catalog and is refused.
 """
 from __future__ import annotations
@@ -61,6 +67,7 @@ from swatch.catalog.folder import (
     sha256_file,
     signals_held,
 )
+from swatch.catalog.layout import SHEETS, make_subfolders, output_files
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
@@ -274,8 +281,7 @@ def _check_up_to_date(spec, spec_name, out, meta, why: str, t0) -> BuildResult:
     fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": code_fingerprint()})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
-        n_sheets = len([k for k in old.get("files", {}) if k.startswith("sheet_") and k.endswith(".png")])
-        return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
+        return BuildResult(out, True, len(spec.thickness_nm), _sheet_count(old), seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
     raise SwatchError(f"{why}, and the catalog there is not up to date with {spec_name}; make it writable, or "
                       "build into another folder")
@@ -287,10 +293,13 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
     fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
-        n_sheets = len([k for k in old.get("files", {}) if k.startswith("sheet_") and k.endswith(".png")])
-        return BuildResult(out, True, len(spec.thickness_nm), n_sheets, seconds=time.perf_counter() - t0,
+        return BuildResult(out, True, len(spec.thickness_nm), _sheet_count(old), seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
     return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
+
+
+def _sheet_count(manifest: dict) -> int:
+    return len([k for k in manifest.get("files", {}) if k.startswith(f"{SHEETS}/sheet_") and k.endswith(".png")])
 
 
 def check_buildable(spec: CatalogSpec) -> CatalogContext:
@@ -342,7 +351,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     from swatch.catalog import tiles as tilemod
     from swatch.catalog.csv_table import csv_bytes
     from swatch.catalog.exports import ase_bytes, cxf_bytes
-    from swatch.catalog.records import HUE_FAMILIES, compute
+    from swatch.catalog.records import compute
 
     ctx = check_buildable(spec)  # (here, not before the no-op check: it imports colour-science)
     data = compute(ctx)
@@ -354,6 +363,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     staging = Path(tempfile.mkdtemp(prefix="staging-", dir=meta))
     pool = None
     try:
+        make_subfolders(staging)
         cache = cache_folder(meta)
         from swatch.catalog.presets import catalog_presets
 
@@ -376,7 +386,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         todo: list[Any] = []
         for s in range(n_sheets):
             recs = records[s * per:(s + 1) * per]
-            png, exr = f"sheet_{s + 1:02d}.png", f"sheet_{s + 1:02d}.exr"
+            png, exr = f"{SHEETS}/sheet_{s + 1:02d}.png", f"{SHEETS}/sheet_{s + 1:02d}.exr"
             key = _hash_json({"tiles": tile_keys[s * per:(s + 1) * per], "records": recs, "header": header,
                               "number": s + 1, "of": n_sheets, "env": fp})
             sheet_list.append({"number": s + 1, "png": png, "exr": exr, "swatches": [r["id"] for r in recs],
@@ -411,8 +421,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             header["exports"]["ase_srgb"]: ase_bytes(spec, records, "srgb"),
         }
         outputs.update(preset_files | hero_out)
-        page_doc = dict(catalog_doc, hue_families=[f[0] for f in HUE_FAMILIES] + ["neutral"])
-        outputs["index.html"] = _page(spec, data, page_doc, cache).encode("utf-8")
+        outputs["index.html"] = _page(spec, data, catalog_doc, cache).encode("utf-8")
         for name, blob in outputs.items():
             (staging / name).write_bytes(blob)
         with _progress("composing sheets", len(todo), progress) as bar:
@@ -429,15 +438,15 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                                                   if f not in files]:
             p = staging / name
             files[name] = {"sha256": _sha256_file(p), "size": p.stat().st_size}
-        for p in staging.iterdir():
-            os.chmod(p, 0o644)
+        staged = output_files(staging)
+        for name in staged:
+            os.chmod(staging / name, 0o644)
         # 4. commit
         manifest = {"format": "swatch-catalog-manifest", "format_version": FORMAT_VERSION,
                     "fingerprint": fingerprint, "spec_file": spec_name, "name": spec.name,
                     "files": files, "sheet_keys": {f: sh["key"] for sh in sheet_list for f in (sh["png"], sh["exr"])}}
         # retired: the previous build's files no longer produced, if still as it wrote them (a user's edit stays)
         removed = sorted(f for f in set(old_files) - set(files) if file_matches(out / f, old_files[f]))
-        staged = sorted(p.name for p in staging.iterdir())
         check_targets(out, staged)
         journal = {"phase": "commit", "staging": staging.name, "files": staged, "remove": removed,
                    "manifest": manifest}

@@ -26,6 +26,7 @@ from PIL import ImageCms
 
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
 from swatch.catalog.exports import ase_name
+from swatch.catalog.layout import CHIPS
 from swatch.io.imageio import write_png, write_tiff
 from swatch.io.pngmeta import CHIP_SRGB_INTENT, xmp_packet
 
@@ -37,8 +38,8 @@ _ICC_DATE = (2000, 1, 1, 0, 0, 0)
 
 
 def chip_names(rec: dict) -> tuple[str, str]:
-    """(PNG, TIFF) file names of a swatch's chip in the catalog folder."""
-    return f"chip_{rec['id']}.png", f"chip_{rec['id']}.tif"
+    """(PNG, TIFF) names of a swatch's chip in the catalog folder (in its ``chips/``)."""
+    return f"{CHIPS}/chip_{rec['id']}.png", f"{CHIPS}/chip_{rec['id']}.tif"
 
 
 @functools.lru_cache(maxsize=1)

@@ -1,10 +1,16 @@
 """The catalog folder's own metadata: lock, manifest, journal, and the commit that moves a build into place.
 
+Layout (issue 21): the page, ``catalog.json``/``.csv`` and the exports lie at the top of the folder, the
+rest in one of :data:`SUBFOLDERS` (``sheets/``, ``chips/``, ``presets/``, ``heroes/``). A folder an older
+build wrote flat is migrated by the next build through the same journal and commit: its files are
+retired (as any file a build no longer produces), the new ones moved into the subfolders.
+
 Trust model: the folder (and its ``.swatch-catalog``) may come from someone else, so everything
-read back from it is untrusted input. Every name in the manifest and the journal must be a plain
-file name (outputs live directly in the folder) and the staging folder a ``staging-*`` folder of
-``.swatch-catalog``; the metadata folder, the cache and the lock must not be symbolic links; the
-metadata files are size-capped and must be regular files. Anything else is refused with one line
+read back from it is untrusted input. Every name in the manifest and the journal must be an output
+name (:func:`output_name`: a plain file name, or one of :data:`SUBFOLDERS`, ``/`` and a plain file name)
+and the staging folder a ``staging-*`` folder of ``.swatch-catalog``; the metadata folder, the cache,
+the lock and every subfolder a name passes through (in the catalog folder, the staging folder and its
+``.previous``) must not be symbolic links; the metadata files are size-capped and must be regular files. Anything else is refused with one line
 (:class:`~swatch.core.errors.SwatchError`) before anything is moved or deleted: a build never writes
 or deletes outside its folder.
 
@@ -34,9 +40,10 @@ import os
 import shutil
 import signal
 import stat
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
+from swatch.catalog.layout import SUBFOLDERS, check_subfolders, drop_empty_subfolders, output_name, subfolders_of
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
@@ -53,8 +60,6 @@ JOURNAL = "journal.json"
 PREVIOUS = ".previous"  # inside a staging folder: the files a commit replaced or retired
 STAGED_MANIFEST = ".manifest.json"  # inside a staging folder: the new manifest, renamed into place
 ROLLBACK_JOURNAL = "journal-rollback.json"  # the rollback's journal, written before the commit begins
-
-
 # -- small file helpers ------------------------------------------------------------------------
 
 def sha256_file(path: Path) -> str:
@@ -202,12 +207,12 @@ def _check_manifest(doc, what: str) -> dict:
     if not isinstance(files, dict) or not isinstance(keys, dict) or not isinstance(doc.get("fingerprint", ""), str):
         raise bad
     for name, info in files.items():
-        plain_name(name, f"{what} 'files'")
+        output_name(name, f"{what} 'files'")
         if not (isinstance(info, dict) and isinstance(info.get("sha256"), str)
                 and isinstance(info.get("size"), int) and info["size"] >= 0):
             raise bad
     for name, key in keys.items():
-        plain_name(name, f"{what} 'sheet_keys'")
+        output_name(name, f"{what} 'sheet_keys'")
         if not isinstance(key, str):
             raise bad
     return doc
@@ -240,7 +245,7 @@ def load_journal(meta: Path) -> tuple[dict | None, bool]:
     real_folder(meta / staging, f"{what} 'staging'")
     for key in ("files", "remove"):
         for name in doc[key]:
-            plain_name(name, f"{what} '{key}'")
+            output_name(name, f"{what} '{key}'")
     _check_manifest(doc.get("manifest"), f"{what} 'manifest'")
     return doc, entry_kind(meta / staging) is None
 
@@ -250,7 +255,10 @@ def write_journal(meta: Path, journal: dict) -> None:
 
 
 def check_targets(out: Path, names) -> None:
-    """Refuse before the commit if a folder stands where an output file goes (nothing moved yet)."""
+    """Refuse before the commit if a folder stands where an output file goes, or a link or a file where
+    an output subfolder goes (nothing moved yet)."""
+    names = list(names)
+    check_subfolders(out, names, f"catalog folder {out}")
     for name in names:
         if _is_dir(out / name):
             raise SwatchError(f"{out / name} is a folder where the catalog writes a file; move it away and "
@@ -275,7 +283,13 @@ def is_catalog(out: Path, meta: Path) -> bool:
         return False
     info = doc["manifest"].get("files", {})
     staged = set(doc["files"])
-    return all(p.name in staged and file_matches(p, info.get(p.name)) for p in entries)
+    names = []
+    for p in entries:  # a subfolder counts if it is a real one holding only what the journal staged
+        if p.name in SUBFOLDERS and entry_kind(p) == "dir":
+            names += [(f"{p.name}/{q.name}", q) for q in p.iterdir()]
+        else:
+            names.append((p.name, p))
+    return all(n in staged and file_matches(q, info.get(n)) for n, q in names)
 
 
 def prepare_commit(meta: Path, staging: Path, journal: dict) -> None:
@@ -285,7 +299,8 @@ def prepare_commit(meta: Path, staging: Path, journal: dict) -> None:
     here, so that moving the build into place and undoing it are renames and unlinks only: a file
     system out of inodes or space during the commit can fail a rename, never the rollback.
     """
-    make_real_folder(staging / PREVIOUS, "staging folder's .previous")
+    prev = make_real_folder(staging / PREVIOUS, "staging folder's .previous")
+    check_subfolders(prev, journal["files"] + journal["remove"], "staging folder's .previous", create=True)
     write_json_atomic(staging / STAGED_MANIFEST, journal["manifest"])
     write_json_atomic(meta / ROLLBACK_JOURNAL, dict(journal, phase="rollback"))
     fsync_dir(staging)
@@ -312,9 +327,14 @@ def _checked(out: Path, meta: Path, journal: dict, phase: str) -> tuple[Path, Pa
                           "catalog folder (a link would move files outside it); remove the journal and build again")
     if kind == "dir":
         inside(prev, staging, f"{what}: .previous")
+    everything = journal["files"] + journal["remove"]
+    check_subfolders(staging, journal["files"], what)
+    check_subfolders(out, everything, what)
+    if kind == "dir":
+        check_subfolders(prev, everything, what)
     named = [staging / n for n in journal["files"]]
     if kind == "dir":
-        named += [prev / n for n in journal["files"] + journal["remove"]]
+        named += [prev / n for n in everything]
     for path in named:
         if entry_kind(path) not in (None, "file"):
             raise SwatchError(f"{what}: {path} is not a regular file (a link, folder or device); "
@@ -336,6 +356,8 @@ def commit(out: Path, meta: Path, journal: dict) -> None:
     staging, prev = _checked(out, meta, journal, "commit")
     if prev is None:  # a journal written before .previous was made in advance
         prev = make_real_folder(staging / PREVIOUS, "staging folder's .previous")
+    check_subfolders(prev, journal["files"] + journal["remove"], "staging folder's .previous", create=True)
+    check_subfolders(out, journal["files"], f"catalog folder {out}", create=True)
     for name in journal["files"]:
         src, dst = staging / name, out / name
         if not _lexists(src):
@@ -356,8 +378,10 @@ def commit(out: Path, meta: Path, journal: dict) -> None:
         elif kind == "file":
             os.replace(dst, prev / name)
     _put_manifest(meta, staging, journal["manifest"])
+    drop_empty_subfolders(out, journal["manifest"].get("files", {}))
     fsync_dir(out)
     _finish(meta, staging)
+
 
 
 def _put_manifest(meta: Path, staging: Path, manifest: dict) -> None:
@@ -400,6 +424,8 @@ def rollback(out: Path, meta: Path, journal: dict) -> None:
     for name in journal["remove"]:
         if prev is not None and _lexists(prev / name) and not _lexists(out / name):
             os.replace(prev / name, out / name)
+    with suppress(SwatchError):  # the subfolders the commit made for the new files go again, if empty
+        drop_empty_subfolders(out, load_manifest(meta).get("files", {}))
     fsync_dir(out)
     _finish(meta, staging)
 
@@ -448,5 +474,7 @@ def file_matches(path: Path, info) -> bool:
 
 
 def intact(out: Path, manifest: dict) -> bool:
+    """Every file the manifest lists is in place as written (its subfolders real folders, not links)."""
     files = manifest.get("files") or {}
-    return bool(files) and all(file_matches(out / name, info) for name, info in files.items())
+    return (bool(files) and all(entry_kind(out / sub) == "dir" for sub in subfolders_of(files))
+            and all(file_matches(out / name, info) for name, info in files.items()))

@@ -24,6 +24,7 @@ import numpy as np
 from PIL import Image
 
 from swatch.catalog.folder import remove_tree
+from swatch.catalog.layout import HEROES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.safepath import is_regular_file
@@ -38,8 +39,8 @@ HERO_SEED = 0
 
 
 def hero_name(rec: dict) -> str:
-    """The file name of a swatch's hero render."""
-    return f"hero_{rec['id']}.png"
+    """The name of a swatch's hero render in the catalog folder (in its ``heroes/``)."""
+    return f"{HEROES}/hero_{rec['id']}.png"
 
 
 @functools.lru_cache(maxsize=1)

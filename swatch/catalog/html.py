@@ -263,7 +263,7 @@ white paper as white; 0 = the bare light, black where it does not reach)</span><
 
 def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = None,
                chips: list[dict] | None = None, env: dict | None = None) -> str:
-    """The page for a catalog document (catalog.json plus ``hue_families``).
+    """The page for a catalog document (catalog.json).
 
     ``table``: :func:`swatch.catalog.explorer.explorer_data` (without it the page is the grid
     only); ``tiles``: :func:`swatch.catalog.explorer.tile_rects`; ``chips``:

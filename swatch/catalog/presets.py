@@ -4,12 +4,12 @@
 from the build cache, keyed by the hash of what it depends on) and returns the files to write and
 every record's ``presets`` entry (the build puts it on the typed record):
 
-``preset_S001.gltf``, ``preset_S001_blender.py``, ``preset_S001.mtlx`` (flat names in the catalog
+``presets/preset_S001.gltf``, ``presets/preset_S001_blender.py``, ``presets/preset_S001.mtlx`` (in the catalog's ``presets/``
 folder), and in each record::
 
-    "presets": {"gltf": "preset_S001.gltf", "gltf_max_delta_E_00": 1.9,
-                "blender": "preset_S001_blender.py", "blender_max_delta_E_00": 1.4,
-                "materialx": "preset_S001.mtlx", "openpbr_max_delta_E_00": 2.2, ...}
+    "presets": {"gltf": "presets/preset_S001.gltf", "gltf_max_delta_E_00": 1.9,
+                "blender": "presets/preset_S001_blender.py", "blender_max_delta_E_00": 1.4,
+                "materialx": "presets/preset_S001.mtlx", "openpbr_max_delta_E_00": 2.2, ...}
 
 The errors are ΔE2000 between the model evaluated with the parameters *as written* (rounded) and
 the exact colour, CIE 1931 2° observer under D65, maximum over the facet angles 0–60°
@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.catalog.folder import read_cache_json, remove_tree
+from swatch.catalog.layout import PRESETS
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import package_dir, sha256_file
@@ -226,7 +227,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
         entry: dict = {}
         for fmt in PRESET_FORMATS:
             params, figures = fits[fmt]
-            name = preset_file_name(rec["id"], fmt)
+            name = f"{PRESETS}/{preset_file_name(rec['id'], fmt)}"  # (issue 21: the presets/ subfolder)
             title = f"{rec['id']} anodised {rec['thickness_nm']:g} nm"
             head = ERROR_KEYS[fmt].removesuffix("_max_delta_E_00")
             ext = float(figures["gltf"]["60"][i]) if "gltf" in figures and head != "gltf" else None

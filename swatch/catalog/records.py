@@ -27,6 +27,7 @@ import numpy as np
 
 from swatch.catalog.context import CatalogContext
 from swatch.catalog.geometry import Geometry
+from swatch.catalog.layout import SHEETS
 from swatch.catalog.record import Neighbours, ProcessWindowEntry, SwatchRecord
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, srgb_hex
 from swatch.colorimetry.names import NEUTRAL_CHROMA, colour_name
@@ -249,8 +250,8 @@ def compute(ctx: CatalogContext) -> CatalogData:
                 plus_capped=bool(plus_cap[i]),
             ),
             sheet=sheet,
-            sheet_png=f"sheet_{sheet:02d}.png",
-            sheet_exr=f"sheet_{sheet:02d}.exr",
+            sheet_png=f"{SHEETS}/sheet_{sheet:02d}.png",
+            sheet_exr=f"{SHEETS}/sheet_{sheet:02d}.exr",
             tile=(slot // spec.columns + 1, slot % spec.columns + 1),
         ))
     return CatalogData(

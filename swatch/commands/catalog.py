@@ -46,8 +46,11 @@ def build(spec, out, jobs, quiet):
 def validate(spec):
     """Check a catalog spec and summarise it (nothing is written)."""
     from swatch.catalog.build import check_buildable
+    from swatch.catalog.layout import layout_summary
     from swatch.catalog.spec import load_spec, spec_summary
 
     s, _ = load_spec(spec)
     check_buildable(s)  # validate refuses what build refuses, by the same checks
     click.echo(f"{spec}: ok — {spec_summary(s)}")
+    n = len(s.thickness_nm)
+    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero)}")

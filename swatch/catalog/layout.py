@@ -1,0 +1,106 @@
+"""The catalog folder's layout (issue 21): which subfolders hold which outputs, and the checks on them.
+
+The page, ``catalog.json``/``.csv`` and the exports (CxF, ASE) lie at the top of the folder; the sheets,
+print chips, 3-D presets and hero renders in :data:`SUBFOLDERS`. A name read back from a catalog's
+metadata is an *output name* (:func:`output_name`): a plain file name, or one subfolder of
+:data:`SUBFOLDERS`, ``/`` and a plain file name; nothing else (no ``..``, no other or deeper folder), so
+every name resolves inside the folder. A subfolder a name passes through must be a real folder, never
+a link (which would send moves elsewhere) nor a file (:func:`check_subfolders`).
+"""
+from __future__ import annotations
+
+import os
+from contextlib import suppress
+from pathlib import Path
+
+from swatch.core.errors import SwatchError
+from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, plain_name
+
+__all__ = ["SUBFOLDERS", "SHEETS", "CHIPS", "PRESETS", "HEROES", "output_name", "subfolders_of", "check_subfolders",
+           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary"]
+
+#: The catalog folder's subfolders (issue 21); everything else (page, JSON/CSV, exports) lies at the top.
+SHEETS, CHIPS, PRESETS, HEROES = "sheets", "chips", "presets", "heroes"
+SUBFOLDERS = (SHEETS, CHIPS, PRESETS, HEROES)
+
+
+def output_name(name, what: str) -> str:
+    """``name`` if it names a catalog output: a plain file name (at the top of the folder) or
+    ``SUB/NAME`` with ``SUB`` one of :data:`SUBFOLDERS` and ``NAME`` a plain file name.
+
+    Names read back from a catalog's metadata pass through here, so none reaches outside the folder
+    (no ``..``, no absolute path, no deeper or other folder). Raises SwatchError otherwise.
+    """
+    if isinstance(name, str) and "/" in name:
+        sub, _, leaf = name.partition("/")
+        if sub in SUBFOLDERS and "/" not in leaf:
+            plain_name(leaf, what)
+            return name
+        raise SwatchError(f"{what}: {name[:80]!r} is not a plain file name nor one in a catalog subfolder; only "
+                          f"names of files directly inside the folder or in one of its folders "
+                          f"{', '.join(SUBFOLDERS)} are allowed (no '..', no other folder)")
+    return plain_name(name, what)
+
+
+def subfolders_of(names) -> list[str]:
+    """The subfolders ``names`` pass through (sorted)."""
+    return sorted({n.partition("/")[0] for n in names if "/" in n})
+
+
+def check_subfolders(base: Path, names, what: str, create: bool = False) -> None:
+    """Every subfolder of ``base`` that ``names`` pass through is absent or a real folder (never a link,
+    which would send moves elsewhere, nor a file); with ``create``, absent ones are made."""
+    for sub in subfolders_of(names):
+        kind = entry_kind(base / sub)
+        if kind not in (None, "dir"):
+            raise SwatchError(f"{what}: {base / sub} is {'a symbolic link' if kind == 'link' else 'not a folder'}; "
+                              "the catalog keeps its outputs there in a real folder; move it away and build again")
+        if create and kind is None:
+            make_real_folder(base / sub, f"{what}: subfolder")
+
+
+def make_subfolders(base: Path) -> None:
+    """Create the :data:`SUBFOLDERS` in ``base`` (a staging folder): real folders, links refused."""
+    check_subfolders(base, [f"{sub}/x" for sub in SUBFOLDERS], str(base), create=True)
+
+
+def output_files(base: Path) -> list[str]:
+    """The output names of the files in ``base`` (a staging folder): the top's regular files and those
+    of its :data:`SUBFOLDERS` (real folders only), sorted."""
+    names = [p.name for p in base.iterdir() if is_regular_file(p) and not p.name.startswith(".")]
+    for sub in SUBFOLDERS:
+        if entry_kind(base / sub) == "dir":
+            names += [f"{sub}/{p.name}" for p in (base / sub).iterdir() if is_regular_file(p)]
+    return sorted(names)
+
+
+def drop_empty_subfolders(out: Path, files) -> None:
+    """Remove the output subfolders the catalog no longer uses, if empty (``rmdir``: a user's file keeps its folder)."""
+    used = set(subfolders_of(files))
+    for sub in SUBFOLDERS:
+        if sub not in used and entry_kind(out / sub) == "dir":
+            with suppress(OSError):
+                os.rmdir(out / sub)
+
+
+def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool) -> str:
+    """One line: what a build of ``swatches`` swatches on ``sheets`` sheets writes where (``catalog validate``).
+
+    Parameters
+    ----------
+    swatches, sheets : int
+        Swatches and sheets of the catalog.
+    chips, heroes : bool
+        Whether the spec asks for print chips and hero renders.
+
+    Returns
+    -------
+    str
+        E.g. ``"index.html, catalog.json/.csv, CxF and ASE at the top; sheets/ 10 files, chips/ 114, presets/ 171"``.
+    """
+    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, 3 * swatches),
+              (HEROES, swatches if heroes else 0)]
+    subs = [f"{sub}/ {n}" for sub, n in counts if n]
+    if subs:
+        subs[0] += " files"
+    return "index.html, catalog.json/.csv, CxF and ASE at the top; " + ", ".join(subs)
