@@ -2,11 +2,8 @@
 
 Layout of an output folder ``DIR``::
 
-    DIR/index.html, catalog.json, catalog.csv, <slug>.cxf, <slug>.ase, <slug>-srgb.ase   the page, data, exports
-    DIR/sheets/sheet_NN.png, sheet_NN.exr                  the sheets
-    DIR/chips/chip_S001.png, chip_S001.tif ...             print chips (when the spec has them)
-    DIR/presets/preset_S001.gltf, _blender.py, .mtlx ...   3-D material presets
-    DIR/heroes/hero_S001.png ...                           hero renders (``hero = true``)
+    DIR/index.html, catalog.json, catalog.csv, <slug>.cxf, <slug>.ase, <slug>-srgb.ase   page, data, exports
+    DIR/sheets/, chips/, presets/, heroes/   sheet_NN.png/.exr, chip_S001.png/.tif, preset_S001.*, hero_S001.png
     DIR/.swatch-catalog/manifest.json   what the last build wrote (file hashes, input fingerprint)
     DIR/.swatch-catalog/cache/*.npz     tile renders, keyed by the hash of what they depend on
     DIR/.swatch-catalog/lock            one build at a time (flock)
@@ -26,9 +23,8 @@ build's files that are no longer produced, writes the manifest and deletes the j
 build that fails or is interrupted before the commit leaves the previous catalog untouched (its
 staging folder is removed on the next run); one killed during the commit is completed from the
 journal by the next run, and one whose commit fails is rolled back (``swatch.catalog.folder``).
-Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. A folder an older
-build wrote flat (everything at the top) is migrated by the next build's commit: the flat files are
-retired like any file the build no longer writes, a user's file is never touched. A non-empty ``DIR`` that has no
+Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. An older flat folder
+is migrated by the next commit (its files retired as any the build no longer writes; swatch.catalog.layout). A non-empty ``DIR`` that has no
 manifest is not a swatch catalog and is refused.
 """
 from __future__ import annotations
@@ -67,7 +63,7 @@ from swatch.catalog.folder import (
     sha256_file,
     signals_held,
 )
-from swatch.catalog.layout import SHEETS, make_subfolders, output_files
+from swatch.catalog.layout import SHEETS, make_subfolders, output_files, sheet_count
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
@@ -281,7 +277,7 @@ def _check_up_to_date(spec, spec_name, out, meta, why: str, t0) -> BuildResult:
     fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": code_fingerprint()})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
-        return BuildResult(out, True, len(spec.thickness_nm), _sheet_count(old), seconds=time.perf_counter() - t0,
+        return BuildResult(out, True, len(spec.thickness_nm), sheet_count(old), seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
     raise SwatchError(f"{why}, and the catalog there is not up to date with {spec_name}; make it writable, or "
                       "build into another folder")
@@ -293,13 +289,9 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
     fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
-        return BuildResult(out, True, len(spec.thickness_nm), _sheet_count(old), seconds=time.perf_counter() - t0,
+        return BuildResult(out, True, len(spec.thickness_nm), sheet_count(old), seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
     return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
-
-
-def _sheet_count(manifest: dict) -> int:
-    return len([k for k in manifest.get("files", {}) if k.startswith(f"{SHEETS}/sheet_") and k.endswith(".png")])
 
 
 def check_buildable(spec: CatalogSpec) -> CatalogContext:

@@ -17,7 +17,7 @@ from swatch.core.errors import SwatchError
 from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, plain_name
 
 __all__ = ["SUBFOLDERS", "SHEETS", "CHIPS", "PRESETS", "HEROES", "output_name", "subfolders_of", "check_subfolders",
-           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary"]
+           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary", "sheet_count"]
 
 #: The catalog folder's subfolders (issue 21); everything else (page, JSON/CSV, exports) lies at the top.
 SHEETS, CHIPS, PRESETS, HEROES = "sheets", "chips", "presets", "heroes"
@@ -104,3 +104,8 @@ def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool) -> str
     if subs:
         subs[0] += " files"
     return "index.html, catalog.json/.csv, CxF and ASE at the top; " + ", ".join(subs)
+
+
+def sheet_count(manifest: dict) -> int:
+    """The sheets a catalog's manifest lists (its ``sheets/sheet_NN.png``)."""
+    return len([k for k in manifest.get("files", {}) if k.startswith(f"{SHEETS}/sheet_") and k.endswith(".png")])
