@@ -57,7 +57,7 @@ _API = {
     "Tolerance": "swatch.colorimetry.tolerance",
     "get_tolerance": "swatch.colorimetry.tolerance",
     # measurement files
-    "read_measurement": "swatch.io.measurements",
+    "read_measurement": "swatch.io.measurement_csv",
     "read_coupons": "swatch.io.coupons",
     # renders
     "render_swatch": "swatch.render.dispatch",

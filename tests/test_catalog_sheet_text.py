@@ -10,7 +10,7 @@ import pytest
 
 from swatch.catalog.sheet_layout import Layout, chip_line, label_lines, label_width
 from swatch.catalog.spec import load_spec
-from swatch.io.imageio import text_width
+from swatch.io.drawing import text_width
 from tests.cli_helpers import run_swatch
 
 ROOT = Path(__file__).resolve().parents[1]

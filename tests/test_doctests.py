@@ -27,6 +27,16 @@ MODULES_WITH_EXAMPLES = [
     "swatch.fit.multi_match",
     "swatch.fit.fitting",
     "swatch.fit.result",
+    "swatch.io.instruments",
+    "swatch.io.cgats",
+    "swatch.io.cxf_in",
+    "swatch.io.pngmeta",
+    "swatch.io.tabular",
+    "swatch.io.imageio",
+    "swatch.io.spectral_exr",
+    "swatch.io.drawing",
+    "swatch.io.measurements",
+    "swatch.io.measurement_csv",
 ]
 
 

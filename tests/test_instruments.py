@@ -14,7 +14,7 @@ from swatch.core.errors import SwatchError
 from swatch.io.coupons import read_coupons
 from swatch.io.instrument_files import read_instrument_file
 from swatch.io.instruments import Request
-from swatch.io.measurements import read_measurement
+from swatch.io.measurement_csv import read_measurement
 
 DATA = Path(__file__).parent / "data" / "instruments"
 CXF = DATA / "colour_cxf_sample_trimmed.cxf"

@@ -8,13 +8,8 @@ from hypothesis import strategies as st
 
 from swatch.cli import main
 from swatch.core.errors import SwatchError
-from swatch.io.measurements import (
-    LabMeasurement,
-    SpectralMeasurement,
-    check_in_tables,
-    parse_measurement_text,
-    read_measurement,
-)
+from swatch.io.measurement_csv import parse_measurement_text, read_measurement
+from swatch.io.measurements import LabMeasurement, SpectralMeasurement, check_in_tables
 
 
 def long_text(light, view, wl, R, az=None, percent=False):

@@ -19,7 +19,7 @@ from synthetic import tmm_half_vector_reflectance
 from swatch.cli import main
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter
 from swatch.core.errors import SwatchError
-from swatch.io import imageio
+from swatch.io import drawing, imageio, spectral_exr
 from swatch.physics import microfacet
 from swatch.physics.model import get_coating
 from swatch.render import angular, display, metadata, render_swatch, shading
@@ -239,7 +239,7 @@ def test_angular_files(tmp_path, capsys):
     assert chans[:3] == ["R", "G", "B"]  # the preview ordinary viewers show
     chans = chans[3:]
     assert all(c.startswith("T.") and c.endswith("nm") and "," in c for c in chans)
-    parsed = sorted(imageio.parse_spectral_channel(c)[1] for c in chans)
+    parsed = sorted(spectral_exr.parse_spectral_channel(c)[1] for c in chans)
     np.testing.assert_allclose(parsed, COATING.wavelength_nm)
     assert _attrs(tmp_path / "angular_050.8nm_spectral.exr")["spectralLayoutVersion"] == "1.0"
     buf = oiio.ImageBuf(str(tmp_path / "angular_050.8nm_spectral.exr"))
@@ -320,16 +320,16 @@ def test_imageio_general(tmp_path):
     got = oiio.ImageBuf(str(p)).get_pixels(oiio.FLOAT)
     names = list(oiio.ImageInput.open(str(p)).spec().channelnames)
     np.testing.assert_array_equal(got[..., [names.index(c) for c in "abcde"]], px)
-    img = imageio.draw_text(np.full((40, 120, 3), 255, np.uint8), "50.8 nm", 5, 30, 20, (0, 0, 0))
+    img = drawing.draw_text(np.full((40, 120, 3), 255, np.uint8), "50.8 nm", 5, 30, 20, (0, 0, 0))
     assert img.min() < 100  # ink was drawn
     with pytest.raises(SwatchError):
         imageio.write_png(tmp_path / "x.png", px)  # not uint8
     with pytest.raises(SwatchError):
         imageio.write_exr(tmp_path / "y.exr", px, channel_names=("R", "G", "B"))
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "y.exr").exists()
-    assert imageio.reflective_channel_name(550) == "T.550,000000nm"
-    assert imageio.parse_spectral_channel("S0.1,5um") == ("S0", pytest.approx(1500.0))
-    assert imageio.parse_spectral_channel("R") is None
+    assert spectral_exr.reflective_channel_name(550) == "T.550,000000nm"
+    assert spectral_exr.parse_spectral_channel("S0.1,5um") == ("S0", pytest.approx(1500.0))
+    assert spectral_exr.parse_spectral_channel("R") is None
 
 
 def test_display_encoding_matches_srgb():

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from swatch.catalog.spec import CatalogSpec
 from swatch.catalog.tiles import AMAP_ANGLES_DEG, AMAP_CELL_PX
-from swatch.io.imageio import text_width
+from swatch.io.drawing import text_width
 
 __all__ = ["Layout", "label_lines", "chip_line", "label_width", "fit_text", "PAGE", "CARD", "INK", "MUTED", "RULE"]
 

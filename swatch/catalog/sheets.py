@@ -37,7 +37,8 @@ from swatch.catalog.sheet_layout import (
 )
 from swatch.catalog.spec import CatalogSpec
 from swatch.catalog.tiles import LIGHT_DEG, lighting_caption, load_tile, tile_environment
-from swatch.io.imageio import draw_rect, draw_text, write_exr, write_png
+from swatch.io.drawing import draw_rect, draw_text
+from swatch.io.imageio import write_exr, write_png
 from swatch.io.pngmeta import xmp_packet
 from swatch.render.display import BACKGROUND_LINEAR
 

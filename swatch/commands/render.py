@@ -87,7 +87,7 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
     .csv and .json (Lab per cell). Images: light angle up, view angle to the right.
     """
     from swatch.core.fileio import atomic_write_text, check_new, check_writable_dir
-    from swatch.io import imageio
+    from swatch.io import imageio, spectral_exr
     from swatch.io.pngmeta import image_xmp
     from swatch.physics import geometry
     from swatch.render.angular import angular_map, check_angular_size
@@ -117,7 +117,7 @@ def angular(thickness, voltage, process, nm_per_volt, out_dir, light_range, view
             imageio.write_exr(path[".exr"], amap.linear_rgb[::-1], meta, space=space)
             imageio.write_png(path[".png"], angular_figure(amap), meta,
                               xmp=image_xmp(f"Angular colour map, {d[i]:g} nm", meta))
-            imageio.write_spectral_exr(path["_spectral.exr"], amap.spectral[::-1], amap.wavelength_nm, meta,
+            spectral_exr.write_spectral_exr(path["_spectral.exr"], amap.spectral[::-1], amap.wavelength_nm, meta,
                                        rgb=amap.linear_rgb[::-1], space=space)
             atomic_write_text(path[".csv"], angular_lab_csv(amap))
             atomic_write_text(path[".json"], angular_lab_json(amap))

@@ -233,7 +233,7 @@ def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, 
     Parameters
     ----------
     measurement : SpectralMeasurement or LabMeasurement
-        From :func:`swatch.io.measurements.read_measurement` or an instrument file.
+        From :func:`swatch.io.measurement_csv.read_measurement` or an instrument file.
     film, substrate : str
         Optical table names.
     wavelength_nm : array_like or None

@@ -49,7 +49,22 @@ _DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?$")
 
 
 def is_cgats(text: str) -> bool:
-    """Whether ``text`` looks like CGATS (a ``BEGIN_DATA_FORMAT`` line)."""
+    r"""Whether ``text`` looks like CGATS (it has a ``BEGIN_DATA_FORMAT`` line).
+
+    Parameters
+    ----------
+    text : str
+        A measurement file's text.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_cgats("CGATS.17\nBEGIN_DATA_FORMAT\nSAMPLE_ID LAB_L\nEND_DATA_FORMAT\n"), is_cgats("L,a,b\n")
+    (True, False)
+    """
     return re.search(r"^\s*BEGIN_DATA_FORMAT\s*$", text, re.MULTILINE) is not None
 
 
@@ -169,7 +184,30 @@ def _finite_rows(values: np.ndarray, source: str) -> None:
 
 
 def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
-    """Read CGATS text into samples (see the module docstring)."""
+    """Read CGATS.17 / ISO 28178 text into samples (see the module docstring for the fields and header
+    statements read).
+
+    Parameters
+    ----------
+    text : str
+        The file's text (already size-capped by the caller).
+    source : str
+        Names the file in messages.
+    request : swatch.io.instruments.Request
+        The command line's geometry, illuminant, observer and reflectance unit; a file statement that
+        contradicts an explicit option is refused.
+
+    Returns
+    -------
+    swatch.io.instruments.InstrumentFile
+        Format ``"cgats"``; CIELAB (XYZ converted under the file's illuminant and observer) or spectra.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Malformed blocks, repeated or missing fields, too many samples or fields (the caps of
+        :mod:`swatch.core.limits`), contradictory statements, or bad values (one line naming the line).
+    """
     ident, kw, fields, rows = _parse(text, source)
     upper = [f.upper() for f in fields]
     col = {f: i for i, f in enumerate(upper)}

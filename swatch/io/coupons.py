@@ -42,7 +42,27 @@ _OPTIONAL = ("thickness_nm", "coupon")
 
 @dataclass(frozen=True)
 class Coupons:
-    """N coupons: voltages, optional measured thicknesses, and Lab (N, 3) or spectra (N, W)."""
+    """N test coupons of an anodising line (the input of ``swatch calibrate``).
+
+    Attributes
+    ----------
+    source : str
+        The file.
+    voltage_V : numpy.ndarray, shape (N,)
+        Anodising voltages, V.
+    thickness_nm : numpy.ndarray, shape (N,)
+        Measured oxide thicknesses, nm (NaN where not measured).
+    labels : tuple of str
+        The coupons' labels.
+    Lab : numpy.ndarray, shape (N, 3), or None
+        CIELAB at the calibration's geometry, illuminant and observer (colour coupons).
+    wavelength_nm : numpy.ndarray, shape (W,), or None
+        The spectra's grid, nm (spectral coupons).
+    reflectance : numpy.ndarray, shape (N, W), or None
+        Reflectance factors, fraction.
+    lines : tuple of int
+        The first CSV line of each coupon (for messages).
+    """
 
     source: str
     voltage_V: np.ndarray
@@ -55,6 +75,12 @@ class Coupons:
 
     @property
     def kind(self) -> str:
+        """``"colour"`` (CIELAB coupons) or ``"spectrum"``.
+
+        Returns
+        -------
+        str
+        """
         return "colour" if self.Lab is not None else "spectrum"
 
     def __len__(self) -> int:
@@ -189,8 +215,26 @@ def _spectra(source, groups, volts_V, thick_nm, labels, lines) -> Coupons:
 
 
 def coupons_from_samples(source: str, samples) -> Coupons:
-    """Coupons from an instrument file's samples (:class:`swatch.io.instruments.Sample`, e.g. CGATS with
-    a ``VOLTAGE_V`` field or CxF3 objects tagged ``voltage_V``): one geometry per coupon."""
+    """Coupons from an instrument file's samples (CGATS with a ``VOLTAGE_V`` field, CxF3 objects tagged ``voltage_V``).
+
+    Parameters
+    ----------
+    source : str
+        Names the file.
+    samples : sequence of swatch.io.instruments.Sample
+        One geometry each, every one with a voltage.
+
+    Returns
+    -------
+    Coupons
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        More than :data:`MAX_COUPONS`, a sample without a voltage, with several geometries or viewed on
+        the light's side, a voltage outside 0 to :data:`swatch.core.limits.MAX_VOLTAGE_V`, or spectra not
+        evenly spaced by 1, 5, 10 or 20 nm (ASTM E308).
+    """
     if len(samples) > MAX_COUPONS:
         raise SwatchError(f"{source}: more than {MAX_COUPONS} coupons")
     missing = [s.id for s in samples if s.voltage_V is None]

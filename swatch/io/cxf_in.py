@@ -42,7 +42,22 @@ _CXF3_NS = "http://colorexchangeformat.com/CxF3-core"
 
 
 def is_cxf(data: bytes) -> bool:
-    """Whether ``data`` is XML (a CxF file is; any other XML is refused by :func:`read_cxf3`)."""
+    r"""Whether ``data`` is XML (a CxF file is; any other XML is refused by :func:`read_cxf3`).
+
+    Parameters
+    ----------
+    data : bytes
+        The file's first bytes (a UTF-8 byte-order mark and white space are skipped).
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_cxf(b"\xef\xbb\xbf <?xml version='1.0'?>"), is_cxf(b"L,a,b")
+    (True, False)
+    """
     head = data[:512].lstrip(b"\xef\xbb\xbf \t\r\n")
     return head.startswith(b"<")
 
@@ -134,7 +149,31 @@ def _tags(obj, source: str, name: str) -> tuple[float | None, float | None]:
 
 
 def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
-    """Read a CxF3 document's objects into samples (see the module docstring)."""
+    """Read a CxF3 document's objects into samples (see the module docstring).
+
+    A document that declares a DOCTYPE or entities is refused unread (it could pull in other files or
+    expand without bound); the parser is colour-cxf's (xsdata), on the document's bytes.
+
+    Parameters
+    ----------
+    data : bytes
+        The document (already size-capped by the caller).
+    source : str
+        Names the file in messages.
+    request : swatch.io.instruments.Request
+        The command line's conditions; a contradicting explicit option is refused.
+
+    Returns
+    -------
+    swatch.io.instruments.InstrumentFile
+        Format ``"cxf3"``: one sample per ``Object`` (CIELAB or reflectance spectra at their colour
+        specification's geometries; ``voltage_V`` / ``thickness_nm`` tags for coupons).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Not a CxF3 document, no or too many objects, unsupported or contradictory specifications, bad values.
+    """
     doc = _parse(data, source)
     res = doc.resources
     specs = {}

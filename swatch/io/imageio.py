@@ -1,4 +1,4 @@
-"""Image files through OpenImageIO: EXR (half/float, any channels), spectral EXR, PNG, text drawing.
+"""Image files through OpenImageIO: EXR (half/float, any channels), spectral EXR, PNG, TIFF (drawing: :mod:`swatch.io.drawing`).
 
 Every writer is
 
@@ -15,15 +15,10 @@ UTF-8 ``iTXt`` chunk (floats written with ``repr``, so they read back exactly). 
 returns the ``swatch:`` attributes of either kind of file (prefix removed, types restored where
 the file keeps them).
 
-Spectral EXR: the layout of Fichet, Pacanowski & Wilkie, "An OpenEXR Layout for Spectral
-Images", JCGT 10(3), 2021. Reflective (dimensionless) spectra are channels named
-``T.<wavelength>nm`` with a decimal **comma**, the value written like C++ ``std::to_string``
-(six decimals), e.g. ``T.550,000000nm``; emissive spectra would be ``S0.<wavelength>nm``
-(Stokes component 0). The layout's version attribute ``spectralLayoutVersion = "1.0"`` is set.
+Spectral EXR (Fichet et al. 2021): :mod:`swatch.io.spectral_exr`.
 """
 from __future__ import annotations
 
-import functools
 import json
 import math
 import re
@@ -42,33 +37,17 @@ from swatch.io.pngmeta import SRGB_INTENT, finish_png
 __all__ = [
     "PREFIX",
     "write_exr",
-    "write_spectral_exr",
     "write_png",
     "write_tiff",
     "TIFF_FIXED_DATETIME",
     "read_metadata",
     "read_channel_names",
-    "reflective_channel_name",
-    "parse_spectral_channel",
     "chromaticities",
-    "font_path",
-    "draw_text",
-    "text_width",
-    "drawable_text",
-    "draw_rect",
-    "draw_line",
+    "as_hwc",
 ]
 
 PREFIX = "swatch:"
 HALF_MAX = 65504.0
-_SPECTRAL_RE = re.compile(
-    r"^(?:(?P<stokes>S[0-3])|T)\.(?P<value>(\d+(,\d*)?|,\d+)([eE][+-]?\d+)?)"
-    r"(?P<mult>Y|Z|E|P|T|G|M|k|h|da|d|c|m|u|n|p)?(?P<unit>m|Hz)$"
-)
-_PREFIX_SCALE_M = {
-    "Y": 1e24, "Z": 1e21, "E": 1e18, "P": 1e15, "T": 1e12, "G": 1e9, "M": 1e6, "k": 1e3, "h": 1e2,
-    "da": 1e1, "": 1.0, "d": 1e-1, "c": 1e-2, "m": 1e-3, "u": 1e-6, "n": 1e-9, "p": 1e-12,
-}
 
 
 def _oiio():
@@ -135,7 +114,23 @@ def _apply_metadata(spec, metadata: dict | None, text_only: bool) -> None:
 
 
 def chromaticities(space: str = "srgb") -> tuple[float, ...]:
-    """(rx, ry, gx, gy, bx, by, wx, wy) of an RGB space from colour-science."""
+    """The EXR ``chromaticities`` of an RGB space, from colour-science.
+
+    Parameters
+    ----------
+    space : str
+        An RGB space of :data:`swatch.colorimetry.colorimeter.RGB_SPACES` (``srgb``, ``display-p3`` …).
+
+    Returns
+    -------
+    tuple of float
+        (rx, ry, gx, gy, bx, by, wx, wy), CIE 1931 xy.
+
+    Examples
+    --------
+    >>> [round(v, 4) for v in chromaticities("srgb")]
+    [0.64, 0.33, 0.3, 0.6, 0.15, 0.06, 0.3127, 0.329]
+    """
 
     cs = colour.RGB_COLOURSPACES[RGB_SPACES[check_rgb_space(space)]]
     p = np.asarray(cs.primaries, dtype=np.float64).reshape(3, 2)
@@ -144,7 +139,24 @@ def chromaticities(space: str = "srgb") -> tuple[float, ...]:
 
 
 # -- writers -----------------------------------------------------------------------------------
-def _as_hwc(pixels, what: str) -> np.ndarray:
+def as_hwc(pixels, what: str) -> np.ndarray:
+    """An image array as (H, W, C) (a 2-D array gets one channel), checked non-empty.
+
+    Parameters
+    ----------
+    pixels : array_like, shape (H, W) or (H, W, C)
+    what : str
+        Names the array in the error.
+
+    Returns
+    -------
+    numpy.ndarray, shape (H, W, C)
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Any other shape.
+    """
     arr = np.asarray(pixels)
     if arr.ndim == 2:
         arr = arr[:, :, None]
@@ -178,16 +190,32 @@ def _write(path, spec, pixels: np.ndarray, fmt: str, finish=None) -> Path:
 def write_exr(path, pixels, metadata: dict | None = None, channel_names=("R", "G", "B"),
               space: str | None = "srgb", half: bool = True, compression: str = "zip",
               raw_attributes: dict | None = None) -> Path:
-    """Write an OpenEXR file (scanline, ``compression`` zip by default).
+    """Write an OpenEXR file (scanline; atomic and deterministic).
 
-    ``pixels`` (H, W) or (H, W, C) with ``len(channel_names) == C`` (any C). With ``space`` the
-    ``chromaticities`` attribute is set to that RGB space's primaries and white (colour-science);
-    ``space=None`` leaves it out (non-colour data). ``half`` stores 16-bit floats (values are
-    clipped to ±65504, the half range, so a highlight never becomes inf). ``raw_attributes`` are
-    written under their own names (no ``swatch:`` prefix), e.g. a layout's standard attributes.
+    Parameters
+    ----------
+    path : str or path-like
+    pixels : array_like, shape (H, W) or (H, W, C)
+        Any C, finite (NaN or inf refused).
+    metadata : dict, optional
+        ``swatch:`` attributes (see the module docstring).
+    channel_names : sequence of str
+        C distinct names.
+    space : str or None
+        Sets ``chromaticities`` to that RGB space (colour-science); None for non-colour data.
+    half : bool
+        16-bit floats (values clipped to ±65504, so a highlight never becomes inf); else 32-bit.
+    compression : str
+        An OpenEXR compression (``zip`` default).
+    raw_attributes : dict, optional
+        Written under their own names (no prefix), e.g. a layout's standard attributes.
+
+    Returns
+    -------
+    pathlib.Path
     """
     oiio = _oiio()
-    arr = _as_hwc(pixels, "EXR pixels").astype(np.float32, copy=False)  # (no copy of a float32 image)
+    arr = as_hwc(pixels, "EXR pixels").astype(np.float32, copy=False)  # (no copy of a float32 image)
     names = [str(c) for c in channel_names]
     if len(names) != arr.shape[2] or len(set(names)) != len(names):
         raise SwatchError(f"EXR needs {arr.shape[2]} distinct channel names, got {len(names)}")
@@ -212,61 +240,33 @@ def write_exr(path, pixels, metadata: dict | None = None, channel_names=("R", "G
     return _write(path, spec, arr, "exr")
 
 
-def reflective_channel_name(wavelength_nm: float) -> str:
-    """Fichet et al. (JCGT 2021) reflective channel name: ``T.550,000000nm``."""
-    return "T." + f"{float(wavelength_nm):.6f}".replace(".", ",") + "nm"
-
-
-def parse_spectral_channel(name: str):
-    """(kind, wavelength_nm) for a spectral channel name ('T' reflective, 'S0'..'S3' emissive), else None."""
-    m = _SPECTRAL_RE.match(str(name))
-    if not m:
-        return None
-    value = float(m.group("value").replace(",", "."))
-    scale = _PREFIX_SCALE_M[m.group("mult") or ""]
-    if m.group("unit") == "Hz":
-        nm = 299792458.0 / (value * scale) * 1e9
-    else:
-        nm = value * scale * 1e9 if m.group("mult") != "n" else value
-    return (m.group("stokes") or "T"), nm
-
-
-def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None = None, rgb=None,
-                       space: str = "srgb", half: bool = False) -> Path:
-    """A spectral EXR of reflectance (H, W, Wl) on ``wavelength_nm`` (Fichet et al. 2021 layout).
-
-    ``rgb`` (H, W, 3): linear RGB in ``space`` written as ``R``, ``G``, ``B`` channels beside the
-    spectral ones (the layout's reference writer always adds them, and ordinary viewers show
-    them); the ``chromaticities`` attribute then names ``space``. 32-bit floats by default, as the
-    reference writer; ``half`` for 16-bit.
-    """
-    arr = _as_hwc(reflectance, "spectral reflectance")
-    wl = np.asarray(wavelength_nm, dtype=np.float64).reshape(-1)
-    if wl.size != arr.shape[2]:
-        raise SwatchError(f"spectral EXR has {arr.shape[2]} bands but {wl.size} wavelengths")
-    names = [reflective_channel_name(x) for x in wl]
-    if rgb is not None:
-        rgb = _as_hwc(rgb, "preview RGB")
-        if rgb.shape != (*arr.shape[:2], 3):
-            raise SwatchError("the spectral EXR's RGB preview must be (H, W, 3) like the spectra")
-        arr = np.concatenate([np.asarray(rgb, dtype=np.float32), arr.astype(np.float32)], axis=2)
-        names = ["R", "G", "B", *names]
-    return write_exr(path, arr, metadata, channel_names=names, space=space if rgb is not None else None, half=half,
-                     raw_attributes={"spectralLayoutVersion": "1.0"})
-
-
 def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, dpi: float | None = None,
               flat: bool = False, intent: int | None = None) -> Path:
-    """An sRGB PNG (gray, gray+alpha, RGB or RGBA; uint8, or uint16 for 16-bit) with metadata.
+    """An sRGB PNG (gray, gray+alpha, RGB or RGBA; uint8, or uint16 for 16-bit) with metadata (atomic).
 
-    Metadata values are UTF-8 ``iTXt`` chunks; ``xmp`` (see :func:`swatch.io.pngmeta.xmp_packet`)
-    is embedded as the file's XMP packet; ``dpi`` sets the ``pHYs`` resolution. The ``sRGB``
-    chunk carries the perceptual rendering intent (:mod:`swatch.io.pngmeta`), or ``intent``. ``flat``: the image is
-    flat colour, so PNG's row filters are skipped (no gain there, 2× faster).
+    Parameters
+    ----------
+    path : str or path-like
+    rgb : array_like, shape (H, W) or (H, W, 1–4), uint8 or uint16
+        Display-encoded sRGB.
+    metadata : dict, optional
+        Each value a UTF-8 ``iTXt`` chunk (floats by ``repr``: they read back exactly).
+    xmp : str, optional
+        The XMP packet (:func:`swatch.io.pngmeta.xmp_packet`).
+    dpi : float, optional
+        The ``pHYs`` resolution, dots per inch.
+    flat : bool
+        Flat colour: PNG's row filters are skipped (no gain there, 2× faster).
+    intent : int, optional
+        The ``sRGB`` chunk's rendering intent (default perceptual, :mod:`swatch.io.pngmeta`).
+
+    Returns
+    -------
+    pathlib.Path
     """
 
     oiio = _oiio()
-    arr = _as_hwc(rgb, "PNG pixels")
+    arr = as_hwc(rgb, "PNG pixels")
     if arr.dtype not in (np.uint8, np.uint16):
         raise SwatchError("PNG pixels must be uint8 or uint16 (display-encoded sRGB)")
     if arr.shape[2] not in (1, 2, 3, 4):
@@ -291,16 +291,28 @@ TIFF_FIXED_DATETIME = "1970:01:01 00:00:00"
 
 def write_tiff(path, rgb, dpi: float | None = None, icc_profile: bytes | None = None, title: str | None = None,
                description: str | None = None) -> Path:
-    """An LZW-compressed TIFF (uint8 or uint16, display-encoded) with resolution in dots per
-    inch, an embedded ICC profile and ``DocumentName`` / ``ImageDescription`` text.
+    """An LZW-compressed TIFF (uint8 or uint16, display-encoded) with resolution, ICC profile and text (atomic).
 
-    LZW, not Deflate: ``exiftool -validate`` flags Adobe Deflate (8) as an invalid IFD0
-    compression, LZW (5) is baseline-extension TIFF every reader (libtiff) has. ``DateTime`` is
-    :data:`TIFF_FIXED_DATETIME` (OpenImageIO stamps the current time when it writes text or a
-    profile, and an empty value is an invalid date): valid and byte-identical on rerun.
+    LZW, not Deflate: ``exiftool -validate`` flags Adobe Deflate (8) as an invalid IFD0 compression.
+    ``DateTime`` is :data:`TIFF_FIXED_DATETIME`, so a rerun writes the same bytes.
+
+    Parameters
+    ----------
+    path : str or path-like
+    rgb : array_like, shape (H, W, C), uint8 or uint16
+    dpi : float, optional
+        Resolution, dots per inch.
+    icc_profile : bytes, optional
+        Embedded ICC profile.
+    title, description : str, optional
+        ``DocumentName`` and ``ImageDescription``.
+
+    Returns
+    -------
+    pathlib.Path
     """
     oiio = _oiio()
-    arr = _as_hwc(rgb, "TIFF pixels")
+    arr = as_hwc(rgb, "TIFF pixels")
     if arr.dtype not in (np.uint8, np.uint16):
         raise SwatchError("TIFF pixels must be uint8 or uint16")
     h, w, c = arr.shape
@@ -346,9 +358,22 @@ def _restore(value, numeric_text: bool):
 def read_metadata(path, prefix: str | None = PREFIX, restore: bool = True) -> dict:
     """Metadata of an image file read with OpenImageIO.
 
-    With ``prefix`` (default ``swatch:``) only those attributes, with the prefix removed; with
-    ``prefix=None`` every attribute under its own name. ``restore`` turns JSON strings back into
-    lists/dicts, "true"/"false" into bools and numeric PNG text back into floats.
+    Parameters
+    ----------
+    path : str or path-like
+    prefix : str or None
+        Only attributes with this prefix (default ``swatch:``), prefix removed; None: every attribute.
+    restore : bool
+        Turn JSON strings back into lists/dicts, ``true``/``false`` into bools, numeric PNG text into floats.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The file cannot be opened.
     """
     oiio = _oiio()
     inp = oiio.ImageInput.open(str(path))
@@ -371,6 +396,21 @@ def read_metadata(path, prefix: str | None = PREFIX, restore: bool = True) -> di
 
 
 def read_channel_names(path) -> list[str]:
+    """The channel names of an image file (OpenImageIO).
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The file cannot be opened.
+    """
     oiio = _oiio()
     inp = oiio.ImageInput.open(str(path))
     if inp is None:
@@ -379,118 +419,3 @@ def read_channel_names(path) -> list[str]:
         return list(inp.spec().channelnames)
     finally:
         inp.close()
-
-
-# -- drawing -----------------------------------------------------------------------------------
-@functools.lru_cache(maxsize=4)
-def font_path(name: str = "DroidSans") -> str:
-    """A TrueType font shipped inside the OpenImageIO wheel (share/fonts/OpenImageIO/<name>.ttf)."""
-    oiio = _oiio()
-    base = Path(oiio.__file__).resolve().parent
-    for cand in (base / "share" / "fonts" / "OpenImageIO" / f"{name}.ttf",):
-        if cand.is_file():
-            return str(cand)
-    found = sorted(base.rglob(f"{name}.ttf"))
-    if found:
-        return str(found[0])
-    raise SwatchError(f"font {name}.ttf not found in the OpenImageIO package at {base}")
-
-
-def _color_tuple(color, nch: int) -> tuple:
-    c = np.asarray(color, dtype=np.float64).reshape(-1)
-    if c.size == 1:
-        c = np.repeat(c, 3)
-    c = c / 255.0 if c.max(initial=0) > 1.0 else c
-    vals = list(c[:nch]) + [1.0] * (nch - min(c.size, nch))
-    return tuple(float(v) for v in vals[:nch])
-
-
-@functools.lru_cache(maxsize=4096)
-def _has_glyph(char: str, font: str) -> bool:
-    """Whether ``font`` draws ``char`` (a missing glyph has an advance but leaves no ink)."""
-    if char.isspace():
-        return True
-    roi = _oiio().ImageBufAlgo.text_size(char, 32, font_path(font))
-    return bool(roi.defined and roi.width > 1)
-
-
-def drawable_text(text: str, font: str = "DroidSans") -> str:
-    """``text`` with the characters the font cannot draw (CJK, many symbols) replaced by ``?``,
-    so that text is never silently invisible; the metadata keeps the original."""
-    return "".join(ch if _has_glyph(ch, font) else "?" for ch in str(text))
-
-
-def text_width(text: str, size_px: int, font: str = "DroidSans") -> int:
-    """Width in pixels of ``text`` rendered at ``size_px``."""
-    oiio = _oiio()
-    roi = oiio.ImageBufAlgo.text_size(drawable_text(text, font), int(size_px), font_path(font))
-    return int(roi.width) if roi.defined else 0
-
-
-def draw_text(image_uint8, text: str, x: int, y: int, size_px: int = 16, color=(0, 0, 0),
-              align: str = "left", valign: str = "baseline", font: str = "DroidSans",
-              inplace: bool = False) -> np.ndarray:
-    """Render ``text`` into a copy of an (H, W, C) uint8 image with OpenImageIO (anti-aliased).
-
-    ``(x, y)`` is the anchor: ``align`` left|center|right, ``valign`` baseline|top|center|bottom.
-    ``color`` as 0–255 or 0–1 values. Returns the new image (the input is not modified), or with
-    ``inplace`` the input itself, drawn on (a figure of many labels: no copy per label). Only the band
-    of rows the text can reach is converted, so a label costs the same on a tall figure as on a small one.
-    """
-    oiio = _oiio()
-    img = _as_hwc(image_uint8, "image")
-    if img.dtype != np.uint8:
-        raise SwatchError("draw_text works on uint8 images")
-    h, w, c = img.shape
-    pad = 2 * int(size_px) + 4  # the glyphs lie within two sizes of the anchor, whatever the valign
-    y0, y1 = max(0, int(y) - pad), min(h, int(y) + pad)
-    out_img = img if inplace else img.copy()
-    if y1 <= y0:
-        return out_img
-    band = img[y0:y1]
-    buf = oiio.ImageBuf(oiio.ImageSpec(w, y1 - y0, c, "float"))
-    buf.set_pixels(oiio.ROI(0, w, 0, y1 - y0), band.astype(np.float32) / 255.0)
-    ok = oiio.ImageBufAlgo.render_text(buf, int(x), int(y) - y0, drawable_text(text, font), int(size_px),
-                                       font_path(font), _color_tuple(color, c), align, valign)
-    if not ok:
-        raise SwatchError(f"cannot draw text: {buf.geterror()}")
-    out = buf.get_pixels(oiio.FLOAT).reshape(y1 - y0, w, c)
-    out_img[y0:y1] = np.clip(np.round(out * 255.0), 0, 255).astype(np.uint8)
-    return out_img
-
-
-def draw_rect(image_uint8, x0: int, y0: int, x1: int, y1: int, color, fill: bool = True, width: int = 1,
-              inplace: bool = False) -> np.ndarray:
-    """A filled (or outlined) axis-aligned rectangle [x0, x1) × [y0, y1) on a copy of the image (``inplace``:
-    on the image itself)."""
-    img = _as_hwc(image_uint8, "image")
-    img = img if inplace else img.copy()
-    col = np.round(np.asarray(_color_tuple(color, img.shape[2])) * 255).astype(np.uint8)
-    h, w = img.shape[:2]
-    x0, x1 = max(0, int(x0)), min(w, int(x1))
-    y0, y1 = max(0, int(y0)), min(h, int(y1))
-    if x1 <= x0 or y1 <= y0:
-        return img
-    if fill:
-        img[y0:y1, x0:x1] = col
-    else:
-        t = int(width)
-        img[y0:min(y1, y0 + t), x0:x1] = col
-        img[max(y0, y1 - t):y1, x0:x1] = col
-        img[y0:y1, x0:min(x1, x0 + t)] = col
-        img[y0:y1, max(x0, x1 - t):x1] = col
-    return img
-
-
-def draw_line(image_uint8, x0: int, y0: int, x1: int, y1: int, color, width: int = 1,
-              inplace: bool = False) -> np.ndarray:
-    """A horizontal or vertical line (axes, ticks) of ``width`` pixels on a copy of the image (``inplace``:
-    on the image itself)."""
-    if x0 != x1 and y0 != y1:
-        raise SwatchError("draw_line draws horizontal or vertical lines only")
-    t = int(width)
-    if y0 == y1:
-        return draw_rect(image_uint8, min(x0, x1), y0 - t // 2, max(x0, x1) + 1, y0 - t // 2 + t, color,
-                         inplace=inplace)
-    return draw_rect(image_uint8, x0 - t // 2, min(y0, y1), x0 - t // 2 + t, max(y0, y1) + 1, color,
-                     inplace=inplace)

@@ -14,7 +14,7 @@ from swatch.core.limits import MAX_INSTRUMENT_SAMPLES, MAX_MEASUREMENT_BYTES, re
 from swatch.io.cgats import is_cgats, read_cgats
 from swatch.io.cxf_in import is_cxf, read_cxf3
 from swatch.io.instruments import InstrumentFile, Request, Sample
-from swatch.io.measurements import parse_measurement_table
+from swatch.io.measurement_csv import parse_measurement_table
 from swatch.io.tabular import Table, split_table
 
 __all__ = ["read_instrument_file", "ID_COLUMNS"]

@@ -34,8 +34,24 @@ _DIRECTIONAL = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*°?\s*[acx]?\s*[:/]\s*(\d+(?:\
 
 @dataclass(frozen=True)
 class Request:
-    """What the command line says, and which of it was given explicitly (``given``: any of
-    ``"geometry"``, ``"illuminant"``, ``"observer"``)."""
+    """What the command line says about a measurement file, and which of it was given explicitly.
+
+    Attributes
+    ----------
+    light_deg, view_deg : float
+        The geometry for files that state none, polar angles from the normal, degrees.
+    light_azimuth_deg : float
+        The light's azimuth, degrees.
+    view_azimuth_deg : float or None
+        The view's azimuth, degrees (None: the opposite side).
+    illuminant, observer : str
+        Colorimetry for files that state none (CIE illuminant name; ``"2"`` or ``"10"``).
+    percent : bool or None
+        Reflectance in percent (True), as a fraction (False) or detected (None).
+    given : frozenset of str
+        Which of ``"geometry"``, ``"illuminant"``, ``"observer"`` were given explicitly (a file
+        contradicting one of those is refused).
+    """
 
     light_deg: float = 45.0
     view_deg: float = 0.0
@@ -49,7 +65,19 @@ class Request:
 
 @dataclass(frozen=True)
 class Sample:
-    """One measured part: its id, the measurement (one or several geometries) and optional labels."""
+    """One measured part.
+
+    Attributes
+    ----------
+    id : str
+        The sample's name in the file.
+    measurement : swatch.io.measurements.SpectralMeasurement or swatch.io.measurements.LabMeasurement
+        One or several geometries.
+    voltage_V : float or None
+        The anodising voltage, V, when the file gives it (coupons).
+    thickness_nm : float or None
+        The oxide thickness, nm, when the file gives it.
+    """
 
     id: str
     measurement: SpectralMeasurement | LabMeasurement
@@ -61,8 +89,18 @@ class Sample:
 class InstrumentFile:
     """The samples of one file with the colorimetry they are to be read under.
 
-    ``illuminant``/``observer``: the file's where it states them, else the command line's.
-    ``stated``: what the file itself states (``illuminant``, ``observer``, ``geometry``), for reports.
+    Attributes
+    ----------
+    source : str
+        The file's name (for messages).
+    format : str
+        ``"csv"``, ``"cgats"`` or ``"cxf3"``.
+    samples : tuple of Sample
+        Measured alike (:func:`same_geometries`).
+    illuminant, observer : str
+        The file's where it states them, else the command line's.
+    stated : dict
+        What the file itself states (``illuminant``, ``observer``, ``geometry``), for reports.
     """
 
     source: str
@@ -74,17 +112,62 @@ class InstrumentFile:
 
     @property
     def kind(self) -> str:
+        """``"colour"`` (CIELAB samples) or ``"spectrum"``.
+
+        Returns
+        -------
+        str
+        """
         return "colour" if isinstance(self.samples[0].measurement, LabMeasurement) else "spectrum"
 
 
 def geometry_name(light_deg: float, view_deg: float, same_side: bool = False) -> str:
-    """``45:0`` (in plane, view across the normal) or ``45:-15`` (view on the light's side)."""
+    """The name of an in-plane geometry: ``45:0`` (view across the normal) or ``45:-15`` (the light's side).
+
+    Parameters
+    ----------
+    light_deg, view_deg : float
+        Polar angles from the normal, degrees.
+    same_side : bool
+        The view is on the light's side.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> geometry_name(45, 0), geometry_name(45, 15, same_side=True)
+    ('45:0', '45:-15')
+    """
     return f"{light_deg:g}:{-view_deg if same_side and view_deg else view_deg:g}"
 
 
 def parse_geometry_text(text: str, source: str) -> tuple[float, float]:
-    """(light_deg, view_deg) of a directional geometry as files write it: ``45/0``, ``0:45``,
-    ``45°a:0°`` (annular). A diffuse geometry (``d/8``) is refused: the model is directional."""
+    """(light_deg, view_deg) of a directional geometry as files write it: ``45/0``, ``0:45``, ``45°a:0°`` (annular).
+
+    Parameters
+    ----------
+    text : str
+        The file's geometry statement.
+    source : str
+        Names the file in messages.
+
+    Returns
+    -------
+    (float, float)
+        Illumination and viewing polar angles from the normal, degrees.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A diffuse geometry (``d/8``: the model is directional), an unreadable text, or an angle ≥ 90°.
+
+    Examples
+    --------
+    >>> parse_geometry_text("45°a:0°", "x.txt")
+    (45.0, 0.0)
+    """
     t = str(text).strip().split("(")[0].strip()
     if _DIFFUSE.match(t) or t.lower().startswith(("d/", "d:", "di", "de")):
         raise SwatchError(f"{source}: geometry {text!r} is a diffuse (sphere) geometry; swatch models directional "
@@ -101,7 +184,29 @@ def parse_geometry_text(text: str, source: str) -> tuple[float, float]:
 
 
 def parse_observer(text: str, source: str) -> str:
-    """``"2"`` or ``"10"`` from ``2``, ``2°``, ``2_Degree``, ``CIE 1931 2 degree``, ``10 deg`` …"""
+    """``"2"`` or ``"10"`` from ``2``, ``2°``, ``2_Degree``, ``CIE 1931 2 degree``, ``10 deg`` …
+
+    Parameters
+    ----------
+    text : str
+        The file's observer statement.
+    source : str
+        Names the file in messages.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Neither observer is recognised.
+
+    Examples
+    --------
+    >>> parse_observer("CIE 1964 10 degree", "x"), parse_observer("2_Degree", "x")
+    ('10', '2')
+    """
     t = str(text).lower()
     if "1964" in t or re.search(r"(^|[^0-9])10([^0-9]|$)", t):
         return "10"
@@ -111,7 +216,29 @@ def parse_observer(text: str, source: str) -> str:
 
 
 def parse_illuminant(text: str, source: str) -> str:
-    """A CIE illuminant name as files write it (``D50``, ``Illuminant D65``, ``F11`` → ``FL11``)."""
+    """A CIE illuminant name as colour-science spells it, from how files write it (``Illuminant D65``, ``F11`` → ``FL11``).
+
+    Parameters
+    ----------
+    text : str
+        The file's illuminant statement.
+    source : str
+        Names the file in messages.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Not a CIE illuminant colour-science knows.
+
+    Examples
+    --------
+    >>> parse_illuminant("Illuminant d50", "x"), parse_illuminant("F11", "x")
+    ('D50', 'FL11')
+    """
     t = str(text).strip().upper().replace("ILLUMINANT", "").replace("CIE", "").strip(" ,_")
     m = re.fullmatch(r"F(\d+)", t)
     if m:
@@ -125,7 +252,36 @@ def parse_illuminant(text: str, source: str) -> str:
 
 def check_agrees(source: str, what: str, stated, where: str, request: Request, given_key: str, cli_value,
                  option: str) -> None:
-    """Refuse a file whose stated ``what`` contradicts an explicit command-line option."""
+    """Refuse a file whose stated condition contradicts an explicit command-line option.
+
+    Parameters
+    ----------
+    source : str
+        Names the file.
+    what : str
+        The condition, for the message (``geometry``, ``illuminant``, ``observer``).
+    stated : tuple of float, str or None
+        What the file states ((light_deg, view_deg) for a geometry); None: nothing, nothing to check.
+    where : str
+        Where the file states it, for the message.
+    request : Request
+        The command line.
+    given_key : str
+        The key of ``request.given`` that says whether the option was explicit.
+    cli_value : tuple of float or str
+        The option's value.
+    option : str
+        The option's name, for the message.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The explicit option and the file disagree (angles to 1e-6°, names case-insensitively).
+    """
     if stated is None or given_key not in request.given:
         return
     same = (abs(stated[0] - cli_value[0]) < 1e-6 and abs(stated[1] - cli_value[1]) < 1e-6
@@ -152,7 +308,28 @@ def _geometry_arrays(geometries):
 
 
 def lab_sample(source: str, sample_id: str, geometries, Lab, voltage_V=None, thickness_nm=None) -> Sample:
-    """A CIELAB sample at in-plane geometries ``[(light_deg, signed view_deg), ...]``, validated."""
+    """A CIELAB sample at in-plane geometries, validated.
+
+    Parameters
+    ----------
+    source, sample_id : str
+        The file and the sample, for messages.
+    geometries : sequence of (float, float)
+        (light_deg, signed view_deg) per geometry (negative view: the light's side), degrees.
+    Lab : array_like, shape (G, 3)
+        CIELAB: L* in [0, 100], |a*|, |b*| ≤ :data:`swatch.core.limits.MAX_LAB_AB`.
+    voltage_V, thickness_nm : float or None
+        Labels of a coupon, V and nm.
+
+    Returns
+    -------
+    Sample
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A value not finite or out of range, a repeated geometry, or an angle outside [0, 90).
+    """
     Lab = np.asarray(Lab, dtype=np.float64).reshape(-1, 3)
     _finite(Lab, source, sample_id, "a CIELAB value")
     if np.any((Lab[:, 0] < 0) | (Lab[:, 0] > 100)):
@@ -167,7 +344,33 @@ def lab_sample(source: str, sample_id: str, geometries, Lab, voltage_V=None, thi
 
 def spectral_sample(source: str, sample_id: str, geometries, wavelength_nm, reflectance, percent: bool | None,
                     voltage_V=None, thickness_nm=None) -> Sample:
-    """A spectral sample (reflectance (G, W), fraction or percent; ``percent`` None detects it)."""
+    """A spectral sample, validated (reflectance converted to a fraction).
+
+    Parameters
+    ----------
+    source, sample_id : str
+        The file and the sample, for messages.
+    geometries : sequence of (float, float)
+        (light_deg, signed view_deg) per geometry, degrees.
+    wavelength_nm : array_like, shape (W,)
+        Positive, increasing, at least two, nm.
+    reflectance : array_like, shape (G, W)
+        Reflectance factors, as a fraction or in percent.
+    percent : bool or None
+        Percent (True), fraction (False), or detected (None: percent when a value exceeds 1.5).
+    voltage_V, thickness_nm : float or None
+        Labels of a coupon, V and nm.
+
+    Returns
+    -------
+    Sample
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Non-finite values, bad wavelengths, reflectance outside the caps of :mod:`swatch.core.limits`
+        or implausibly dark, a repeated geometry, or an angle outside [0, 90).
+    """
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     R = np.asarray(reflectance, dtype=np.float64).reshape(-1, wl.size)
     _finite(R, source, sample_id, "a reflectance value")
@@ -202,7 +405,32 @@ def _check_unique(source, sample_id, light, view, va) -> None:
 
 
 def aspecular_geometry(light_deg: float, aspecular_deg: float, source: str) -> tuple[float, float]:
-    """(light_deg, signed view_deg) of a multi-angle geometry (ASTM E2194: aspecular from the specular)."""
+    """(light_deg, signed view_deg) of a multi-angle geometry (ASTM E2194: aspecular angle from the specular).
+
+    Parameters
+    ----------
+    light_deg : float
+        Illumination polar angle, degrees.
+    aspecular_deg : float
+        Aspecular angle, degrees (towards the light is positive).
+    source : str
+        Names the file in messages.
+
+    Returns
+    -------
+    (float, float)
+        Negative view: on the light's side.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The view falls outside (−90°, 90°) or the light outside [0°, 90°).
+
+    Examples
+    --------
+    >>> aspecular_geometry(45.0, 15.0, "x"), aspecular_geometry(45.0, 110.0, "x")
+    ((45.0, 30.0), (45.0, -65.0))
+    """
     v = float(geometry.aspecular_view_deg(light_deg, aspecular_deg))
     if not (math.isfinite(v) and abs(v) < 90 and 0 <= light_deg < 90):
         raise SwatchError(f"{source}: multi-angle geometry light {light_deg:g}°, aspecular {aspecular_deg:g}° puts the "
@@ -211,7 +439,24 @@ def aspecular_geometry(light_deg: float, aspecular_deg: float, source: str) -> t
 
 
 def same_geometries(samples: tuple[Sample, ...], source: str) -> None:
-    """Refuse a file whose samples were measured at different geometries or on different quantities."""
+    """Refuse a file whose samples were measured at different geometries or on different quantities.
+
+    Parameters
+    ----------
+    samples : tuple of Sample
+        The file's samples.
+    source : str
+        Names the file.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Two samples differ in geometry (to 0.001°) or mix CIELAB and spectra.
+    """
     def key(s: Sample):
         m = s.measurement
         return (type(m).__name__, tuple(np.round(m.light_deg, 3)), tuple(np.round(m.view_deg, 3)),

@@ -28,7 +28,21 @@ _THOUSANDS = re.compile(r"^[+-]?\d{1,3}([.,]\d{3})+[.,]\d+$")
 
 @dataclass(frozen=True)
 class Table:
-    """A header (as written, stripped) and numbered data rows (1-based file lines)."""
+    """A delimited table: a header (as written, stripped) and numbered data rows.
+
+    Attributes
+    ----------
+    source : str
+        The file, for messages.
+    separator : str
+        One of :data:`SEPARATORS` (tab, ``;``, ``,``).
+    header : list of str
+        The column names.
+    header_line : int
+        The header's file line (1-based).
+    rows : list of (int, list of str)
+        (file line, fields) per data row; decimal commas already made points.
+    """
 
     source: str
     separator: str
@@ -38,6 +52,12 @@ class Table:
 
     @property
     def separator_name(self) -> str:
+        """The separator as messages name it (``tab``, ``';'``, ``','``).
+
+        Returns
+        -------
+        str
+        """
         return SEPARATORS[self.separator]
 
 
@@ -65,11 +85,32 @@ def _normalise(token: str, source: str, line_no: int) -> str:
 
 
 def split_table(text: str, source: str, max_rows: int | None = None) -> Table:
-    """Split ``text`` into a header and data rows (``#`` comment lines and blank lines skipped).
+    r"""Split delimited text into a header and data rows (``#`` comment lines and blank lines skipped).
 
-    Raises :class:`SwatchError` (one line, naming the file and line) for an empty text, a malformed
-    row, an ambiguous separator, or a comma-separated row that looks like it has decimal commas.
-    ``max_rows`` caps the data rows (the message states the cap).
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    source : str
+        Names the file in messages.
+    max_rows : int, optional
+        Caps the data rows (the message states the cap).
+
+    Returns
+    -------
+    Table
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        An empty text, a malformed row, an ambiguous separator, a thousands separator, or a
+        comma-separated row that looks like it has decimal commas (one line, naming the file and line).
+
+    Examples
+    --------
+    >>> t = split_table("voltage_V;L;a;b\n20;45,2;3,1;-20\n", "c.csv")
+    >>> t.separator_name, t.header, t.rows
+    ("';'", ['voltage_V', 'L', 'a', 'b'], [(2, ['20', '45.2', '3.1', '-20'])])
     """
     separator = None
     header: list[str] | None = None

@@ -14,7 +14,8 @@ import numpy as np
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new, output_batch
 from swatch.fit.calibration import Calibration
-from swatch.io.imageio import draw_line, draw_rect, draw_text, write_png
+from swatch.io.drawing import draw_line, draw_rect, draw_text
+from swatch.io.imageio import write_png
 from swatch.physics.process import process_toml
 
 __all__ = ["calibration_figure", "report_figure", "calibration_text", "calibration_paths", "write_calibration"]

@@ -1,6 +1,6 @@
 """Figures: the labelled angular map and the ΔE map of a fit (uint8 RGB images with axes and labels).
 
-Labels are drawn with OpenImageIO's text rendering (:mod:`swatch.io.imageio`); they are ASCII where
+Labels are drawn with OpenImageIO's text rendering (:mod:`swatch.io.drawing`); they are ASCII where
 the shipped font lacks a glyph (``dE*ab``, ``deg``).
 """
 from __future__ import annotations
@@ -13,8 +13,8 @@ import OpenImageIO as oiio
 
 from swatch.core.errors import SwatchError
 from swatch.fit.result import delta_e_grid
-from swatch.io import imageio
-from swatch.io.imageio import drawable_text, font_path
+from swatch.io import drawing
+from swatch.io.drawing import drawable_text, font_path
 
 if TYPE_CHECKING:
     from swatch.fit.result import FitResult
@@ -56,7 +56,7 @@ def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | No
     block = np.repeat(np.repeat(amap.display_rgb[::-1], cell, axis=0), cell, axis=1)  # light 0 at the bottom
     img[top:top + mh, left:left + mw] = block
     ink = (40, 40, 40)
-    img = imageio.draw_rect(img, left - 1, top - 1, left + mw + 1, top + mh + 1, ink, fill=False)
+    img = drawing.draw_rect(img, left - 1, top - 1, left + mw + 1, top + mh + 1, ink, fill=False)
     # The mirror direction (light = view), dotted over the map so it is visible whatever the model.
     lo_m = max(float(amap.light_deg[0]), float(amap.view_deg[0]))
     hi_m = min(float(amap.light_deg[-1]), float(amap.view_deg[-1]))
@@ -77,20 +77,20 @@ def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | No
     for t in ticks(amap.view_deg):  # x axis: view
         j = float(np.interp(t, amap.view_deg, np.arange(nv)))
         x = int(left + (j + 0.5) * cell)
-        img = imageio.draw_line(img, x, top + mh, x, top + mh + 6, ink)
-        img = imageio.draw_text(img, f"{t:g}", x, top + mh + 22, 15, ink, align="center")
+        img = drawing.draw_line(img, x, top + mh, x, top + mh + 6, ink)
+        img = drawing.draw_text(img, f"{t:g}", x, top + mh + 22, 15, ink, align="center")
     for t in ticks(amap.light_deg):  # y axis: light (upwards)
         i = float(np.interp(t, amap.light_deg, np.arange(nl)))
         y = int(top + mh - (i + 0.5) * cell)
-        img = imageio.draw_line(img, left - 7, y, left - 1, y, ink)
-        img = imageio.draw_text(img, f"{t:g}", left - 11, y + 5, 15, ink, align="right")
-    img = imageio.draw_text(img, "view angle (deg from normal, opposite side); dashed: mirror", left + mw // 2,
+        img = drawing.draw_line(img, left - 7, y, left - 1, y, ink)
+        img = drawing.draw_text(img, f"{t:g}", left - 11, y + 5, 15, ink, align="right")
+    img = drawing.draw_text(img, "view angle (deg from normal, opposite side); dashed: mirror", left + mw // 2,
                             H - 14, 16, ink, align="center")
     # Vertical axis label: draw horizontally into a strip, rotate it, paste it.
     label = "light angle (deg)"
-    lw = imageio.text_width(label, 16) + 8
+    lw = drawing.text_width(label, 16) + 8
     strip = np.full((24, lw, 3), 255, dtype=np.uint8)
-    strip = imageio.draw_text(strip, label, 4, 17, 16, ink)
+    strip = drawing.draw_text(strip, label, 4, 17, 16, ink)
     rot = np.rot90(strip)  # reads bottom to top
     y0 = top + mh // 2 - rot.shape[0] // 2
     if rot.shape[0] <= H - max(0, y0):
@@ -99,11 +99,11 @@ def angular_figure(amap: AngularMap, title: str | None = None, cell_px: int | No
     volts = meta.get("voltage_V")
     head = title or (f"{amap.thickness_nm:.1f} nm" + (f" (~{volts:.1f} V)" if volts is not None else "")
                      + f"  {meta.get('film')} on {meta.get('substrate')}")
-    img = imageio.draw_text(img, head, left, 26, 19, (0, 0, 0))
+    img = drawing.draw_text(img, head, left, 26, 19, (0, 0, 0))
     sub = (f"{meta.get('model')} model" + (f", {meta.get('distribution')} a={meta.get('roughness'):g}"
                                              if meta.get("model") == "microfacet" else "")
            + f"; {meta.get('illuminant')}, {meta.get('observer')}; exposure x{amap.exposure:.3g}")
-    img = imageio.draw_text(img, sub, left, 50, 14, (70, 70, 70))
+    img = drawing.draw_text(img, sub, left, 50, 14, (70, 70, 70))
     return img
 
 
