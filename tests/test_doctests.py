@@ -37,6 +37,10 @@ MODULES_WITH_EXAMPLES = [
     "swatch.io.drawing",
     "swatch.io.measurements",
     "swatch.io.measurement_csv",
+    "swatch.render.display",
+    "swatch.render.studio",
+    "swatch.render.metadata",
+    "swatch.render.image",
 ]
 
 

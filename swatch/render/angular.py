@@ -22,7 +22,24 @@ _BLOCK_SAMPLES = 1 << 20
 
 
 def check_angular_size(n_light: int, n_view: int, n_wavelengths: int) -> None:
-    """Refuse a map whose arrays would exceed the run's memory budget (:data:`MAX_ANGULAR_SAMPLES`)."""
+    """Refuse an angular map whose arrays would exceed the run's memory budget.
+
+    Parameters
+    ----------
+    n_light, n_view : int
+        Cells along the light and view axes.
+    n_wavelengths : int
+        Wavelengths of the spectral grid.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        More than :data:`MAX_ANGULAR_SAMPLES` samples (cells × wavelengths); the message gives a size that fits.
+    """
     samples = n_light * n_view * n_wavelengths
     if samples > MAX_ANGULAR_SAMPLES:
         cells = MAX_ANGULAR_SAMPLES // n_wavelengths

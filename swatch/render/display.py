@@ -41,7 +41,23 @@ _LUT_XMAX = 16.0
 
 
 def tone(x) -> np.ndarray:
-    """The display shoulder: identity up to 0.8, then a smooth roll-off to 1 (per channel)."""
+    """The display shoulder: identity up to :data:`KNEE` (0.8), then ``0.8 + 0.2 (1 − exp(−(x − 0.8)/0.2))`` (per channel).
+
+    Parameters
+    ----------
+    x : array_like
+        Exposed linear values (negative ones clip to 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        In [0, 1), the shape of ``x``.
+
+    Examples
+    --------
+    >>> [round(float(v), 4) for v in tone([0.5, 0.8, 2.0])]
+    [0.5, 0.8, 0.9995]
+    """
     x = np.maximum(np.asarray(x, dtype=np.float64), 0.0)
     return np.where(x <= KNEE, x, KNEE + (1.0 - KNEE) * (1.0 - np.exp(-(x - KNEE) / (1.0 - KNEE))))
 
@@ -58,12 +74,31 @@ def _lut() -> np.ndarray:
 
 
 def display_encode(linear_srgb, exposure: float = 1.0, background=None, out=None) -> np.ndarray:
-    """Linear sRGB × ``exposure`` -> tone shoulder -> sRGB-encoded uint8, via a lookup table.
+    """Linear sRGB × ``exposure`` → tone shoulder → sRGB-encoded uint8, through a lookup table.
 
-    The table is indexed by ``floor(sqrt(x / 16) · 16383)`` and holds each bucket's middle value,
-    so the 8-bit result equals the exact encoding to within a fraction of a code (negative values
-    clip to 0, values ≥ 16 map to white).
-    ``background`` = (mask (H, W), linear value): masked pixels get that value (no exposure).
+    The table is indexed by ``floor(sqrt(x / 16) · 16383)`` and holds each bucket's middle value, so the
+    8-bit result equals the exact encoding (IEC 61966-2-1) to within a fraction of a code (negative
+    values clip to 0, values ≥ 16 map to white).
+
+    Parameters
+    ----------
+    linear_srgb : array_like, shape (..., 3)
+        Scene-referred linear sRGB.
+    exposure : float
+        The display exposure ``k`` (:func:`exposure`).
+    background : (numpy.ndarray of bool, float), optional
+        (mask of shape (...), linear value): masked pixels get that value (no exposure).
+    out : numpy.ndarray of uint8, optional
+        Written in place and returned.
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape (..., 3)
+
+    Examples
+    --------
+    >>> display_encode([[0.0, 0.18, 1.0]]).tolist()  # 1.0 lies on the shoulder: 0.93
+    [[0, 118, 247]]
     """
     n1 = np.float32(_LUT_N - 1)
     scale = np.float32(float(exposure) / _LUT_XMAX) * n1 * n1
@@ -82,10 +117,27 @@ def display_encode(linear_srgb, exposure: float = 1.0, background=None, out=None
 
 def exposure(model: str, s: np.ndarray, cos_h: np.ndarray, seen: np.ndarray, roughness_alpha: float,
              distribution: str) -> tuple[float, str]:
-    """Display exposure ``k`` and a sentence saying how it was chosen (see the module doc).
+    """The display exposure ``k`` of a render and a sentence saying how it was chosen (see the module doc).
 
-    ``s`` is the intensity factor of a white (F = 1) reflector per pixel, ``cos_h`` the half
-    vector's cosine to the normal, ``seen`` the pixels on the object (all arrays of one shape).
+    Parameters
+    ----------
+    model : str
+        ``"paper"`` (k = 1) or ``"microfacet"``.
+    s : numpy.ndarray
+        Intensity factor of a white (F = 1) reflector per pixel.
+    cos_h : numpy.ndarray
+        Cosine of the half vector to the normal per pixel.
+    seen : numpy.ndarray of bool
+        The pixels on the object (all arrays of one shape).
+    roughness_alpha : float
+        GGX / Beckmann α.
+    distribution : str
+        The microfacet distribution (:data:`swatch.core.choices.DISTRIBUTIONS`).
+
+    Returns
+    -------
+    (float, str)
+        ``k`` (1 / the median F = 1 intensity over the off-mirror pixels, ``D(h) < D(n)/2``) and the rule.
     """
     if model == "paper":
         return 1.0, PAPER_EXPOSURE_RULE
@@ -110,8 +162,25 @@ HUE_SHOULDER_RULE = ("hue-preserving shoulder: above 0.8 the largest channel rol
 
 
 def display_encode_hue(linear_srgb, exposure: float = 1.0) -> np.ndarray:
-    """Linear sRGB × ``exposure`` -> sRGB uint8 with the hue-preserving shoulder (module doc):
-    ``rgb · tone(m)/m`` where the largest channel ``m`` exceeds :data:`KNEE`, identity below."""
+    """Linear sRGB × ``exposure`` → sRGB uint8 with the hue-preserving shoulder (angular maps).
+
+    ``rgb · tone(m)/m`` where the largest channel ``m`` exceeds :data:`KNEE`, identity below: the mirror
+    region keeps its hue and saturation, only its brightness rolls off.
+
+    Parameters
+    ----------
+    linear_srgb : array_like, shape (..., 3)
+    exposure : float
+
+    Returns
+    -------
+    numpy.ndarray of uint8, shape (..., 3)
+
+    Examples
+    --------
+    >>> display_encode_hue([[4.0, 2.0, 0.0]]).tolist()
+    [[255, 188, 0]]
+    """
     x = np.maximum(np.asarray(linear_srgb, dtype=np.float64) * float(exposure), 0.0)
     m = x.max(axis=-1, keepdims=True)
     y = np.clip(np.where(m > KNEE, x * (tone(m) / np.where(m > 0, m, 1.0)), x), 0.0, 1.0)

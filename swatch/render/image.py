@@ -51,12 +51,37 @@ class SwatchImage:
 
     @property
     def rgba(self) -> np.ndarray:
-        """(H, W, 4) linear RGB and coverage."""
+        """Linear RGB and coverage as one array (what the EXR writes: R, G, B, A).
+
+        Returns
+        -------
+        numpy.ndarray, shape (H, W, 4)
+        """
         return np.concatenate([self.linear_rgb, self.coverage[..., None]], axis=-1)
 
 
 def check_size_px(size_px) -> int:
-    """The image size (pixels per side) as an int, or SwatchError outside 1 … :data:`MAX_SIZE_PX`."""
+    """The image size as an int.
+
+    Parameters
+    ----------
+    size_px : int or float
+        Pixels per side, a whole number from 1 to :data:`swatch.core.limits.MAX_SIZE_PX`.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Not a whole number in that range.
+
+    Examples
+    --------
+    >>> check_size_px(256.0)
+    256
+    """
     try:
         ok = float(size_px) == int(size_px)
     except (TypeError, ValueError, OverflowError):
@@ -67,7 +92,22 @@ def check_size_px(size_px) -> int:
 
 
 def check_background(name: str) -> str:
-    """A background name of :data:`swatch.core.choices.BACKGROUNDS` (case-insensitive), or SwatchError."""
+    """A background name of :data:`swatch.core.choices.BACKGROUNDS` (case-insensitive).
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+        Lower case.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Any other name.
+    """
     key = str(name).strip().lower()
     if key not in BACKGROUNDS:
         raise SwatchError(f"unknown background {name!r}; use one of {', '.join(BACKGROUNDS)}")
@@ -75,8 +115,25 @@ def check_background(name: str) -> str:
 
 
 def edge_pixels(hit: np.ndarray) -> np.ndarray:
-    """Pixels whose centre differs from one of its 8 neighbours' (flat indices): the pixels a
-    silhouette crosses (a corner clipped by less than a pixel's diagonal half is the only miss)."""
+    """The pixels a silhouette crosses: those whose centre differs from one of its 8 neighbours'.
+
+    A corner clipped by less than half a pixel's diagonal is the only miss.
+
+    Parameters
+    ----------
+    hit : numpy.ndarray of bool, shape (H, W)
+        Pixel centres on the object.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        Flat indices into ``hit``.
+
+    Examples
+    --------
+    >>> edge_pixels(np.array([[True, False], [False, False]])).tolist()
+    [0, 1, 2, 3]
+    """
     e = np.zeros_like(hit)
     for a, b in (((slice(None), slice(1, None)), (slice(None), slice(None, -1))),
                  ((slice(1, None), slice(None)), (slice(None, -1), slice(None))),
@@ -89,7 +146,16 @@ def edge_pixels(hit: np.ndarray) -> np.ndarray:
 
 
 def mesh_metadata(mesh) -> dict:
-    """The ``mesh`` entry of a mesh render's metadata (file name, SHA-256, triangles), or nothing."""
+    """The ``mesh`` entry of a mesh render's metadata (file name, SHA-256, triangles, placement), or nothing.
+
+    Parameters
+    ----------
+    mesh : swatch.render.mesh.MeshShape or None
+
+    Returns
+    -------
+    dict
+    """
     if mesh is None:
         return {}
     return {"mesh": {"file": mesh.file_name, "sha256": mesh.key.split(":", 1)[1], "triangles": mesh.triangles,
@@ -98,10 +164,27 @@ def mesh_metadata(mesh) -> dict:
 
 
 def check_finish_lighting(finish, environment, model: str, distribution: str, size_px: int) -> None:
-    """SwatchError unless the built-in engine can render ``finish`` so: an anisotropic finish
-    (brushed) needs the GGX microfacet model under an environment, at most
-    :data:`swatch.core.limits.MAX_ANISO_RENDER_PX` pixels per side (its gather is four times the
-    isotropic one's)."""
+    """Refuse a finish the built-in engine cannot render under the given lighting.
+
+    An anisotropic finish (brushed) needs the GGX microfacet model under an environment, at most
+    :data:`swatch.core.limits.MAX_ANISO_RENDER_PX` pixels per side (its gather is four times the isotropic one's).
+
+    Parameters
+    ----------
+    finish : swatch.physics.finishes.Finish or None
+    environment : object or None
+        The environment (None: the point light).
+    model, distribution : str
+    size_px : int
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+    """
     if finish is None or not finish.anisotropic:
         return
     if environment is None or model != "microfacet" or distribution != "ggx":
@@ -114,5 +197,14 @@ def check_finish_lighting(finish, environment, model: str, distribution: str, si
 
 
 def finish_meta(finish) -> dict:
-    """The ``finish`` entry of a render's metadata (name, roughness, basis), or nothing."""
+    """The ``finish`` entry of a render's metadata (name, roughness, basis), or nothing.
+
+    Parameters
+    ----------
+    finish : swatch.physics.finishes.Finish or None
+
+    Returns
+    -------
+    dict
+    """
     return {} if finish is None else {"finish": finish.metadata()}

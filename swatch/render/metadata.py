@@ -16,7 +16,24 @@ REFERENCE_GEOMETRY = (45.0, 0.0)  # light 45°, view along the normal
 
 
 def coating_and_colorimeter(coating, colorimeter):
-    """The given coating and colorimeter, the defaults for None; they must share a wavelength grid."""
+    """The given coating and colorimeter, the defaults for None; they must share a wavelength grid.
+
+    Parameters
+    ----------
+    coating : swatch.physics.model.Coating or None
+        None: the default film on the default substrate (:func:`swatch.physics.model.get_coating`).
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter or None
+        None: D65 on the coating's grid.
+
+    Returns
+    -------
+    (swatch.physics.model.Coating, swatch.colorimetry.colorimeter.Colorimeter)
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The two have different wavelength grids.
+    """
     if coating is None:
 
         coating = get_coating()
@@ -29,12 +46,44 @@ def coating_and_colorimeter(coating, colorimeter):
 
 
 def file_stem(kind: str, thickness_nm: float) -> str:
-    """``cylinder_050.8nm``: the kind and the thickness to 0.1 nm, zero-padded to sort."""
+    """The file stem of a render: the kind and the thickness to 0.1 nm, zero-padded to sort.
+
+    Parameters
+    ----------
+    kind : str
+        The shape or ``angular``.
+    thickness_nm : float
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> file_stem("cylinder", 50.8)
+    'cylinder_050.8nm'
+    """
     return f"{kind}_{float(thickness_nm):05.1f}nm"
 
 
 def file_stems(kind: str, thickness_nm) -> list[str]:
-    """:func:`file_stem` of each thickness; two thicknesses with one stem are refused."""
+    """:func:`file_stem` of each thickness; two thicknesses with one stem are refused.
+
+    Parameters
+    ----------
+    kind : str
+    thickness_nm : array_like
+        nm.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Two thicknesses round to the same 0.1 nm name.
+    """
     stems = [file_stem(kind, x) for x in np.atleast_1d(thickness_nm)]
     if len(set(stems)) != len(stems):
         raise SwatchError("two thicknesses round to the same 0.1 nm file name; give distinct thicknesses")
@@ -42,17 +91,43 @@ def file_stems(kind: str, thickness_nm) -> list[str]:
 
 
 def reference_Lab(thickness_nm: float, coating, colorimeter) -> np.ndarray:
-    """CIELAB at the reference geometry 45°:0° (the half-vector reflectance, paper's model)."""
+    """CIELAB at the reference geometry 45°:0° (the half-vector reflectance, the paper's model).
+
+    Parameters
+    ----------
+    thickness_nm : float
+    coating : swatch.physics.model.Coating
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+        Illuminant and observer of the result.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+    """
     refl, _ = coating.half_vector(float(thickness_nm), *REFERENCE_GEOMETRY)
     return colorimeter.Lab(colorimeter.XYZ(refl.R))
 
 
 def common_metadata(d: float, coating, colorimeter, model: str, distribution: str, roughness_alpha: float) -> dict:
-    """Metadata shared by renders and angular maps.
+    """Metadata shared by renders and angular maps (materials, colorimetry, model, reference CIELAB, software).
 
     No voltage: only the caller knows the process (its growth law, or none) and writes the voltage
-    once, with :func:`with_voltage` (issue 17; this wrote the default growth rate's voltage, which
-    the CLI then overwrote).
+    once, with :func:`with_voltage` (issue 17).
+
+    Parameters
+    ----------
+    d : float
+        Oxide thickness, nm.
+    coating : swatch.physics.model.Coating
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+    model, distribution : str
+        The shading model and microfacet distribution.
+    roughness_alpha : float
+        Microfacet α (recorded as ``roughness``).
+
+    Returns
+    -------
+    dict
     """
 
     return {
@@ -72,7 +147,20 @@ def common_metadata(d: float, coating, colorimeter, model: str, distribution: st
 
 
 def voltage_note(proc, given: bool, known: bool) -> str:
-    """How an image's voltage was obtained, by the process profile ``proc``'s growth law."""
+    """How an image's voltage was obtained, by the process profile's growth law.
+
+    Parameters
+    ----------
+    proc : swatch.physics.process.Process
+    given : bool
+        The user gave the voltage (the thickness came from it).
+    known : bool
+        The profile has a growth rate.
+
+    Returns
+    -------
+    str
+    """
     law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.label})" if proc.has_growth_law
            else f"process {proc.label}")
     if given:
@@ -81,8 +169,22 @@ def voltage_note(proc, given: bool, known: bool) -> str:
 
 
 def with_voltage(meta: dict, voltage_V: float, note: str, proc) -> dict:
-    """A copy of ``meta`` with the user's voltage (None when unknown: NaN), how it was obtained and
-    the process profile's metadata."""
+    """A copy of ``meta`` with the voltage right after the thickness, how it was obtained and the profile's metadata.
+
+    Parameters
+    ----------
+    meta : dict
+        :func:`common_metadata`.
+    voltage_V : float
+        V; NaN when unknown (written as None).
+    note : str
+        :func:`voltage_note`.
+    proc : swatch.physics.process.Process
+
+    Returns
+    -------
+    dict
+    """
     volts = {"voltage_V": round(float(voltage_V), 6) if np.isfinite(voltage_V) else None, "voltage_note": note}
     out: dict = {}
     for key, value in meta.items():

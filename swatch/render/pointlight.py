@@ -68,12 +68,38 @@ def _fine_index(fine, cos_d) -> np.ndarray:
 
 def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha: float, distribution: str,
                  display_table=None, workers: int | None = None, background_linear: float = BACKGROUND_LINEAR):
-    """Render ``scene`` with the colour ``table`` (linear RGB; the fast, table-lookup path).
+    """Render a scene with a facet colour table (the fast, table-lookup path of the point light).
 
-    Returns (linear_rgb premultiplied (H, W, 3), coverage (H, W), display uint8 (H, W, 3), exposure,
-    rule, (c0, c1)). ``table`` is an XYZ or RGB :class:`swatch.render.shading.FacetColourTable` *factory*
-    ``table(c0, c1)`` called with the cos θ_d range of the image, or a ready table.
-    ``display_table`` (same form) gives linear sRGB for the display when ``table`` is another space.
+    A pre-pass on every 4th pixel gives the cos θ_d range (for the table) and the display exposure;
+    edge pixels are supersampled for their coverage.
+
+    Parameters
+    ----------
+    scene : swatch.render.scene.Scene
+        Camera, shape and light.
+    table : callable or swatch.render.shading.FacetColourTable
+        A factory ``table(c0, c1)`` called with the image's cos θ_d range, or a ready table (XYZ or
+        linear RGB).
+    size_px : int
+        Image side, pixels.
+    model : str
+        ``"paper"`` or ``"microfacet"``.
+    roughness_alpha : float
+        Microfacet α.
+    distribution : str
+        ``ggx`` or ``beckmann``.
+    display_table : callable, optional
+        The same form, giving linear sRGB for the display when ``table`` is another space.
+    workers : int, optional
+        Threads.
+    background_linear : float
+        Linear value of the display background.
+
+    Returns
+    -------
+    tuple
+        (linear RGB premultiplied by coverage (H, W, 3), coverage (H, W), display sRGB uint8 (H, W, 3),
+        exposure, its rule, (c0, c1)).
     """
     size = int(size_px)
     dt = np.float32
@@ -150,7 +176,41 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
 def render_pointlight(d: float, shape: str, scene: Scene, size: int, background: str, roughness_alpha: float,
                       model: str, distribution: str, coating, colorimeter, space: str, meta: dict,
                       light_deg: float, workers: int | None = None, mesh=None) -> SwatchImage:
-    """The point-light engine of :func:`swatch.render.dispatch.render_swatch` (inputs already checked there)."""
+    """The point-light engine of :func:`swatch.render.dispatch.render_swatch` (inputs already checked there).
+
+    Parameters
+    ----------
+    d : float
+        Oxide thickness, nm.
+    shape : str
+        The shape's name (for the metadata).
+    scene : swatch.render.scene.Scene
+    size : int
+        Image side, pixels.
+    background : str
+        ``grey`` or ``white`` (``environment`` is refused: there is none).
+    roughness_alpha : float
+    model, distribution : str
+    coating : swatch.physics.model.Coating
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+    space : str
+        The RGB space of the linear output.
+    meta : dict
+        The common metadata (:func:`swatch.render.metadata.common_metadata`).
+    light_deg : float
+        The light's polar angle, degrees.
+    workers : int, optional
+    mesh : swatch.render.mesh.MeshShape, optional
+
+    Returns
+    -------
+    swatch.render.image.SwatchImage
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        ``background="environment"``.
+    """
     if background == "environment":
         raise SwatchError("background 'environment' needs an environment; use grey or white with the point light")
     bg_linear = BACKGROUND_LINEAR if background == "grey" else BACKGROUND_WHITE

@@ -38,7 +38,7 @@ _EDGE = 0.15
 
 
 def studio_radiance(directions) -> np.ndarray:
-    """Radiance (..., 3) of the built-in studio in unit ``directions`` (before normalisation).
+    """Radiance of the built-in studio in unit ``directions`` (before normalisation).
 
     A photographic studio for metal: dark-grey walls and ceiling (0.15 at the zenith, 0.45 at the
     horizon), a light floor (0.7 at the horizon to 1.1 straight down) that meets the walls in a
@@ -46,6 +46,21 @@ def studio_radiance(directions) -> np.ndarray:
     crosses the plate's mirror directions, a tall strip on the camera's left (6) and a weaker one
     on the right (3.5), both standing on the floor, so that curved shapes show vertical bright
     bands and the horizon. Neutral (grey) throughout, so the finish shows its own colour.
+
+    Parameters
+    ----------
+    directions : array_like, shape (..., 3)
+        Unit vectors (z up, the plate's normal).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        Linear RGB radiance, relative (the environment normalises it).
+
+    Examples
+    --------
+    >>> bool(studio_radiance([0.0, 0.0, -1.0])[0] > studio_radiance([0.0, 0.6, 0.8])[0])  # the floor is lighter
+    True
     """
     d = np.asarray(directions, dtype=np.float64)
     x, y, z = d[..., 0], d[..., 1], d[..., 2]
