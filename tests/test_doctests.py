@@ -41,6 +41,8 @@ MODULES_WITH_EXAMPLES = [
     "swatch.render.studio",
     "swatch.render.metadata",
     "swatch.render.image",
+    "swatch.render.shading",
+    "swatch.render.env_shading",
 ]
 
 

@@ -40,9 +40,32 @@ ANISO_DENSE = 1024
 
 
 def vndf_aniso(views, alpha_u: float, alpha_v: float, u1, u2):
-    """Anisotropic GGX visible-normal samples for local views (B, 3) (z the normal, x the
-    brushing direction) and lattice points (N,): light directions (B, N, 3), weights ``G2/G1``
-    (B, N), ``cos θ_d`` (B, N) and the pdf of ``l`` (B, N, sr⁻¹)."""
+    """Anisotropic GGX visible-normal samples (Heitz 2018, listing 1, with ``α_x``, ``α_y``).
+
+    Parameters
+    ----------
+    views : array_like, shape (B, 3)
+        Unit views in the local frame (z the normal, x the brushing direction).
+    alpha_u, alpha_v : float
+        GGX α along and across the brushing.
+    u1, u2 : array_like, shape (N,)
+        Lattice points in [0, 1) (:func:`swatch.render.env_shading.fibonacci_lattice`).
+
+    Returns
+    -------
+    l : numpy.ndarray, shape (B, N, 3)
+        Light directions.
+    w : numpy.ndarray, shape (B, N)
+        Weights ``G2/G1`` (height-correlated Smith; 0 below the horizon).
+    cos_d : numpy.ndarray, shape (B, N)
+        ``v·h``.
+    pdf : numpy.ndarray, shape (B, N)
+        The pdf of ``l``, sr⁻¹.
+
+    References
+    ----------
+    E. Heitz (2018), "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), https://jcgt.org/published/0007/04/01/ (listing 1).
+    """
     V = np.asarray(views, dtype=np.float64)
     vh = np.stack([alpha_u * V[:, 0], alpha_v * V[:, 1], V[:, 2]], -1)
     vh /= np.linalg.norm(vh, axis=-1, keepdims=True)
@@ -71,8 +94,19 @@ def vndf_aniso(views, alpha_u: float, alpha_v: float, u1, u2):
 
 
 class AnisoSampleSet:
-    """The fixed sample set of an anisotropic lobe (attributes as :class:`swatch.render.env_shading.SampleSet`:
-    ``l`` (M, N, 3), ``w`` (M, N), ``cos_d``, ``sigma_deg``, ``dense_w``, ``dense_cos_d``, ``bins``)."""
+    """The fixed sample set of an anisotropic GGX lobe (the attributes of
+    :class:`swatch.render.env_shading.SampleSet`: ``l`` (M, N, 3), ``w`` (M, N), ``cos_d``,
+    ``sigma_deg``, ``dense_w``, ``dense_cos_d``, ``bins``).
+
+    Parameters
+    ----------
+    alpha_u, alpha_v : float
+        GGX α along and across the brushing (checked).
+    n : int
+        Samples per view bin.
+    dense : int
+        Dense samples per bin for the level.
+    """
 
     def __init__(self, alpha_u: float, alpha_v: float, n: int = SAMPLES, dense: int = ANISO_DENSE):
         self.alpha_u = microfacet.check_roughness_alpha(alpha_u)
@@ -97,9 +131,26 @@ class AnisoSampleSet:
         self.cache: dict = {}
 
     def frames(self, n, v, tangent):
-        """Per point the frame's tangent and bitangent, flipped so that the view lies in their
-        first quadrant, and the four view bins around (θ_v, φ_v) with bilinear weights: ``j``
-        (4, P) and ``weight`` (4, P) (see the module doc)."""
+        """Per point the frame's tangent and bitangent, flipped so that the view lies in their first quadrant,
+        and the four view bins around (θ_v, φ_v) with bilinear weights (see the module doc).
+
+        Parameters
+        ----------
+        n, v : array_like, shape (P, 3)
+            Unit normals and views.
+        tangent : array_like, shape (P, 3)
+            Brushing directions (made orthogonal to ``n``).
+
+        Returns
+        -------
+        (numpy.ndarray, numpy.ndarray, numpy.ndarray, numpy.ndarray)
+            Tangent (P, 3), bitangent (P, 3), bins ``j`` (4, P) and weights (4, P).
+
+        Raises
+        ------
+        ValueError
+            ``tangent`` is None.
+        """
         if tangent is None:
             raise ValueError("an anisotropic lobe needs the brushing tangent of every point")
         n = np.asarray(n, dtype=np.float32)
@@ -133,8 +184,24 @@ def _neighbours(angle, bins: int):
 
 
 def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
-    """Environment samples for each point's four neighbouring view bins: ``E`` (4·P, N, 3), bins
-    ``j`` (4·P,) and bilinear weights (4, P); :func:`combine_aniso` turns them into radiance."""
+    """Environment samples for each point's four neighbouring view bins.
+
+    Parameters
+    ----------
+    n, v, tangent : array_like, shape (P, 3)
+        Normals, views and brushing directions.
+    maps : swatch.render.environment.LevelMaps
+        The environment's blurred levels.
+    samples : AnisoSampleSet
+    table : numpy.ndarray
+        :func:`swatch.render.env_shading.level_table` of ``samples`` on ``maps``.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        ``E`` (4·P, N, 3) radiance samples, bins ``j`` (4·P,) and bilinear weights (4, P);
+        :func:`combine_aniso` turns them into radiance.
+    """
     n = np.asarray(n, dtype=np.float32).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float32).reshape(-1, 3)
     tangent = np.asarray(tangent, dtype=np.float32).reshape(-1, 3)
@@ -156,19 +223,55 @@ def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
 
 
 def combine_aniso(E, j, mix, weights) -> np.ndarray:
-    """Radiance (P, 3) from :func:`gather_aniso`'s samples and a thickness's band weights."""
+    """Radiance from :func:`gather_aniso`'s samples and one thickness's band weights.
+
+    Parameters
+    ----------
+    E, j, mix
+        :func:`gather_aniso`'s output.
+    weights : numpy.ndarray
+        :func:`swatch.render.env_shading.band_weights` of the thickness.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, 3)
+    """
     r = combine(E, j, weights).reshape(4, -1, 3)
     return np.einsum("qp,qpc->pc", mix, r)
 
 
 def shade_aniso(n, v, maps, samples: AnisoSampleSet, weights, tangent) -> np.ndarray:
-    """Radiance (P, 3) of points under an environment with an anisotropic lobe."""
+    """Radiance of points under an environment with an anisotropic lobe (gather, then combine).
+
+    Parameters
+    ----------
+    n, v : array_like, shape (P, 3)
+    maps : swatch.render.environment.LevelMaps
+    samples : AnisoSampleSet
+    weights : numpy.ndarray
+        Band weights of the thickness.
+    tangent : array_like, shape (P, 3)
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, 3)
+    """
     E, j, mix = gather_aniso(n, v, maps, samples, level_table(samples, maps), tangent)
     return combine_aniso(E, j, mix, weights)
 
 
 @functools.lru_cache(maxsize=4)
 def aniso_sample_set(alpha_u: float, alpha_v: float, n: int = SAMPLES) -> AnisoSampleSet:
-    """The anisotropic sample set of ``(α_u, α_v)`` (cached per process)."""
+    """The anisotropic sample set of ``(α_u, α_v)`` (cached per process).
+
+    Parameters
+    ----------
+    alpha_u, alpha_v : float
+    n : int
+
+    Returns
+    -------
+    AnisoSampleSet
+    """
     return AnisoSampleSet(float(alpha_u), float(alpha_v), int(n))
 

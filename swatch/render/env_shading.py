@@ -70,7 +70,22 @@ _PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
 
 def fibonacci_lattice(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """A 2-D Fibonacci lattice of ``n`` points in [0, 1)² (deterministic, well stratified)."""
+    """A 2-D Fibonacci lattice of ``n`` points in [0, 1)² (deterministic, well stratified).
+
+    Parameters
+    ----------
+    n : int
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        u1 = (i + ½)/n and u2 = frac((i + ½) φ⁻¹), each shape (n,).
+
+    Examples
+    --------
+    >>> [round(float(x), 3) for x in fibonacci_lattice(2)[1]]
+    [0.309, 0.927]
+    """
     i = np.arange(n, dtype=np.float64)
     return (i + 0.5) / n, np.mod((i + 0.5) * _PHI, 1.0)
 
@@ -109,9 +124,28 @@ def _vndf(cos_v: np.ndarray, roughness_alpha: float, u1: np.ndarray, u2: np.ndar
 
 
 class SampleSet:
-    """The fixed local sample set of one roughness: per view bin (M) and sample (N) the light
-    direction ``l`` (M, N, 3), weight ``G2/G1 / N`` (M, N), ``cos θ_d`` (M, N); plus, for the
-    level, the dense set's weights and ``cos θ_d`` (M, DENSE)."""
+    """The fixed local sample set of one roughness (see the module doc).
+
+    Attributes: per view bin (M) and sample (N) the light direction ``l`` (M, N, 3), weight
+    ``w = G2/G1 / N`` (M, N), ``cos_d`` (M, N), the blur ``sigma_deg`` (M, N); for the level, the
+    dense set's ``dense_w`` and ``dense_cos_d`` (M, DENSE); ``cos_v`` (M,) the bins' view cosines.
+
+    Parameters
+    ----------
+    roughness_alpha : float
+        GGX α.
+    n : int
+        Samples per bin.
+    bins : int
+        View bins, uniform in θ_v.
+    dense : int
+        Dense samples per bin (the level).
+
+    References
+    ----------
+    E. Heitz (2018), JCGT 7(4), https://jcgt.org/published/0007/04/01/ (visible-normal sampling);
+    J. Křivánek, M. Colbert (2008), Computer Graphics Forum 27(4):1147–1154, EGSR 2008 (filtered importance sampling).
+    """
 
     def __init__(self, roughness_alpha: float, n: int = SAMPLES, bins: int = VIEW_BINS, dense: int = DENSE_SAMPLES):
         self.roughness_alpha = float(roughness_alpha)
@@ -132,7 +166,13 @@ class SampleSet:
         self.cache: dict = {}
 
     def footprint_sr(self) -> float:
-        """Median solid angle per sample at normal view, ``1/(N pdf)`` (sr)."""
+        """Median solid angle per sample at normal view, ``1/(N pdf)``.
+
+        Returns
+        -------
+        float
+            sr.
+        """
         cl = self.l[self.bins - 1, :, 2].astype(np.float64)
         h = self.l[self.bins - 1] + np.array([0.0, 0.0, 1.0], dtype=np.float32)
         h = h / np.linalg.norm(h, axis=-1, keepdims=True)
@@ -147,11 +187,34 @@ class SampleSet:
 
 @functools.lru_cache(maxsize=8)
 def sample_set(roughness_alpha: float, n: int = SAMPLES) -> SampleSet:
+    """The sample set of a roughness (cached per process).
+
+    Parameters
+    ----------
+    roughness_alpha : float
+        GGX α (checked).
+    n : int
+        Samples per bin.
+
+    Returns
+    -------
+    SampleSet
+    """
     return SampleSet(microfacet.check_roughness_alpha(roughness_alpha), int(n))
 
 
 def filter_sigma_deg(samples: SampleSet) -> float:
-    """Angular width of the environment blur matched to the samples' footprint (degrees)."""
+    """Angular width of the environment blur matched to the samples' footprint.
+
+    Parameters
+    ----------
+    samples : SampleSet
+
+    Returns
+    -------
+    float
+        Degrees.
+    """
     return float(np.degrees(0.5 * np.sqrt(samples.footprint_sr())))
 
 
@@ -165,8 +228,19 @@ def _lookup_table(table, cos_d):
 
 
 def albedo_matrix(samples, k: int) -> np.ndarray:
-    """(M, K): the dense set's weights spread onto the K nodes of a uniform cos θ_d table by the
-    linear-interpolation weights, so that the level is one product with any table (cached)."""
+    """The dense set's weights spread onto the K nodes of a uniform cos θ_d table by the
+    linear-interpolation weights, so that the level is one product with any table (cached).
+
+    Parameters
+    ----------
+    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+    k : int
+        Table nodes.
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, K)
+    """
     key = ("albedo", int(k))
     if key not in samples.cache:
         x = np.clip(samples.dense_cos_d.astype(np.float64) * (k - 1), 0.0, k - 1)
@@ -180,19 +254,38 @@ def albedo_matrix(samples, k: int) -> np.ndarray:
 
 
 def directional_albedo(samples, f_table) -> np.ndarray:
-    """``∫ f cos θ_l dω_l`` (M, 3) per view bin, from the dense set, for ``F``'s RGB table
-    ``f_table`` (K, 3) uniform over cos θ_d in [0, 1] (linear interpolation)."""
+    """The directional albedo ``∫ f cos θ_l dω_l`` per view bin, from the dense set.
+
+    Parameters
+    ----------
+    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+    f_table : array_like, shape (K, 3)
+        ``F``'s linear RGB, uniform over cos θ_d in [0, 1] (linear interpolation).
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, 3)
+    """
     f_table = np.asarray(f_table, dtype=np.float64)
     return albedo_matrix(samples, f_table.shape[0]) @ f_table
 
 
 def band_weights(samples, f_table) -> np.ndarray:
-    """The per-bin, per-sample RGB weights ``a`` (M, N, 3) for one thickness (module doc).
+    """The per-bin, per-sample RGB weights ``a`` for one thickness (module doc).
 
-    ``a_i = w_i F(θ_d,i) + w_i (A − Σ_i w_i F(θ_d,i)) / Σ_i w_i`` per bin and channel, ``A`` the
-    dense directional albedo: the few samples' sum is moved to the dense level by an amount spread
-    in proportion to the samples' weights (additive, so it stays finite where a channel of F's
-    linear RGB changes sign across the lobe, as saturated cyans' red does; a ratio would blow up).
+    ``a_i = w_i F(θ_d,i) + w_i (A − Σ_i w_i F(θ_d,i)) / Σ_i w_i`` per bin and channel, ``A`` the dense
+    directional albedo: additive, so it stays finite where a channel of F's linear RGB changes sign
+    across the lobe (saturated cyans' red); a ratio would blow up.
+
+    Parameters
+    ----------
+    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+    f_table : array_like, shape (K, 3)
+        As :func:`directional_albedo`.
+
+    Returns
+    -------
+    numpy.ndarray of float32, shape (M, N, 3)
     """
     a = samples.w[..., None] * _lookup_table(f_table, samples.cos_d)
     level = directional_albedo(samples, f_table)
@@ -202,8 +295,19 @@ def band_weights(samples, f_table) -> np.ndarray:
 
 
 def local_frame(n, v):
-    """(cos θ_v, tangent t, bitangent b) for unit normals and views (P, 3): ``v`` lies in the
-    (t, n) plane on the +t side; along the normal any perpendicular t is used."""
+    """The local frame of each point: ``v`` lies in the (t, n) plane on the +t side (along the normal any
+    perpendicular t is used).
+
+    Parameters
+    ----------
+    n, v : array_like, shape (P, 3)
+        Unit normals and views.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        cos θ_v (P,), tangent t (P, 3), bitangent b (P, 3).
+    """
     n = np.asarray(n, dtype=np.float32)
     v = np.asarray(v, dtype=np.float32)
     cv = np.einsum("pi,pi->p", n, v)
@@ -228,19 +332,40 @@ CHUNK = 8192
 
 
 def level_table(samples, maps) -> np.ndarray:
-    """Per bin and sample (M, N, 5) float32: the local direction, the level's resolution and
-    the level's offset in ``maps`` (a :class:`swatch.render.environment.LevelMaps`)."""
+    """Per bin and sample: the local direction, the blur level's resolution and its offset in ``maps``.
+
+    Parameters
+    ----------
+    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+    maps : swatch.render.environment.LevelMaps
+
+    Returns
+    -------
+    numpy.ndarray of float32, shape (M, N, 5)
+    """
     k = maps.level_for(samples.sigma_deg)
     return np.concatenate([samples.l, maps.res[k][..., None].astype(np.float32),
                            maps.offset[k][..., None].astype(np.float32)], -1)
 
 
 def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.ndarray]:
-    """Environment samples ``E`` (P, N, 3) in each pixel's sample directions and its view bin (P,).
+    """Environment samples in each pixel's sample directions, and its view bin.
 
-    ``n``, ``v`` (P, 3) unit normal and view (towards the camera); ``maps`` the environment's
-    blur levels (:func:`swatch.render.environment.levels`), looked up bilinearly in each sample's level
-    (anisotropic lobes: :func:`swatch.render.env_aniso.gather_aniso`).
+    Parameters
+    ----------
+    n, v : array_like, shape (P, 3)
+        Unit normals and views (towards the camera).
+    maps : swatch.render.environment.LevelMaps
+        The environment's blur levels (:func:`swatch.render.environment.levels`), looked up bilinearly
+        in each sample's level.
+    samples : SampleSet
+    table : numpy.ndarray, optional
+        :func:`level_table` (computed when None).
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        ``E`` (P, N, 3) linear RGB radiance and the bins ``j`` (P,).
     """
     n = np.asarray(n, dtype=np.float32).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float32).reshape(-1, 3)
@@ -262,8 +387,19 @@ def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.n
 
 
 def combine(E, j, weights) -> np.ndarray:
-    """Pixel radiance (P, 3) from gathered samples ``E`` (P, N, 3), bins ``j`` and the weights
-    ``a`` (M, N, 3) of :func:`band_weights`."""
+    """Pixel radiance from gathered samples and one thickness's weights.
+
+    Parameters
+    ----------
+    E : numpy.ndarray, shape (P, N, 3)
+    j : numpy.ndarray of int, shape (P,)
+    weights : numpy.ndarray, shape (M, N, 3)
+        :func:`band_weights`.
+
+    Returns
+    -------
+    numpy.ndarray of float32, shape (P, 3)
+    """
     out = np.empty((E.shape[0], 3), dtype=np.float32)
     for a in range(0, E.shape[0], CHUNK):
         sl = slice(a, a + CHUNK)
@@ -272,7 +408,19 @@ def combine(E, j, weights) -> np.ndarray:
 
 
 def shade(n, v, maps, samples: SampleSet, weights) -> np.ndarray:
-    """Pixel radiance (P, 3): :func:`gather` and :func:`combine` chunk by chunk (bounded memory)."""
+    """Pixel radiance: :func:`gather` and :func:`combine` chunk by chunk (bounded memory).
+
+    Parameters
+    ----------
+    n, v : array_like, shape (P, 3)
+    maps : swatch.render.environment.LevelMaps
+    samples : SampleSet
+    weights : numpy.ndarray, shape (M, N, 3)
+
+    Returns
+    -------
+    numpy.ndarray of float32, shape (P, 3)
+    """
     table = level_table(samples, maps)
     n = np.asarray(n, dtype=np.float32).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float32).reshape(-1, 3)
@@ -286,8 +434,24 @@ def shade(n, v, maps, samples: SampleSet, weights) -> np.ndarray:
 
 def shade_reference(n, v, env, roughness_alpha: float, f_table, samples: int = DENSE_SAMPLES,
                     chunk: int = 256) -> np.ndarray:
-    """Brute force (P, 3): ``samples`` VNDF samples per pixel at the pixel's own view angle, the
-    unfiltered environment map, ``F`` at each sample's ``θ_d`` (the error reference)."""
+    """Brute force (the error reference): ``samples`` VNDF samples per pixel at the pixel's own view
+    angle, the unfiltered environment map, ``F`` at each sample's ``θ_d``.
+
+    Parameters
+    ----------
+    n, v : array_like, shape (P, 3)
+    env : swatch.render.environment.Environment
+    roughness_alpha : float
+    f_table : array_like, shape (K, 3)
+        ``F``'s linear RGB over cos θ_d in [0, 1].
+    samples : int
+    chunk : int
+        Pixels per chunk.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, 3)
+    """
     n = np.asarray(n, dtype=np.float64).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float64).reshape(-1, 3)
     u1, u2 = fibonacci_lattice(int(samples))

@@ -158,8 +158,27 @@ def load_mesh(path) -> MeshShape:
 
 
 class MeshShape:
-    """A placed triangle mesh behind the :class:`swatch.render.scene.Shape` protocol (arrays planar, in the
-    rays' precision). ``key`` identifies it (file content hash) for caches."""
+    """A placed triangle mesh behind the :class:`swatch.render.scene.Shape` protocol (arrays planar, in the rays' precision).
+
+    Placement: the bounding box's centre at the origin, the farthest vertex at distance 1; shading
+    normals are the vertex normals interpolated, the face normal across creases over
+    :data:`SMOOTH_ANGLE_DEG`; zero-area triangles are dropped. Rays go through trimesh's Embree
+    intersector. ``key`` (``mesh:<sha256>``) identifies it for caches.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The loaded mesh (:func:`load_mesh`).
+    file_name : str
+        For messages and metadata.
+    digest : str
+        SHA-256 of the file's bytes.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        All vertices at one point, or every triangle of zero area.
+    """
 
     name = "mesh"
 
@@ -217,7 +236,20 @@ class MeshShape:
         return hit, shade, geo, point
 
     def intersect(self, o, dx, dy, dz):
-        """``(hit, nx, ny, nz)`` for rays from ``o`` along unit ``(dx, dy, dz)`` (broadcast)."""
+        """First hits of rays and the shading normals there (facing the ray's origin).
+
+        Parameters
+        ----------
+        o : array_like, shape (3,)
+            The rays' origin.
+        dx, dy, dz : numpy.ndarray
+            Unit directions (broadcast together).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, nx, ny, nz)``, the broadcast shape.
+        """
         bx, by, bz = np.broadcast_arrays(dx, dy, dz)
         shape, t = bx.shape, np.result_type(bx.dtype, np.float32).type
         d = np.stack([bx.reshape(-1), by.reshape(-1), bz.reshape(-1)], -1).astype(np.float64)
@@ -225,8 +257,23 @@ class MeshShape:
         return (hit.reshape(shape), *(n[:, k].astype(t).reshape(shape) for k in range(3)))
 
     def trace(self, cam, u, w, inv, light):
-        """``(hit, cos_l, cos_v)`` for the camera rays at window coordinates ``(u, w)``; ``cos_l``
-        is 0 where the object shadows the point light."""
+        """Camera rays at window coordinates: hit and the cosines to light and view, with shadows.
+
+        Parameters
+        ----------
+        cam : swatch.render.scene.Camera
+        u, w : numpy.ndarray
+            Window coordinates.
+        inv : numpy.ndarray
+            1/|ray| of each window point.
+        light : array_like, shape (3,)
+            Unit direction to the point light.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, cos_l, cos_v)``; ``cos_l`` is 0 where the object shadows the light.
+        """
         bu, bw, binv = np.broadcast_arrays(u, w, inv)
         shape, t = bu.shape, binv.dtype.type
         d = (bu.reshape(-1, 1).astype(np.float64) * cam.right + bw.reshape(-1, 1) * cam.up + cam.forward) \
@@ -243,11 +290,22 @@ class MeshShape:
         return hit.reshape(shape), cos_l.astype(t).reshape(shape), cos_v.astype(t).reshape(shape)
 
     def triangle_soup(self) -> tuple[np.ndarray, np.ndarray]:
-        """The placed triangles' corners (F, 3, 3) and their shading normals (F, 3, 3) (creases split),
-        for renderers that take a mesh of their own (``--engine mitsuba``)."""
+        """The placed triangles' corners and their shading normals (creases split), for renderers that take a
+        mesh of their own (``--engine mitsuba``).
+
+        Returns
+        -------
+        (numpy.ndarray, numpy.ndarray)
+            Corners (F, 3, 3) and normals (F, 3, 3).
+        """
         return np.asarray(self._mesh.triangles), self._corner_normals
 
     def points(self) -> np.ndarray:
-        """Vertices (at most about 50 000, evenly strided) to frame the camera."""
+        """Vertices (at most about 50 000, evenly strided) to frame the camera.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+        """
         v = np.asarray(self._mesh.vertices)
         return v[:: max(1, v.shape[0] // 50_000)]

@@ -112,20 +112,62 @@ class Camera:
         return tuple(out)
 
 class Shape(Protocol):
-    """What the renderer needs of a shape (arrays planar, in the rays' precision)."""
+    """What the renderer needs of a shape (arrays planar, in the rays' precision): :meth:`intersect`,
+    :meth:`trace` and :meth:`points`; implemented by :class:`Sphere`, :class:`HalfCylinder`,
+    :class:`Plate` and :class:`swatch.render.mesh.MeshShape`.
+
+    Attributes
+    ----------
+    name : str
+        The shape's name (``flat``, ``cylinder``, ``sphere``, ``mesh``).
+    """
 
     name: str
 
     def intersect(self, o: np.ndarray, dx: np.ndarray, dy: np.ndarray, dz: np.ndarray) -> tuple:
-        """``(hit, nx, ny, nz)`` for rays from ``o`` along unit ``(dx, dy, dz)``."""
+        """First hits of rays from ``o`` and the unit normals there.
+
+        Parameters
+        ----------
+        o : numpy.ndarray, shape (3,)
+            The rays' origin.
+        dx, dy, dz : numpy.ndarray
+            Unit directions (broadcast together).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, nx, ny, nz)``.
+        """
         ...
 
     def trace(self, cam: Camera, u: np.ndarray, w: np.ndarray, inv: np.ndarray, light: np.ndarray) -> tuple:
-        """``(hit, cos_l, cos_v)`` for the camera rays at window coordinates ``(u, w)``."""
+        """Camera rays at window coordinates ``(u, w)``: hit and the cosines to light and view.
+
+        Parameters
+        ----------
+        cam : Camera
+        u, w : numpy.ndarray
+            Window coordinates.
+        inv : numpy.ndarray
+            1/|ray| of each window point.
+        light : numpy.ndarray, shape (3,)
+            Unit direction to the light.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, cos_l, cos_v)``.
+        """
         ...
 
     def points(self) -> np.ndarray:
-        """Points (N, 3) on the shape, to frame the camera."""
+        """Points on the shape, to frame the camera.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+        """
         ...
 
 

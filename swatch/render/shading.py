@@ -50,6 +50,22 @@ TABLE_NODES = 1025
 
 
 def check_model(model: str) -> str:
+    """A shading model's name of :data:`swatch.core.choices.MODELS` (case-insensitive).
+
+    Parameters
+    ----------
+    model : str
+        ``paper`` or ``microfacet``.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Any other name.
+    """
     key = str(model).strip().lower()
     if key not in MODELS:
         raise SwatchError(f"unknown intensity model {model!r}; use one of {', '.join(MODELS)}")
@@ -60,10 +76,21 @@ def check_model(model: str) -> str:
 class FacetColourTable:
     """Colour of the facet reflectance ``F(·; d, θ_d)`` on a uniform grid of ``cos θ_d``.
 
-    ``cos_d`` (N,) is uniform on ``[c0, c1]`` (default [0, 1]); ``values`` (N, C) are XYZ (Y = 100
-    for R = 1) under the colorimeter's observer or, after :meth:`to_rgb`, linear RGB (1 = white).
-    ``display_XYZ`` (N, 3): the CIE 1931 2° XYZ of the same nodes, from which :meth:`to_rgb`
-    derives RGB (display RGB is defined on 2° colorimetry). Lookups clamp to the grid's range.
+    Lookups clamp to the grid's range.
+
+    Parameters
+    ----------
+    thickness_nm : float
+        Oxide thickness, nm.
+    cos_d : numpy.ndarray, shape (N,)
+        Uniform on ``[c0, c1]`` (default [0, 1]).
+    values : numpy.ndarray, shape (N, C)
+        XYZ (Y = 100 for R = 1) under the colorimeter's observer or, after :meth:`to_rgb`, linear RGB (1 = white).
+    kind : str
+        ``"XYZ"`` or ``"RGB:<space>"``.
+    display_XYZ : numpy.ndarray, shape (N, 3), optional
+        CIE 1931 2° XYZ of the same nodes, from which :meth:`to_rgb` derives RGB (display RGB is
+        defined on 2° colorimetry).
     """
 
     thickness_nm: float
@@ -80,14 +107,32 @@ class FacetColourTable:
 
     @property
     def nodes(self) -> int:
+        """N, the number of nodes.
+
+        Returns
+        -------
+        int
+        """
         return int(self.cos_d.size)
 
     @property
     def c0(self) -> float:
+        """The grid's first ``cos θ_d``.
+
+        Returns
+        -------
+        float
+        """
         return float(self.cos_d[0])
 
     @property
     def c1(self) -> float:
+        """The grid's last ``cos θ_d``.
+
+        Returns
+        -------
+        float
+        """
         return float(self.cos_d[-1])
 
     def _position(self, cos_d):
@@ -97,21 +142,49 @@ class FacetColourTable:
         return np.clip((c.astype(dtype, copy=False) - dtype(self.c0)) * scale, dtype(0.0), dtype(self.nodes - 1))
 
     def lookup(self, cos_d) -> np.ndarray:
-        """Linearly interpolated values (..., C) at ``cos_d``."""
+        """Linearly interpolated values at ``cos_d``.
+
+        Parameters
+        ----------
+        cos_d : array_like, shape S
+            Facet incidence cosines (clamped to the grid).
+
+        Returns
+        -------
+        numpy.ndarray, shape S + (C,)
+        """
         x = self._position(cos_d)
         i = np.minimum(x.astype(np.int32), self.nodes - 2)
         f = (x - i)[..., None]
         return np.take(self.values, i, axis=0) + f * np.take(self._delta, i, axis=0)
 
     def lookup_nearest(self, cos_d) -> np.ndarray:
-        """Values at the nearest node (use on a :meth:`refined` table: linear interpolation of the
-        coarse table to within 1/(2·factor) of a coarse node, at the cost of one gather)."""
+        """Values at the nearest node (on a :meth:`refined` table: linear interpolation of the coarse table to
+        within 1/(2·factor) of a coarse node, at the cost of one gather).
+
+        Parameters
+        ----------
+        cos_d : array_like, shape S
+
+        Returns
+        -------
+        numpy.ndarray, shape S + (C,)
+        """
         x = self._position(cos_d)
         x += self.values.dtype.type(0.5)
         return np.take(self.values, x.astype(np.int32), axis=0)
 
     def refined(self, factor: int = 16) -> FacetColourTable:
-        """The table linearly interpolated onto a ``factor`` times finer grid (same range)."""
+        """The table linearly interpolated onto a ``factor`` times finer grid (same range).
+
+        Parameters
+        ----------
+        factor : int
+
+        Returns
+        -------
+        FacetColourTable
+        """
         n = (self.nodes - 1) * int(factor) + 1
         grid = np.linspace(self.c0, self.c1, n)
 
@@ -122,8 +195,26 @@ class FacetColourTable:
                            display_XYZ=interp(self.display_XYZ))
 
     def to_rgb(self, colorimeter, space: str = "srgb", dtype=np.float32) -> FacetColourTable:
-        """The same table in linear RGB of ``space`` (1.0 = white), as ``dtype``, from the nodes'
-        CIE 1931 2° XYZ (``display_XYZ``; the values themselves when the table is 2°)."""
+        """The same table in linear RGB of ``space`` (1.0 = white), from the nodes' CIE 1931 2° XYZ.
+
+        Parameters
+        ----------
+        colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+            Its illuminant's white is adapted to the space's (Bradford).
+        space : str
+            An RGB space (``srgb``, ``display-p3``, ``rec2020`` …).
+        dtype : numpy dtype
+
+        Returns
+        -------
+        FacetColourTable
+            Kind ``RGB:<space>``.
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            A 10° XYZ table without its 2° values.
+        """
         if self.kind != "XYZ":
             rgb = self.values
         else:
@@ -133,6 +224,16 @@ class FacetColourTable:
         return FacetColourTable(self.thickness_nm, self.cos_d, np.asarray(rgb, dtype=dtype), kind=f"RGB:{space}")
 
     def astype(self, dtype) -> FacetColourTable:
+        """The table with its values cast to ``dtype``.
+
+        Parameters
+        ----------
+        dtype : numpy dtype
+
+        Returns
+        -------
+        FacetColourTable
+        """
         return FacetColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind,
                            display_XYZ=self.display_XYZ)
 
@@ -143,6 +244,39 @@ def facet_colour_table(thickness_nm: float, coating, colorimeter, nodes: int = T
 
     A render passes the range of ``cos θ_d`` its pixels span (perspective makes it narrow), so a
     small table is very dense; the default covers every geometry.
+
+    Parameters
+    ----------
+    thickness_nm : float
+        Oxide thickness, nm.
+    coating : swatch.physics.model.Coating
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+    nodes : int
+        At least 2.
+    cos_range : (float, float)
+        ``0 ≤ c0 ≤ c1 ≤ 1``.
+
+    Returns
+    -------
+    FacetColourTable
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Fewer than 2 nodes or a range outside [0, 1].
+
+    References
+    ----------
+    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the half-vector model, eqs. 2–5).
+
+    Examples
+    --------
+    >>> from swatch.colorimetry.colorimeter import get_colorimeter
+    >>> from swatch.physics.model import get_coating
+    >>> c = get_coating()
+    >>> t = facet_colour_table(140.0, c, get_colorimeter(c.wavelength_nm), nodes=5)
+    >>> t.nodes, t.values.shape, t.to_rgb(get_colorimeter(c.wavelength_nm)).kind
+    (5, (5, 3), 'RGB:srgb')
     """
     if int(nodes) < 2:
         raise SwatchError("a colour table needs at least 2 nodes")
@@ -167,10 +301,24 @@ def _dot(a, b) -> np.ndarray:
 
 
 def geometry_terms(normal, light, view):
-    """``(cos_l, cos_v, cos_h, cos_d)`` for unit normal, light and view vectors (..., 3).
+    """The cosines the shading needs, for unit normal, light and view vectors.
 
-    ``light`` and ``view`` point away from the surface; any of them may be a single (3,) vector.
-    ``cos_d = h·l = sqrt((1 + l·v)/2)``; ``cos_h = n·h``.
+    ``cos_d = h·l = sqrt((1 + l·v)/2)`` (the facet's incidence angle, Fujii et al. eq. 5); ``cos_h = n·h``.
+
+    Parameters
+    ----------
+    normal, light, view : array_like, shape (..., 3) or (3,)
+        Unit vectors; ``light`` and ``view`` point away from the surface.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        ``cos_l``, ``cos_v``, ``cos_h``, ``cos_d``, broadcast.
+
+    Examples
+    --------
+    >>> [round(float(x), 4) for x in geometry_terms([0, 0, 1], [0, 0, 1], [0, 0, 1])]
+    [1.0, 1.0, 1.0, 1.0]
     """
     n = np.asarray(normal)
     l = np.asarray(light)
@@ -187,10 +335,30 @@ def geometry_terms(normal, light, view):
 
 def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness_alpha: float = 0.3,
               distribution: str = "ggx", irradiance: bool = True) -> np.ndarray:
-    """The wavelength-independent factor ``s`` multiplying the table colour (see module doc).
+    """The wavelength-independent factor ``s`` multiplying the table colour (see the module doc).
 
-    ``paper``: 1 where the surface is lit and seen (``cos θ_l, cos θ_v > 0``), else 0.
-    ``microfacet``: ``π D G / (4 cos θ_l cos θ_v)``, times ``cos θ_l`` when ``irradiance``.
+    Parameters
+    ----------
+    cos_l, cos_v, cos_h, cos_d : array_like
+        From :func:`geometry_terms`.
+    model : str
+        ``paper``: 1 where the surface is lit and seen, else 0. ``microfacet``:
+        ``π D G / (4 cos θ_l cos θ_v)`` (the reflectance factor; 1 for a white diffuser).
+    roughness_alpha : float
+        Microfacet α.
+    distribution : str
+        ``ggx`` or ``beckmann``.
+    irradiance : bool
+        Times ``cos θ_l`` (irradiance of a directional light on the tilted surface).
+
+    Returns
+    -------
+    numpy.ndarray
+
+    References
+    ----------
+    B. Walter et al. (2007), "Microfacet models for refraction through rough surfaces", EGSR,
+    doi:10.2312/EGWR/EGSR07/195-206.
     """
     model = check_model(model)
     cl = np.asarray(cos_l)
@@ -205,7 +373,20 @@ def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness_a
 
 def shade(normal, light, view, table: FacetColourTable, model: str = "microfacet", roughness_alpha: float = 0.3,
           distribution: str = "ggx", irradiance: bool = True) -> np.ndarray:
-    """Colour per pixel (..., C) by table lookup × intensity (the fast path)."""
+    """Colour per pixel by table lookup × intensity (the fast path).
+
+    Parameters
+    ----------
+    normal, light, view : array_like, shape (..., 3)
+    table : FacetColourTable
+    model, roughness_alpha, distribution, irradiance
+        As :func:`intensity`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., C)
+        The table's kind (XYZ or linear RGB).
+    """
     cos_l, cos_v, cos_h, cos_d = geometry_terms(normal, light, view)
     s = intensity(cos_l, cos_v, cos_h, cos_d, model, roughness_alpha, distribution, irradiance)
     out = table.lookup(cos_d)
@@ -216,11 +397,28 @@ def shade(normal, light, view, table: FacetColourTable, model: str = "microfacet
 def shade_direct(normal, light, view, thickness_nm: float, coating, colorimeter, model: str = "microfacet",
                  roughness_alpha: float = 0.3, distribution: str = "ggx", irradiance: bool = True,
                  chunk: int = 4096) -> np.ndarray:
-    """XYZ per pixel (..., 3) from the full spectrum at each pixel's own θ_d (the reference path).
+    """XYZ per pixel from the full spectrum at each pixel's own θ_d (the reference path).
 
-    The Airy reflectance is evaluated for every pixel on the whole wavelength grid (vectorised
-    over chunks of ``chunk`` pixels to bound memory), weighted by the colorimeter and scaled by
-    the same intensity factor as :func:`shade`.
+    The Airy reflectance is evaluated for every pixel on the whole wavelength grid (vectorised over
+    chunks of ``chunk`` pixels to bound memory), weighted by the colorimeter and scaled by the same
+    intensity factor as :func:`shade`.
+
+    Parameters
+    ----------
+    normal, light, view : array_like, shape (..., 3)
+    thickness_nm : float
+        nm.
+    coating : swatch.physics.model.Coating
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+    model, roughness_alpha, distribution, irradiance
+        As :func:`intensity`.
+    chunk : int
+        Pixels per chunk.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        XYZ (Y = 100 for a white diffuser).
     """
     cos_l, cos_v, cos_h, cos_d = (np.asarray(t, dtype=np.float64) for t in geometry_terms(normal, light, view))
     s = intensity(cos_l, cos_v, cos_h, cos_d, model, roughness_alpha, distribution, irradiance)
