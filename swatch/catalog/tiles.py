@@ -224,8 +224,9 @@ def make_pool(spec: CatalogSpec, jobs: int):
     ctx: BaseContext
     if "forkserver" in mp.get_all_start_methods():
         ctx = mp.get_context("forkserver")
-        ctx.set_forkserver_preload(["swatch", "swatch.catalog.sheets", "swatch.render.dispatch", "swatch.colorimetry.colorimeter",
-                                    "swatch.io.imageio", "OpenImageIO"])
+        # (swatch.core.forkchild first: a worker forked once the build has gone dies without a traceback)
+        ctx.set_forkserver_preload(["swatch.core.forkchild", "swatch", "swatch.catalog.sheets", "swatch.render.dispatch",
+                                    "swatch.colorimetry.colorimeter", "swatch.io.imageio", "OpenImageIO"])
 
         start_forkserver_ignoring_interrupts()  # workers ignore Ctrl-C from birth (one message, the build's)
     else:

@@ -54,6 +54,12 @@ def handle_termination() -> None:
             signal.signal(sig, _raise_terminated)
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, _raise_interrupt)  # (as Python's own, and remembered)
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(sig) in (_raise_interrupt, _raise_terminated):
+            # SA_RESTART: a write of libpng or OpenEXR that the signal meets is resumed, not failed with
+            # EINTR (a "libpng error: Write Error" line after the run's own); Python still raises the
+            # exception as soon as the C call returns (waits on locks, sleeps and selects are cut short)
+            signal.siginterrupt(sig, False)
 
 
 def ignore_interrupts() -> None:
@@ -64,25 +70,31 @@ def ignore_interrupts() -> None:
 
 
 def start_forkserver_ignoring_interrupts() -> None:
-    """Start multiprocessing's fork server with SIGINT ignored, so every worker forked from it ignores
-    Ctrl-C from its first instruction (not only once its initializer has run).
+    """Start multiprocessing's fork server (and the resource tracker) with SIGINT and SIGHUP blocked,
+    so that neither they nor any worker forked from the server reacts to a Ctrl-C or a hang-up sent
+    to the process group, from its first instruction (not only once its initializer has run).
 
-    The disposition SIG_IGN survives the server's exec, and the server restores it in each child.
-    A server already running is left as it is.
+    The blocked mask survives the server's exec and every fork (the server then ignores SIGINT
+    itself; a worker's initializer ignores both). In this process the signals are only held, not
+    ignored: one that arrives meanwhile is delivered when the server is up (setting SIG_IGN here
+    instead lost a Ctrl-C sent in that second: the build went on and exited 0). A server already
+    running is left as it is.
     """
-    from multiprocessing import forkserver  # stdlib, 0.2 s: kept off every command's start (cli.main imports this)
-
+    from multiprocessing import forkserver, resource_tracker  # stdlib, 0.2 s: kept off every command's start
 
     if threading.current_thread() is not threading.main_thread():
         forkserver.ensure_running()
         return
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    old_hup = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    held = {signal.SIGINT, signal.SIGHUP}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
+        # the tracker first: it ignores SIGINT and SIGTERM itself, inherits SIGHUP held, and unblocks
+        # SIGINT and SIGTERM here when it has started (a Ctrl-C then is this process's, as it should be)
+        resource_tracker.ensure_running()
+        signal.pthread_sigmask(signal.SIG_BLOCK, held)
         forkserver.ensure_running()
     finally:
-        signal.signal(signal.SIGINT, old)
-        signal.signal(signal.SIGHUP, old_hup)
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)  # (a signal held meanwhile is raised here)
 
 
 def _watch_pidfd(fd: int) -> None:
