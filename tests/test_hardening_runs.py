@@ -67,7 +67,8 @@ def ignores_sigint(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs /proc")
-@pytest.mark.parametrize("how", ["SIGKILL", "SIGTERM", "SIGINT-group", "SIGHUP-group"])
+@pytest.mark.parametrize("how", ["SIGKILL", "SIGTERM", "SIGINT-group",
+                                 pytest.param("SIGHUP-group", marks=pytest.mark.slow)])  # (~15 s each, 30 s busy)
 def test_issue12_killed_build_leaves_no_process(tmp_path, how):
     """Issue #12 (#22 group 5: SIGHUP, and a signal sent while the build is surely still running)."""
     spec = tmp_path / "k.toml"
