@@ -150,3 +150,50 @@ def test_missing_libllvm_is_one_line(monkeypatch):
     monkeypatch.setenv("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM-15.so.1")
     with pytest.raises(SwatchError, match="libLLVM 15 fails"):
         engine.use_variant("llvm_ad_spectral")
+
+
+@pytest.mark.slow
+def test_spread_averages_the_film_as_the_builtin_model_and_tmm(mi):
+    """#19: with ``spread_nm`` 4 and ``spread_fraction`` 0.02 at 300 nm (σ 10 nm) the plugin's value is the uniform
+    film's with F replaced by the thickness-averaged F: its ratio to the uniform value equals the built-in
+    model's spread average over its uniform reflectance (``Coating.reflectance_cos``) to 2e-3, and the averaged
+    F equals tmm integrated over the normal distribution by scipy.integrate.quad to 2e-3; spread 0 is the
+    uniform film bit for bit."""
+    from scipy import integrate
+    from scipy.stats import norm
+
+    from swatch.physics.model import get_coating
+    from swatch.physics.spread import ThicknessSpread
+
+    d, spread = 300.0, ThicknessSpread(4.0, 0.02)
+    sigma = 4.0 + 0.02 * d
+    base = {"type": "anodic_film", "thickness_nm": d, "alpha": 0.3}
+    uniform = mi.load_dict(base)
+    spread_bsdf = mi.load_dict({**base, "spread_nm": spread.spread_nm, "spread_fraction": spread.spread_fraction})
+    zero = mi.load_dict({**base, "spread_nm": 0.0, "spread_fraction": 0.0})
+    rng = np.random.default_rng(19)
+    wi = _unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
+    wo = _unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
+    wls = (420.0, 510.0, 580.0, 690.0)
+    ctx, wo_m = mi.BSDFContext(), mi.Vector3f(*wo.T)
+    val_u = np.asarray(uniform.eval(ctx, _si(mi, wi, wls), wo_m), dtype=np.float64)
+    val_s = np.asarray(spread_bsdf.eval(ctx, _si(mi, wi, wls), wo_m), dtype=np.float64)
+    assert np.array_equal(np.asarray(zero.eval(ctx, _si(mi, wi, wls), wo_m)), val_u)
+    cos_d = np.einsum("ij,ij->i", wi, _unit(wi + wo))
+    grid = np.array(wls)
+    R_u = get_coating(wavelength_nm=grid).reflectance_cos(d, cos_d).R  # (12, 4)
+    R_s = get_coating(wavelength_nm=grid, spread=spread).reflectance_cos(d, cos_d).R
+    np.testing.assert_allclose(val_s / val_u, (R_s / R_u).T, rtol=2e-3)
+    f, s = load_material("TiO2-Siefke"), load_material("Ti-Johnson")
+    for i in (0, 7):
+        for j in (0, 2):
+            wl = wls[j]
+            theta = math.acos(cos_d[i])
+
+            def local(t, wl=wl, theta=theta):
+                return _tmm_R(max(t, 0.0), theta, wl, f.nk(wl), s.nk(wl)) * norm.pdf(t, d, sigma)
+
+            ref = integrate.quad(local, d - 8 * sigma, d + 8 * sigma, limit=200)[0]
+            F_u = _tmm_R(d, theta, wl, f.nk(wl), s.nk(wl))
+            np.testing.assert_allclose(val_s[j, i] / val_u[j, i] * F_u, ref, rtol=2e-3)
+    assert "spread_nm=4" in str(spread_bsdf)

@@ -50,8 +50,6 @@ def _engine():
 
 def hero_unavailable(spec) -> str | None:
     """Why hero renders cannot be made here (one line), or None when they can."""
-    if not spec.spread.is_zero:
-        return "hero renders skipped: the mitsuba engine renders a uniform film (the profile has a thickness spread)"
     try:
         eng = _engine()
         eng.use_variant()
@@ -80,7 +78,8 @@ def hero_key(spec, thickness_nm: float) -> str:
     """Content hash of everything a hero render depends on."""
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
            "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": HERO_SIZE_PX, "spp": HERO_SPP,
-           "seed": HERO_SEED, "mitsuba": importlib.import_module("mitsuba").__version__, "code": _code_hash()}
+           "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
+           "mitsuba": importlib.import_module("mitsuba").__version__, "code": _code_hash()}
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
 
@@ -120,7 +119,8 @@ def hero_files(spec, records: list[dict], cache: Path,
         if blob is None:
             img = eng.render_swatch_mitsuba(d, shape="sphere", size_px=HERO_SIZE_PX, spp=HERO_SPP, seed=HERO_SEED,
                                             lighting_name=light, roughness_alpha=_lobe(spec), film=spec.film,
-                                            substrate=spec.substrate, film_index_scale=spec.film_index_scale)
+                                            substrate=spec.substrate, film_index_scale=spec.film_index_scale,
+                                            spread=spec.spread)
             meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
                                                  "thickness_nm") if k in img.metadata}
             meta["swatch"] = rec["id"]

@@ -248,9 +248,6 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     shape = "mesh" if mesh is not None else shape
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
-    if mitsuba and not proc.spread.is_zero:
-        raise SwatchError("the mitsuba engine renders a uniform film; a thickness spread is not modelled there "
-                          "(use the built-in engine, or a profile without spread)")
     stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
     # builtin: every input is checked; mitsuba: the first render checks the rest (the scene) before anything is written

@@ -30,7 +30,7 @@ from numpy.polynomial.hermite_e import hermegauss
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_SPREAD_FRACTION, MAX_SPREAD_NM
 
-__all__ = ["NO_SPREAD", "ThicknessSpread", "parse_spread", "spread_sigma_nm", "spread_nodes", "spread_average",
+__all__ = ["NO_SPREAD", "ThicknessSpread", "parse_spread", "spread_sigma_nm", "node_count", "spread_nodes", "spread_average",
            "SIGMA_CAP_OF_THICKNESS"]
 
 #: σ is capped at this fraction of the mean thickness (the normal's mass below 0 stays < 0.14 %).

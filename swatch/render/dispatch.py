@@ -140,12 +140,9 @@ def _render_mitsuba(d: float, shape: str, size_px, roughness_alpha, model, coati
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
     if getattr(coating, "overcoats", ()):
         raise SwatchError("the mitsuba engine renders one film on the metal; drop the overcoats")
-    if not coating.spread.is_zero:
-        raise SwatchError("the mitsuba engine renders a uniform film; a thickness spread is not modelled there "
-                          "(use `engine='builtin'`, or a coating without `spread`)")
     light = resolve_lighting(environment, "mitsuba", sun, view_deg=view_deg, view_azimuth_deg=view_azimuth_deg)
     img = render_swatch_mitsuba(d, shape, size_px, spp, seed, light, None, lobe, distribution, coating.film,
                                 coating.substrate, coating.film_index_scale, coating, colorimeter, space, background,
-                                view_deg, view_azimuth_deg, mesh, progress=progress)
+                                view_deg, view_azimuth_deg, mesh, progress=progress, spread=coating.spread)
     img.metadata |= finish_meta(finish)
     return img

@@ -24,6 +24,13 @@ Parameters (scene-dictionary keys)
     Roughness (float or texture); default ``alpha = 0.3``.
 ``shadowing``
     ``"correlated"`` (default) or ``"separable"``.
+``spread_nm``, ``spread_fraction``
+    The film's thickness spread (issue 19, :mod:`swatch.physics.spread`): the reflectance is averaged
+    incoherently over a normal distribution of local thickness around ``thickness_nm`` with
+    ``σ = min(spread_nm + spread_fraction × d, d / 3)``, by the same Gauss–Hermite quadrature as the
+    built-in model (its nodes and weights, the node count from the largest phase spread ``4π n σ / λ``
+    at 360 nm, the shortest wavelength Mitsuba samples; nodes below 0 nm count as bare metal).
+    Default 0: the uniform film, the unaveraged code path.
 
 Wavelengths outside a table's range are clamped to its end (the tables cover the visible range
 that matters; Mitsuba samples 360–830 nm). Directions below the horizon (either side, of the
@@ -41,6 +48,7 @@ from swatch.core.choices import DISTRIBUTIONS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_THICKNESS_NM
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
+from swatch.physics.spread import SIGMA_CAP_OF_THICKNESS, ThicknessSpread, node_count, spread_nodes
 from swatch.render.mitsuba.film import airy_reflectance
 from swatch.render.mitsuba.setup import SPECTRAL_VARIANTS
 
@@ -50,6 +58,8 @@ PLUGIN_NAME = "anodic_film"
 SHADOWING = ("correlated", "separable")
 #: Table rows kept around the wavelengths Mitsuba samples (360–830 nm), in nm.
 _TABLE_SPAN_NM = (300.0, 900.0)
+#: The shortest wavelength a spectral Mitsuba variant samples (nm): it sets the spread's node count.
+_SHORTEST_SAMPLED_NM = 360.0
 _REGISTERED: set[str] = set()
 
 
@@ -132,6 +142,19 @@ def _define_class():
                 if not (math.isfinite(a) and 1e-4 <= a <= 1.0):
                     raise SwatchError(f"anodic_film: roughness alpha must be from 0.0001 to 1, got {a!r}")
             (self.n1, self.k1, self.n2, self.k2), (lo, hi) = index_textures(film, substrate, scale)
+            try:
+                self.spread = ThicknessSpread(float(props.get("spread_nm", 0.0)),
+                                              float(props.get("spread_fraction", 0.0)))
+            except (TypeError, ValueError):
+                raise SwatchError("anodic_film: spread_nm and spread_fraction must be numbers") from None
+            self.spread_nodes = None
+            if not self.spread.is_zero:
+                d_max = MAX_THICKNESS_NM if d0 is None else d0
+                sigma_max = min(self.spread.spread_nm + self.spread.spread_fraction * d_max,
+                                SIGMA_CAP_OF_THICKNESS * d_max)
+                n_max = float(np.max(load_material(film).n)) * scale
+                z, w = spread_nodes(node_count(sigma_max, n_max, _SHORTEST_SAMPLED_NM))
+                self.spread_nodes = [(float(zi), float(wi)) for zi, wi in zip(z, w, strict=True)]
             self.wl_range = (float(lo), float(hi))
             self.film, self.substrate, self.scale = film, substrate, scale
             self.type = mi.MicrofacetType.GGX if distribution == "ggx" else mi.MicrofacetType.Beckmann
@@ -153,7 +176,14 @@ def _define_class():
             n1, k1 = self.n1.eval(look, active), self.k1.eval(look, active)
             n2, k2 = self.n2.eval(look, active), self.k2.eval(look, active)
             d = dr.maximum(self.thickness.eval_1(si, active), 0.0)
-            return airy_reflectance(mi.UnpolarizedSpectrum(cos_m), si.wavelengths, n1, k1, n2, k2, d)
+            cos = mi.UnpolarizedSpectrum(cos_m)
+            if self.spread_nodes is None:
+                return airy_reflectance(cos, si.wavelengths, n1, k1, n2, k2, d)
+            sigma = dr.minimum(self.spread.spread_nm + self.spread.spread_fraction * d, SIGMA_CAP_OF_THICKNESS * d)
+            R = 0.0
+            for z, w in self.spread_nodes:  # the quadrature's nodes; each term covers every lane and wavelength
+                R = R + w * airy_reflectance(cos, si.wavelengths, n1, k1, n2, k2, dr.maximum(d + z * sigma, 0.0))
+            return R
 
         def _shadowing(self, distr, wi, wo, m):
             g_i, g_o = distr.smith_g1(wi, m), distr.smith_g1(wo, m)
@@ -214,7 +244,8 @@ def _define_class():
 
         def to_string(self):
             return (f"AnodicFilmBSDF[film={self.film}, substrate={self.substrate}, film_index_scale={self.scale:g}, "
-                    f"distribution={self.distribution_name}, shadowing={self.shadowing}]")
+                    f"distribution={self.distribution_name}, shadowing={self.shadowing}, "
+                    f"spread_nm={self.spread.spread_nm:g}, spread_fraction={self.spread.spread_fraction:g}]")
 
     return AnodicFilmBSDF
 

@@ -36,6 +36,7 @@ from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_PASS_LAN
 from swatch.physics import microfacet
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
 from swatch.physics.model import check_thickness_nm
+from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
 from swatch.render.image import SwatchImage, mesh_metadata
 from swatch.render.lighting import Lighting, Sun, resolve_lighting
@@ -218,7 +219,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           background: str | None = None, view_deg: float | None = None,
                           view_azimuth_deg: float = 0.0, mesh=None, variant: str = DEFAULT_VARIANT,
                           progress: Callable[[int, int], None] | bool | None = None,
-                          bsdf_override: dict | None = None, exposure: float = 1.0) -> SwatchImage:
+                          bsdf_override: dict | None = None, exposure: float = 1.0,
+                          spread: ThicknessSpread | None = None) -> SwatchImage:
     """Render one swatch with Mitsuba (module documentation): the public function of the engine.
 
     Parameters
@@ -257,6 +259,10 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         Called after each pass; True draws a bar on stderr when it is a terminal.
     bsdf_override : dict, optional
         Another BSDF for the object (tests and benchmarks: Mitsuba's own ``roughconductor``).
+    spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread (a process profile's): the plugin averages its Airy reflectance
+        over the same normal distribution and Gauss–Hermite nodes as the built-in model (issue 19).
+        Default: the coating's (none for the default coating).
     exposure : float
         Display exposure of the PNG (the EXR keeps the scene values), 1/64 to 64; default 1 (the white
         diffuser is display white). The sun is far brighter than a studio: about 0.3 keeps sunlit metal
@@ -291,6 +297,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     if not (math.isfinite(exposure) and 1.0 / 64.0 <= exposure <= 64.0):
         raise SwatchError(f"display exposure must be from {1.0 / 64.0:g} to 64, got {exposure!r}")
     coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
+    spread = getattr(coating, "spread", NO_SPREAD) if spread is None else spread
     if getattr(colorimeter, "illuminant", "D65") not in ("D65", None):
         raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use `illuminant='D65'`")
     variant = use_variant(variant)
@@ -298,6 +305,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     scene_geo = make_scene("sphere" if shape == "mesh" else shape, 45.0, view_deg, view_azimuth_deg, mesh)
     bsdf = {"type": PLUGIN_NAME, "thickness_nm": d, "film": film, "substrate": substrate,
             "film_index_scale": float(film_index_scale), "distribution": distribution}
+    if not spread.is_zero:
+        bsdf["spread_nm"], bsdf["spread_fraction"] = float(spread.spread_nm), float(spread.spread_fraction)
     if len(alphas) == 1:
         bsdf["alpha"] = alphas[0]
     else:
@@ -367,7 +376,9 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         "bsdf": (f"{PLUGIN_NAME} (swatch.mitsuba): Airy film {film} (index scale {float(film_index_scale):g}) on "
                  f"{substrate}, per sampled wavelength on the half-vector facet; {distribution} "
                  + (f"alpha {alphas[0]:g}" if len(alphas) == 1 else f"alpha_u {alphas[0]:g}, alpha_v {alphas[1]:g}")
-                 + ", visible-normal sampling") if bsdf_override is None else f"override: {bsdf['type']}",
+                 + ", visible-normal sampling"
+                 + ("" if spread.is_zero else f"; thickness spread{spread.text()}, incoherent Gauss-Hermite average"))
+        if bsdf_override is None else f"override: {bsdf['type']}",
         "shadowing": "Smith height-correlated",
         "shape": shape,
         "geometry": scene_geo.camera_description,
