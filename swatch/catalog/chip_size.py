@@ -10,5 +10,20 @@ _MM_PER_INCH = 25.4
 
 
 def chip_px(size_mm: float, dpi: float) -> int:
-    """Pixels per side of a ``size_mm`` chip at ``dpi``."""
+    """Pixels per side of a ``size_mm`` chip at ``dpi``.
+
+    Parameters
+    ----------
+    size_mm : float
+    dpi : float
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> chip_px(50, 300)
+    591
+    """
     return round(float(size_mm) / _MM_PER_INCH * float(dpi))

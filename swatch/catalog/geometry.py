@@ -15,10 +15,26 @@ DEFAULT_ASPECULAR_DEG = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
 
 @dataclass(frozen=True)
 class Geometry:
-    """One in-plane light/view geometry.
+    """One in-plane light/view geometry of a catalog.
 
-    ``view_deg`` is the view's polar angle from the normal; ``view_side`` is ``"opposite"`` (the
-    usual side, across the normal from the light) or ``"light"`` (the same side as the light).
+    Attributes
+    ----------
+    name : str
+        ``45:0`` (the reference) or ``45as15`` (multi-angle).
+    light_deg : float
+        The light's polar angle from the normal, degrees.
+    view_deg : float
+        The view's polar angle from the normal, degrees.
+    view_side : str
+        ``"opposite"`` (across the normal from the light, the usual side) or ``"light"`` (the light's side).
+    aspecular_deg : float or None
+        The aspecular angle (ASTM E2194), degrees, for a multi-angle geometry.
+
+    Examples
+    --------
+    >>> g = Geometry("45as110", 45.0, 65.0, "light", 110.0)
+    >>> g.theta_d_deg, g.view_azimuth_deg
+    (10.0, 0.0)
     """
 
     name: str
@@ -29,17 +45,34 @@ class Geometry:
 
     @property
     def view_azimuth_deg(self) -> float | None:
-        """For swatch.physics.geometry: None = opposite side (azimuth + 180), 0 = the light's side."""
+        """The view's azimuth for :mod:`swatch.physics.geometry`: None (opposite side, light + 180°) or 0 (the light's side).
+
+        Returns
+        -------
+        float or None
+        """
         return None if self.view_side == "opposite" else 0.0
 
     @property
     def theta_d_deg(self) -> float:
-        """Incidence angle on the half-vector facet (in plane): half the angle between l and v."""
+        """Incidence angle on the half-vector facet (in plane): half the angle between l and v (Fujii et al. eq. 5).
+
+        Returns
+        -------
+        float
+            Degrees.
+        """
         if self.view_side == "opposite":
             return 0.5 * (self.light_deg + self.view_deg)
         return 0.5 * abs(self.light_deg - self.view_deg)
 
     def to_json(self) -> dict:
+        """The geometry as ``catalog.json`` writes it (with ``theta_d_deg``).
+
+        Returns
+        -------
+        dict
+        """
         out = {"name": self.name, "light_deg": self.light_deg, "view_deg": self.view_deg,
                "view_side": self.view_side}
         if self.aspecular_deg is not None:
@@ -50,4 +83,22 @@ class Geometry:
 
 
 def geometry_name(light: float, aspecular: float) -> str:
+    """The name of a multi-angle geometry: ``<light>as<aspecular>``.
+
+    Parameters
+    ----------
+    light : float
+        Degrees.
+    aspecular : float
+        Degrees.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> geometry_name(45.0, -15.0)
+    '45as-15'
+    """
     return f"{light:g}as{aspecular:g}"

@@ -48,7 +48,13 @@ def to_json(value):
 
 @dataclass(frozen=True)
 class Neighbours:
-    """A colour difference to the previous and the next swatch (None at the ends), in its metric's units."""
+    """A colour difference to the previous and the next swatch.
+
+    Attributes
+    ----------
+    previous, next : float or None
+        In the metric's units (ΔE*ab or ΔE2000); None at the ends.
+    """
 
     previous: float | None
     next: float | None
@@ -86,7 +92,17 @@ class ProcessWindowEntry:
 
 @dataclass(frozen=True)
 class PrintChip:
-    """A swatch's print chip files (catalog-relative names), their size (mm) and resolution (dpi)."""
+    """A swatch's print chip files.
+
+    Attributes
+    ----------
+    png, tiff : str
+        Catalog-relative file names.
+    size_mm : float
+        The chip's side, mm.
+    dpi : int
+        Resolution, dots per inch.
+    """
 
     png: str
     tiff: str
@@ -98,10 +114,32 @@ class PrintChip:
 class SwatchRecord:
     """Everything ``catalog.json`` says about one swatch (numbers rounded as written).
 
-    Colours are CIELAB / LCh / XYZ at the reference geometry under the catalog's illuminant and
-    observer (``Lab_D50_2``: D50, CIE 1931 2°); ``srgb_hex`` from CIE 1931 2° colorimetry; the
-    ``multi_angle*`` maps are keyed by geometry name (``45as15`` …). ``tile`` is (row, column) on
-    ``sheet``, from 1. ``print_chip``, ``presets`` and ``hero`` are set by their stages (None: absent).
+    Attributes
+    ----------
+    id : str
+        ``S001`` …
+    index : int
+        From 1.
+    thickness_nm, voltage_V : float or None
+        nm; V through the process's growth law (None without a rate).
+    Lab, LCh, XYZ : tuple of float
+        At the reference geometry, under the catalog's illuminant and observer (XYZ: Y = 100 white).
+    Lab_D50_2 : tuple of float
+        The same under D50, CIE 1931 2° (ICC PCS).
+    srgb_hex : str
+        sRGB from CIE 1931 2° colorimetry; ``in_srgb_gamut`` whether it is inside.
+    in_srgb_gamut : bool
+    hue_family, colour_name : str
+    multi_angle, multi_angle_LCh, multi_angle_srgb_hex : dict
+        Keyed by geometry name (``45as15`` …).
+    delta_E_ab_to_neighbours, delta_E_00_to_neighbours : Neighbours
+    process_window : ProcessWindowEntry
+    sheet : int
+    sheet_png, sheet_exr : str
+    tile : (int, int)
+        (row, column) on ``sheet``, from 1.
+    print_chip, presets, hero : PrintChip, dict or None
+        Set by their stages (None: absent from the JSON).
     """
 
     id: str

@@ -38,6 +38,48 @@ RENDER_MODELS = MODELS
 
 @dataclass(frozen=True)
 class CatalogSpec:
+    """A validated catalog spec (:func:`parse_spec`); frozen. See docs/catalog.md for the TOML format.
+
+    Attributes
+    ----------
+    source : str
+        The file's name, for messages.
+    name, description : str
+    film, substrate : str
+        Optical table names (the process's, or the spec's overrides).
+    nm_per_V, offset_nm, knee_V, nm_per_V_above_knee : float or None
+        The growth law: ``thickness_nm = offset_nm + nm_per_V × voltage_V`` (two slopes with a knee);
+        ``nm_per_V`` None when the profile has no rate.
+    thickness_nm : tuple of float
+        The swatches' thicknesses, nm.
+    voltage_V : tuple of float or None
+        The voltages given (None when thicknesses were given).
+    illuminant, observer : str
+        The colorimetry (``observer`` ``"2"`` or ``"10"``); ``wavelength_step_nm`` 1, 5 or 10 nm (ASTM E308).
+    wavelength_step_nm : float
+    reference : swatch.catalog.geometry.Geometry
+        The reference geometry (default 45:0).
+    multi_angle : tuple of swatch.catalog.geometry.Geometry
+    shapes, size_px, model, roughness, angular_map, finish, hero
+        The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
+    scheme, grade : str or None
+        A named tolerance grade (None for a written bound).
+    metric : str
+        The colour difference the tolerance bounds (``dEab`` or ``dE00``); ``max_delta_E`` its bound.
+    max_delta_E : float
+    search_nm : float
+        The process window's search span, nm.
+    columns, rows : int
+        Tiles per sheet.
+    process, process_origin : str
+        The profile's name and where it came from.
+    film_index_scale : float
+    spread_nm, spread_fraction : float
+        The thickness spread: 1σ = spread_nm + spread_fraction × d.
+    chips, chip_size_mm, chip_dpi
+        Print chips: on/off, side (mm), resolution (dpi).
+    extra : dict
+    """
     source: str  # file name, for messages
     name: str
     description: str
@@ -80,18 +122,40 @@ class CatalogSpec:
 
     @property
     def finish_spec(self):
-        """The :class:`swatch.physics.finishes.Finish` of ``finish`` (None without one)."""
+        """The :class:`swatch.physics.finishes.Finish` of ``finish`` (None without one).
+
+        Returns
+        -------
+        swatch.physics.finishes.Finish or None
+        """
 
         return None if self.finish is None else get_finish(self.finish)
 
     @property
     def tolerance(self):
+        """The spec's tolerance: the named grade, or the written bound in its metric.
+
+        Returns
+        -------
+        swatch.colorimetry.tolerance.Tolerance
+        """
         if self.grade is not None:
             return get_tolerance(self.scheme, self.grade)
         return get_tolerance(metric=self.metric, max=self.max_delta_E)
 
     def voltage_of(self, thickness_nm):
-        """Voltage, V, growing ``thickness_nm`` by the spec's growth law; None without a rate."""
+        """Voltage that grows ``thickness_nm`` by the spec's growth law (one slope, or two with a knee).
+
+        Parameters
+        ----------
+        thickness_nm : array_like
+            nm.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            V, the shape of ``thickness_nm``; None without a rate.
+        """
         from swatch.physics.model import thickness_to_voltage_V  # lazy: see tests/test_layers.py
 
         if self.nm_per_V is None:
@@ -103,22 +167,49 @@ class CatalogSpec:
 
     @property
     def per_sheet(self) -> int:
+        """Tiles per sheet (columns × rows).
+
+        Returns
+        -------
+        int
+        """
         return self.columns * self.rows
 
     @property
     def spread(self):
-        """The film's :class:`swatch.physics.spread.ThicknessSpread`."""
+        """The film's thickness spread.
+
+        Returns
+        -------
+        swatch.physics.spread.ThicknessSpread
+        """
 
         return ThicknessSpread(self.spread_nm, self.spread_fraction)
 
     def coating(self, wavelength_nm):
-        """The spec's :class:`swatch.physics.model.Coating` on a wavelength grid (nm): film, substrate, index scale, spread."""
+        """The spec's coating on a wavelength grid: film, substrate, index scale, spread.
+
+        Parameters
+        ----------
+        wavelength_nm : array_like, shape (W,)
+            nm.
+
+        Returns
+        -------
+        swatch.physics.model.Coating
+        """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
         return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
 
     def canonical(self) -> dict:
-        """Everything that affects the outputs, JSON-ready (used for content hashes)."""
+        """Everything that affects the outputs, JSON-ready (the build's content hashes; keys a uniform film or
+        a one-slope law does not use are left out, so the hashes of before stay).
+
+        Returns
+        -------
+        dict
+        """
         d = asdict(self)
         d.pop("source")
         if d["spread_nm"] == 0.0 and d["spread_fraction"] == 0.0:  # a uniform film: the hashes of before
@@ -131,8 +222,33 @@ class CatalogSpec:
 
 
 def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None) -> CatalogSpec:
-    """Validate a decoded TOML document (``source`` names it in error messages; a ``process`` file is
-    looked up inside ``base_dir``, the spec's folder)."""
+    """Validate a decoded TOML document into a :class:`CatalogSpec` (every key checked).
+
+    Parameters
+    ----------
+    data : dict
+        The decoded document.
+    source : str
+        Names it in messages.
+    base_dir : pathlib.Path, optional
+        The spec's folder: a ``process`` file is looked up inside it.
+
+    Returns
+    -------
+    CatalogSpec
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        An unknown key, a wrong type or an impossible value, in one line naming the file, the key and
+        what is allowed.
+
+    Examples
+    --------
+    >>> s = parse_spec({"name": "Demo", "voltage": {"list_V": [10, 20]}})
+    >>> s.thickness_nm == tuple(s.offset_nm + s.nm_per_V * v for v in (10.0, 20.0)), s.per_sheet, s.metric
+    (True, 12, 'dEab')
+    """
 
     c = SpecChecker(source)
     top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
@@ -271,7 +387,23 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
 
 
 def load_spec(path) -> tuple[CatalogSpec, bytes]:
-    """Read and validate a spec file; returns the spec and the file's bytes."""
+    """Read and validate a spec file (size-capped, UTF-8, TOML).
+
+    Parameters
+    ----------
+    path : str or path-like
+        At most :data:`swatch.core.limits.MAX_SPEC_BYTES`.
+
+    Returns
+    -------
+    (CatalogSpec, bytes)
+        The spec and the file's bytes.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        The file is too big, not UTF-8, not TOML, nested too deeply, or not a valid spec.
+    """
     p = Path(path)
     source = str(path)
     text = read_text_capped(p, MAX_SPEC_BYTES, "catalog spec", "TOML", source)
@@ -286,7 +418,16 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
 
 
 def spec_summary(s: CatalogSpec) -> str:
-    """One line: name, swatches, thickness range, sheets, materials, colorimetry, geometries, grade."""
+    """One line: name, swatches, thickness range, sheets, materials, colorimetry, geometries, tolerance.
+
+    Parameters
+    ----------
+    s : CatalogSpec
+
+    Returns
+    -------
+    str
+    """
     d, per = s.thickness_nm, s.per_sheet
     nm = f"{round(d[0], 1):g}–{round(d[-1], 1):g} nm"  # as the sheets print them (0.1 nm)
     if s.voltage_V:

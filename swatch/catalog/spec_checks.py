@@ -20,16 +20,68 @@ __all__ = ["SpecChecker", "spec_range", "spec_material", "spec_process"]
 
 
 class SpecChecker:
+    """Checks of a decoded spec's values; every refusal names the file and the key.
+
+    Parameters
+    ----------
+    source : str
+        The spec's file name, for messages.
+
+    Examples
+    --------
+    >>> SpecChecker("x.toml").number(2.5, "thickness.step_nm", 0.0, None, lo_open=True)
+    2.5
+    >>> SpecChecker("x.toml").number("a", "thickness.step_nm", 0.0, None, lo_open=True)
+    Traceback (most recent call last):
+    ...
+    swatch.core.errors.SwatchError: x.toml: key thickness.step_nm: must be a number > 0 (got 'a')
+    """
     def __init__(self, source: str):
         self.source = source
 
     def fail(self, key: str, what: str, got=None, show_got: bool = True) -> NoReturn:
+        """Refuse ``key``.
+
+        Parameters
+        ----------
+        key : str
+            The dotted key.
+        what : str
+            What is allowed.
+        got : object
+            The value given (shown shortened).
+        show_got : bool
+            Append ``(got …)``.
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         msg = f"{self.source}: key {key}: {what}"
         if show_got:
             msg += f" (got {_show(got)})"
         raise SwatchError(msg)
 
     def table(self, data, key: str, allowed: tuple[str, ...]) -> dict:
+        """A TOML table with only the ``allowed`` keys.
+
+        Parameters
+        ----------
+        data : object
+        key : str
+            The table's key (empty: the top level).
+        allowed : tuple of str
+
+        Returns
+        -------
+        dict
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         if not isinstance(data, dict):
             self.fail(key, "must be a table", data)
         for k in data:
@@ -40,6 +92,25 @@ class SpecChecker:
         return data
 
     def number(self, value, key: str, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
+        """A finite number within bounds (closed unless ``lo_open`` / ``hi_open``).
+
+        Parameters
+        ----------
+        value : object
+        key : str
+        lo, hi : float or None
+            Bounds (None: none).
+        lo_open, hi_open : bool
+
+        Returns
+        -------
+        float
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
         if ok:
             v = float(value)
@@ -49,11 +120,50 @@ class SpecChecker:
         return float(value)
 
     def integer(self, value, key: str, lo: int, hi: int) -> int:
+        """A whole number from ``lo`` to ``hi`` (booleans refused).
+
+        Parameters
+        ----------
+        value : object
+        key : str
+        lo, hi : int
+
+        Returns
+        -------
+        int
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
             self.fail(key, f"must be a whole number from {lo} to {hi}", value)
         return int(value)
 
     def string(self, value, key: str, max_len: int = 200, choices=None, multiline: bool = False) -> str:
+        """A non-empty text without control characters, optionally one of ``choices`` (case-insensitive).
+
+        Parameters
+        ----------
+        value : object
+        key : str
+        max_len : int
+        choices : sequence of str, optional
+            Returned in their own spelling.
+        multiline : bool
+            Allow tabs and line breaks.
+
+        Returns
+        -------
+        str
+            Stripped.
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         if not isinstance(value, str) or not value.strip() or len(value) > max_len:
             self.fail(key, f"must be a non-empty text of at most {max_len} characters", value)
         allowed = "\t\n\r" if multiline else ""
@@ -68,11 +178,45 @@ class SpecChecker:
         return value.strip()
 
     def boolean(self, value, key: str) -> bool:
+        """``true`` or ``false``.
+
+        Parameters
+        ----------
+        value : object
+        key : str
+
+        Returns
+        -------
+        bool
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         if not isinstance(value, bool):
             self.fail(key, "must be true or false", value)
         return value
 
     def numbers(self, value, key: str, lo, hi, max_len: int = MAX_SWATCHES) -> list[float]:
+        """A non-empty list of numbers within [``lo``, ``hi``], at most ``max_len`` of them.
+
+        Parameters
+        ----------
+        value : object
+        key : str
+        lo, hi : float
+        max_len : int
+
+        Returns
+        -------
+        list of float
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
         if not isinstance(value, list) or not value:
             self.fail(key, "must be a non-empty list of numbers", value)
         if len(value) > max_len:
@@ -109,7 +253,32 @@ def _bounds(lo, hi, lo_open, hi_open) -> str:
 
 
 def spec_range(c: SpecChecker, tbl: dict, key: str, unit: str, hi: float) -> list[float]:
-    """start_/stop_/step_ or list_ (unit nm or V) -> sorted values."""
+    """A ``[thickness]`` or ``[voltage]`` table: ``start_/stop_/step_`` or ``list_`` (nm or V) → sorted values.
+
+    Range values are ``start + i·step`` rounded to 1e-9 (decimal steps stay exact in the outputs); at
+    most :data:`swatch.core.limits.MAX_SWATCHES`, refused before any list is built.
+
+    Parameters
+    ----------
+    c : SpecChecker
+    tbl : object
+        The table.
+    key : str
+        ``thickness`` or ``voltage``.
+    unit : str
+        ``nm`` or ``V``.
+    hi : float
+        The largest value allowed.
+
+    Returns
+    -------
+    list of float
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        ``<file>: key <key>: <what is allowed> (got <value>)``.
+    """
     suffix = "nm" if unit == "nm" else "V"
     names = (f"start_{suffix}", f"stop_{suffix}", f"step_{suffix}", f"list_{suffix}")
     c.table(tbl, key, names)
@@ -141,6 +310,26 @@ def spec_range(c: SpecChecker, tbl: dict, key: str, unit: str, hi: float) -> lis
 
 
 def spec_material(c: SpecChecker, value, key: str, role: str) -> str:
+    """An optical table's name of the given role that covers 380–780 nm.
+
+    Parameters
+    ----------
+    c : SpecChecker
+    value : object
+    key : str
+    role : str
+        ``film`` or ``substrate``.
+
+    Returns
+    -------
+    str
+        The table's own name.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        ``<file>: key <key>: <what is allowed> (got <value>)``.
+    """
     name = c.string(value, key)
     try:
         mat = load_material(name)
@@ -156,7 +345,24 @@ def spec_material(c: SpecChecker, value, key: str, role: str) -> str:
 
 
 def spec_process(c: SpecChecker, value, base_dir: Path | None):
-    """The spec's ``process``: a preset name, or a profile .toml inside the spec's folder."""
+    """The spec's ``process``: a preset name, or a profile ``.toml`` inside the spec's folder.
+
+    Parameters
+    ----------
+    c : SpecChecker
+    value : object
+    base_dir : pathlib.Path or None
+        The spec's folder (None: presets only).
+
+    Returns
+    -------
+    swatch.physics.process.Process
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        ``<file>: key <key>: <what is allowed> (got <value>)``.
+    """
 
     text = c.string(value, "process", 200)
     if text in preset_names() or base_dir is None:
