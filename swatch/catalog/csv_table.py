@@ -12,7 +12,12 @@ __all__ = ["csv_columns", "csv_bytes", "preset_figures"]
 
 
 def preset_figures() -> list[str]:
-    """The presets' error keys, in catalog.json's order (max over mirror 0–60°, 0–45°, at 45:0)."""
+    """The presets' error keys, in catalog.json's order (max over mirror 0–60°, 0–45°, at 45:0).
+
+    Returns
+    -------
+    list of str
+    """
     return [f"{prefix}{tail}" for fmt in PRESET_FORMATS for prefix in FORMAT_FIGURES[fmt]
             for tail in ("_max_delta_E_00", "_max_delta_E_00_45", "_delta_E_00_45_0")]
 
@@ -21,10 +26,19 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
     """catalog.csv's header: colorimetry and units in the names (``L_D65_10``, ``h_D65_10_deg``).
 
     Lab/LCh and XYZ (white Y = 100) at the reference geometry under the catalog's illuminant and
-    observer, then Lab under D50 / CIE 1931 2° (``L_D50_2`` ..., what ICC and Adobe tools assume),
-    the sRGB hex (CIE 1931 2° colorimetry), the hue family and colour name, and Lab/LCh and the
-    sRGB hex per multi-angle geometry (``L_D65_10_45as-15`` ..., ``srgb_hex_45as-15``); the 3-D
-    presets' errors (ΔE2000, D65, 2°: ``threejs_max_delta_E_00`` ...) and every file of the swatch.
+    observer, then Lab under D50 / CIE 1931 2° (``L_D50_2`` …, what ICC and Adobe tools assume), the
+    sRGB hex (CIE 1931 2° colorimetry), the hue family and colour name, and Lab/LCh and the sRGB hex
+    per multi-angle geometry (``L_D65_10_45as-15`` …); the 3-D presets' errors (ΔE2000, D65, 2°) and
+    every file of the swatch.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    illuminant, observer : str
+
+    Returns
+    -------
+    list of str
     """
     cs = f"{illuminant}_{observer}"
     lab = [f"L_{cs}", f"a_{cs}", f"b_{cs}", f"C_{cs}", f"h_{cs}_deg"]
@@ -41,7 +55,18 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
 
 
 def csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer: str) -> bytes:
-    """catalog.csv: one row per swatch in the columns of :func:`csv_columns` (UTF-8, ``\\n``)."""
+    r"""catalog.csv: one row per swatch in the columns of :func:`csv_columns` (UTF-8, ``\n``).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    records : list of dict
+    illuminant, observer : str
+
+    Returns
+    -------
+    bytes
+    """
     buf = io.StringIO(newline="")
     w = csv.writer(buf, lineterminator="\n")
     geo = [g.name for g in spec.multi_angle]

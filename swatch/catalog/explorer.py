@@ -70,7 +70,17 @@ def _encode(values: np.ndarray) -> dict:
 
 
 def decode(block: dict) -> np.ndarray:
-    """The float64 array of an :func:`_encode` block (the page's decoder, in Python for tests)."""
+    """The float64 array of an encoded block (uint16 codes × per-channel scale; the page's decoder, in Python for tests).
+
+    Parameters
+    ----------
+    block : dict
+        ``data`` (base64), ``shape``, ``scale``.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     codes = np.frombuffer(base64.b64decode(block["data"]), dtype="<u2").astype(np.float64)
     return codes.reshape(block["shape"]) * np.asarray(block["scale"])
 
@@ -81,7 +91,31 @@ def _matrix(fn) -> list[list[float]]:
 
 
 def thickness_axis(thickness_nm, step_nm: float) -> tuple[float, float, int]:
-    """(start, stop, count) of a uniform axis covering the catalog's thicknesses."""
+    """A uniform thickness axis covering the catalog's thicknesses (a single thickness gets a margin; the
+    axis never passes :data:`swatch.core.limits.MAX_THICKNESS_NM`).
+
+    Parameters
+    ----------
+    thickness_nm : array_like
+        nm.
+    step_nm : float
+        The axis step, nm.
+
+    Returns
+    -------
+    (float, float, int)
+        Start and stop (nm) and the node count.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        More than :data:`swatch.core.limits.MAX_GRID_NODES` nodes.
+
+    Examples
+    --------
+    >>> thickness_axis([20.0, 300.0], 2.0)
+    (20.0, 300.0, 141)
+    """
     d = np.asarray(thickness_nm, dtype=np.float64)
     lo, hi = float(d.min()), float(d.max())
     if hi - lo < 1e-9:
@@ -97,7 +131,20 @@ def thickness_axis(thickness_nm, step_nm: float) -> tuple[float, float, int]:
 
 
 def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> dict:
-    """The JSON block the page reads (see the module doc)."""
+    """The JSON block the page reads (see the module doc): the shading grid, the reference samples and
+    the matrices, from the build's context.
+
+    Parameters
+    ----------
+    ctx : swatch.catalog.context.CatalogContext
+        The catalog's grid, coating and colorimeter (as the records).
+    reference_cos_d : float, optional
+        cos θ_d of the reference geometry (default: the spec's).
+
+    Returns
+    -------
+    dict
+    """
 
     spec = ctx.spec
     coating, cm = ctx.coating, ctx.colorimeter  # as the records (the tiles' workers build the same)
@@ -151,7 +198,20 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
 
 
 def grid_lookup(block: dict, thickness_nm, cos_d) -> np.ndarray:
-    """Bilinear interpolation of the shading grid (..., 6), as the page does it (for tests)."""
+    """Bilinear interpolation of the shading grid, as the page does it (for tests).
+
+    Parameters
+    ----------
+    block : dict
+        :func:`explorer_data`.
+    thickness_nm, cos_d : array_like
+        nm; facet incidence cosine.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 6)
+        XYZ under the catalog's observer, then under CIE 1931 2°.
+    """
     g = decode(block["grid"])
     t = block["thickness_nm"]
     x = np.clip((np.asarray(thickness_nm, dtype=np.float64) - t["start"]) / t["step"], 0, t["count"] - 1)
@@ -166,10 +226,18 @@ def grid_lookup(block: dict, thickness_nm, cos_d) -> np.ndarray:
 
 
 def tile_rects(spec, records: list[dict]) -> dict:
-    """Where each swatch's renders and angular map sit in its sheet PNG (pixels), for the page.
+    """Where each swatch's renders and angular map sit in its sheet PNG, for the page.
 
-    ``{"sheet_px": [w, h], "renders": [[x, y, w, h] per shape], "amap": [x, y, w, h] | None}``
-    relative to the tile origin; tile origins per swatch id in ``origins``.
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    records : list of dict
+
+    Returns
+    -------
+    dict
+        ``sheet_px`` [w, h], ``renders`` [[x, y, w, h] per shape] and ``amap`` ([x, y, w, h] or None)
+        relative to the tile's origin, ``origins`` per swatch id, ``amap_deg``; pixels.
     """
 
     lay = Layout(spec)
@@ -188,8 +256,17 @@ def tile_rects(spec, records: list[dict]) -> dict:
 
 
 def chip_colours(data: CatalogData) -> list[dict]:
-    """Per swatch: Display P3 encoded RGB at the reference geometry (``p3``, clipped to [0, 1]) and
-    whether each multi-angle colour is inside sRGB (``multi_in_srgb_gamut``), both from CIE 1931 2°."""
+    """Per swatch: Display P3 encoded RGB at the reference geometry (``p3``, clipped to [0, 1]) and whether
+    each multi-angle colour is inside sRGB (``multi_in_srgb_gamut``), both from CIE 1931 2°.
+
+    Parameters
+    ----------
+    data : swatch.catalog.records.CatalogData
+
+    Returns
+    -------
+    list of dict
+    """
 
     spec, cm = data.context.spec, data.context.colorimeter
     enc, _ = cm.reflectance_display(data.reflectance, "display-p3")

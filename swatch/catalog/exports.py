@@ -43,13 +43,38 @@ ASE_MODELS = {"lab": b"LAB ", "srgb": b"RGB "}
 
 
 def metal_symbol(spec: CatalogSpec) -> str:
-    """The substrate's element (``Ti`` for ``Ti-Johnson``), for swatch names."""
+    """The substrate's element (``Ti`` for ``Ti-Johnson``), for swatch names.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    str
+    """
     return spec.substrate.split("-")[0]
 
 
 def ase_name(rec: dict, metal: str = "Ti") -> str:
-    """``S001 Ti 20 nm (9.8 V) straw``: the swatch ID, metal, thickness (0.1 nm), voltage (none without a
-    growth rate) and colour name (:mod:`swatch.colorimetry.names`, as the sheets and the page say it)."""
+    """A swatch's name in the exports: ID, metal, thickness (0.1 nm), voltage (none without a growth rate)
+    and colour name (:mod:`swatch.colorimetry.names`, as the sheets and the page say it).
+
+    Parameters
+    ----------
+    rec : dict
+        The record.
+    metal : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> ase_name({"id": "S001", "thickness_nm": 20.0, "voltage_V": 9.84, "colour_name": "straw"})
+    'S001 Ti 20 nm (9.8 V) straw'
+    """
     volts = "" if rec["voltage_V"] is None else f" ({rec['voltage_V']:.1f} V)"
     name = f" {rec['colour_name']}" if rec.get("colour_name") else ""
     return f"{rec['id']} {metal} {round(rec['thickness_nm'], 1):g} nm{volts}{name}"
@@ -63,10 +88,24 @@ def _utf16_name(name: str) -> bytes:
 
 
 def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> bytes:
-    """The ASE file: one group (the catalog's name) of global colours.
+    """The Adobe Swatch Exchange file: one group (the catalog's name) of global colours.
 
-    ``model="lab"``: CIELAB under D50 and the CIE 1931 2° observer at the reference geometry
-    (``Lab_D50_2`` of the records); ``"srgb"``: the records' sRGB hex codes as 0–1 floats.
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    records : list of dict
+    model : str
+        ``"lab"``: CIELAB under D50, CIE 1931 2° at the reference geometry (``Lab_D50_2``, how Adobe
+        applications read ASE Lab); ``"srgb"``: the records' sRGB hex codes as 0–1 floats.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ValueError
+        An unknown ``model`` (a programming error: the build passes one of :data:`ASE_MODELS`).
     """
     if model not in ASE_MODELS:
         raise ValueError(f"ASE model {model!r}; use one of {', '.join(ASE_MODELS)}")
@@ -94,7 +133,19 @@ def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> byt
 # -- CxF3 ------------------------------------------------------------------------------------
 
 def cxf_bytes(spec: CatalogSpec, data) -> bytes:
-    """The CxF3 document (UTF-8 XML) for a computed catalog (records.CatalogData)."""
+    """The CxF3 document (ISO 17972-1, UTF-8 XML) of a computed catalog: every swatch's reflectance spectrum
+    and CIELAB / LCh at the reference and the multi-angle geometries, with their colour specifications.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    data : swatch.catalog.records.CatalogData
+
+    Returns
+    -------
+    bytes
+        Deterministic (a fixed creation date).
+    """
 
     date = XmlDateTime.from_string(FIXED_DATE)
     wl = data.wavelength_nm

@@ -57,6 +57,25 @@ _CHUNK = 8
 
 
 def hue_family(chroma: float, hue_deg: float) -> str:
+    """The CIELAB hue-angle family of a colour (:data:`HUE_FAMILIES`; ``neutral`` below
+    :data:`swatch.colorimetry.names.NEUTRAL_CHROMA`, pale yellow-greens ``yellow``).
+
+    Parameters
+    ----------
+    chroma : float
+        C*ab.
+    hue_deg : float
+        h_ab, degrees.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> hue_family(40.0, 250.0), hue_family(2.0, 250.0), hue_family(20.0, 120.0)
+    ('blue', 'neutral', 'yellow')
+    """
     if chroma < NEUTRAL_CHROMA:
         return "neutral"
     h = hue_deg % 360.0
@@ -70,7 +89,27 @@ def hue_family(chroma: float, hue_deg: float) -> str:
 
 @dataclass
 class CatalogData:
-    """Arrays for N swatches (reference geometry) plus their typed records (:class:`SwatchRecord`)."""
+    """Arrays for N swatches at the reference geometry, plus their typed records.
+
+    Attributes
+    ----------
+    thickness_nm, voltage_V : numpy.ndarray, shape (N,)
+        nm; V (NaN without a growth rate).
+    wavelength_nm : numpy.ndarray, shape (W,)
+    reflectance : numpy.ndarray, shape (N, W)
+        At the reference geometry.
+    multi_reflectance : numpy.ndarray, shape (G, N, W)
+    Lab, LCh : numpy.ndarray, shape (N, 3)
+        Under the catalog's illuminant and observer.
+    Lab_D50_2 : numpy.ndarray, shape (N, 3)
+        D50, CIE 1931 2° (ICC / ISO 13655).
+    srgb_hex : list of str
+    swatches : tuple of swatch.catalog.record.SwatchRecord
+    illuminant, observer : str
+        colour-science's names.
+    context : swatch.catalog.context.CatalogContext
+        What the numbers were computed with.
+    """
 
     thickness_nm: np.ndarray
     voltage_V: np.ndarray
@@ -88,8 +127,13 @@ class CatalogData:
 
     @functools.cached_property
     def records(self) -> list[dict]:
-        """The swatches as ``catalog.json`` writes them before the build's later stages
-        (:meth:`SwatchRecord.to_json`; read them, the build adds chips, presets and heroes to the typed records)."""
+        """The swatches as ``catalog.json`` writes them before the build's later stages (chips, presets and
+        heroes are put on the typed records by the build).
+
+        Returns
+        -------
+        list of dict
+        """
         return [s.to_json() for s in self.swatches]
 
 
@@ -99,13 +143,32 @@ def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
 
 
 def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search_nm: float, metric: str = "dEab"):
-    """(minus_nm, plus_nm, minus_capped, plus_capped) arrays for nominal thicknesses ``d``.
+    """The process window of nominal thicknesses: the largest deviations keeping the colour within the bound.
 
-    ``metric`` (swatch.colorimetry.tolerance.METRICS) is the colour difference ``bound`` is defined on:
-    ΔE(Lab(d ± δ), Lab(d)) in that metric on a δ grid of PROCESS_STEP_NM up to ``search_nm``; the window
-    edge is the first grid crossing of ``bound``, interpolated linearly between the two grid
-    points. ``capped`` means no crossing within the search (or, below, before zero thickness):
-    the window is then the search limit (or ``d`` itself).
+    ΔE(Lab(d ± δ), Lab(d)) in ``metric`` on a δ grid of :data:`PROCESS_STEP_NM` up to ``search_nm``;
+    the edge is the first grid crossing of ``bound``, interpolated linearly. ``capped`` means no
+    crossing within the search (or, below, before zero thickness): the window is then the search
+    limit (or ``d`` itself).
+
+    Parameters
+    ----------
+    coating : swatch.physics.model.Coating
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+    d : numpy.ndarray, shape (N,)
+        Nominal thicknesses, nm.
+    g : swatch.catalog.geometry.Geometry
+        The geometry the colour is judged at.
+    bound : float
+        The tolerance, in ``metric``.
+    search_nm : float
+        nm.
+    metric : str
+        ``dEab`` or ``dE00`` (:data:`swatch.colorimetry.tolerance.METRICS`).
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        minus_nm, plus_nm, minus_capped, plus_capped, each shape (N,).
     """
 
     if d.size > _CHUNK:  # bound the memory of the (N, K, W) spectra
@@ -169,7 +232,16 @@ def window_voltage_V(voltage_of, thickness_nm, minus_nm, plus_nm):
 
 
 def compute(ctx: CatalogContext) -> CatalogData:
-    """All the numbers of a catalog (cheap: vectorised over thicknesses and geometries)."""
+    """All the numbers of a catalog, vectorised over thicknesses and geometries.
+
+    Parameters
+    ----------
+    ctx : swatch.catalog.context.CatalogContext
+
+    Returns
+    -------
+    CatalogData
+    """
 
     spec = ctx.spec
     wl, coating, cm = ctx.wavelength_nm, ctx.coating, ctx.colorimeter
@@ -263,7 +335,16 @@ def compute(ctx: CatalogContext) -> CatalogData:
 
 def process_json(spec) -> dict:
     """``catalog.json`` → ``catalog.process``: the profile's name, origin and growth law (a knee and a
-    thickness spread only when the profile has them, so a uniform, one-slope line's file is as before)."""
+    thickness spread only when the profile has them).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    dict
+    """
     knee = {} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}
     law = ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None
            else "thickness_nm = offset_nm + nm_per_V * voltage_V" if spec.knee_V is None

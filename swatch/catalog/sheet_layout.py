@@ -21,7 +21,24 @@ MUTED = (88, 88, 96)
 RULE = (200, 200, 206)
 
 class Layout:
-    """Pixel geometry of a sheet for a spec."""
+    """Pixel geometry of a sheet for a spec: margins, header, footer and the tiles' grid.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Attributes
+    ----------
+    size : int
+        A render's side, px.
+    amap : int
+        The angular map's side, px (0 without one).
+    tile_w, tile_h : int
+        A tile's size, px.
+    width, height : int
+        The sheet's size, px (at least 900 wide).
+    cols, rows : int
+    """
 
     PAD = 14
     GAP = 10
@@ -49,6 +66,18 @@ class Layout:
         self.width = max(self.width, 900)
 
     def tile_origin(self, slot: int) -> tuple[int, int]:
+        """The top-left corner of a tile slot (row-major).
+
+        Parameters
+        ----------
+        slot : int
+            From 0.
+
+        Returns
+        -------
+        (int, int)
+            (x, y), px.
+        """
         r, c = divmod(slot, self.cols)
         return (self.MARGIN + c * (self.tile_w + self.GUTTER), self.HEADER + r * (self.tile_h + self.GUTTER))
 
@@ -59,6 +88,21 @@ def _fmt(x, nd: int) -> str:
 
 
 def fit_text(text: str, size: int, max_w: int, font: str) -> str:
+    """``text`` shortened with an ellipsis to fit ``max_w`` pixels.
+
+    Parameters
+    ----------
+    text : str
+    size : int
+        Font size, px.
+    max_w : int
+        px.
+    font : str
+
+    Returns
+    -------
+    str
+    """
     if text_width(text, size, font) <= max_w:
         return text
     while text and text_width(text + "…", size, font) > max_w:
@@ -72,7 +116,17 @@ def _num(x, width: int, nd: int) -> str:
 
 def label_lines(rec: dict) -> list[str | None]:
     """A tile's label text: the title (thickness to 0.1 nm, voltage), then the colour and window lines in
-    DroidSansMono (None: the chip, hex and colour name line, :func:`chip_line`)."""
+    DroidSansMono (None: the chip, hex and colour name line, :func:`chip_line`).
+
+    Parameters
+    ----------
+    rec : dict
+        The swatch's record (catalog.json).
+
+    Returns
+    -------
+    list of str or None
+    """
     L, a, b = rec["Lab"]
     _, C, hue = rec["LCh"]
     pw = rec["process_window"]
@@ -95,10 +149,29 @@ def label_lines(rec: dict) -> list[str | None]:
 
 
 def chip_line(rec: dict) -> str:
-    """The text beside a tile's small chip: the hex code and the colour name."""
+    """The text beside a tile's small chip: the hex code and the colour name.
+
+    Parameters
+    ----------
+    rec : dict
+
+    Returns
+    -------
+    str
+    """
     return f"{rec['srgb_hex']}  {rec['colour_name']}"
 
 
 def label_width(lay: Layout) -> int:
-    """Width (px) of a tile's label block (beside the angular map when there is one)."""
+    """Width of a tile's label block (beside the angular map when there is one).
+
+    Parameters
+    ----------
+    lay : Layout
+
+    Returns
+    -------
+    int
+        px.
+    """
     return lay.tile_w - 2 * lay.PAD - (lay.amap + lay.GAP if lay.amap else 0)

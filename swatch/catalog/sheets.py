@@ -135,7 +135,17 @@ WORKER_BASE_BYTES = 250 * 1024 ** 2
 
 
 def sheet_bytes(spec: CatalogSpec) -> int:
-    """Planned peak bytes of one worker composing one sheet of ``spec``."""
+    """Planned peak bytes of one worker composing one sheet of ``spec``.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    int
+        ``width × height × SHEET_BYTES_PER_PX + WORKER_BASE_BYTES``.
+    """
     lay = Layout(spec)
     return lay.width * lay.height * SHEET_BYTES_PER_PX + WORKER_BASE_BYTES
 
@@ -157,7 +167,26 @@ def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
 
 def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: list[str], cache: Path,
                   number: int, of: int, png_path: Path, exr_path: Path) -> None:
-    """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata)."""
+    """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    header : dict
+        ``catalog.json``'s ``catalog``.
+    records : list of dict
+        The sheet's swatches.
+    keys : list of str
+        Their :func:`swatch.catalog.tiles.tile_key`.
+    cache : pathlib.Path
+    number, of : int
+        The sheet's number and the count.
+    png_path, exr_path : pathlib.Path
+
+    Returns
+    -------
+    None
+    """
 
     lay = Layout(spec)
     disp = _strip(lay.width, lay.height, PAGE)

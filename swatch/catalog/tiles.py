@@ -52,10 +52,30 @@ ENVIRONMENT = "studio"
 
 
 def tile_environment(spec: CatalogSpec) -> str | None:
+    """The tiles' lighting: the studio for the microfacet model, None (the point light) for the paper model.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    str or None
+    """
     return ENVIRONMENT if spec.model == "microfacet" else None
 
 
 def lighting_caption(spec: CatalogSpec) -> str:
+    """The sheets' footer text for the tiles' lighting.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    str
+    """
     if tile_environment(spec):
         return "studio (soft boxes, dark walls, floor and horizon) at exposure 1 (white diffuser = white, as for the chip)"
     return f"one light at {LIGHT_DEG:g}°, display exposure per render"
@@ -74,7 +94,20 @@ def _engine_code_hash() -> str:
 
 
 def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
-    """Content hash of everything a swatch's renders depend on."""
+    """Content hash of everything a swatch's tile renders depend on (the cache entry's name).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    thickness_nm : float
+    fp : dict
+        The build's code fingerprint (its ``tables`` and ``versions``).
+
+    Returns
+    -------
+    str
+        40 hex digits.
+    """
     doc = {
         "v": TILE_VERSION, "code": _engine_code_hash(), "tables": fp["tables"], "versions": fp["versions"],
         "film": spec.film, "substrate": spec.substrate, "film_index_scale": spec.film_index_scale,
@@ -135,7 +168,17 @@ def _save_npz(path: Path, arrays: dict) -> None:
 
 
 def tile_shapes(spec: CatalogSpec) -> dict:
-    """Name -> (shape, dtype) of every array a tile of ``spec`` holds (see :func:`_render_job`)."""
+    """Name → (shape, dtype) of every array a tile of ``spec`` holds (renders, coverage, display, exposure,
+    angular map).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    dict
+    """
     s = spec.size_px
     want = {}
     for i in range(len(spec.shapes)):
@@ -148,9 +191,20 @@ def tile_shapes(spec: CatalogSpec) -> dict:
 
 
 def npz_fits(path: Path, want: dict) -> bool:
-    """Whether the ``.npz`` at ``path`` holds exactly the arrays ``want`` (name -> (shape, dtype)), judged
-    from its zip directory and each member's ``.npy`` header before any array is decompressed: a small
-    file that would inflate to gigabytes is refused unread (zipfile stops at the declared size)."""
+    """Whether a ``.npz`` holds exactly the arrays ``want``, judged from its zip directory and each member's
+    ``.npy`` header before any array is decompressed (a small file that would inflate to gigabytes is
+    refused unread).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+    want : dict
+        Name → (shape, dtype) (:func:`tile_shapes`).
+
+    Returns
+    -------
+    bool
+    """
 
     try:
         with zipfile.ZipFile(path) as zf:
@@ -177,6 +231,20 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
 
     The cache is the catalog folder's own but untrusted: only a regular file no larger than
     :data:`swatch.core.limits.MAX_CACHE_ENTRY_BYTES` holding exactly the expected arrays is used.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    cache : pathlib.Path
+        The cache folder.
+    key : str
+        :func:`tile_key`.
+    thickness_nm : float
+
+    Returns
+    -------
+    dict
+        Name → array (:func:`tile_shapes`).
     """
 
     path = cache / f"{key}.npz"
@@ -198,9 +266,27 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
 
 def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: list[str], cache: Path,
                    pool, progress_factory) -> int:
-    """Render the swatches ``missing`` (indices) into ``cache`` (``<key>.npz``); returns how many.
+    """Render the swatches ``missing`` into the cache (``<key>.npz``), in a pool or in this process.
 
-    ``pool``: a process pool (see :func:`make_pool`) or None to render in this process.
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    thickness_nm : sequence of float
+        Every swatch's thickness, nm.
+    missing : list of int
+        Indices to render.
+    keys : list of str
+        Every swatch's :func:`tile_key`.
+    cache : pathlib.Path
+    pool : concurrent.futures.ProcessPoolExecutor or None
+        :func:`make_pool`; None renders here.
+    progress_factory : callable
+        ``total`` → a context manager with ``update(n)``.
+
+    Returns
+    -------
+    int
+        How many were rendered.
     """
     if not missing:
         return 0
@@ -214,7 +300,20 @@ def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: li
 
 
 def make_pool(spec: CatalogSpec, jobs: int):
-    """A process pool of ``jobs`` workers (forked after the shared tables are loaded), or None."""
+    """A process pool of ``jobs`` workers, or None for one job.
+
+    The fork server (not ``fork``: a process that used OpenImageIO may hold a lock at the fork)
+    imports the renderer once; the workers ignore Ctrl-C and exit with the build.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    jobs : int
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor or None
+    """
     if jobs <= 1:
         return None
 
