@@ -24,7 +24,7 @@ import numpy as np
 
 from swatch.presets.spectral import gltf_sensitivity
 
-__all__ = ["iridescent_fresnel"]
+__all__ = ["iridescent_fresnel", "iridescence_series"]
 
 
 def _schlick(f0, cos_theta):
@@ -35,36 +35,40 @@ def _ior_to_f0(transmitted, incident):
     return ((transmitted - incident) / (transmitted + incident)) ** 2
 
 
-def iridescent_fresnel(cos_theta, thickness_nm, film_ior, base_f0, outside_ior: float = 1.0) -> np.ndarray:
-    """Fresnel factor (..., 3), linear Rec.709, of the iridescent metal.
+def iridescence_series(cos_theta, thickness_nm, film_ior, base_ior, schlick, outside_ior: float = 1.0) -> np.ndarray:
+    """The extension's Airy series (two orders, Gaussian CMF fits) over a metal of real ``base_ior``:
+    (..., 3) linear Rec.709. One definition for the extension (:func:`iridescent_fresnel`) and
+    three.js (:func:`swatch.presets.threejs.iridescence_fresnel`), which differ only in how they
+    derive ``base_ior`` and ``film_ior`` and in their Schlick form.
 
     Parameters
     ----------
     cos_theta : array
-        Cosine of the angle between view and half vector (``VdotH``).
+        Cosine of the incidence angle on the film (``VdotH`` in the extension, N·V in three.js).
     thickness_nm, film_ior : array
-        ``iridescenceThicknessMaximum`` (nm) and ``iridescenceIor``; broadcast with ``cos_theta``.
-    base_f0 : array (..., 3)
-        ``baseColorFactor`` RGB (linear), the metal's F0.
+        Film thickness (nm) and the film's real index; broadcast with ``cos_theta``.
+    base_ior : array (..., 3)
+        The metal's real index per channel (derived from its F0).
+    schlick : callable
+        ``schlick(f0, cos) -> F``, the Schlick form in use.
+    outside_ior : float
+        Index of the ambient (1: air).
     """
     cos1 = np.asarray(cos_theta, dtype=np.float64)
     d = np.asarray(thickness_nm, dtype=np.float64)
     eta2 = np.asarray(film_ior, dtype=np.float64)
     cos1, d, eta2 = np.broadcast_arrays(cos1, d, eta2)
-    f0 = np.asarray(base_f0, dtype=np.float64)
     sin2_sq = (outside_ior / eta2) ** 2 * (1.0 - cos1 ** 2)
     cos2_sq = 1.0 - sin2_sq
     tir = cos2_sq < 0.0
     cos2 = np.sqrt(np.maximum(cos2_sq, 0.0))
     # first interface
-    R12 = _schlick(_ior_to_f0(eta2, outside_ior), cos1)[..., None]
+    R12 = schlick(_ior_to_f0(eta2, outside_ior), cos1)[..., None]
     T121 = 1.0 - R12
     phi12 = np.where(eta2 < outside_ior, np.pi, 0.0)
     phi21 = np.pi - phi12
     # second interface
-    sqrt_f0 = np.sqrt(f0 + 0.0001)
-    base_ior = (1.0 + sqrt_f0) / (1.0 - sqrt_f0)
-    R23 = _schlick(_ior_to_f0(base_ior, eta2[..., None]), cos2[..., None])
+    R23 = schlick(_ior_to_f0(base_ior, eta2[..., None]), cos2[..., None])
     phi23 = np.where(base_ior < eta2[..., None], np.pi, 0.0)
     # phase shift
     opd = 2.0 * eta2 * d * cos2
@@ -80,3 +84,20 @@ def iridescent_fresnel(cos_theta, thickness_nm, film_ior, base_f0, outside_ior: 
         out = out + Cm * 2.0 * gltf_sensitivity(m * opd, m * phi)
     out = np.maximum(out, 0.0)
     return np.where(tir[..., None], 1.0, out)
+
+
+def iridescent_fresnel(cos_theta, thickness_nm, film_ior, base_f0, outside_ior: float = 1.0) -> np.ndarray:
+    """Fresnel factor (..., 3), linear Rec.709, of the iridescent metal.
+
+    Parameters
+    ----------
+    cos_theta : array
+        Cosine of the angle between view and half vector (``VdotH``).
+    thickness_nm, film_ior : array
+        ``iridescenceThicknessMaximum`` (nm) and ``iridescenceIor``; broadcast with ``cos_theta``.
+    base_f0 : array (..., 3)
+        ``baseColorFactor`` RGB (linear), the metal's F0.
+    """
+    sqrt_f0 = np.sqrt(np.asarray(base_f0, dtype=np.float64) + 0.0001)  # Fresnel0ToIor(baseF0 + 0.0001)
+    base_ior = (1.0 + sqrt_f0) / (1.0 - sqrt_f0)
+    return iridescence_series(cos_theta, thickness_nm, film_ior, base_ior, _schlick, outside_ior)

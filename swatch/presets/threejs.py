@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from swatch.presets.spectral import gltf_sensitivity
+from swatch.presets.gltf import iridescence_series
 
 __all__ = ["REVISION", "iridescence_fresnel", "dfg", "displayed_fresnel"]
 
@@ -40,6 +40,10 @@ _LUT_PATH = Path(__file__).resolve().parent.parent / "tables" / "renderers" / "t
 def _f_schlick(f0, f90, cos_theta):
     fresnel = np.exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)
     return f0 * (1.0 - fresnel) + f90 * fresnel
+
+
+def _schlick_1(f0, cos_theta):
+    return _f_schlick(f0, 1.0, cos_theta)
 
 
 def _smoothstep(edge0: float, edge1: float, x):
@@ -59,37 +63,12 @@ def iridescence_fresnel(cos_nv, thickness_nm, film_ior, base_f0) -> np.ndarray:
     base_f0 : array (..., 3)
         The metal's colour (``color``, linear).
     """
-    cos1 = np.asarray(cos_nv, dtype=np.float64)
     d = np.asarray(thickness_nm, dtype=np.float64)
-    eta2 = np.asarray(film_ior, dtype=np.float64)
-    cos1, d, eta2 = np.broadcast_arrays(cos1, d, eta2)
     f0 = np.clip(np.asarray(base_f0, dtype=np.float64), 0.0, 0.9999)
-    ior = 1.0 + (eta2 - 1.0) * _smoothstep(0.0, 0.03, d)
-    cos2_sq = 1.0 - (1.0 / ior) ** 2 * (1.0 - cos1 ** 2)
-    tir = cos2_sq < 0.0
-    cos2 = np.sqrt(np.maximum(cos2_sq, 0.0))
-    R0 = ((ior - 1.0) / (ior + 1.0)) ** 2
-    R12 = _f_schlick(R0, 1.0, cos1)[..., None]
-    T121 = 1.0 - R12
-    phi12 = np.where(ior < 1.0, np.pi, 0.0)
-    phi21 = np.pi - phi12
+    ior = 1.0 + (np.asarray(film_ior, dtype=np.float64) - 1.0) * _smoothstep(0.0, 0.03, d)
     sqrt_f0 = np.sqrt(f0)
     base_ior = (1.0 + sqrt_f0) / (1.0 - sqrt_f0)
-    R1 = ((base_ior - ior[..., None]) / (base_ior + ior[..., None])) ** 2
-    R23 = _f_schlick(R1, 1.0, cos2[..., None])
-    phi23 = np.where(base_ior < ior[..., None], np.pi, 0.0)
-    opd = 2.0 * ior * d * cos2
-    phi = phi21[..., None] + phi23
-    R123 = np.clip(R12 * R23, 1e-5, 0.9999)
-    r123 = np.sqrt(R123)
-    Rs = T121 ** 2 * R23 / (1.0 - R123)
-    out = R12 + Rs
-    Cm = Rs - T121
-    for m in (1, 2):  # the two series terms three.js sums, not a per-sample loop
-        Cm = Cm * r123
-        out = out + Cm * 2.0 * gltf_sensitivity(m * opd, m * phi)
-    out = np.maximum(out, 0.0)
-    return np.where(tir[..., None], 1.0, out)
+    return iridescence_series(cos_nv, d, ior, base_ior, _schlick_1)  # the extension's series, one definition
 
 
 @functools.lru_cache(maxsize=1)
