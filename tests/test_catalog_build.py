@@ -64,7 +64,7 @@ EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf
                   "test-catalog-srgb.ase",
                   "sheets/sheet_01.png", "sheets/sheet_01.exr", "sheets/sheet_02.png", "sheets/sheet_02.exr"}
 EXPECTED_FILES |= {f"presets/preset_S{i + 1:03d}{end}" for i in range(len(THICKNESSES))
-                   for end in (".gltf", "_blender.py", ".mtlx")}  # 3-D material presets
+                   for end in (".gltf", "_blender.py", ".mtlx", "_mitsuba.xml", "_mitsuba.json")}  # 3-D material presets
 EXPECTED_FILES |= {f"chips/chip_S{i:03d}.{ext}" for i in range(1, len(THICKNESSES) + 1) for ext in ("png", "tif")}
 
 
@@ -104,10 +104,10 @@ def test_outputs_and_records(built):
         figures = [k for k in rec["presets"] if "delta_E_00" in k]
         assert len(figures) == 15 and all(float(row[k]) == rec["presets"][k] for k in figures)
         assert (row["chip_png"], row["chip_tiff"]) == (rec["print_chip"]["png"], rec["print_chip"]["tiff"])
-        assert [row[f"preset_{f}"] for f in ("gltf", "blender", "materialx")] == [
-            rec["presets"][f] for f in ("gltf", "blender", "materialx")]
-        assert all((out / row[k]).is_file() for k in ("sheet_png", "chip_png", "chip_tiff", "preset_gltf",
-                                                       "preset_blender", "preset_materialx"))
+        kinds = ("gltf", "blender", "materialx", "mitsuba", "mitsuba_json")
+        assert [row[f"preset_{f}"] for f in kinds] == [rec["presets"][f] for f in kinds]
+        assert all((out / row[k]).is_file() for k in ("sheet_png", "chip_png", "chip_tiff",
+                                                       *(f"preset_{f}" for f in kinds)))
 
 
 def test_sheet_metadata_and_pixels(built):

@@ -50,7 +50,7 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
         head += [f"L_{cs}_{g.name}", f"a_{cs}_{g.name}", f"b_{cs}_{g.name}", f"C_{cs}_{g.name}",
                  f"h_{cs}_deg_{g.name}", f"srgb_hex_{g.name}"]
     files = ["sheet_png", "sheet_exr", "tile_row", "tile_col", "chip_png", "chip_tiff", "preset_gltf",
-             "preset_blender", "preset_materialx"]
+             "preset_blender", "preset_materialx", "preset_mitsuba", "preset_mitsuba_json"]
     return [*head, *preset_figures(), *files]
 
 
@@ -91,6 +91,6 @@ def csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer:
         chip = r.get("print_chip") or {}
         row += [presets.get(k) for k in figures]
         row += [r["sheet_png"], r["sheet_exr"], *r["tile"], chip.get("png"), chip.get("tiff"), presets.get("gltf"),
-                presets.get("blender"), presets.get("materialx")]
+                presets.get("blender"), presets.get("materialx"), presets.get("mitsuba"), presets.get("mitsuba_json")]
         w.writerow([f(x) for x in row])
     return buf.getvalue().encode("utf-8")

@@ -5,14 +5,15 @@ import click
 
 from swatch.commands.common import material_options, thickness_options
 from swatch.core.choices import FINISHES
-from swatch.presets import PRESET_FORMATS
+from swatch.presets import EXACT_FORMATS, PRESET_FORMATS
 
 
 @click.command()
 @thickness_options(multiple=False)
 @material_options
-@click.option("--format", "fmt", type=click.Choice(PRESET_FORMATS), required=True,
-              help="gltf (KHR_materials_iridescence), blender (Principled BSDF script), materialx (OpenPBR)")
+@click.option("--format", "fmt", type=click.Choice(PRESET_FORMATS + EXACT_FORMATS), required=True,
+              help="gltf (KHR_materials_iridescence), blender (Principled BSDF script), materialx (OpenPBR), "
+                   "mitsuba (swatch's exact anodic_film BSDF: an XML and a JSON scene dictionary)")
 @click.option("--roughness", type=click.FloatRange(0.0, 1.0), default=None,
               help="GGX α of the finish (written as the renderers' roughness √α) [default: 0.3]")
 @click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
@@ -23,12 +24,13 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     """Write a 3-D material preset for one oxide thickness, fitted to its exact colour.
 
     The renderer's own thin-film model (ported in swatch.presets) is fitted to the exact colour
-    over facet angles 0–60° (D65, CIE 1931 2°); the largest error is printed.
+    over facet angles 0–60° (D65, CIE 1931 2°); the largest error is printed. ``mitsuba`` is
+    exact (swatch's own BSDF for Mitsuba 3; nothing fitted).
     """
     import math
     from pathlib import Path
 
-    from swatch.catalog.presets import preset_file_name, single_preset
+    from swatch.catalog.presets import preset_file_name, single_mitsuba_preset, single_preset
     from swatch.commands.common import resolve_process, resolve_thickness
     from swatch.core.errors import SwatchError
     from swatch.core.fileio import atomic_write_bytes, check_new, check_writable_dir
@@ -42,10 +44,16 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
         raise SwatchError("--out is an empty string; give a folder path")
     proc = resolve_process(process, film, substrate, nm_per_volt)
     d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
-    path = Path(out) / preset_file_name(f"{float(d[0]):g}nm", fmt)
-    check_new([path], force)
-    data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness,
-                                  proc.spread, finish)  # (before the folder is made: a bad input creates nothing)
+    if fmt in EXACT_FORMATS:
+        files, summary = single_mitsuba_preset(float(d[0]), proc.film, proc.substrate, proc.film_index_scale,
+                                               roughness, proc.spread, finish)
+    else:
+        data, summary = single_preset(float(d[0]), fmt, proc.film, proc.substrate, proc.film_index_scale, roughness,
+                                      proc.spread, finish)  # (before the folder is made: a bad input creates nothing)
+        files = {preset_file_name(f"{float(d[0]):g}nm", fmt): data}
+    paths = [Path(out) / name for name in files]
+    check_new(paths, force)
     check_writable_dir(out)
-    atomic_write_bytes(path, data)
-    click.echo(f"{path}: {summary}")
+    for path in paths:
+        atomic_write_bytes(path, files[path.name])
+    click.echo(f"{', '.join(str(p) for p in paths)}: {summary}")

@@ -1,4 +1,4 @@
-"""3-D material presets: each swatch as a glTF, Blender (Cycles) and OpenPBR/MaterialX material.
+"""3-D material presets: each swatch as a glTF, Blender (Cycles), OpenPBR/MaterialX and Mitsuba 3 material.
 
 Renderers describe an anodised finish with their own thin-film models: a film of one real
 IOR over a metal whose reflectance is given as a colour. Those models are ported here from
@@ -14,7 +14,9 @@ written as files (``write``):
   (``mx_fresnel_airy``): the MaterialX presets are fitted to it;
 - :mod:`swatch.presets.openpbr` — OpenPBR Surface thin film as the specification recommends
   (Belcour–Barla, Gulbrandsen metal; no renderer checked);
-- :mod:`swatch.presets.spectral` — the Fourier-space colour-matching sensitivities they share.
+- :mod:`swatch.presets.spectral` — the Fourier-space colour-matching sensitivities they share;
+- :mod:`swatch.presets.mitsuba_bsdf` — Mitsuba 3 with swatch's own ``anodic_film`` BSDF: the exact
+  model, nothing fitted (a scene dictionary and an XML element).
 
 Every model maps (cos of the incidence angle on the microfacet, material parameters) to the
 Fresnel factor in linear Rec.709 RGB; :func:`swatch.presets.spectral.rgb_to_Lab` turns that into
@@ -26,5 +28,7 @@ from __future__ import annotations
 PRESET_FORMATS = ("gltf", "blender", "materialx")
 #: Which ported model each format is judged with.
 FORMAT_MODEL = {"gltf": "threejs", "blender": "cycles", "materialx": "materialx"}
+#: The exact presets (nothing fitted): Mitsuba 3 with swatch's ``anodic_film`` BSDF (:mod:`swatch.presets.mitsuba_bsdf`).
+EXACT_FORMATS = ("mitsuba",)
 
-__all__ = ["PRESET_FORMATS", "FORMAT_MODEL"]
+__all__ = ["PRESET_FORMATS", "FORMAT_MODEL", "EXACT_FORMATS"]
