@@ -38,15 +38,36 @@ _ICC_DATE = (2000, 1, 1, 0, 0, 0)
 
 
 def chip_names(rec: dict) -> tuple[str, str]:
-    """(PNG, TIFF) names of a swatch's chip in the catalog folder (in its ``chips/``)."""
+    """The (PNG, TIFF) names of a swatch's print chip in the catalog folder (in its ``chips/``).
+
+    Parameters
+    ----------
+    rec : dict
+        The record (its ``id``).
+
+    Returns
+    -------
+    (str, str)
+    """
     return f"{CHIPS}/chip_{rec['id']}.png", f"{CHIPS}/chip_{rec['id']}.tif"
 
 
 @functools.lru_cache(maxsize=1)
 def srgb_icc_profile() -> bytes:
     """The sRGB ICC profile (LittleCMS, via Pillow) with a fixed creation date and the relative
-    colorimetric rendering intent in its header; the profile ID (MD5 over the profile with the
-    flags, intent and ID fields zeroed, ICC.1 7.2.18) recomputed when the profile carries one."""
+    colorimetric rendering intent in its header; the profile ID (MD5 over the profile with the flags,
+    intent and ID fields zeroed, ICC.1 7.2.18) recomputed when the profile carries one.
+
+    Returns
+    -------
+    bytes
+        The same bytes on every run.
+
+    References
+    ----------
+    ICC.1, Image technology colour management — File format for colour profiles (International Color
+    Consortium), §7.2.18 (profile ID).
+    """
     raw = bytearray(ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes())
     raw[24:36] = struct.pack(">6H", *_ICC_DATE)
     raw[64:68] = struct.pack(">I", CHIP_SRGB_INTENT)
@@ -59,7 +80,16 @@ def srgb_icc_profile() -> bytes:
 
 
 def encoded_16bit(data) -> np.ndarray:
-    """(N, 3) uint16 display-encoded sRGB of the reference spectra (CIE 1931 2°)."""
+    """16-bit display-encoded sRGB of the reference spectra (CIE 1931 2°, the context's colorimeter).
+
+    Parameters
+    ----------
+    data : swatch.catalog.records.CatalogData
+
+    Returns
+    -------
+    numpy.ndarray of uint16, shape (N, 3)
+    """
 
     cm = data.context.colorimeter
     enc, _ = cm.reflectance_display(data.reflectance, "srgb")
@@ -83,9 +113,28 @@ def _texts(rec: dict, metal: str, header: dict, size_mm: float, dpi: float) -> t
 
 def chip_batches(folder, header: dict, data, records: list[dict], metal: str, size_mm: float, dpi: float,
                  batches: int) -> list[tuple]:
-    """Arguments of :func:`write_chips` for ``batches`` groups of swatches (for a process pool): the colours
-    from ``data`` (:class:`swatch.catalog.records.CatalogData`), the metadata from ``records`` (as catalog.json
-    writes them)."""
+    """Arguments of :func:`write_chips` for ``batches`` groups of swatches (for a process pool).
+
+    Parameters
+    ----------
+    folder : path-like
+        The staging folder.
+    header : dict
+        ``catalog.json``'s ``catalog``.
+    data : swatch.catalog.records.CatalogData
+        The colours.
+    records : list of dict
+        The metadata, as catalog.json writes them.
+    metal : str
+    size_mm : float
+        The chip's side, mm.
+    dpi : float
+    batches : int
+
+    Returns
+    -------
+    list of tuple
+    """
     values = encoded_16bit(data)
     n = len(records)
     step = max(1, -(-n // max(1, batches)))
@@ -95,8 +144,25 @@ def chip_batches(folder, header: dict, data, records: list[dict], metal: str, si
 
 def write_chips(folder, header: dict, records: list[dict], values, metal: str, size_mm: float = CHIP_SIZE_MM,
                 dpi: float = CHIP_DPI) -> list[str]:
-    """Write the chips (PNG and TIFF) of ``records`` with colours ``values`` (N, 3) uint16 into
-    ``folder``; returns the file names."""
+    """Write the chips (PNG and TIFF, 16-bit, flat colour, with the sRGB profile and XMP) of ``records``.
+
+    Parameters
+    ----------
+    folder : path-like
+    header : dict
+    records : list of dict
+    values : numpy.ndarray of uint16, shape (N, 3)
+        :func:`encoded_16bit`.
+    metal : str
+    size_mm : float
+        mm.
+    dpi : float
+
+    Returns
+    -------
+    list of str
+        The catalog-relative names written.
+    """
 
     folder = Path(folder)
     n = chip_px(size_mm, dpi)

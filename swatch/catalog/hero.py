@@ -39,7 +39,16 @@ HERO_SEED = 0
 
 
 def hero_name(rec: dict) -> str:
-    """The name of a swatch's hero render in the catalog folder (in its ``heroes/``)."""
+    """The name of a swatch's hero render in the catalog folder (in its ``heroes/``).
+
+    Parameters
+    ----------
+    rec : dict
+
+    Returns
+    -------
+    str
+    """
     return f"{HEROES}/hero_{rec['id']}.png"
 
 
@@ -49,7 +58,16 @@ def _engine():
 
 
 def hero_unavailable(spec) -> str | None:
-    """Why hero renders cannot be made here (one line), or None when they can."""
+    """Why hero renders cannot be made here (one line), or None when they can.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    str or None
+    """
     try:
         eng = _engine()
         eng.use_variant()
@@ -75,7 +93,18 @@ def _lobe(spec):
 
 
 def hero_key(spec, thickness_nm: float) -> str:
-    """Content hash of everything a hero render depends on."""
+    """Content hash of everything a hero render depends on (film, finish, thickness, Mitsuba's version,
+    the engine's code).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    thickness_nm : float
+
+    Returns
+    -------
+    str
+    """
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
            "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": HERO_SIZE_PX, "spp": HERO_SPP,
            "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
@@ -97,9 +126,22 @@ def _cached(path: Path) -> bytes | None:
 
 def hero_files(spec, records: list[dict], cache: Path,
                say=None) -> tuple[dict[str, bytes], set[str], list[dict | None]]:
-    """{file name: PNG bytes} of the hero renders of ``records``, the cache entries in use and each
-    record's ``hero`` entry (its file name, engine, lighting; ``records`` are read only); nothing (and a
-    line through ``say``) when Mitsuba is unusable."""
+    """The hero renders of ``records`` (cached), the cache entries in use and each record's ``hero`` entry;
+    nothing (and a line through ``say``) when Mitsuba is unusable. ``records`` are read only.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    records : list of dict
+    cache : pathlib.Path
+    say : callable, optional
+        Receives one line.
+
+    Returns
+    -------
+    (dict, set of str, list of dict or None)
+        {name: PNG bytes}, the cache entries used, the entries.
+    """
     why = hero_unavailable(spec)
     if why is not None:
         if say is not None:
@@ -138,12 +180,32 @@ def hero_files(spec, records: list[dict], cache: Path,
 
 def catalog_heroes(spec, records: list[dict], cache: Path,
                    say=None) -> tuple[dict[str, bytes], set[str], list[dict | None]]:
-    """:func:`hero_files` when the spec asks for hero renders (``hero = true``), else nothing."""
+    """:func:`hero_files` when the spec asks for hero renders (``hero = true``), else nothing.
+
+    Parameters
+    ----------
+    spec, records, cache, say
+        As :func:`hero_files`.
+
+    Returns
+    -------
+    (dict, set of str, list of dict or None)
+    """
     return hero_files(spec, records, cache, say) if spec.hero else ({}, set(), [None] * len(records))
 
 
 def prune_heroes(cache: Path, used: set[str]) -> None:
-    """Remove the cached hero renders not in ``used`` (after a build's commit)."""
+    """Remove the cached hero renders not in ``used`` (after a build's commit).
+
+    Parameters
+    ----------
+    cache : pathlib.Path
+    used : set of str
+
+    Returns
+    -------
+    None
+    """
     for p in cache.glob("hero-*.png"):
         if p.name not in used:
             remove_tree(p)

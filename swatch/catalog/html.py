@@ -33,7 +33,23 @@ CARD_IMAGE_PX = 96
 
 
 def embed_json(obj) -> str:
-    """JSON safe to place inside a <script type="application/json"> element."""
+    r"""JSON safe to place inside a ``<script type="application/json">`` element (``&``, ``<``, ``>`` and
+    the line separators escaped).
+
+    Parameters
+    ----------
+    obj : object
+        JSON-serialisable (no NaN).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> embed_json({"a": "</script>"})
+    '{"a":"\\u003c/script\\u003e"}'
+    """
     text = json.dumps(obj, ensure_ascii=False, sort_keys=False, separators=(",", ":"), allow_nan=False)
     return (text.replace("&", "\\u0026").replace("<", "\\u003c").replace(">", "\\u003e")
             .replace("\u2028", "\\u2028").replace("\u2029", "\\u2029"))
@@ -44,25 +60,56 @@ def _asset(name: str) -> str:
 
 
 def page_script() -> str:
+    """The page's JavaScript: the modules of :data:`SCRIPTS` concatenated in one strict-mode function.
+
+    Returns
+    -------
+    str
+    """
     body = "\n".join(_asset(n) for n in SCRIPTS)
     return f'\n"use strict";\n(function () {{\n{body}\n}})();\n'
 
 
 def page_style() -> str:
+    """The page's stylesheet (``web/page.css``).
+
+    Returns
+    -------
+    str
+    """
     return _asset("page.css")
 
 
 def css_string(text: str) -> str:
-    """``text`` as a double-quoted CSS string: every character outside printable ASCII letters, digits,
-    space and a few marks written as a CSS escape (so no text from a spec can end the string or the
-    ``<style>`` element)."""
+    """``text`` as a double-quoted CSS string, every character outside printable ASCII letters, digits,
+    space and a few marks written as a CSS escape (no text from a spec can end the string or the
+    ``<style>`` element).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
     safe = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 .,:;()+-_/=%")
     return '"' + "".join(ch if ch in safe else f"\\{ord(ch):x} " for ch in str(text)) + '"'
 
 
 def print_page_style(c: dict) -> str:
     """The printed pages' margin boxes: the catalog and its process at the top of every page, the page
-    number at the bottom (CSS paged media, ``@page`` margin boxes)."""
+    number at the bottom (CSS paged media, ``@page`` margin boxes).
+
+    Parameters
+    ----------
+    c : dict
+        ``catalog.json``'s ``catalog``.
+
+    Returns
+    -------
+    str
+    """
     top = f"{c['name']} · {c['film']} on {c['substrate']} · process {c['process']['name']}: {_growth_text(c['process'])}"
     box = "font: 8pt system-ui, \"DejaVu Sans\", sans-serif; color: #555"
     return (f"@page {{ @top-left {{ content: {css_string(top)}; {box}; }} "
@@ -266,12 +313,25 @@ white paper as white; 0 = the bare light, black where it does not reach)</span><
 
 def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = None,
                chips: list[dict] | None = None, env: dict | None = None) -> str:
-    """The page for a catalog document (catalog.json).
+    """The catalog page (one self-contained HTML file: script and style inline, a content security policy
+    with the script's hash).
 
-    ``table``: :func:`swatch.catalog.explorer.explorer_data` (without it the page is the grid
-    only); ``tiles``: :func:`swatch.catalog.explorer.tile_rects`; ``chips``:
-    :func:`swatch.catalog.explorer.chip_colours` (Display P3 chips, multi-angle gamut flags); ``env``:
-    :func:`swatch.catalog.explorer_env.environment_data` (the live view's environment lighting).
+    Parameters
+    ----------
+    catalog : dict
+        The ``catalog.json`` document.
+    table : dict, optional
+        :func:`swatch.catalog.explorer.explorer_data` (without it the page is the grid only).
+    tiles : dict, optional
+        :func:`swatch.catalog.explorer.tile_rects`.
+    chips : list of dict, optional
+        :func:`swatch.catalog.explorer.chip_colours` (Display P3 chips, multi-angle gamut flags).
+    env : dict, optional
+        :func:`swatch.catalog.explorer_env.environment_data` (the live view's environment lighting).
+
+    Returns
+    -------
+    str
     """
     c = catalog["catalog"]
     e = html.escape

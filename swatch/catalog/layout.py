@@ -25,11 +25,31 @@ SUBFOLDERS = (SHEETS, CHIPS, PRESETS, HEROES)
 
 
 def output_name(name, what: str) -> str:
-    """``name`` if it names a catalog output: a plain file name (at the top of the folder) or
-    ``SUB/NAME`` with ``SUB`` one of :data:`SUBFOLDERS` and ``NAME`` a plain file name.
+    """``name`` if it names a catalog output: a plain file name (at the top of the folder) or ``SUB/NAME``
+    with ``SUB`` one of :data:`SUBFOLDERS` and ``NAME`` a plain file name.
 
     Names read back from a catalog's metadata pass through here, so none reaches outside the folder
-    (no ``..``, no absolute path, no deeper or other folder). Raises SwatchError otherwise.
+    (no ``..``, no absolute path, no deeper or other folder).
+
+    Parameters
+    ----------
+    name : object
+    what : str
+        Names the metadata in messages.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Any other name.
+
+    Examples
+    --------
+    >>> output_name("sheets/sheet_01.png", "manifest")
+    'sheets/sheet_01.png'
     """
     if isinstance(name, str) and "/" in name:
         sub, _, leaf = name.partition("/")
@@ -65,8 +85,17 @@ def make_subfolders(base: Path) -> None:
 
 
 def output_files(base: Path) -> list[str]:
-    """The output names of the files in ``base`` (a staging folder): the top's regular files and those
-    of its :data:`SUBFOLDERS` (real folders only), sorted."""
+    """The output names of the files in a staging folder: the top's regular files and those of its
+    :data:`SUBFOLDERS` (real folders only), sorted.
+
+    Parameters
+    ----------
+    base : pathlib.Path
+
+    Returns
+    -------
+    list of str
+    """
     names = [p.name for p in base.iterdir() if is_regular_file(p) and not p.name.startswith(".")]
     for sub in SUBFOLDERS:
         if entry_kind(base / sub) == "dir":
@@ -107,5 +136,19 @@ def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool) -> str
 
 
 def sheet_count(manifest: dict) -> int:
-    """The sheets a catalog's manifest lists (its ``sheets/sheet_NN.png``)."""
+    """The sheets a catalog's manifest lists (its ``sheets/sheet_NN.png``).
+
+    Parameters
+    ----------
+    manifest : dict
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> sheet_count({"files": {"sheets/sheet_01.png": {}, "sheets/sheet_01.exr": {}, "index.html": {}}})
+    1
+    """
     return len([k for k in manifest.get("files", {}) if k.startswith(f"{SHEETS}/sheet_") and k.endswith(".png")])

@@ -57,23 +57,80 @@ _DIGITS = (3, 4, 4, 4, 4)  # thickness nm, IOR, base R G B, as written
 
 
 def preset_file_name(ident: str, fmt: str) -> str:
+    """A preset's file name in the catalog folder (in its ``presets/``).
+
+    Parameters
+    ----------
+    ident : str
+        The swatch id.
+    fmt : str
+        ``gltf``, ``blender`` or ``materialx``.
+
+    Returns
+    -------
+    str
+    """
     return {"gltf": f"preset_{ident}.gltf", "blender": f"preset_{ident}_blender.py",
             "materialx": f"preset_{ident}.mtlx", "mitsuba": f"preset_{ident}_mitsuba.xml",
             "mitsuba_json": f"preset_{ident}_mitsuba.json"}[fmt]
 
 
 def round_params(params) -> np.ndarray:
-    """The parameters as the files carry them (the errors are computed from these)."""
+    """The fitted parameters as the files carry them (the errors are computed from these): thickness to
+    0.001 nm, film IOR and base colour (linear Rec.709) to 1e-4.
+
+    Parameters
+    ----------
+    params : array_like, shape (..., 5)
+        (thickness nm, IOR, R, G, B).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 5)
+
+    Examples
+    --------
+    >>> round_params([150.12345, 2.123456, 0.5, 0.25, 0.125]).tolist()
+    [150.123, 2.1235, 0.5, 0.25, 0.125]
+    """
     p = np.asarray(params, dtype=np.float64)
     return np.stack([np.round(p[..., i], nd) for i, nd in enumerate(_DIGITS)], axis=-1)
 
 
 def roughness_factor(alpha: float) -> float:
-    """glTF/Blender/OpenPBR roughness (α = roughness²) for a GGX α."""
+    """The glTF / Blender / OpenPBR roughness for a GGX α (α = roughness²).
+
+    Parameters
+    ----------
+    alpha : float
+
+    Returns
+    -------
+    float
+        To 1e-4.
+
+    Examples
+    --------
+    >>> roughness_factor(0.09)
+    0.3
+    """
     return round(float(np.sqrt(alpha)), 4)
 
 
 def fit_key(spec, extra_angles) -> str:
+    """Content hash of everything a catalog's preset fits depend on (the presets' and the optics' code, the
+    three.js table, the spec's materials, thicknesses, geometries and roughness, library versions).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    extra_angles : sequence of float
+        The catalog's facet angles the fits weigh in, degrees.
+
+    Returns
+    -------
+    str
+    """
     pkg = package_dir()
     code = {p.name: sha256_file(p) for p in sorted((pkg / "presets").glob("*.py"))}
     modules = (("optics", "physics/optics.py"),
@@ -141,10 +198,20 @@ def _geometries(spec) -> list[float]:
 
 
 def fit_format(spec, fmt: str):
-    """Fit the model of preset format ``fmt`` for every swatch of ``spec`` (no cache): a PresetFit.
+    """Fit the model of preset format ``fmt`` for every swatch of ``spec`` (no cache).
 
     The catalog's geometries (facet angles ≤ 60°) weigh in; three.js, which evaluates the film at
     N·V, is fitted at the reference 45:0 with its own N·V instead.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    fmt : str
+        ``gltf``, ``blender`` or ``materialx``.
+
+    Returns
+    -------
+    swatch.presets.fit.PresetFit
     """
 
     model = FORMAT_MODEL[fmt]
@@ -182,10 +249,30 @@ def _fits(spec, cache: Path | None) -> dict:
 
 def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE: float, thickness_nm: float,
                  extension_dE: float | None = None, finish=None) -> bytes:
-    """One preset file. ``max_dE``: the largest ΔE2000 over 0–60° in the targeted renderer;
-    ``extension_dE`` (glTF): the same under the extension's reference model; ``finish`` (a
-    :class:`swatch.physics.finishes.Finish`) is named and, when anisotropic (brushed), written as each
-    format's anisotropy (:mod:`swatch.presets.anisotropy`)."""
+    """One preset file's bytes.
+
+    Parameters
+    ----------
+    fmt : str
+        ``gltf``, ``blender`` or ``materialx``.
+    ident, title : str
+    params : array_like, shape (5,)
+        Rounded parameters (:func:`round_params`).
+    alpha : float
+        GGX α of the finish.
+    max_dE : float
+        The largest ΔE2000 over 0–60° in the targeted renderer (D65, CIE 1931 2°).
+    thickness_nm : float
+    extension_dE : float, optional
+        glTF: the same under the extension's reference model.
+    finish : swatch.physics.finishes.Finish, optional
+        Named; when anisotropic (brushed), written as each format's anisotropy
+        (:mod:`swatch.presets.anisotropy`).
+
+    Returns
+    -------
+    bytes
+    """
 
     rough = roughness_factor(alpha)
     aniso = None
@@ -227,7 +314,21 @@ RENDERERS = {
 
 
 def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict[str, bytes], list[dict]]:
-    """{file name: bytes} of the preset files and each record's ``presets`` entry (``records`` are read only)."""
+    """The preset files of a catalog's swatches and each record's ``presets`` entry (fits cached in
+    ``cache``, keyed by :func:`fit_key`; ``records`` are read only).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    records : list of dict
+    cache : pathlib.Path or None
+        The build cache (None: fit every time).
+
+    Returns
+    -------
+    (dict, list of dict)
+        {file name: bytes} and the entries (file names, ΔE2000 figures, conditions, renderers).
+    """
     fits = _fits(spec, cache)
     files: dict[str, bytes] = {}
     entries: list[dict] = []
@@ -260,8 +361,24 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
 
 def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,
                   roughness_alpha: float, spread=None, finish=None) -> tuple[bytes, str]:
-    """One thickness's preset in ``fmt``, fitted to its exact colour (``swatch preset``): the file's
-    bytes and a line saying what was fitted and its largest ΔE2000 (D65, CIE 1931 2°)."""
+    """One thickness's preset in ``fmt``, fitted to its exact colour (``swatch preset``).
+
+    Parameters
+    ----------
+    thickness_nm : float
+    fmt : str
+    film, substrate : str
+    film_index_scale : float
+    roughness_alpha : float
+        GGX α.
+    spread : swatch.physics.spread.ThicknessSpread, optional
+    finish : swatch.physics.finishes.Finish, optional
+
+    Returns
+    -------
+    (bytes, str)
+        The file's bytes and a line saying what was fitted and its largest ΔE2000 (D65, CIE 1931 2°).
+    """
 
     d = np.array([float(thickness_nm)])
     model = FORMAT_MODEL[fmt]
