@@ -198,6 +198,23 @@ _BRUSH_AXIS = {"flat": (1.0, 0.0, 0.0), "cylinder": (0.0, 1.0, 0.0), "sphere": (
                "mesh": (0.0, 1.0, 0.0)}
 
 
+def brush_axis(shape: str) -> tuple[float, float, float]:
+    """The world axis a shape is brushed along (projected onto each point's tangent plane by
+    :func:`brush_tangent`): x for ``flat``, y for ``cylinder``, ``sphere``, ``mesh`` and any other name.
+
+    Parameters
+    ----------
+    shape : str
+        A shape name (:data:`swatch.core.choices.SHAPES`) or ``mesh``.
+
+    Returns
+    -------
+    tuple of float
+        The unit axis (x, y, z) in world space (y up).
+    """
+    return tuple(float(c) for c in _BRUSH_AXIS.get(shape, (0.0, 1.0, 0.0)))  # type: ignore[return-value]
+
+
 def brush_tangent(shape: str, normals) -> np.ndarray:
     """Unit tangents (P, 3) along the brushing direction at unit ``normals`` (P, 3) of a shape:
     its world axis (:data:`_BRUSH_AXIS`) projected onto the tangent plane; where that axis is
@@ -217,7 +234,7 @@ def brush_tangent(shape: str, normals) -> np.ndarray:
         Unit tangents.
     """
     n = np.asarray(normals, dtype=np.float32).reshape(-1, 3)
-    axis = np.asarray(_BRUSH_AXIS.get(shape, (0.0, 1.0, 0.0)), dtype=np.float32)
+    axis = np.asarray(brush_axis(shape), dtype=np.float32)
     t = axis - (n @ axis)[:, None] * n
     norm = np.linalg.norm(t, axis=1)
     bad = norm < 0.02

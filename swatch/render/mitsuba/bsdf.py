@@ -24,6 +24,12 @@ Parameters (scene-dictionary keys)
     Roughness (float or texture); default ``alpha = 0.3``.
 ``shadowing``
     ``"correlated"`` (default) or ``"separable"``.
+``brush_axis``
+    A world-space direction (3 floats) that an anisotropic lobe's ``alpha_u`` follows: at each point
+    the axis projected onto the tangent plane (where it is within ~1° of the normal, world x is
+    projected instead), as the built-in renderer's :func:`swatch.physics.finishes.brush_tangent`.
+    Without it ``alpha_u`` follows the surface's ``dp_du`` (a mesh without texture coordinates, and
+    Mitsuba's sphere, have their own tangents there). Ignored by an isotropic lobe.
 ``spread_nm``, ``spread_fraction``
     The film's thickness spread (issue 19, :mod:`swatch.physics.spread`): the reflectance is averaged
     incoherently over a normal distribution of local thickness around ``thickness_nm`` with
@@ -156,6 +162,14 @@ def _define_class():
                 z, w = spread_nodes(node_count(sigma_max, n_max, _SHORTEST_SAMPLED_NM))
                 self.spread_nodes = [(float(zi), float(wi)) for zi, wi in zip(z, w, strict=True)]
             self.wl_range = (float(lo), float(hi))
+            self.brush_axis = None
+            if "brush_axis" in props:
+                axis = np.asarray(props.get("brush_axis"), dtype=np.float64).reshape(-1)
+                if axis.size != 3 or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) == 0:
+                    raise SwatchError("anodic_film: brush_axis must be three finite numbers, not all 0")
+                isotropic = "alpha" in props or (len(alphas) == 2 and alphas[0] == alphas[1])
+                if not isotropic:  # an isotropic lobe has no direction (and keeps its code path)
+                    self.brush_axis = (axis / np.linalg.norm(axis)).tolist()
             self.film, self.substrate, self.scale = film, substrate, scale
             self.type = mi.MicrofacetType.GGX if distribution == "ggx" else mi.MicrofacetType.Beckmann
             self.distribution_name, self.shadowing = distribution, shadowing
@@ -185,6 +199,34 @@ def _define_class():
                 R = R + w * airy_reflectance(cos, si.wavelengths, n1, k1, n2, k2, dr.maximum(d + z * sigma, 0.0))
             return R
 
+        def _brush(self, si):
+            """(cos, sin) of the brushing tangent's angle in the shading frame (None: the frame's own s)."""
+            if self.brush_axis is None:
+                return None
+            a = si.sh_frame.to_local(mi.Vector3f(*self.brush_axis))
+            x = si.sh_frame.to_local(mi.Vector3f(1.0, 0.0, 0.0))
+            ok = a.x * a.x + a.y * a.y >= 0.02 * 0.02  # brush_tangent's fallback to world x
+            tx, ty = dr.select(ok, a.x, x.x), dr.select(ok, a.y, x.y)
+            len2 = tx * tx + ty * ty
+            inv = dr.rsqrt(dr.maximum(len2, 1e-30))
+            unset = len2 < 1e-12  # no shading frame (a bare BSDF query): the frame's own s
+            return dr.select(unset, 1.0, tx * inv), dr.select(unset, 0.0, ty * inv)
+
+        @staticmethod
+        def _to_brush(rot, w):
+            """A local vector in the brushing frame (x along the tangent)."""
+            if rot is None:
+                return w
+            c, s = rot
+            return mi.Vector3f(c * w.x + s * w.y, c * w.y - s * w.x, w.z)
+
+        @staticmethod
+        def _from_brush(rot, w):
+            if rot is None:
+                return w
+            c, s = rot
+            return mi.Vector3f(c * w.x - s * w.y, s * w.x + c * w.y, w.z)
+
         def _shadowing(self, distr, wi, wo, m):
             g_i, g_o = distr.smith_g1(wi, m), distr.smith_g1(wo, m)
             if self.shadowing == "separable":
@@ -198,7 +240,10 @@ def _define_class():
             active = mi.Bool(active) & (cos_i > 0)
             bs = dr.zeros(mi.BSDFSample3f)
             distr = self._distr(si, active)
-            m, pdf = distr.sample(si.wi, sample2)
+            rot = self._brush(si)
+            wi_b = self._to_brush(rot, si.wi)
+            m_b, pdf = distr.sample(wi_b, sample2)
+            m = self._from_brush(rot, m_b)
             bs.wo = mi.reflect(si.wi, m)
             bs.eta = 1.0  # type: ignore[assignment]
             bs.sampled_component = 0  # type: ignore[assignment]
@@ -206,7 +251,7 @@ def _define_class():
             dot_om = dr.dot(bs.wo, m)
             active &= (pdf > 0) & (mi.Frame3f.cos_theta(bs.wo) > 0) & (dot_om > 0)
             bs.pdf = dr.select(active, pdf * dr.rcp(dr.maximum(4.0 * dot_om, 1e-30)), 0.0)
-            G, g_i = self._shadowing(distr, si.wi, bs.wo, m)
+            G, g_i = self._shadowing(distr, wi_b, self._to_brush(rot, bs.wo), m_b)
             weight = dr.select(g_i > 0, G * dr.rcp(dr.maximum(g_i, 1e-30)), 0.0)  # G / G1(wi) (VNDF)
             F = self._fresnel(si, dr.dot(si.wi, m), active)
             enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
@@ -218,8 +263,10 @@ def _define_class():
             m = dr.normalize(wo + si.wi)
             active &= (dr.dot(si.wi, m) > 0) & (dr.dot(wo, m) > 0)
             distr = self._distr(si, active)
-            D = distr.eval(m)
-            G, g_i = self._shadowing(distr, si.wi, wo, m)
+            rot = self._brush(si)
+            m_b = self._to_brush(rot, m)
+            D = distr.eval(m_b)
+            G, g_i = self._shadowing(distr, self._to_brush(rot, si.wi), self._to_brush(rot, wo), m_b)
             inv4 = dr.rcp(dr.maximum(4.0 * cos_i, 1e-30))
             F = self._fresnel(si, dr.dot(si.wi, m), active)
             value = dr.select(active, mi.Spectrum(F * (D * G * inv4)), mi.Spectrum(0.0))

@@ -34,6 +34,7 @@ from swatch.core.choices import BACKGROUNDS, DISTRIBUTIONS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_PASS_LANES, MAX_SEED, MAX_SPP
 from swatch.physics import microfacet
+from swatch.physics.finishes import brush_axis
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
 from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
@@ -311,6 +312,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         bsdf["alpha"] = alphas[0]
     else:
         bsdf["alpha_u"], bsdf["alpha_v"] = alphas
+        if alphas[0] != alphas[1]:  # brushed along the built-in engine's axis, whatever the surface's uv
+            bsdf["brush_axis"] = list(brush_axis("mesh" if shape == "mesh" else shape))
     if bsdf_override is not None:
         bsdf = bsdf_override
     lights = lighting(light.kind, _floor_y(shape, mesh), light.sun, light.hdri)
@@ -376,6 +379,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         "bsdf": (f"{PLUGIN_NAME} (swatch.mitsuba): Airy film {film} (index scale {float(film_index_scale):g}) on "
                  f"{substrate}, per sampled wavelength on the half-vector facet; {distribution} "
                  + (f"alpha {alphas[0]:g}" if len(alphas) == 1 else f"alpha_u {alphas[0]:g}, alpha_v {alphas[1]:g}")
+                 + (f" along the {'xyz'[int(np.argmax(np.abs(brush_axis(shape))))]} axis projected"
+                    if len(alphas) == 2 and alphas[0] != alphas[1] else "")
                  + ", visible-normal sampling"
                  + ("" if spread.is_zero else f"; thickness spread{spread.text()}, incoherent Gauss-Hermite average"))
         if bsdf_override is None else f"override: {bsdf['type']}",
