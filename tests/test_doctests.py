@@ -31,6 +31,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.catalog.layout",
     "swatch.catalog.html",
     "swatch.catalog.presets",
+    "swatch.catalog.fingerprint",
     "swatch.production.spec",
     "swatch.report.figures",
     "swatch.fit.search",

@@ -55,7 +55,7 @@ def test_issue22_the_largest_sheet_is_composed_alone_and_a_bigger_one_refused(tm
     from cli_helpers import run_swatch
 
     from swatch.catalog import sheets
-    from swatch.catalog.build import plan_jobs
+    from swatch.catalog.sheets import plan_jobs
     from swatch.catalog.spec import load_spec
 
     spec = tmp_path / "big.toml"
@@ -74,8 +74,7 @@ def test_issue22_the_largest_sheet_is_composed_alone_and_a_bigger_one_refused(tm
 
 def test_issue22_sheet_workers_are_chosen_from_the_budget():
     """Issue #22 group 3: the build's workers × one sheet each, plus the building process, stay within the budget."""
-    from swatch.catalog.build import PARENT_BYTES, plan_jobs
-    from swatch.catalog.sheets import sheet_bytes
+    from swatch.catalog.sheets import PARENT_BYTES, plan_jobs, sheet_bytes
     from swatch.catalog.spec import load_spec
 
     spec, _ = load_spec("catalog/titanium.toml")

@@ -29,7 +29,6 @@ manifest is not a swatch catalog and is refused.
 """
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import sys
@@ -37,12 +36,12 @@ import tempfile
 import time
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field, replace
-from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
 
+from swatch.catalog.fingerprint import FORMAT_VERSION, code_fingerprint, hash_json, slug
 from swatch.catalog.folder import (
     JOURNAL,
     MANIFEST,
@@ -67,23 +66,33 @@ from swatch.catalog.layout import SHEETS, make_subfolders, output_files, sheet_c
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
-from swatch.core.limits import MAX_RUN_BYTES
 from swatch.core.safepath import make_real_folder
-from swatch.core.sources import package_dir, source_files
 from swatch.core.version import __version__
-from swatch.physics.materials import tables_dir
 
 if TYPE_CHECKING:
     from swatch.catalog.context import CatalogContext
 
 __all__ = ["build_catalog", "check_buildable", "BuildResult", "FORMAT_VERSION", "META_DIR"]
 
-FORMAT_VERSION = 1
-
-
-
 @dataclass
 class BuildResult:
+    """What a catalog build did.
+
+    Attributes
+    ----------
+    out_dir : pathlib.Path
+    noop : bool
+        The catalog was up to date (nothing written).
+    swatches, sheets : int
+    rendered : int
+        Tiles rendered (not from the cache).
+    composed : int
+        Sheets written (not reused).
+    seconds : float
+        Wall time.
+    files : list of str
+        The catalog's output names.
+    """
     out_dir: Path
     noop: bool
     swatches: int
@@ -92,42 +101,6 @@ class BuildResult:
     composed: int = 0  # sheets written (not reused)
     seconds: float = 0.0
     files: list[str] = field(default_factory=list)
-
-
-# -- hashing ---------------------------------------------------------------------------------
-
-_sha256_file = sha256_file
-
-
-def _hash_json(obj) -> str:
-    return hashlib.sha256(json.dumps(obj, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
-
-
-def code_fingerprint() -> dict:
-    """Hashes of the code and tables the outputs depend on, and the libraries' versions."""
-
-    pkg = package_dir()
-    # every module of the package, recursively (a hand-kept list missed the environment, process
-    # and export modules, so a change there left an existing catalog \"up to date\"), ...
-    files = source_files()
-    files += sorted((pkg / "catalog" / "web").glob("*.*"))  # the page's script and style
-    code = {f.relative_to(pkg).as_posix(): _sha256_file(f) for f in files if f.exists()}
-    tdir = tables_dir()
-    tables = {p.relative_to(tdir).as_posix(): _sha256_file(p)
-              for p in [*sorted(tdir.glob("optical/*.csv")), tdir / "tolerance_grades.csv"]}
-    versions: dict[str, str | None] = {}
-    for dist in ("colour-science", "numpy", "OpenImageIO", "OpenEXR", "colour-cxf", "pillow"):
-        try:
-            versions[dist] = metadata.version(dist)
-        except metadata.PackageNotFoundError:
-            versions[dist] = None
-    return {"code": code, "tables": tables, "versions": versions, "format": FORMAT_VERSION}
-
-
-def slug(name: str) -> str:
-    out = "".join(ch.lower() if ch.isascii() and ch.isalnum() else "-" for ch in name)
-    out = "-".join(p for p in out.split("-") if p)
-    return out[:60] or "catalog"
 
 
 # -- output folder ---------------------------------------------------------------------------
@@ -274,7 +247,7 @@ def _check_up_to_date(spec, spec_name, out, meta, why: str, t0) -> BuildResult:
     """The no-op answer for a catalog folder that cannot be written; SwatchError if it is not up to date."""
     if os.path.lexists(meta / JOURNAL):
         raise SwatchError(f"{why}, and an interrupted build left a journal to finish; make it writable and build again")
-    fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": code_fingerprint()})
+    fingerprint = hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": code_fingerprint()})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
         return BuildResult(out, True, len(spec.thickness_nm), sheet_count(old), seconds=time.perf_counter() - t0,
@@ -286,7 +259,7 @@ def _check_up_to_date(spec, spec_name, out, meta, why: str, t0) -> BuildResult:
 def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildResult:
     recover(out, meta, say)
     fp = code_fingerprint()
-    fingerprint = _hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
+    fingerprint = hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
     old = load_manifest(meta)
     if old.get("fingerprint") == fingerprint and intact(out, old):
         return BuildResult(out, True, len(spec.thickness_nm), sheet_count(old), seconds=time.perf_counter() - t0,
@@ -297,37 +270,31 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
 def check_buildable(spec: CatalogSpec) -> CatalogContext:
     """Refuse, without building, what the build would refuse beyond the spec parser (``catalog validate``
     and the build run the same checks): the colorimetry, the explorer's thickness axes and the sheets'
-    memory. Returns the catalog's context (grid, coating, colorimeters, tolerance), built once here."""
+    memory; and build the catalog's context once.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+
+    Returns
+    -------
+    swatch.catalog.context.CatalogContext
+        Grid, coating, colorimeters and tolerance, passed down to every stage.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        An unknown illuminant, an explorer axis over its cap, or a sheet too big for the memory budget.
+    """
     from swatch.catalog.context import catalog_context
     from swatch.catalog.explorer import GRID_STEP_NM, MATCH_STEP_NM, thickness_axis
+    from swatch.catalog.sheets import plan_jobs
 
     ctx = catalog_context(spec)
     for step in (GRID_STEP_NM, MATCH_STEP_NM):
         thickness_axis(spec.thickness_nm, step)
     plan_jobs(spec, 1)
     return ctx
-
-
-#: Leeway on the plan for one sheet composed in the building process (its base is counted twice there).
-WORKER_SLACK_BYTES = 300 * 1024 ** 2
-#: The building process itself (records, explorer tables, page) besides the sheets it composes.
-PARENT_BYTES = 600 * 1024 ** 2
-
-
-def plan_jobs(spec: CatalogSpec, jobs: int) -> int:
-    """Workers composing sheets at once, chosen from the memory budget (:data:`swatch.core.limits.MAX_RUN_BYTES`
-    for the whole build: the parent and its workers); a sheet too big for the budget even alone is refused."""
-    from swatch.catalog.sheet_layout import Layout
-    from swatch.catalog.sheets import sheet_bytes
-
-    per = sheet_bytes(spec)
-    if per + PARENT_BYTES > MAX_RUN_BYTES + WORKER_SLACK_BYTES:
-        lay = Layout(spec)
-        raise SwatchError(f"a sheet of {lay.width} × {lay.height} px ({spec.per_sheet} tiles at size_px "
-                          f"{spec.size_px}) needs ~{(per + PARENT_BYTES) / 1024 ** 3:.1f} GB to compose, more than "
-                          f"the {MAX_RUN_BYTES / 1024 ** 3:g} GB a build may use; use fewer [sheet] columns or rows, "
-                          "fewer shapes or a smaller size_px")
-    return max(1, min(jobs, (MAX_RUN_BYTES - PARENT_BYTES) // per))
 
 
 def _check_jobs(jobs) -> int:
@@ -367,7 +334,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         # 1. tiles (renders), from the cache or rendered in parallel
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
-        pool = tilemod.make_pool(spec, plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
+        pool = tilemod.make_pool(spec, sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
         rendered = tilemod.render_missing(spec, data.thickness_nm, missing, tile_keys, cache, pool,
                                            lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)
@@ -379,7 +346,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         for s in range(n_sheets):
             recs = records[s * per:(s + 1) * per]
             png, exr = f"{SHEETS}/sheet_{s + 1:02d}.png", f"{SHEETS}/sheet_{s + 1:02d}.exr"
-            key = _hash_json({"tiles": tile_keys[s * per:(s + 1) * per], "records": recs, "header": header,
+            key = hash_json({"tiles": tile_keys[s * per:(s + 1) * per], "records": recs, "header": header,
                               "number": s + 1, "of": n_sheets, "env": fp})
             sheet_list.append({"number": s + 1, "png": png, "exr": exr, "swatches": [r["id"] for r in recs],
                                "key": key})
@@ -429,7 +396,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         for name in list(outputs) + chip_files + [f for sh in sheet_list for f in (sh["png"], sh["exr"])
                                                   if f not in files]:
             p = staging / name
-            files[name] = {"sha256": _sha256_file(p), "size": p.stat().st_size}
+            files[name] = {"sha256": sha256_file(p), "size": p.stat().st_size}
         staged = output_files(staging)
         for name in staged:
             os.chmod(staging / name, 0o644)

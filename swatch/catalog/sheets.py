@@ -37,12 +37,14 @@ from swatch.catalog.sheet_layout import (
 )
 from swatch.catalog.spec import CatalogSpec
 from swatch.catalog.tiles import LIGHT_DEG, lighting_caption, load_tile, tile_environment
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_RUN_BYTES
 from swatch.io.drawing import draw_rect, draw_text
 from swatch.io.imageio import write_exr, write_png
 from swatch.io.pngmeta import xmp_packet
 from swatch.render.display import BACKGROUND_LINEAR
 
-__all__ = ["compose_sheet", "sheet_bytes", "SHEET_DPI", "SHEET_BYTES_PER_PX", "WORKER_BASE_BYTES"]
+__all__ = ["compose_sheet", "sheet_bytes", "plan_jobs", "PARENT_BYTES", "WORKER_SLACK_BYTES", "SHEET_DPI", "SHEET_BYTES_PER_PX", "WORKER_BASE_BYTES"]
 
 #: Resolution written into sheet PNGs (pHYs): the page prints about 30 × 23 cm.
 SHEET_DPI = 150
@@ -148,6 +150,42 @@ def sheet_bytes(spec: CatalogSpec) -> int:
     """
     lay = Layout(spec)
     return lay.width * lay.height * SHEET_BYTES_PER_PX + WORKER_BASE_BYTES
+
+
+#: Leeway on the plan for one sheet composed in the building process (its base is counted twice there).
+WORKER_SLACK_BYTES = 300 * 1024 ** 2
+#: The building process itself (records, explorer tables, page) besides the sheets it composes.
+PARENT_BYTES = 600 * 1024 ** 2
+
+
+def plan_jobs(spec: CatalogSpec, jobs: int) -> int:
+    """Workers composing sheets at once, chosen from the memory budget (:data:`swatch.core.limits.MAX_RUN_BYTES`
+    for the whole build: the parent, :data:`PARENT_BYTES`, and its workers, :func:`sheet_bytes` each).
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+    jobs : int
+        The workers asked for.
+
+    Returns
+    -------
+    int
+        At least 1, at most ``jobs``.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A sheet too big for the budget even alone.
+    """
+    per = sheet_bytes(spec)
+    if per + PARENT_BYTES > MAX_RUN_BYTES + WORKER_SLACK_BYTES:
+        lay = Layout(spec)
+        raise SwatchError(f"a sheet of {lay.width} × {lay.height} px ({spec.per_sheet} tiles at size_px "
+                          f"{spec.size_px}) needs ~{(per + PARENT_BYTES) / 1024 ** 3:.1f} GB to compose, more than "
+                          f"the {MAX_RUN_BYTES / 1024 ** 3:g} GB a build may use; use fewer [sheet] columns or rows, "
+                          "fewer shapes or a smaller size_px")
+    return max(1, min(jobs, (MAX_RUN_BYTES - PARENT_BYTES) // per))
 
 
 def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
