@@ -15,3 +15,15 @@ def median_seconds(fn, repeats: int = 5, warmup: int = 1) -> float:
         fn()
         times.append(time.perf_counter() - t0)
     return statistics.median(times)
+
+
+def median_cpu_seconds(fn, repeats: int = 5, warmup: int = 1) -> float:
+    """Median CPU time of this process for ``fn()`` (robust to other processes' load on a shared VM)."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.process_time()
+        fn()
+        times.append(time.process_time() - t0)
+    return statistics.median(times)

@@ -137,3 +137,40 @@ def test_catalog_spec_voltages_follow_a_two_slope_law(tmp_path):
     assert spec.canonical()["knee_V"] == 40.0
     assert "knee_V" not in parse_spec({"name": "k", "thickness": {"start_nm": 20, "stop_nm": 60, "step_nm": 20}},
                                       "spec.toml", tmp_path).canonical()
+
+
+def test_spread_table_is_the_node_sum_of_linear_lookups():
+    """#19 (speed): the spread tables, one sparse product per fraction, equal the quadrature written out here
+    (Gauss–Hermite nodes, linear interpolation along u) at every scale, to 1e-9 (XYZ ~ 0–100)."""
+    from swatch.physics.spread import node_count, spread_nodes
+
+    coating = get_coating("TiO2-Siefke", "Ti-Johnson")
+    cm = get_colorimeter(coating.wavelength_nm)
+    cs.clear_tables()
+    table = cs.build_table("TiO2-Siefke", "Ti-Johnson", coating.wavelength_nm, cm, 0.92, 300.0)
+    table.add_spread()
+    u = np.arange(table.XYZ.shape[1]) * cs.U_STEP_NM
+    for m in (1, 4, 9):
+        f = cs.TABLE_SPREADS[m]
+        z, w = spread_nodes(min(32, node_count(f * u[-1], table.n_film_max, table.wavelength_min_nm)))
+        for k in (0, 4, 8):
+            want = sum(wi * np.stack([np.interp(u * (1 + f * zi), u, table.XYZ[k, :, c]) for c in range(3)], -1)
+                       for zi, wi in zip(z, w, strict=True))
+            np.testing.assert_allclose(table.XYZ_spread[k, m], want, rtol=0, atol=1e-9)
+
+
+def test_cached_tables_give_the_same_calibration():
+    """#19 (speed): a second calibration of the same coupons, its tables from the cache, is the first one."""
+    from swatch.fit.calibration import calibrate
+    from swatch.io.coupons import Coupons
+    from swatch.physics.process import load_process
+
+    coating = get_coating("TiO2-Franta", "Ti-Johnson")
+    cm = get_colorimeter(coating.wavelength_nm)
+    volts = np.arange(10.0, 71.0, 6.0)
+    Lab = cm.Lab(cm.XYZ(coating.half_vector(5.0 + 2.4 * volts, 45.0, 0.0)[0].R))
+    coupons = Coupons("t.csv", volts, np.full(volts.size, np.nan), tuple(f"c{i}" for i in range(volts.size)), Lab=Lab)
+    cs.clear_tables()
+    first = calibrate(coupons, load_process("titanium-fujii2019"), search_tables=False).to_dict()
+    again = calibrate(coupons, load_process("titanium-fujii2019"), search_tables=False).to_dict()
+    assert json.dumps(first, sort_keys=True) == json.dumps(again, sort_keys=True)

@@ -185,7 +185,7 @@ def _select(table, prob, robust, outlier, allow: dict, scale0: float):
                            "why": f"{n_keep} coupons cannot hold {len(free)} parameters and a held-out check"})
             continue
         if step == "+spread":
-            table.add_spread(None if "s" in chosen.free else float(chosen.X[2]))
+            table.add_spread()
             X0 = np.repeat(chosen.X[None], 3, axis=0)
             X0[:, 3] = (0.01, 0.03, 0.06)
         elif step == "+knee":
