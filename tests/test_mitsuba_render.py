@@ -185,3 +185,15 @@ def test_a_thickness_spread_renders_as_the_builtin_spread_average(mi, tmp_path):
     assert "thickness spread" in str(spec.getattribute("swatch:bsdf"))
     assert colour.delta_E(labs["m"], labs["b"], method="CIE 2000") <= 1.0
     assert colour.delta_E(labs["b"], labs["u"], method="CIE 2000") > 3.0
+
+
+@pytest.mark.slow
+def test_the_sun_scale_is_the_reference_suns_irradiance(mi):
+    """#23: every sun render's scale is π / E_up of the reference sun (45°, turbidity 3) by the engine's
+    deterministic quadrature of the emitter's own sampling (stored, since it takes seconds): the stored Y
+    equals the recomputed one to 1e-5, and the quadrature has converged (a 2× finer grid: 1e-3)."""
+    from swatch.render.mitsuba.engine import SUN_SCALE, SUN_Y_UP, reference_sun_y_up
+
+    y = reference_sun_y_up()
+    assert abs(y - SUN_Y_UP) <= 1e-5 * SUN_Y_UP and SUN_SCALE == 1.0 / SUN_Y_UP
+    assert abs(reference_sun_y_up(192) - y) <= 1e-3 * y

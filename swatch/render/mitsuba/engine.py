@@ -54,13 +54,18 @@ from swatch.render.mitsuba.setup import (
 )
 from swatch.render.scene import check_shape, make_scene
 
-__all__ = ["PATH_BOUNCES", "Sun", "use_variant", "check_spp", "check_seed", "mitsuba_lighting",
+__all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "check_spp", "check_seed", "mitsuba_lighting",
            "render_swatch_mitsuba", "Lighting", "check_mitsuba_request"]
 
 PATH_BOUNCES = 12
-#: Sun and sky: 1.0 ≈ a white diffuser facing up under the sun at 45° elevation, turbidity 3, and its sky
-#: (measured with this engine: Y = 0.338 unscaled, 256 spp); every sun render shares it.
-SUN_SCALE = 1.0 / 0.338
+#: Sun and sky: 1.0 = a white diffuser facing up under the reference sun (45° elevation, azimuth 0,
+#: turbidity 3) and its sky, lit directly: π / E_up of that sunsky emitter, Y-weighted, by the same
+#: deterministic quadrature as the studio's (:func:`_irradiance_scale`, 96² stratified directions per
+#: 4 wavelengths: Y_up = 0.336484 of radiance 1; computing it takes seconds, so it is stored here and
+#: tests/test_mitsuba_render.py recomputes it). Every sun render shares it: a low sun is darker. (It was
+#: 1 / 0.338, a 256 spp render's estimate, 0.45 % darker.)
+SUN_Y_UP = 0.336484
+SUN_SCALE = 1.0 / SUN_Y_UP
 _WHITE_BG = 2.0  # the built-in renderer's white background (display white)
 _REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 
@@ -188,6 +193,13 @@ def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
     if not (math.isfinite(E_y) and E_y > 0 and L_y > 0):
         raise SwatchError("the lighting sends no light onto an upward-facing surface at the object")
     return math.pi * L_y / E_y
+
+
+def reference_sun_y_up(grid: int = 96) -> float:
+    """Y of the irradiance over π on an upward white diffuser under the reference sun of :data:`SUN_SCALE`
+    (45° elevation, turbidity 3), lit directly, relative to radiance 1 (the quadrature of :func:`_irradiance_scale`)."""
+    entries = lighting("sun", -1.0, Sun(), None)
+    return 1.0 / _irradiance_scale({"light": entries["light"]}, grid)
 
 
 def _sun_above_horizon(entry: dict) -> None:
