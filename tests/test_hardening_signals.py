@@ -4,8 +4,13 @@ the build ran on and exited 0), and a worker the server forks after the build ha
 (it printed the unpickling traceback of the build's vanished semaphores after the build's line)."""
 from __future__ import annotations
 
+import signal
 import subprocess
 import sys
+
+import pytest
+
+from swatch.core import procguard
 
 PY = sys.executable
 
@@ -53,3 +58,18 @@ def test_issue22_a_worker_forked_after_the_build_has_gone_prints_no_traceback():
     assert quiet.returncode == 1 and quiet.stderr == ""
     loud = run_python(raise_it.format(pid="__import__('os').getppid()"))  # (the test: alive)
     assert loud.returncode == 1 and "FileNotFoundError" in loud.stderr
+
+
+def test_issue22_a_stop_swallowed_by_native_code_is_raised_between_passes(monkeypatch):
+    """Issue #22 group 5: a SIGTERM 9 s into `render --engine mitsuba` was lost (the exception raised in the film
+    plugin while Mitsuba traced the scene died in C++; the render ran on and exited 0). The signal is
+    recorded when it comes and raised again between the passes."""
+    monkeypatch.setattr(procguard, "_RECEIVED", [])
+    procguard.raise_if_signalled()  # nothing received: nothing raised
+    monkeypatch.setattr(procguard, "_RECEIVED", [signal.SIGTERM])
+    with pytest.raises(procguard.Terminated) as caught:
+        procguard.raise_if_signalled()
+    assert caught.value.signum == signal.SIGTERM
+    monkeypatch.setattr(procguard, "_RECEIVED", [signal.SIGINT])
+    with pytest.raises(KeyboardInterrupt):
+        procguard.raise_if_signalled()

@@ -238,8 +238,9 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
         try:
             return _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0)
         except BaseException:
-            if created and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
-                _remove_first_build(out, meta)  # a first build that failed leaves nothing behind
+            with signals_held():  # (a second Ctrl-C or a hang-up's SIGHUP + SIGTERM must not cut the cleanup short)
+                if created and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
+                    _remove_first_build(out, meta)  # a first build that failed leaves nothing behind
             raise
 
 
@@ -426,12 +427,12 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                 remove_tree(p)
         prune_heroes(cache, hero_used)
     except BaseException:
-        if pool is not None:
-            pool.shutdown(wait=True, cancel_futures=True)
-            pool = None
-        if (meta / JOURNAL).exists():
-            raise  # the commit started: the next run completes it from the journal
-        remove_tree(staging)
+        with signals_held():  # the workers finish their piece, the staging folder goes: a second signal waits
+            if pool is not None:
+                pool.shutdown(wait=True, cancel_futures=True)
+                pool = None
+            if not (meta / JOURNAL).exists():  # (else the commit started: the next run completes it from the journal)
+                remove_tree(staging)
         raise
     finally:
         if pool is not None:

@@ -15,7 +15,7 @@ import threading
 import time
 
 __all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts",
-           "signal_received"]
+           "signal_received", "raise_if_signalled"]
 
 
 class Terminated(KeyboardInterrupt):
@@ -43,6 +43,19 @@ def signal_received() -> int | None:
     """The first termination signal this process received, or None: an error raised while a run is
     being stopped (a worker gone, a pool broken) is reported as the stop, not as a failure."""
     return _RECEIVED[0] if _RECEIVED else None
+
+
+def raise_if_signalled() -> None:
+    """Raise the stop a signal asked for if it has not been raised yet, or was lost on the way: the
+    exception raised while C++ runs Python code (Mitsuba calling the film BSDF plugin while it loads or
+    traces a scene) is swallowed there, and the render ran on to the end, exit 0 (a SIGTERM at 9 s).
+    Called between the pieces of long native work."""
+    sig = signal_received()
+    if sig is None:
+        return
+    if sig == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise Terminated(sig)
 
 
 def handle_termination() -> None:

@@ -33,6 +33,7 @@ from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
 from swatch.core.choices import BACKGROUNDS, DISTRIBUTIONS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_PASS_LANES, MAX_SEED, MAX_SPP
+from swatch.core.procguard import raise_if_signalled
 from swatch.physics import microfacet
 from swatch.physics.finishes import brush_axis
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
@@ -351,6 +352,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           "integrator": {"type": "path", "max_depth": PATH_BOUNCES,
                                          "hide_emitters": background != "environment"},
                           "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
+    raise_if_signalled()  # (a stop raised in the plugin while Mitsuba loaded the scene was swallowed there)
     bar = None
     if progress is True and sys.stderr.isatty() and passes > 1:
 
@@ -360,6 +362,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         for i, s in enumerate(_pass_seeds(seed, passes)):
             acc += np.asarray(mi.render(scene, seed=s, spp=per), dtype=np.float64)  # type: ignore[arg-type]
             dr.sync_thread()
+            raise_if_signalled()  # (... or while it traced the kernels)
             if bar is not None:
                 bar.update(1)
             elif callable(progress):
