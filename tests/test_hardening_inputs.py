@@ -185,7 +185,7 @@ def test_issue13_every_input_cap_is_defined_once_in_limits():
     from swatch.core import limits
 
     root = Path(swatch.__file__).parent
-    allowed = {("fitting.py", "MIN_COLOUR_SAMPLES")}  # colour-science's interpolation needs 6 samples: not a cap
+    allowed = {("result.py", "MIN_COLOUR_SAMPLES")}  # colour-science's interpolation needs 6 samples: not a cap
     found = []
     for path in sorted(root.rglob("*.py")):
         if path.name == "limits.py":
