@@ -65,6 +65,22 @@ def ensure_env() -> None:
     stamp.write_text(want)
 
 
+def test_workers(args: list[str]) -> list[str]:
+    """pytest-xdist options for a whole-suite run: two worker processes, ``--dist loadfile`` (a test
+    file runs on one worker, so its module-scoped catalogs are built once; each worker starts the
+    suite's one Chromium and small catalog only if it runs a browser file). ``loadgroup`` would keep
+    every browser test on one worker, but pytest-xdist 3.8 cannot tag groups under pytest 9 (it sets
+    ``item._nodeid``, which pytest 9 no longer reads). A run of named files or tests, or one that
+    says ``-n``/``--dist``/``-p no:xdist`` itself, stays as asked; ``SWATCH_TEST_WORKERS=0`` runs the
+    suite in one process."""
+    workers = os.environ.get("SWATCH_TEST_WORKERS", "2")
+    named = any(not a.startswith("-") and Path(a.split("::")[0]).exists() for a in args)
+    asked = any(a.startswith(("-n", "--numprocesses", "--dist")) or a == "no:xdist" for a in args)
+    if named or asked or workers in {"", "0", "1"}:
+        return []
+    return ["-n", workers, "--dist", "loadfile"]
+
+
 def main(argv: list[str]) -> int:
     if not argv or argv[0] in {"-h", "--help"}:
         print(__doc__)
@@ -74,7 +90,7 @@ def main(argv: list[str]) -> int:
     if job == "catalog":
         cmd = [str(BIN / "swatch"), "catalog", "build", "catalog/titanium.toml", "--out", "build/catalog", *rest]
     elif job == "test":
-        cmd = [str(PY), "-m", "pytest", *rest]
+        cmd = [str(PY), "-m", "pytest", *test_workers(rest), *rest]
     elif job == "lint":
         rc = subprocess.run([str(BIN / "ruff"), "check", ".", *rest], cwd=ROOT).returncode
         return rc or subprocess.run([str(BIN / "mypy")], cwd=ROOT).returncode

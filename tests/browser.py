@@ -46,6 +46,7 @@ WEBGL_ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-backgro
 
 
 #: A small catalog for the page tests (20–300 nm every 70 nm, 64 px renders, one sheet of 4); ``{name}``.
+#: Built once per session by the ``small_catalog`` fixture (tests/conftest.py).
 SMALL_CATALOG_SPEC = """
 name = "{name}"
 [thickness]
@@ -58,18 +59,6 @@ size_px = 64
 columns = 4
 rows = 1
 """
-
-
-def build_test_catalog(tmp_path_factory, name: str, spec_text: str) -> Path:
-    """Build a catalog from ``spec_text`` in a fresh temporary folder (skipping without Chromium)."""
-    from swatch.catalog.build import build_catalog
-
-    require_chromium()
-    root = tmp_path_factory.mktemp(name)
-    spec = root / "spec.toml"
-    spec.write_text(spec_text, encoding="utf-8")
-    build_catalog(spec, root / "out", jobs=1)
-    return root / "out"
 
 
 def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900)):

@@ -123,11 +123,11 @@ class _Quiet(http.server.SimpleHTTPRequestHandler):
 THREEJS_GEOMETRIES = ((0.0, 45.0), (0.0, 0.0), (30.0, 30.0), (45.0, 45.0), (60.0, 60.0))
 
 
-def render_in_threejs(gltf_paths, tmp_path, geometries=THREEJS_GEOMETRIES) -> dict:
+def render_in_threejs(gltf_paths, tmp_path, geometries=THREEJS_GEOMETRIES, browser=None) -> dict:
     """Render glTF files with the vendored three.js (GLTFLoader, MeshPhysicalMaterial) in headless
-    Chromium (SwiftShader WebGL) through tests/presets_page/render.html; its ``window.result``."""
-    from playwright.sync_api import sync_playwright
-
+    Chromium (SwiftShader WebGL) through tests/presets_page/render.html; its ``window.result``.
+    ``browser``: a running Playwright Chromium to open the page in (the suite's ``chromium``
+    fixture); None launches one (the command line of :func:`main`)."""
     site = tmp_path / "site"
     site.mkdir()
     shutil.copy(HERE / "presets_page" / "render.html", site / "render.html")
@@ -140,19 +140,32 @@ def render_in_threejs(gltf_paths, tmp_path, geometries=THREEJS_GEOMETRIES) -> di
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
     geo = ",".join(f"{v:g}:{li:g}" for v, li in geometries)
+    url = f"http://127.0.0.1:{server.server_address[1]}/render.html?gltf={','.join(names)}&geometries={geo}&intensity=1"
     try:
-        with sync_playwright() as p:
-            browser = p.chromium.launch(executable_path=CHROMIUM, args=WEBGL_ARGS)
-            page = browser.new_page()
-            page.goto(f"http://127.0.0.1:{server.server_address[1]}/render.html?gltf={','.join(names)}"
-                      f"&geometries={geo}&intensity=1")
-            wait_until(page, "() => window.result !== undefined", timeout_s=120.0)
-            result = page.evaluate("window.result")
-            page.screenshot(path=str(tmp_path / "threejs.png"))
-            browser.close()
+        if browser is None:
+            from playwright.sync_api import sync_playwright
+
+            with sync_playwright() as p:
+                own = p.chromium.launch(executable_path=CHROMIUM, args=WEBGL_ARGS)
+                result = _threejs_page(own, url, tmp_path)
+                own.close()
+        else:
+            result = _threejs_page(browser, url, tmp_path)
     finally:
         server.shutdown()
     assert "error" not in result, result
+    return result
+
+
+def _threejs_page(browser, url: str, tmp_path) -> dict:
+    page = browser.new_page()
+    try:
+        page.goto(url)
+        wait_until(page, "() => window.result !== undefined", timeout_s=120.0)
+        result = page.evaluate("window.result")
+        page.screenshot(path=str(tmp_path / "threejs.png"))
+    finally:
+        page.close()
     return result
 
 

@@ -12,12 +12,11 @@ import pytest
 
 import swatch  # noqa: F401
 from swatch.catalog.build import build_catalog
-from tests.browser import CHROMIUM, require_chromium, wait_until
+from tests.browser import require_chromium, wait_until
 
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking"]
 EVIL = 'Ti <script>alert(1)</script> & "co" </script><img src=x onerror=alert(2)>'
 
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 SPEC = """
 name = {name}
@@ -44,20 +43,10 @@ def page_url(tmp_path_factory):
     return out, (out / "index.html").resolve().as_uri()
 
 
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        yield b
-        b.close()
-
-
 @pytest.fixture
-def page(browser, page_url):
+def page(chromium, page_url):
     out, url = page_url
-    pg = browser.new_page(viewport={"width": 1280, "height": 900})
+    pg = chromium.new_page(viewport={"width": 1280, "height": 900})
     events = {"dialogs": [], "errors": [], "requests": []}
     pg.on("dialog", lambda d: (events["dialogs"].append(d.message), d.dismiss()))
     pg.on("pageerror", lambda e: events["errors"].append(str(e)))

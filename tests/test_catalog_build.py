@@ -19,6 +19,9 @@ from swatch.catalog import build as buildmod
 from swatch.catalog import sheets as sheetmod
 from swatch.catalog.build import META_DIR, build_catalog
 from swatch.core.errors import SwatchError
+from tests.cli_helpers import run_swatch
+
+pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
 
 SPEC = """
 name = "Test catalog"
@@ -289,15 +292,13 @@ def test_refuses_foreign_folders(tmp_path):
 def test_cli_reports_bad_specs_in_one_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('name = "x"\n[thickness]\nstart_nm = 20\nstop_nm = 30\nstep_nm = "a"\n', encoding="utf-8")
-    proc = subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(bad), "--out",
-                           str(tmp_path / "o")], capture_output=True, text=True)
+    proc = run_swatch("catalog", "build", bad, "--out", tmp_path / "o")
     assert proc.returncode == 2
     assert proc.stderr.strip() == f"error: {bad}: key thickness.step_nm: must be a number > 0 (got 'a')"
     assert not (tmp_path / "o").exists()
     ill = write_spec(tmp_path / "ill.toml").read_text().replace("[render]", '[colour]\nilluminant = "D99"\n[render]')
     (tmp_path / "ill.toml").write_text(ill)
-    proc = subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(tmp_path / "ill.toml"),
-                           "--out", str(tmp_path / "o2")], capture_output=True, text=True)
+    proc = run_swatch("catalog", "build", tmp_path / "ill.toml", "--out", tmp_path / "o2")
     assert proc.returncode == 2 and "key colour.illuminant" in proc.stderr and "D65" in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "o2").exists()  # a failed first build leaves no folder behind

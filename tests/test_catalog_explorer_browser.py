@@ -16,39 +16,21 @@ import swatch  # noqa: F401
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
 from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import get_coating
-from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, build_test_catalog, open_catalog_page
+from tests.browser import open_catalog_page
 from tests.cli_helpers import run_json
 
-ARGS = WEBGL_ARGS
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
-pytestmark = pytest.mark.browser
-
-SPEC = SMALL_CATALOG_SPEC.format(name="explorer test")
 RANGE = (20.0, 300.0)
-
-
-@pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    return build_test_catalog(tmp_path_factory, "explorer", SPEC)
-
-
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        yield b
-        b.close()
 
 
 _open = open_catalog_page
 
 
 @pytest.fixture(scope="module")
-def page(browser, built):
-    ctx, pg, events = _open(browser, built)
-    yield pg, events, built
+def page(chromium, small_catalog):
+    ctx, pg, events = _open(chromium, small_catalog)
+    yield pg, events, small_catalog
     ctx.close()
 
 
@@ -206,8 +188,8 @@ def test_cards_show_their_own_images(page):
     assert "light" in pg.locator(".card figure.map").first.text_content()
 
 
-def test_print_keeps_the_chips(browser, built, tmp_path):
-    ctx, pg, events = _open(browser, built)
+def test_print_keeps_the_chips(chromium, small_catalog, tmp_path):
+    ctx, pg, events = _open(chromium, small_catalog)
     pg.emulate_media(media="print")
     assert pg.locator("#explorer").is_hidden() and pg.locator("article.card").first.is_visible()
     style = pg.eval_on_selector(".card .chip", "e => [getComputedStyle(e).printColorAdjust, getComputedStyle(e).breakInside]")
@@ -223,7 +205,7 @@ def test_print_keeps_the_chips(browser, built, tmp_path):
     assert data.startswith(b"%PDF") and len(data) > 20_000
     # the chips survive printing without "background graphics" (print-color-adjust: exact):
     # the PDF paints the swatches' colours
-    doc = json.loads((built / "catalog.json").read_text(encoding="utf-8"))
+    doc = json.loads((small_catalog / "catalog.json").read_text(encoding="utf-8"))
     ctx.close()
     found = _colours_present(_pdf_fill_colours(pdf), [r["srgb_hex"] for r in doc["swatches"]])
     assert found >= 3, found
@@ -258,9 +240,9 @@ def _colours_present(cols: np.ndarray, hexes: list[str]) -> int:
     return found
 
 
-def test_javascript_off_is_still_the_grid(browser, built):
-    ctx, pg, _events = _open(browser, built, js=False)
-    doc = json.loads((built / "catalog.json").read_text(encoding="utf-8"))
+def test_javascript_off_is_still_the_grid(chromium, small_catalog):
+    ctx, pg, _events = _open(chromium, small_catalog, js=False)
+    doc = json.loads((small_catalog / "catalog.json").read_text(encoding="utf-8"))
     assert pg.locator("article.card").count() == len(doc["swatches"])
     assert pg.locator("#explorer").is_hidden()
     bg = pg.eval_on_selector("article.card .chip", "e => getComputedStyle(e).backgroundColor")

@@ -17,37 +17,20 @@ from test_environment import _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal
 
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.render.display import KNEE, tone
-from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, build_test_catalog, open_catalog_page, wait_until
+from tests.browser import CHROMIUM, WEBGL_ARGS, open_catalog_page, wait_until
 from tests.cli_helpers import run_swatch
 
-ARGS = WEBGL_ARGS
-SPEC = SMALL_CATALOG_SPEC.format(name="environment test")
 THICKNESSES = (30.0, 80.0, 160.0)
 BG = (118, 118, 118)  # linear grey 0.18, sRGB-encoded
 
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    return build_test_catalog(tmp_path_factory, "explorer-env", SPEC)
-
-
-@pytest.fixture(scope="module")
-def playwright(built):
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        yield p
-
-
-@pytest.fixture(scope="module")
-def page(playwright, built):
-    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-    ctx, pg, events = open_catalog_page(browser, built)
-    yield pg, events, built
+def page(chromium, small_catalog):
+    ctx, pg, events = open_catalog_page(chromium, small_catalog)
+    yield pg, events, small_catalog
     ctx.close()
-    browser.close()
 
 
 def _centre(pg) -> np.ndarray:
@@ -201,12 +184,13 @@ def test_dragging_under_an_environment_refines_when_let_go(page):
     assert events["errors"] == []
 
 
-def test_without_webgl_only_the_point_light_is_offered(playwright, built):
-    browser = playwright.chromium.launch(executable_path=CHROMIUM, args=[*ARGS, "--disable-3d-apis"])
+def test_without_webgl_only_the_point_light_is_offered(playwright_session, small_catalog):
+    # a Chromium of its own: without WebGL is the point (the suite's one Chromium has SwiftShader's)
+    browser = playwright_session.chromium.launch(executable_path=CHROMIUM, args=[*WEBGL_ARGS, "--disable-3d-apis"])
     pg = browser.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.goto((built / "index.html").resolve().as_uri())
+    pg.goto((small_catalog / "index.html").resolve().as_uri())
     wait_until(pg, "() => window.swatchCatalog !== undefined")
     assert pg.evaluate("swatchCatalog.lightings") == ["point"]
     assert pg.locator("#lighting").is_disabled()

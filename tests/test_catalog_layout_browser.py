@@ -15,40 +15,17 @@ import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 import pytest
 
 import swatch  # noqa: F401
-from tests.browser import (
-    CHROMIUM,
-    SMALL_CATALOG_SPEC,
-    WEBGL_ARGS,
-    build_test_catalog,
-    open_catalog_page,
-    require_chromium,
-)
+from tests.browser import open_catalog_page, require_chromium
 
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-@pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    return build_test_catalog(tmp_path_factory, "layout", SMALL_CATALOG_SPEC.format(name="layout test"))
-
-
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    require_chromium()
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=WEBGL_ARGS)
-        yield b
-        b.close()
-
-
 @pytest.mark.parametrize("width", [360, 390, 430])
-def test_phone_widths_have_no_horizontal_scroll(browser, built, width):
+def test_phone_widths_have_no_horizontal_scroll(chromium, small_catalog, width):
     """Issue 21: at 390 px the live-view panel was 429 px wide (scrollWidth 455); every control cut off."""
-    ctx, pg, events = open_catalog_page(browser, built, viewport=(width, 800))
+    ctx, pg, events = open_catalog_page(chromium, small_catalog, viewport=(width, 800))
     try:
         assert pg.evaluate("() => document.documentElement.scrollWidth") <= width
         # nothing sticks out of the screen on its own either (a child of an overflow: hidden box would not
@@ -80,10 +57,10 @@ def _rgb_hex(css: str) -> str:
     return f"#{r:02x}{g:02x}{b:02x}"
 
 
-def test_every_chip_label_reaches_wcag_aa_contrast(browser, built):
+def test_every_chip_label_reaches_wcag_aa_contrast(chromium, small_catalog):
     """Issue 21: white labels (``45as-15``, ``thin end 117.1 nm``) were unreadable on pale and yellow
     chips. Every label on a chip in compare has contrast >= 4.5 against its chip (sRGB hex)."""
-    ctx, pg, events = open_catalog_page(browser, built)
+    ctx, pg, events = open_catalog_page(chromium, small_catalog)
     try:
         ids = pg.eval_on_selector_all("article.card", "els => els.map(e => e.dataset.id)")
         for i in ids:  # pale (20 nm straw, 300 nm) and saturated chips alike
@@ -105,10 +82,10 @@ def test_every_chip_label_reaches_wcag_aa_contrast(browser, built):
         ctx.close()
 
 
-def test_find_by_colour_shows_the_target_and_clears_it_after_an_error(browser, built):
+def test_find_by_colour_shows_the_target_and_clears_it_after_an_error(chromium, small_catalog):
     """Issue 21: after an error the previous target stayed on screen; the picker did not follow a typed
     hex; no target chip beside the results (and, per issue 20, the tolerance flag and window)."""
-    ctx, pg, events = open_catalog_page(browser, built)
+    ctx, pg, events = open_catalog_page(chromium, small_catalog)
     try:
         pg.fill("#find-hex", "2275B5")
         assert pg.locator("#find-picker").input_value() == "#2275b5"  # follows the typed hex
@@ -177,13 +154,13 @@ def default_page(tmp_path_factory):
 
 
 @pytest.mark.slow
-def test_default_catalog_prints_on_at_most_14_a4_pages_with_header_and_page_numbers(browser, default_page, tmp_path):
+def test_default_catalog_prints_on_at_most_14_a4_pages_with_header_and_page_numbers(chromium, default_page, tmp_path):
     """Issue 21: the page printed to 30 A4 pages (2 cards a page), with no catalog or process header
     after page 1 and no page numbers. Now: 6 cards a page, the catalog and process in the top margin of
     every page and ``page i of n`` at the bottom (pdftotext reads the PDF back)."""
     exe = _require_pdftotext()
     out, doc = default_page
-    ctx, pg, events = open_catalog_page(browser, out)
+    ctx, pg, events = open_catalog_page(chromium, out)
     try:
         pdf = tmp_path / "catalog.pdf"
         pg.pdf(path=str(pdf), format="A4")
@@ -214,12 +191,12 @@ _CANVAS_STATS_JS = """() => { const c = document.getElementById('view'), gl = c.
   return [darkest, object / (c.width * c.height)]; }"""
 
 
-def test_live_view_opens_under_the_studio_light_with_no_black_on_the_sphere(browser, built):
+def test_live_view_opens_under_the_studio_light_with_no_black_on_the_sphere(chromium, small_catalog):
     """Issue 21: the explorer opened under the bare point light: a sphere showed a pitch-black crescent.
     Now it opens under the studio light box, and the point light has a fill (a uniform white surround,
     documented on the page) whose default leaves no pixel darker than sRGB 8/255; fill 0 is the bare
     light again (black where it does not reach: the check can fail)."""
-    ctx, pg, events = open_catalog_page(browser, built)
+    ctx, pg, events = open_catalog_page(chromium, small_catalog)
     try:
         state = pg.evaluate("swatchCatalog.show({})")
         assert state["lighting"] == "studio" and pg.locator("#lighting").input_value() == "studio"
@@ -274,10 +251,10 @@ _EDGE_ERROR_JS = """() => {
 
 @pytest.mark.slow
 @pytest.mark.parametrize("lighting", ["point", "studio"])
-def test_live_view_outlines_are_antialiased(browser, built, lighting):
+def test_live_view_outlines_are_antialiased(chromium, small_catalog, lighting):
     """Issue 21: live-view silhouettes were stair-stepped. The outline pixels of every shape are within a
     third of the error of one sample a pixel, against brute-force 16x supersampling of the same view."""
-    ctx, pg, events = open_catalog_page(browser, built)
+    ctx, pg, events = open_catalog_page(chromium, small_catalog)
     try:
         for shape in ("sphere", "plate", "bent sheet"):
             pg.evaluate(f"swatchCatalog.show({{shape: '{shape}', lighting: '{lighting}', thickness_nm: 140, "

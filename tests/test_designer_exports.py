@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import struct
 import subprocess
-import sys
 import warnings
 from pathlib import Path
 
@@ -26,8 +25,10 @@ from swatch.catalog.exports import ase_bytes
 from swatch.catalog.records import compute
 from swatch.catalog.spec import parse_spec
 from swatch.io.pngmeta import SWATCH_XMP_NS
+from tests.cli_helpers import run_json, run_swatch
 
-SWATCH = str(Path(sys.executable).with_name("swatch"))
+pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
+
 THICKNESSES = [20.0, 40.0, 75.5, 130.0, 172.5, 260.0]
 SPEC = parse_spec({"name": "Designer exports", "thickness": {"list_nm": THICKNESSES}})
 
@@ -82,9 +83,8 @@ def parse_ase(blob: bytes) -> dict:
 
 
 def swatch_color_json(*args) -> dict:
-    run = subprocess.run([SWATCH, "color", *args, "--json"], capture_output=True, text=True, timeout=120)
-    assert run.returncode == 0, run.stderr
-    return json.loads(run.stdout)
+    """``swatch color ARGS --json`` through the CLI's entry point, in this process (tests/cli_helpers.py)."""
+    return run_json("color", *args)
 
 
 def test_ase_lab_is_d50_2deg_at_the_reference_geometry(data):
@@ -295,8 +295,7 @@ def test_sheet_png_text_is_utf8_itxt_with_xmp_intent_and_dpi(tiny_catalog):
 def test_render_png_xmp_and_text(tmp_path):
     from PIL import Image
 
-    run = subprocess.run([SWATCH, "render", "--thickness", "50.8", "--size", "32", "--out", str(tmp_path)],
-                         capture_output=True, text=True, timeout=120)
+    run = run_swatch("render", "--thickness", "50.8", "--size", "32", "--out", tmp_path)
     assert run.returncode == 0, run.stderr
     with Image.open(tmp_path / "flat_050.8nm.png") as im:
         info = dict(im.info)
@@ -314,9 +313,8 @@ def test_render_png_xmp_and_text(tmp_path):
 def test_spectral_exr_has_an_rgb_preview_and_float32_and_the_png_orientation(tmp_path):
     import OpenEXR
 
-    run = subprocess.run([SWATCH, "angular", "--thickness", "50.8", "--light-range", "0:80:10", "--view-range",
-                          "0:60:20", "--model", "paper", "--out", str(tmp_path)], capture_output=True, text=True,
-                         timeout=120)
+    run = run_swatch("angular", "--thickness", "50.8", "--light-range", "0:80:10", "--view-range", "0:60:20",
+                     "--model", "paper", "--out", tmp_path)
     assert run.returncode == 0, run.stderr
     with OpenEXR.File(str(tmp_path / "angular_050.8nm_spectral.exr"), separate_channels=True) as f:
         ch = {k: v.pixels for k, v in f.channels().items()}

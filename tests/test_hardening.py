@@ -21,6 +21,8 @@ from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
 from swatch.cli import main
 from swatch.core.errors import SwatchError
 
+pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
+
 SPEC = """
 name = "Hardening"
 [thickness]

@@ -16,6 +16,8 @@ from cli_helpers import assert_one_line_error, run_swatch
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import META_DIR
 
+pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
+
 KILL_SPEC = """
 name = "Kill"
 [thickness]

@@ -8,17 +8,14 @@ import pytest
 
 import swatch  # noqa: F401
 from swatch.physics.process import load_process, process_toml
-from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, open_catalog_page, require_chromium
+from tests.browser import SMALL_CATALOG_SPEC, open_catalog_page
 
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 
-def test_voltage_slider_and_matches_follow_a_knee_law(tmp_path):
-    from playwright.sync_api import sync_playwright
-
+def test_voltage_slider_and_matches_follow_a_knee_law(chromium, tmp_path):
     from swatch.catalog.build import build_catalog
 
-    require_chromium()
     base = process_toml(load_process("titanium-fujii2019"))
     (tmp_path / "line.toml").write_text(
         base.replace("offset_nm =", "knee_V = 40.0\nnm_per_V_above_knee = 3.0\noffset_nm =", 1), encoding="utf-8")
@@ -27,19 +24,16 @@ def test_voltage_slider_and_matches_follow_a_knee_law(tmp_path):
     build_catalog(tmp_path / "spec.toml", tmp_path / "out", jobs=1)
     records = json.loads((tmp_path / "out" / "catalog.json").read_text(encoding="utf-8"))
     assert records["catalog"]["process"]["knee_V"] == 40.0
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=WEBGL_ARGS)
-        ctx, pg, events = open_catalog_page(b, tmp_path / "out")
-        # 60 V grows 2.032 × 40 + 3.0 × 20 = 141.28 nm
-        pg.eval_on_selector("#voltage-range", "e => { e.value = 60; e.dispatchEvent(new Event('input', {bubbles: true})); }")
-        assert pg.locator("#t-out").text_content() == "141.3 nm"
-        hits = pg.evaluate("swatchCatalog.match({Lab: swatchCatalog.colorAt({thickness_nm: 200, light_deg: 45, "
-                           "view_deg: 0}).Lab}, 1)")
-        assert hits[0]["thickness_nm"] == pytest.approx(200.0, abs=0.2)
-        assert hits[0]["voltage_V"] == pytest.approx(40.0 + (200.0 - 2.032 * 40) / 3.0, abs=0.1)
-        for s in records["swatches"]:
-            if s["voltage_V"] is not None and s["thickness_nm"] > 2.032 * 40:
-                assert s["voltage_V"] == pytest.approx(40.0 + (s["thickness_nm"] - 2.032 * 40) / 3.0, abs=1e-3)
-        assert not events["errors"], events["errors"]
-        ctx.close()
-        b.close()
+    ctx, pg, events = open_catalog_page(chromium, tmp_path / "out")
+    # 60 V grows 2.032 × 40 + 3.0 × 20 = 141.28 nm
+    pg.eval_on_selector("#voltage-range", "e => { e.value = 60; e.dispatchEvent(new Event('input', {bubbles: true})); }")
+    assert pg.locator("#t-out").text_content() == "141.3 nm"
+    hits = pg.evaluate("swatchCatalog.match({Lab: swatchCatalog.colorAt({thickness_nm: 200, light_deg: 45, "
+                       "view_deg: 0}).Lab}, 1)")
+    assert hits[0]["thickness_nm"] == pytest.approx(200.0, abs=0.2)
+    assert hits[0]["voltage_V"] == pytest.approx(40.0 + (200.0 - 2.032 * 40) / 3.0, abs=0.1)
+    for s in records["swatches"]:
+        if s["voltage_V"] is not None and s["thickness_nm"] > 2.032 * 40:
+            assert s["voltage_V"] == pytest.approx(40.0 + (s["thickness_nm"] - 2.032 * 40) / 3.0, abs=1e-3)
+    assert not events["errors"], events["errors"]
+    ctx.close()

@@ -20,7 +20,8 @@ from swatch.catalog.presets import catalog_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, model_Lab
-from tests.browser import require_chromium
+
+pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
 
 HERE = Path(__file__).resolve().parent
 VENDOR = HERE / "vendor"
@@ -319,7 +320,7 @@ def test_gltf_presets_pass_khronos_validator(written):
 
 
 @pytest.mark.browser
-def test_gltf_preset_in_threejs_matches(written, tmp_path):
+def test_gltf_preset_in_threejs_matches(written, tmp_path, chromium):
     """#18: three.js r187 (the vendored copy: GLTFLoader, MeshPhysicalMaterial iridescence) renders
     each preset plate under a directional light at 45:0 and at mirror geometries 0–60°. Its colour
     relative to a white metal plate in the same light (float render target, linear) equals our port
@@ -329,9 +330,8 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path):
     from swatch.presets import threejs
     from tests.preset_reference import render_in_threejs
 
-    require_chromium()
     _, records, root, _ = written
-    result = render_in_threejs([root / r["presets"]["gltf"] for r in records], tmp_path)
+    result = render_in_threejs([root / r["presets"]["gltf"] for r in records], tmp_path, browser=chromium)
     assert result["revision"] == threejs.REVISION.removeprefix("r")
     worst_port = 0.0
     for rec, got in zip(records, result["presets"], strict=True):

@@ -6,10 +6,6 @@ OpenImageIO (an independent reader) for the files' metadata and channel names.
 """
 from __future__ import annotations
 
-import subprocess
-import sys
-from pathlib import Path
-
 import colour
 import numpy as np
 import OpenImageIO as oiio
@@ -24,12 +20,12 @@ from swatch.physics import microfacet
 from swatch.physics.model import get_coating
 from swatch.render import angular, display, metadata, render_swatch, shading
 from swatch.render import scene as scenes
+from tests.cli_helpers import run_swatch
 
 COATING = get_coating()
 CM = get_colorimeter(COATING.wavelength_nm)
 CM2 = get_colorimeter(COATING.wavelength_nm, "D65", "2")  # RGB pixels are CIE 1931 2° colorimetry
 BLUE_NM = 50.8  # the paper's blue sample (25 V)
-SWATCH = str(Path(sys.executable).with_name("swatch"))
 
 
 def _rgb_to_XYZ(rgb, space="srgb"):
@@ -304,8 +300,7 @@ def test_unwritable_output_folder(tmp_path, capsys):
 
 
 def test_range_is_quiet_when_piped(tmp_path):
-    r = subprocess.run([SWATCH, "render", "--thickness", "40:60:20", "--shape", "sphere", "--size", "24",
-                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    r = run_swatch("render", "--thickness", "40:60:20", "--shape", "sphere", "--size", "24", "--out", tmp_path)
     assert r.returncode == 0, r.stderr
     assert r.stderr == ""
     assert len(r.stdout.splitlines()) == 4 and len(list(tmp_path.iterdir())) == 4
