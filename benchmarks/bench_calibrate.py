@@ -45,7 +45,7 @@ def run() -> list[str]:
     coupons = Coupons("bench.csv", volts, np.full(volts.size, np.nan), tuple(f"c{i}" for i in range(volts.size)),
                       Lab=Lab)
     base = load_process("titanium-fujii2019")
-    from swatch.fit.calibration_search import clear_tables
+    from swatch.fit.calibration_table import clear_tables
 
     def cold():
         clear_tables()

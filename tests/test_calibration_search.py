@@ -17,7 +17,7 @@ from cli_helpers import assert_one_line_error, run_swatch
 
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
 from swatch.core.errors import SwatchError
-from swatch.fit import calibration_search as cs
+from swatch.fit import calibration_table as ctab
 from swatch.fit.calibration import calibrate
 from swatch.io.coupons import read_coupons
 from swatch.physics.model import get_coating, thickness_to_voltage_V, voltage_to_thickness_nm
@@ -91,7 +91,7 @@ def test_search_lookup_tables_match_the_engine():
     cos_d = float(np.cos(np.radians(22.5)))
     coating = get_coating("TiO2-Franta", "Ti-Palm")
     cm = get_colorimeter(coating.wavelength_nm)
-    table = cs.build_table("TiO2-Franta", "Ti-Palm", coating.wavelength_nm, cm, cos_d, 700.0)
+    table = ctab.build_table("TiO2-Franta", "Ti-Palm", coating.wavelength_nm, cm, cos_d, 700.0)
     table.add_spread()
     rng = np.random.default_rng(4)
     for s, f in ((1.0, 0.0), (0.93, 0.0), (1.07, 0.035), (0.86, 0.062)):
@@ -146,12 +146,12 @@ def test_spread_table_is_the_node_sum_of_linear_lookups():
 
     coating = get_coating("TiO2-Siefke", "Ti-Johnson")
     cm = get_colorimeter(coating.wavelength_nm)
-    cs.clear_tables()
-    table = cs.build_table("TiO2-Siefke", "Ti-Johnson", coating.wavelength_nm, cm, 0.92, 300.0)
+    ctab.clear_tables()
+    table = ctab.build_table("TiO2-Siefke", "Ti-Johnson", coating.wavelength_nm, cm, 0.92, 300.0)
     table.add_spread()
-    u = np.arange(table.XYZ.shape[1]) * cs.U_STEP_NM
+    u = np.arange(table.XYZ.shape[1]) * ctab.U_STEP_NM
     for m in (1, 4, 9):
-        f = cs.TABLE_SPREADS[m]
+        f = ctab.TABLE_SPREADS[m]
         z, w = spread_nodes(min(32, node_count(f * u[-1], table.n_film_max, table.wavelength_min_nm)))
         for k in (0, 4, 8):
             want = sum(wi * np.stack([np.interp(u * (1 + f * zi), u, table.XYZ[k, :, c]) for c in range(3)], -1)
@@ -170,7 +170,7 @@ def test_cached_tables_give_the_same_calibration():
     volts = np.arange(10.0, 71.0, 6.0)
     Lab = cm.Lab(cm.XYZ(coating.half_vector(5.0 + 2.4 * volts, 45.0, 0.0)[0].R))
     coupons = Coupons("t.csv", volts, np.full(volts.size, np.nan), tuple(f"c{i}" for i in range(volts.size)), Lab=Lab)
-    cs.clear_tables()
+    ctab.clear_tables()
     first = calibrate(coupons, load_process("titanium-fujii2019"), search_tables=False).to_dict()
     again = calibrate(coupons, load_process("titanium-fujii2019"), search_tables=False).to_dict()
     assert json.dumps(first, sort_keys=True) == json.dumps(again, sort_keys=True)

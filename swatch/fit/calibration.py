@@ -36,6 +36,7 @@ from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00, get_colorime
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_PROFILE_NAME_CHARS, MAX_VOLTAGE_V
 from swatch.fit import calibration_search as cs
+from swatch.fit import calibration_table as ctab
 from swatch.io.coupons import Coupons
 from swatch.physics import geometry
 from swatch.physics.materials import DEFAULT_WAVELENGTHS_NM, list_materials, load_material
@@ -59,7 +60,43 @@ _STEP_WORDS = {"+scale": "film index scale", "+spread": "thickness spread", "+kn
 
 @dataclass
 class Calibration:
-    """The fitted profile and the per-coupon report."""
+    """The fitted process profile and the per-coupon report of ``swatch calibrate``.
+
+    Attributes
+    ----------
+    process : swatch.physics.process.Process
+        The calibrated profile (growth law, index scale, spread).
+    uncertainty : dict
+        The fitted parameters' standard errors (None: fixed or not determined).
+    voltage_V, thickness_nm : numpy.ndarray, shape (N,)
+        The coupons' voltages (V) and thicknesses by the fitted law (nm).
+    Lab_measured, Lab_predicted : numpy.ndarray, shape (N, 3)
+        Under ``illuminant`` / ``observer`` at ``geometry``.
+    delta_E_00 : numpy.ndarray, shape (N,)
+        CIEDE2000 between them.
+    outlier : numpy.ndarray of bool, shape (N,)
+    labels : tuple of str
+    geometry : dict
+    illuminant, observer : str
+    runner_up : dict or None
+        The best other interference order (nm_per_V, offset_nm, mean ΔE2000).
+    held_out : numpy.ndarray or None
+        Leave-one-out ΔE2000 per coupon (NaN for outliers).
+    steps : tuple of dict
+        What each parameter group bought (held-out ΔE2000 before and after).
+    ranking : tuple of dict
+        The optical-table pairs, best first.
+    fixed : tuple of (str, str)
+        Parameter → why it was fixed.
+    cm : swatch.colorimetry.colorimeter.Colorimeter or None
+    cos_d : float
+        cos θ_d of the measuring geometry.
+    outlier_match : tuple
+        Per coupon: for an outlier, the voltage on the fitted law whose colour is closest (a mislabelled
+        coupon shows up here) and that ΔE2000; None for the others.
+    measured_R : numpy.ndarray or None
+        Measured spectra of spectral coupons.
+    """
 
     process: Process
     uncertainty: dict  # the profile's fitted parameters: standard errors (None: fixed / not determined)
@@ -86,6 +123,14 @@ class Calibration:
     measured_R: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
     def to_dict(self) -> dict:
+        """JSON-ready dictionary (``swatch calibrate --json`` and the report figure's metadata).
+
+        Returns
+        -------
+        dict
+            The profile's values and uncertainty, one entry per coupon, the mean and max ΔE2000 over the
+            inliers, the runner-up, the steps, the ranking and what was fixed.
+        """
         inl = ~self.outlier
         p = self.process
         out = {
@@ -282,8 +327,8 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
         fixed["tables"] = "given: " + ", ".join(x for x in (film and f"film {film}", substrate and
                                                              f"substrate {substrate}") if x)
     u_max = cs.u_max_nm(V)
-    scale0 = float(np.clip(base.film_index_scale, cs.TABLE_SCALES[0], cs.TABLE_SCALES[-1]))
-    tables = [cs.build_table(f, s, wl, cm, cos_d, u_max, scale0) for f, s in pairs]  # screening: one scale
+    scale0 = float(np.clip(base.film_index_scale, ctab.TABLE_SCALES[0], ctab.TABLE_SCALES[-1]))
+    tables = [ctab.build_table(f, s, wl, cm, cos_d, u_max, scale0) for f, s in pairs]  # screening: one scale
     prob = cs.Problem(np.asarray(V, dtype=np.float64), np.asarray(Lab_m, dtype=np.float64),
                       np.asarray(coupons.thickness_nm, dtype=np.float64), cm)
 
@@ -306,7 +351,7 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
     full = {}
     for k in order[:FULL_SEARCH_PAIRS]:
         if allow["+scale"]:  # every scale, for the fits that free it
-            tables[k] = cs.build_table(tables[k].film, tables[k].substrate, wl, cm, cos_d, u_max)
+            tables[k] = ctab.build_table(tables[k].film, tables[k].substrate, wl, cm, cos_d, u_max)
         full[k] = _select(tables[k], prob, fitted[k][0], fitted[k][1], allow, scale0)
     ranked = sorted(full, key=lambda k: full[k][0].loo_mean) + order[FULL_SEARCH_PAIRS:]
     win = ranked[0]

@@ -11,12 +11,9 @@ Every candidate model predicts a coupon's colour from its voltage through
 * the half-vector model at the measuring geometry, colour under the calibration's illuminant and
   observer.
 
-Speed (the search over every film × substrate table with leave-one-out refits must take seconds):
-for each table pair the tristimulus values are tabulated once over ``u`` (0.5 nm) at film index
-scales 0.80–1.20 (step 0.05); a model's colour is a bilinear lookup in (s, u) (XYZ is linear in
-the spectrum, so the spread's Gauss–Hermite average is taken over the looked-up XYZ), then
-CIELAB. Fits are Levenberg–Marquardt iterations vectorised over a batch of problems (starting
-points, knee positions, or the leave-one-out folds), with forward-difference Jacobians.
+Speed (every table pair with leave-one-out refits in seconds): colours are lookups in tables made
+once per pair (:mod:`swatch.fit.calibration_table`); fits are Levenberg–Marquardt iterations
+vectorised over a batch of problems (starts, knees or leave-one-out folds).
 
 The leave-one-out (held-out) error of a model is the ΔE2000 of each inlier coupon predicted by the
 model refitted without it. Models are nested (law → + scale → + spread → + knee); a parameter
@@ -26,28 +23,18 @@ coupons leave enough degrees of freedom.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-from scipy import sparse
 
 from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00
 from swatch.core.limits import MAX_COUPONS, plan_rows
-from swatch.physics import optics
-from swatch.physics.model import get_coating
-from swatch.physics.spread import node_count, spread_nodes
+from swatch.fit.calibration_table import TABLE_SCALES, TABLE_SPREADS, U_MAX_NM, U_STEP_NM, ComboTable
 
-__all__ = ["TABLE_SCALES", "ComboTable", "build_table", "clear_tables", "Problem", "ModelFit", "PARAMS", "MODELS", "fit_model",
-           "leave_one_out", "initial_lines", "GAIN_TO_KEEP", "predict_Lab", "covariance", "TABLE_SPREADS", "u_max_nm",
+__all__ = ["Problem", "ModelFit", "PARAMS", "MODELS", "fit_model",
+           "leave_one_out", "initial_lines", "GAIN_TO_KEEP", "predict_Lab", "covariance", "u_max_nm",
            "screen"]
 
-#: Film index scales the tables are computed at (the fit interpolates quadratically between them:
-#: at most 0.02 ΔE2000 off the exact colour at 0.05 spacing, against 0.26 for linear interpolation).
-TABLE_SCALES = np.round(np.arange(0.80, 1.2001, 0.05), 4)
-#: Spread fractions the spread tables are computed at (linear interpolation between them).
-TABLE_SPREADS = np.round(np.arange(0.0, 0.0901, 0.01), 4)
-U_STEP_NM = 0.5
-U_MAX_NM = 1200.0
 #: Parameter vector: optical offset and rate, film index scale, spread fraction, knee (V), optical rate above it.
 PARAMS = ("o", "r1", "s", "f", "knee", "r2")
 NO_KNEE_V = 1e6
@@ -65,138 +52,19 @@ THICKNESS_SIGMA_NM = 2.0
 
 
 @dataclass
-class ComboTable:
-    """XYZ (S, U, 3) of one film × substrate pair over optical growth u at the scales TABLE_SCALES
-    (and, once :meth:`add_spread` ran, XYZ_spread (S, F, U, 3) at the spreads TABLE_SPREADS)."""
-
-    film: str
-    substrate: str
-    XYZ: np.ndarray
-    n_film_max: float
-    wavelength_min_nm: float
-    scales: np.ndarray = field(default_factory=lambda: TABLE_SCALES)
-    XYZ_spread: np.ndarray | None = None
-
-    def _scale_weights(self, s: np.ndarray):
-        """Three nodes and quadratic Lagrange weights in s (shape T each, and T + (3,)); a table of one
-        scale is used as it is."""
-        S = self.scales.size
-        if S == 1:
-            s = np.asarray(s, dtype=np.float64)
-            return np.zeros(s.shape, np.int64), np.concatenate([np.ones((*s.shape, 1)), np.zeros((*s.shape, 2))], -1)
-        x = (np.asarray(s, dtype=np.float64) - self.scales[0]) / (self.scales[1] - self.scales[0])
-        i0 = np.clip(np.rint(x).astype(np.int64) - 1, 0, S - 3)
-        t = np.clip(x, 0.0, S - 1.0) - i0
-        w = np.stack([(t - 1) * (t - 2) / 2, -t * (t - 2), t * (t - 1) / 2], axis=-1)
-        return i0, w
-
-    def XYZ_at(self, s, u, f=None, row=None) -> np.ndarray:
-        """Lookup: quadratic in s, linear in u (and in the spread fraction ``f``); broadcast to T, returns
-        T + (3,). ``row``: the table row to use instead of a scale (a stack of screening tables)."""
-        fu = np.clip(np.asarray(u, dtype=np.float64) / U_STEP_NM, 0.0, self.XYZ.shape[1] - 1 - 1e-9)
-        if row is not None:
-            fu, row = np.broadcast_arrays(fu, row)
-            j = fu.astype(np.int64)
-            b = (fu - j)[..., None]
-            return (1 - b) * self.XYZ[row, j] + b * self.XYZ[row, j + 1]
-        if f is None:
-            s, fu = np.broadcast_arrays(np.asarray(s, dtype=np.float64), fu)
-        else:
-            s, fu, f = np.broadcast_arrays(np.asarray(s, dtype=np.float64), fu, np.asarray(f, dtype=np.float64))
-        i0, ws = self._scale_weights(s)
-        j = fu.astype(np.int64)
-        b = (fu - j)[..., None]
-        out = np.zeros((*fu.shape, 3))
-        ks = range(3) if self.scales.size > 1 else range(1)
-        if f is None:
-            T = self.XYZ
-            for k in ks:
-                out += ws[..., k:k + 1] * ((1 - b) * T[i0 + k, j] + b * T[i0 + k, j + 1])
-            return out
-        assert self.XYZ_spread is not None, "add_spread() first"
-        ff = np.clip(f / (TABLE_SPREADS[1] - TABLE_SPREADS[0]), 0.0, TABLE_SPREADS.size - 1 - 1e-9)
-        m = ff.astype(np.int64)
-        c = (ff - m)[..., None]
-        T = self.XYZ_spread
-        for k in ks:
-            lo = (1 - b) * T[i0 + k, m, j] + b * T[i0 + k, m, j + 1]
-            hi = (1 - b) * T[i0 + k, m + 1, j] + b * T[i0 + k, m + 1, j + 1]
-            out += ws[..., k:k + 1] * ((1 - c) * lo + c * hi)
-        return out
-
-    def add_spread(self) -> None:
-        """Tabulate the spread average ``Σ w XYZ(u (1 + f z))`` at the fractions TABLE_SPREADS, every
-        scale (Gauss–Hermite nodes enough for the largest spread). The lookups along u are linear, so
-        each fraction is one sparse (U, U) matrix of node weights applied to all scales' columns at
-        once (2 × U × nodes entries; 9 sparse products instead of (S, U, nodes, 3) gathers: 2.0 s to
-        0.03 s for 16 coupons). Idempotent: a (cached) table is averaged once."""
-        if self.XYZ_spread is not None:
-            return
-        S, U = self.XYZ.shape[0], self.XYZ.shape[1]
-        u = np.arange(U) * U_STEP_NM
-        out = np.empty((S, TABLE_SPREADS.size, U, 3))
-        out[:, 0] = self.XYZ
-        columns = self.XYZ.transpose(1, 0, 2).reshape(U, S * 3)  # (U, S·3): one column per scale and channel
-        for m, f in enumerate(TABLE_SPREADS[1:], start=1):  # nine spreads, each one sparse product
-            z, w = spread_nodes(min(32, node_count(f * u[-1], self.n_film_max, self.wavelength_min_nm)))
-            un = np.clip(u[:, None] * (1.0 + f * z[None, :]) / U_STEP_NM, 0.0, U - 1 - 1e-9)  # (U, Z)
-            j = un.astype(np.int64)
-            b = un - j
-            rows = np.broadcast_to(np.arange(U)[:, None], j.shape)
-            M = sparse.csr_matrix((np.concatenate([((1.0 - b) * w).ravel(), (b * w).ravel()]),
-                                   (np.concatenate([rows.ravel(), rows.ravel()]),
-                                    np.concatenate([j.ravel(), (j + 1).ravel()]))), shape=(U, U))
-            out[:, m] = np.asarray(M @ columns).reshape(U, S, 3).transpose(1, 0, 2)
-        self.XYZ_spread = out
-
-
-#: Tables kept between calls (bounded): the same line's coupons calibrated again reuse them.
-_TABLES: dict[tuple, ComboTable] = {}
-_TABLES_KEPT = 12
-
-
-def clear_tables() -> None:
-    """Forget the cached tables (:func:`build_table`): the next calibration computes them afresh."""
-    _TABLES.clear()
-
-
-def build_table(film: str, substrate: str, wavelength_nm, cm, cos_d: float, u_max_nm: float = U_MAX_NM,
-                scales=TABLE_SCALES) -> ComboTable:
-    """Tabulate XYZ of a film × substrate pair over u from 0 to ``u_max_nm`` at film index ``scales``
-    (TABLE_SCALES, or one scale for a fixed-scale screening; see the module docstring). Cached by
-    everything it depends on (the last ``_TABLES_KEPT``; the tables are read only but for
-    :meth:`ComboTable.add_spread`, which adds to them once)."""
-    grid = np.asarray(wavelength_nm, dtype=np.float64)
-    scale_row = np.atleast_1d(np.asarray(scales, dtype=np.float64))
-    key = (film, substrate, grid.tobytes(), cm.illuminant, cm.observer, float(cos_d), float(u_max_nm),
-           scale_row.tobytes())
-    table = _TABLES.get(key)
-    if table is None:
-        table = _build_table(film, substrate, grid, cm, cos_d, u_max_nm, scale_row)
-        while len(_TABLES) >= _TABLES_KEPT:
-            _TABLES.pop(next(iter(_TABLES)))
-        _TABLES[key] = table
-    return table
-
-
-def _build_table(film: str, substrate: str, wavelength_nm, cm, cos_d: float, u_max_nm: float,
-                 scales: np.ndarray) -> ComboTable:
-    coating = get_coating(film, substrate, wavelength_nm)
-    count = round(min(u_max_nm, U_MAX_NM) / U_STEP_NM) + 1
-    scales = np.atleast_1d(np.asarray(scales, dtype=np.float64))
-    XYZ = np.empty((scales.size, count, 3))
-    for k, s in enumerate(scales):  # one thickness sweep per scale
-        n = s * coating.n_film.real + 1j * coating.n_film.imag
-        film_at = optics.FilmAtAngles(np.asarray(cos_d, dtype=np.float64), coating.wavelength_nm, n,
-                                      coating.n_substrate)
-        XYZ[k] = cm.XYZ(film_at.sweep(0.0, U_STEP_NM / s, count).R)
-    return ComboTable(film, substrate, XYZ, float(np.max(coating.n_film.real)) * float(scales[-1]),
-                      float(np.min(coating.wavelength_nm)), scales)
-
-
-@dataclass
 class Problem:
-    """The coupons one search fits: voltages, measured Lab, optional measured thicknesses."""
+    """The coupons one search fits.
+
+    Attributes
+    ----------
+    V : numpy.ndarray, shape (N,)
+        Voltages, V.
+    Lab : numpy.ndarray, shape (N, 3)
+        Measured CIELAB under ``cm``'s illuminant and observer.
+    d_meas : numpy.ndarray, shape (N,)
+        Measured thicknesses, nm (NaN where none).
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+    """
 
     V: np.ndarray
     Lab: np.ndarray
@@ -205,17 +73,50 @@ class Problem:
 
     @property
     def n(self) -> int:
+        """N, the number of coupons.
+
+        Returns
+        -------
+        int
+        """
         return int(self.V.size)
 
 
 def growth(X: np.ndarray, V: np.ndarray) -> np.ndarray:
-    """Optical growth u (B, N) of parameter rows X (B, 6) at voltages V (N,)."""
+    """The optical growth ``u = o + r1 min(V, knee) + r2 max(V − knee, 0)`` of parameter rows.
+
+    Parameters
+    ----------
+    X : numpy.ndarray, shape (B, 6)
+        Rows of :data:`PARAMS` (offset nm, rate nm/V, scale, spread, knee V, rate above nm/V).
+    V : numpy.ndarray, shape (N,)
+        V.
+
+    Returns
+    -------
+    numpy.ndarray, shape (B, N)
+        nm.
+    """
     o, r1, knee, r2 = X[:, 0:1], X[:, 1:2], X[:, 4:5], X[:, 5:6]
     return o + r1 * np.minimum(V, knee) + r2 * np.maximum(V - knee, 0.0)
 
 
 def predict_Lab(table: ComboTable, prob: Problem, X: np.ndarray, spread: bool, row=None) -> np.ndarray:
-    """CIELAB (B, N, 3) of the coupons under parameter rows X (B, 6) (``row`` (B,): stacked tables' rows)."""
+    """CIELAB of the coupons under parameter rows.
+
+    Parameters
+    ----------
+    table, prob : ComboTable, Problem
+    X : numpy.ndarray, shape (B, 6)
+    spread : bool
+        Use the spread fraction (the table needs ``XYZ_spread``).
+    row : numpy.ndarray of int, shape (B,), optional
+        Rows of a stack of screening tables.
+
+    Returns
+    -------
+    numpy.ndarray, shape (B, N, 3)
+    """
     u = growth(X, prob.V)
     XYZ = table.XYZ_at(X[:, 2:3], u, X[:, 3:4] if spread else None, None if row is None else row[:, None])
     return prob.cm.Lab(XYZ)
@@ -236,8 +137,23 @@ def _residuals(table, prob, X, weights, spread: bool, robust: bool, row=None) ->
 
 def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarray, free: list[int],
              iters: int = 30) -> tuple[np.ndarray, np.ndarray]:
-    """Levenberg–Marquardt on a batch: ``resid(X, rows)`` gives residuals (len(rows), M) of parameter
-    rows X for the batch's problems ``rows``; returns the parameters and costs (B,)."""
+    """Levenberg–Marquardt on a batch of problems (each iteration vectorised over the batch; forward-difference Jacobians).
+
+    Parameters
+    ----------
+    resid : callable
+        ``resid(X, rows)`` → residuals (len(rows), M) of parameter rows X for the batch's problems ``rows``.
+    X0 : numpy.ndarray, shape (B, 6)
+        Starting rows (clipped to the parameters' bounds).
+    free : list of int
+        The free parameters' indices in :data:`PARAMS`.
+    iters : int
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        The parameters (B, 6) and costs (B,).
+    """
     X = np.clip(X0.astype(np.float64), LO, HI)
     B, P = X.shape[0], len(free)
     batch = np.arange(B)
@@ -274,7 +190,18 @@ def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarr
 
 @dataclass
 class ModelFit:
-    """One model fitted to one table pair: parameters, per-coupon ΔE2000 and held-out ΔE2000."""
+    """One model fitted to one table pair.
+
+    Attributes
+    ----------
+    model : str
+        Its name (:data:`MODELS` keys joined); ``free`` its free parameters.
+    free : tuple of str
+    X, dE : numpy.ndarray, shapes (6,) and (N,)
+        The parameters and the in-sample ΔE2000.
+    loo : numpy.ndarray, shape (N,), or None
+        Held-out ΔE2000 (NaN for outliers).
+    """
 
     model: str
     free: tuple[str, ...]
@@ -284,10 +211,22 @@ class ModelFit:
 
     @property
     def loo_mean(self) -> float:
+        """The mean held-out ΔE2000 (inf before :func:`leave_one_out`).
+
+        Returns
+        -------
+        float
+        """
         return float(np.nanmean(self.loo)) if self.loo is not None else float("inf")
 
     @property
     def loo_max(self) -> float:
+        """The largest held-out ΔE2000 (inf before :func:`leave_one_out`).
+
+        Returns
+        -------
+        float
+        """
         return float(np.nanmax(self.loo)) if self.loo is not None else float("inf")
 
 
@@ -297,8 +236,24 @@ def _free_index(names) -> list[int]:
 
 def fit_model(table: ComboTable, prob: Problem, names: tuple[str, ...], starts: np.ndarray, keep: np.ndarray,
               robust: bool, model: str = "", iters: int = 20) -> ModelFit:
-    """Fit the free parameters ``names`` (of PARAMS) from several starting rows (B, 6) on the coupons
-    ``keep``; the best start wins."""
+    """Fit the free parameters ``names`` from several starting rows on the coupons ``keep``; the best start wins.
+
+    Parameters
+    ----------
+    table, prob : ComboTable, Problem
+    names : tuple of str
+        Free parameters of :data:`PARAMS`.
+    starts : numpy.ndarray, shape (B, 6)
+    keep : numpy.ndarray of bool, shape (N,)
+        The inliers.
+    robust : bool
+        Soft-L1 loss (scale :data:`LOSS_SCALE_DE00`).
+    model, iters : str, int
+
+    Returns
+    -------
+    ModelFit
+    """
     free = _free_index(names)
     spread = "f" in names
     weights = np.broadcast_to(keep.astype(np.float64), (starts.shape[0], prob.n))
@@ -313,7 +268,20 @@ def fit_model(table: ComboTable, prob: Problem, names: tuple[str, ...], starts: 
 
 
 def knee_starts(fit: ModelFit, V: np.ndarray, keep: np.ndarray, count: int = 12) -> np.ndarray:
-    """Starting rows for a knee model: ``count`` knees from the 3rd to the 3rd-last kept voltage."""
+    """Starting rows for a knee model: ``count`` knees from the 3rd to the 3rd-last kept voltage.
+
+    Parameters
+    ----------
+    fit : ModelFit
+        The linear fit they start from.
+    V, keep : numpy.ndarray, shape (N,)
+        Voltages (V) and the inliers (bool).
+    count : int
+
+    Returns
+    -------
+    numpy.ndarray, shape (count, 6) or (0, 6)
+    """
     v = np.sort(np.unique(V[keep]))
     if v.size < 6:
         return np.empty((0, 6))
@@ -327,7 +295,18 @@ def knee_starts(fit: ModelFit, V: np.ndarray, keep: np.ndarray, count: int = 12)
 
 
 def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray) -> np.ndarray:
-    """Held-out ΔE2000 (N,) of each kept coupon under ``fit.model`` refitted without it (NaN elsewhere)."""
+    """Held-out ΔE2000 of each kept coupon under ``fit.model`` refitted without it (all folds in one batch).
+
+    Parameters
+    ----------
+    table, prob, fit : ComboTable, Problem, ModelFit
+    keep : numpy.ndarray of bool, shape (N,)
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,)
+        NaN for the coupons not kept.
+    """
     idx = np.flatnonzero(keep)
     free = _free_index(fit.free)
     spread = "f" in fit.free
@@ -348,8 +327,20 @@ _GRID_BYTES_PER_CELL = 96  # working bytes per (rate, offset, coupon) cell of th
 
 
 def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3) -> np.ndarray:
-    """Distinct linear laws (count, 6) best by a global grid over optical rate and offset (robust ΔE2000
-    sum), one per interference order: every coupon's ΔE2000 to every tabulated u is computed once."""
+    """Distinct linear laws, best by a global grid over optical rate and offset (robust ΔE2000 sum), one per
+    interference order: every coupon's ΔE2000 to every tabulated u is computed once.
+
+    Parameters
+    ----------
+    table, prob : ComboTable, Problem
+    scale : float
+        The film index scale of the lines.
+    count : int
+
+    Returns
+    -------
+    numpy.ndarray, shape (count, 6)
+    """
     stride = 2  # a 1 nm lookup is enough to find the order (the fits refine)
     u = np.arange(0, table.XYZ.shape[1], stride) * U_STEP_NM
     Lab_u = prob.cm.Lab(table.XYZ_at(np.full(u.shape, scale), u))  # (U', 3)
@@ -392,8 +383,19 @@ def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3
 
 
 def covariance(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray) -> np.ndarray | None:
-    """Gauss–Newton covariance of the physical parameters (offset_nm, nm_per_V, s, f, knee_V, nm_per_V_above)
-    at ``fit`` (residual variance scaled), restricted to the free ones; None when undetermined."""
+    """Gauss–Newton covariance of the physical parameters (offset_nm, nm_per_V, s, f, knee_V,
+    nm_per_V_above_knee) at ``fit`` (residual variance scaled), restricted to the free ones.
+
+    Parameters
+    ----------
+    table, prob, fit : ComboTable, Problem, ModelFit
+    keep : numpy.ndarray of bool, shape (N,)
+
+    Returns
+    -------
+    numpy.ndarray or None
+        (P, P) for the P free parameters; None when undetermined (too few degrees of freedom, singular).
+    """
     free = _free_index(fit.free)
     spread = "f" in fit.free
     x = fit.X
@@ -426,14 +428,40 @@ def covariance(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray
 
 
 def u_max_nm(V) -> float:
-    """The largest optical growth the search can reach at these voltages (nm; the tables' extent)."""
+    """The largest optical growth the search can reach at these voltages (the tables' extent).
+
+    Parameters
+    ----------
+    V : array_like
+        V.
+
+    Returns
+    -------
+    float
+        nm, at most :data:`swatch.fit.calibration_table.U_MAX_NM`.
+    """
     return float(min(U_MAX_NM, HI[1] * float(np.max(V)) + HI[0] + 20.0))
 
 
 def screen(tables: list[ComboTable], prob: Problem, scale0: float, knee: bool, iters: int = 12):
-    """Robust (soft-L1) fits of every table pair at once, at a fixed scale (one-row tables): the
-    straight law from each pair's interference orders, then (``knee``) a knee from six positions.
-    Returns, per pair, (best parameter row (6,), its ΔE2000 (N,), the pair's starting lines) or None."""
+    """Robust (soft-L1) fits of every table pair at once, at a fixed scale (one-row tables): the straight law
+    from each pair's interference orders, then (``knee``) a knee from six positions.
+
+    Parameters
+    ----------
+    tables : list of ComboTable
+        One-scale tables, one per pair.
+    prob : Problem
+    scale0 : float
+        The fixed film index scale.
+    knee : bool
+    iters : int
+
+    Returns
+    -------
+    list
+        Per pair: (best parameter row (6,), its ΔE2000 (N,), the pair's starting lines), or None.
+    """
     stack = ComboTable("*", "*", np.stack([t.XYZ[0] for t in tables]), 0.0, 0.0, np.array([scale0]))
     starts = [initial_lines(t, prob, scale0) for t in tables]
     out: list = [None] * len(tables)
