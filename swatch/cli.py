@@ -36,6 +36,25 @@ COMMANDS = {
 }
 
 
+#: what ``swatch --help`` lists beside each command: short enough for an 80-column terminal (click cut the
+#: docstrings' first sentences with "..."; tests/test_cli_habits.py checks them)
+SUMMARIES = {
+    "angular": "Colour over light × view angle (EXR and PNG maps)",
+    "calibrate": "Fit a line's process profile to its coupons",
+    "catalog": "Build or check a catalog (sheets, page, exports)",
+    "check": "Judge measured parts against a finish spec",
+    "color": "Colour of thicknesses at one geometry (Lab, hex)",
+    "fit": "Oxide thickness from measured spectra or Lab",
+    "match": "Thicknesses whose colour matches a target",
+    "materials": "The optical-constant tables shipped",
+    "preset": "A 3-D material preset for one thickness",
+    "render": "Render swatches of a shape (EXR and PNG)",
+    "roughness": "Rayleigh smoothness criterion, 380–780 nm",
+    "spec": "A finish specification for a fabricator",
+    "spectrum": "Spectral reflectance of one thickness",
+}
+
+
 #: other spellings of a command (British spelling is the project's own)
 ALIASES = {"colour": "color"}
 
@@ -57,6 +76,11 @@ class LazyGroup(click.Group):
 
     def list_commands(self, ctx):
         return sorted(COMMANDS)
+
+    def format_commands(self, ctx, formatter):
+        """The command list from :data:`SUMMARIES` (whole sentences, and no command imported to list them)."""
+        with formatter.section("Commands"):
+            formatter.write_dl([(name, SUMMARIES[name]) for name in self.list_commands(ctx)])
 
     def get_command(self, ctx, name):
         target = COMMANDS.get(ALIASES.get(name, name))

@@ -2,6 +2,8 @@
 whitespace-separated L*a*b*, ``colour`` for ``color``, and near-miss names answered with a suggestion."""
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -70,3 +72,45 @@ def test_near_misses_get_a_suggestion(args, hint):
 def test_an_unknown_command_lists_the_commands():
     r = run_swatch("xyzzy")
     assert r.returncode == 2 and "no such command 'xyzzy'; the commands: angular," in r.stderr
+
+
+def test_top_level_help_lists_whole_summaries_that_fit_80_columns():
+    """Issue 21: ``swatch --help`` cut the commands' first sentences with "..."; each has a short summary."""
+    from swatch.cli import COMMANDS, SUMMARIES
+
+    assert set(SUMMARIES) == set(COMMANDS)
+    proc = run_swatch("--help")
+    assert proc.returncode == 0
+    listed = proc.stdout.split("Commands:")[1].splitlines()
+    for name in COMMANDS:
+        line = next(x for x in listed if x.split()[:1] == [name])
+        assert line.split(None, 1) == [name, SUMMARIES[name]]
+    assert not any("..." in x or "…" in x for x in listed)
+    assert max(len(x) for x in proc.stdout.splitlines()) <= 80
+
+
+@pytest.mark.parametrize("width", [40, 50, 60, 72, 80, 100])
+def test_fit_help_never_breaks_a_column_name(width):
+    """Issue 21: ``fit --help`` broke a column name mid-word (the names were one long comma-joined word)."""
+    from click.testing import CliRunner
+
+    from swatch.commands.fit import fit
+
+    text = CliRunner().invoke(fit, ["--help"], terminal_width=width).output
+    words = set(text.replace(",", " ").replace("[", " ").replace("]", " ").split())
+    for column in ("wavelength_nm", "reflectance", "light_deg", "view_deg", "light_azimuth_deg", "view_azimuth_deg"):
+        assert column in words, (width, column)
+
+
+def test_preset_roughness_defaults_to_the_process_profiles(tmp_path):
+    """Issue 21: ``preset --roughness`` defaulted to 0.3 where render and angular take the profile's."""
+    profile = tmp_path / "line.toml"
+    profile.write_text('name = "rough-line"\nfilm = "TiO2-Siefke"\nsubstrate = "Ti-Johnson"\nnm_per_V = 2.0\n'
+                       "roughness = 0.5\n", encoding="utf-8")
+    args = ("preset", "--thickness", "80", "--format", "gltf", "--process", str(profile))
+    assert run_swatch(*args, "--out", tmp_path / "a").returncode == 0
+    assert run_swatch(*args, "--roughness", "0.5", "--out", tmp_path / "b").returncode == 0
+    a, b = (tmp_path / d / "preset_80nm.gltf" for d in "ab")
+    assert a.read_bytes() == b.read_bytes()
+    material = json.loads(a.read_text())["materials"][0]
+    assert material["pbrMetallicRoughness"]["roughnessFactor"] == pytest.approx(0.5 ** 0.5, abs=1e-4)

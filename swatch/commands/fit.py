@@ -43,10 +43,11 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
 
     MEASUREMENTS: CxF3 or CGATS files as instruments export them (each sample fitted; the file's
     geometry, illuminant and observer are used and must agree with options given), or CSV files
-    (',', ';' or tab separated; decimal commas with ';' or tab), each one of: wavelength_nm,reflectance
-    (one spectrum at --light/--view); light_deg,view_deg[,light_azimuth_deg,view_azimuth_deg],
-    wavelength_nm,reflectance (sBRDF set, long form; negative view_deg = on the light's side);
-    light_deg,view_deg,L,a,b (CIELAB: fitted by ΔE2000); an id column splits a file into samples.
+    (',', ';' or tab separated; decimal commas with ';' or tab), with the columns of one of: wavelength_nm,
+    reflectance (one spectrum at --light/--view); light_deg, view_deg, [light_azimuth_deg,
+    view_azimuth_deg,] wavelength_nm, reflectance (sBRDF set, long form; negative view_deg = on the
+    light's side); light_deg, view_deg, L, a, b (CIELAB: fitted by ΔE2000); an id column splits a file
+    into samples.
     The fit minimises the mean squared spectral error over all geometries outside the mirror region
     (global search over the range, then local refinement) and reports the best thickness, an
     uncertainty, the next-best minimum, ΔE*ab and ΔE2000 per geometry, their means and the grade.

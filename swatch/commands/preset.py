@@ -15,7 +15,8 @@ from swatch.presets import EXACT_FORMATS, PRESET_FORMATS
               help="gltf (KHR_materials_iridescence), blender (Principled BSDF script), materialx (OpenPBR), "
                    "mitsuba (swatch's exact anodic_film BSDF: an XML and a JSON scene dictionary)")
 @click.option("--roughness", type=click.FloatRange(0.0, 1.0), default=None,
-              help="GGX α of the finish (written as the renderers' roughness √α) [default: 0.3]")
+              help="GGX α of the finish (written as the renderers' roughness √α) "
+                   "[default: the process profile's, else 0.3]")
 @click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
               help="a named finish instead of --roughness (brushed: each format's anisotropy; docs/finishes.md)")
 @click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=str), help="output folder")
@@ -37,12 +38,15 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     from swatch.physics.finishes import finish_or_roughness
 
     finish = finish_or_roughness(finish_name, roughness)
-    roughness = finish.roughness_alpha if finish is not None else (0.3 if roughness is None else roughness)
     if roughness is not None and not math.isfinite(roughness):
         raise SwatchError(f"--roughness must be a number from 0 to 1 (got {roughness})")
     if not str(out).strip():
         raise SwatchError("--out is an empty string; give a folder path")
     proc = resolve_process(process, film, substrate, nm_per_volt)
+    if finish is not None:  # as render and angular: the option, else the profile's roughness, else 0.3
+        roughness = finish.roughness_alpha
+    elif roughness is None:
+        roughness = 0.3 if proc.roughness is None else proc.roughness
     d, _ = resolve_thickness(thickness, voltage, proc, multiple=False)
     if fmt in EXACT_FORMATS:
         files, summary = single_mitsuba_preset(float(d[0]), proc.film, proc.substrate, proc.film_index_scale,

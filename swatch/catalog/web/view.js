@@ -21,10 +21,16 @@ const float BG = 0.18;
 // Each shape gives, for the pixel's ray d, a signed distance e to its outline (world units; > 0 on the
 // object) and the normal n of the nearest surface point, defined on both sides of the outline: the pass
 // turns e into the pixel's coverage with its screen-space derivative (analytic antialiasing: one ray a
-// pixel, no supersampling) and shades the edge pixels with n.
+// pixel, no supersampling) and shades the edge pixels with n, turned analytically to the normal at the
+// middle of the pixel's covered part (tilt: no second ray, which cost a third of the frame in software GL).
 const float FAR = -1e3;
+// what the outline distance e was measured to, for tilt(): SIL a silhouette (the ray's closest approach
+// sil to a sphere or to the sheet's axis: radius silR, ray direction silD in that plane), END the sheet's
+// curved end (the hit at angle endPhi about the axis), else nothing that turns the normal (a straight edge)
+const int NONE = 0, SIL = 1, END = 2;
+int kind; vec3 sil, silD; float silR, endPhi;
 float edgePlate(vec3 o, vec3 d, out vec3 n) {
-  n = vec3(0, 0, 1);
+  n = vec3(0, 0, 1); kind = NONE;
   float t = abs(d.z) < 1e-6 ? -1.0 : -o.z / d.z;
   if (t <= 0.0) return FAR;
   vec3 q = o + t * d;
@@ -37,17 +43,25 @@ float edgeBend(vec3 o, vec3 d, out vec3 n) {
   vec2 near = oc - (b / a) * dd;
   float tangent = bendR - length(near);
   n = normalize(vec3(near.x, 0, near.y));
+  sil = n; silD = normalize(vec3(dd.x, 0, dd.y)); silR = bendR;
   if (disc < 0.0) {  // the ray passes the cylinder: how far from the sheet's outline there
     vec3 q = o - (b / a) * d;
-    return min(min(tangent, 1.0 - abs(q.y)), (bendPhi - abs(atan(near.x, near.y))) * bendR);
+    float ey = 1.0 - abs(q.y), ep = (bendPhi - abs(atan(near.x, near.y))) * bendR, e = min(min(tangent, ey), ep);
+    kind = e == tangent ? SIL : NONE;
+    return e;
   }
   float s = sqrt(disc), best = FAR;
+  kind = NONE;
   for (int i = 0; i < 2; i++) {
     float t = (i == 0 ? (-b - s) : (-b + s)) / a;
     if (t <= 0.0) continue;
     vec3 q = o + t * d; vec3 r = q - c;
-    float e = min(min(1.0 - abs(q.y), (bendPhi - abs(atan(r.x, r.z))) * bendR), i == 0 ? tangent : 1e3);
-    if (e > best) { best = e; n = normalize(vec3(r.x, 0, r.z)); }
+    float phi = atan(r.x, r.z), ey = 1.0 - abs(q.y), ep = (bendPhi - abs(phi)) * bendR;
+    float et = i == 0 ? tangent : 1e3, e = min(min(ey, ep), et);
+    if (e > best) {
+      best = e; n = normalize(vec3(r.x, 0, r.z));
+      kind = e == et ? SIL : e == ep ? END : NONE; endPhi = phi;
+    }
     if (e >= 0.0) break;  // the front layer where it is there, else the back one
   }
   return best;
@@ -56,7 +70,8 @@ float edgeSphere(vec3 o, vec3 d, out vec3 n) {
   float b = dot(o, d);
   vec3 near = o - b * d;  // the ray's closest point to the centre
   float r = length(near);
-  if (b >= 0.0) { n = vec3(0, 0, 1); return FAR; }
+  kind = SIL; sil = near / max(r, 1e-9); silD = d; silR = 1.0;
+  if (b >= 0.0) { n = vec3(0, 0, 1); kind = NONE; return FAR; }
   n = r < 1.0 ? normalize(o - (b + sqrt(1.0 - r * r)) * d) : near / r;
   return 1.0 - r;
 }
@@ -70,9 +85,24 @@ float edge(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d, the outline 
   return edgeSphere(eye, d, n);
 #endif
 }
+// the normal where the outline distance is e2 > 0 along the same measure (the last edge() call's outline):
+// on a silhouette of radius R, the front point at distance R - e2 from the centre (or axis) in the plane
+// of the ray; at the sheet's curved end, e2 / R further round; a straight edge does not turn the normal
+vec3 tilt(vec3 n, float e2) {
+  if (kind == SIL) {
+    float rho = clamp(silR - e2, 0.0, silR);
+    return normalize(sil * rho - silD * sqrt(silR * silR - rho * rho));
+  }
+  if (kind == END) {
+    float phi = sign(endPhi) * max(bendPhi - e2 / bendR, 0.0);
+    return vec3(sin(phi), 0, cos(phi));
+  }
+  return n;
+}
 // the pixel's coverage by the object (0 to 1) from e and its change across the pixel (derivatives: in
 // uniform control flow), and the ray and normal to shade it with: the pixel's centre, or on the outline
-// the middle of the covered part (the silhouette itself is grazing: its shading is not the pixel's)
+// the normal at the middle of the covered part (the silhouette itself is grazing: its shading is not the
+// pixel's)
 float pixelSurface(out vec3 d, out vec3 n) {
   float e = edge(uv, d, n);
   vec2 g = vec2(dFdx(e), dFdy(e)), du = vec2(dFdx(uv.x), dFdy(uv.y));
@@ -80,11 +110,8 @@ float pixelSurface(out vec3 d, out vec3 n) {
   // bent sheet's front layer gives way to the back one, which is no outline
   float w = min(abs(g.x) + abs(g.y), 20.0 * tanHalf * abs(du.y) * length(eye));
   float cover = e <= FAR * 0.5 ? 0.0 : clamp(0.5 + e / max(w, 1e-7), 0.0, 1.0);
-  float glen = length(g);
-  if (cover > 0.0 && cover < 1.0 && glen > 0.0) {
-    vec3 d2, n2;
-    if (edge(uv + (g / glen) * (0.5 * (1.0 - cover) + 0.05) * du, d2, n2) > 0.0) { d = d2; n = n2; }
-  }
+  float e2 = e + (0.5 * (1.0 - cover) + 0.05) * min(length(g), w);  // the middle of the covered part
+  if (cover > 0.0 && cover < 1.0 && e2 > 0.0) n = tilt(n, e2);
   return cover;
 }
 float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
@@ -134,7 +161,8 @@ vec3 shade(vec3 d, vec3 n) {  // linear radiance of a surface point, at exposure
 void main() {
   vec3 d, n;
   float cover = pixelSurface(d, n);
-  vec3 lin = cover > 0.0 ? mix(vec3(BG), shade(d, n), cover) : vec3(BG);
+  vec3 lin = vec3(BG);
+  if (cover > 0.0) lin = mix(lin, shade(d, n), cover);  // (a branch, not a select: the background skips it)
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 
