@@ -40,3 +40,30 @@ def test_page_colorimetry_passes_node_test(tmp_path):
                          text=True, timeout=120, env={**os.environ, "SWATCH_JS_FIXTURE": str(fixture)})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
     assert "# pass 3" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
+
+
+def test_page_script_comments_name_code_that_exists():
+    """Issue 17 item 6: the page's comments cited pre-restructure names (swatch.microfacet..., swatch.env_shading,
+    swatch.fitting.match_colour); every dotted ``swatch.…`` name in swatch/catalog/web/*.js must resolve (a
+    module, then attributes)."""
+    import importlib
+    import re
+
+    missing = []
+    for path in sorted((ROOT / "swatch" / "catalog" / "web").glob("*.js")):
+        for name in sorted(set(re.findall(r"\bswatch(?:\.[A-Za-z_][A-Za-z0-9_]*)+", path.read_text(encoding="utf-8")))):
+            parts = name.split(".")
+            for cut in range(len(parts), 0, -1):  # the longest importable module, then attributes
+                try:
+                    obj = importlib.import_module(".".join(parts[:cut]))
+                except ImportError:
+                    continue
+                try:
+                    for attr in parts[cut:]:
+                        obj = getattr(obj, attr)
+                except AttributeError:
+                    missing.append(f"{path.name}: {name}")
+                break
+            else:
+                missing.append(f"{path.name}: {name}")
+    assert missing == []

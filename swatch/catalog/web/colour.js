@@ -84,7 +84,7 @@ function makeColour(T) {
     const t = polar * DEG, p = azimuth * DEG;
     return [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)];
   }
-  // as swatch.geometry.cos_theta_d: view azimuth defaults to the opposite side of the light
+  // as swatch.physics.geometry.cos_theta_d: view azimuth defaults to the opposite side of the light
   function cosThetaD(light_deg, view_deg, light_az, view_az) {
     const la = light_az === undefined || light_az === null ? 0 : light_az;
     const va = view_az === undefined || view_az === null ? la + 180 : view_az;
@@ -135,7 +135,7 @@ function makeColour(T) {
   }
   function encode(c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * Math.pow(c, 1 / 2.4) - 0.055; }
   function decode(c) { return c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4); }
-  const TOL = 1e-3; // as swatch.colorimetry.Colorimeter.display
+  const TOL = 1e-3; // as swatch.colorimetry.colorimeter.Colorimeter.display
   function display(XYZ2, M) {
     const lin = mulRow(XYZ2, M || T.XYZ2_to_srgb_linear);
     const inGamut = lin.every((c) => c >= -TOL && c <= 1 + TOL);
@@ -148,7 +148,7 @@ function makeColour(T) {
     const h = String(hex).trim().replace(/^#/, "");
     if (!/^[0-9a-f]{6}$/i.test(h)) throw new Error("bad hex colour " + JSON.stringify(hex) + "; give six hex digits like 1f4e9a");
     const rgb = [0, 2, 4].map((i) => decode(parseInt(h.slice(i, i + 2), 16) / 255));
-    return XYZtoLab(mulRow(rgb, T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.hex_to_Lab
+    return XYZtoLab(mulRow(rgb, T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.colorimeter.hex_to_Lab
   }
   const dE00 = deltaE00;
   function dEab(a, b) { return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
@@ -202,7 +202,7 @@ function makeColour(T) {
     const XYZ = LabtoXYZ(Lab, T.white_XYZ2), s = display(XYZ), p3 = display(XYZ, T.XYZ2_to_p3_linear);
     return {Lab, hex: hexOf(s.encoded), in_srgb_gamut: s.inGamut, display_p3: p3.encoded};
   }
-  // as swatch.fitting.match_colour over the catalog's range: local minima of the sampled
+  // as swatch.fit.matching.match_colour over the catalog's range: local minima of the sampled
   // CIEDE2000 curve (an end counts only when lower than every interior minimum), the best
   // refined within one step, kept at least min_separation apart, ranked by CIEDE2000.
   // A Lab target is in the catalog's observer; a hex target is sRGB, so (as swatch match --hex)

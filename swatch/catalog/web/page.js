@@ -180,7 +180,7 @@ canvas.addEventListener("pointermove", (e) => {
 });
 canvas.addEventListener("pointerup", () => { drag = null; draw(); }); // refined when let go
 
-// -- names (swatch.catalog.names.NAME_RULES, embedded) -----------------------------------------
+// -- names (swatch.colorimetry.names.NAME_RULES, embedded) -----------------------------------------
 function nameOf(lch) {
   const [L, Ch, h0] = lch, h = ((h0 % 360) + 360) % 360;
   for (const [name, ha, hb, c0, c1, l0, l1] of T.name_rules) {

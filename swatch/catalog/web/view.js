@@ -3,7 +3,7 @@
 // Point light, per pixel: cos(theta_d) = h.l picks the colour of the thin film from the embedded
 // table (one thickness row, linear sRGB from 2-degree XYZ, interpolated on the GPU); the microfacet
 // model multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G, as
-// swatch.microfacet.ggx_reflectance_factor_cos); then the display transform of swatch.render:
+// swatch.physics.microfacet.ggx_reflectance_factor_cos); then the display transform of swatch.render.display:
 // exposure k, per-channel shoulder above 0.8, sRGB encoding, background linear grey 0.18.
 
 const VS = `#version 300 es
