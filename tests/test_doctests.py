@@ -54,6 +54,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.render.image",
     "swatch.render.shading",
     "swatch.render.env_shading",
+    "swatch.render.camera",
 ]
 
 

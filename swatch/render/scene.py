@@ -31,85 +31,33 @@ import numpy as np
 from swatch.core.choices import SHAPES
 from swatch.core.errors import SwatchError
 from swatch.physics import geometry
+from swatch.render.camera import Camera, unit
 
 __all__ = ["SHAPES", "Camera", "Shape", "Sphere", "HalfCylinder", "Plate", "Scene", "check_shape", "make_scene",
            "scene_geometry"]
 
 
 def check_shape(shape: str) -> str:
-    """The shape's key (one of :data:`swatch.core.choices.SHAPES`), or SwatchError."""
+    """The shape's key (one of :data:`swatch.core.choices.SHAPES`, case-insensitive).
+
+    Parameters
+    ----------
+    shape : str
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Any other name.
+    """
     key = str(shape).strip().lower()
     if key not in SHAPES:
         raise SwatchError(f"unknown swatch shape {shape!r}; use one of {', '.join(SHAPES)}")
     return key
 
-
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=np.float64)
-    return v / np.linalg.norm(v)
-
-
-@dataclass(frozen=True)
-class Camera:
-    """A pinhole camera: ``position``, orthonormal ``right``/``up``/``forward`` and a square window
-    on the image plane at distance 1 (centre ``cx, cy`` and half width ``half``, tan units)."""
-
-    position: np.ndarray
-    right: np.ndarray
-    up: np.ndarray
-    forward: np.ndarray
-    cx: float = 0.0
-    cy: float = 0.0
-    half: float = 0.5
-
-    @classmethod
-    def look_at(cls, position, target=(0.0, 0.0, 0.0), world_up=(0.0, 1.0, 0.0)) -> Camera:
-        pos = np.asarray(position, dtype=np.float64)
-        fwd = _unit(np.asarray(target, dtype=np.float64) - pos)
-        right = _unit(np.cross(fwd, world_up))
-        up = np.cross(right, fwd)
-        return cls(pos, right, up, fwd)
-
-    def fitted(self, points, fill: float = 0.86) -> Camera:
-        """The camera with its window framing ``points`` (N, 3), filling ``fill`` of the square."""
-        q = np.asarray(points, dtype=np.float64) - self.position
-        z = q @ self.forward
-        u = (q @ self.right) / z
-        w = (q @ self.up) / z
-        half = 0.5 * max(u.max() - u.min(), w.max() - w.min()) / fill
-        return Camera(self.position, self.right, self.up, self.forward,
-                      0.5 * (u.max() + u.min()), 0.5 * (w.max() + w.min()), half)
-
-    def window(self, x, y, size: int, dtype=np.float32):
-        """Image-plane coordinates (u, w) and ``inv = 1/|(u, w, 1)|`` for pixel coordinates
-        ``x`` (column), ``y`` (row); broadcasting (a row and a column vector give the grid)."""
-        s = 2.0 * self.half / size
-        u = np.asarray(x, dtype=dtype) * dtype(s) + dtype(self.cx - self.half)
-        w = dtype(self.cy + self.half) - np.asarray(y, dtype=dtype) * dtype(s)
-        inv = dtype(1.0) / np.sqrt(u * u + (w * w + dtype(1.0)))
-        return u, w, inv
-
-    def dot(self, u, w, inv, vec) -> np.ndarray:
-        """``d · vec`` for the unit rays of :meth:`window` (a broadcast sum, then one product)."""
-        t = inv.dtype.type
-        vec = np.asarray(vec, dtype=np.float64)
-        return (u * t(self.right @ vec) + (w * t(self.up @ vec) + t(self.forward @ vec))) * inv
-
-    def directions(self, x, y, size: int, dtype=np.float32):
-        """Unit ray directions (dx, dy, dz), planar arrays, for continuous pixel coordinates
-        ``x`` (column) and ``y`` (row) on a ``size`` × ``size`` image (pixel centres at k + 0.5).
-        ``x`` and ``y`` broadcast (a row and a column vector give the full grid)."""
-        u, w, inv = self.window(x, y, size, dtype)
-        out = []
-        for k in range(3):
-            r, up, f = dtype(self.right[k]), dtype(self.up[k]), dtype(self.forward[k])
-            c = inv * f if f != 0 else np.zeros_like(inv)
-            if r != 0:
-                c = c + (u * r) * inv
-            if up != 0:
-                c = c + (w * up) * inv
-            out.append(np.broadcast_to(c, inv.shape) if c.shape != inv.shape else c)
-        return tuple(out)
 
 class Shape(Protocol):
     """What the renderer needs of a shape (arrays planar, in the rays' precision): :meth:`intersect`,
@@ -177,7 +125,18 @@ class Sphere:
     name = "sphere"
 
     def intersect(self, o, dx, dy, dz):
-        """(hit, nx, ny, nz) for rays from ``o`` along unit (dx, dy, dz)."""
+        """First hits and unit normals of rays from ``o`` (:meth:`Shape.intersect`).
+
+        Parameters
+        ----------
+        o, dx, dy, dz
+            As :meth:`Shape.intersect`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, nx, ny, nz)``.
+        """
         t32 = dx.dtype.type
         ox, oy, oz = (t32(v) for v in o)
         b = dx * ox + dy * oy + dz * oz
@@ -187,7 +146,18 @@ class Sphere:
         return hit, ox + t * dx, oy + t * dy, oz + t * dz
 
     def trace(self, cam: Camera, u, w, inv, light):
-        """(hit, cos_l, cos_v) without normals: with ``n = o + t d``, ``n·d = -sqrt(disc)``."""
+        """Camera rays at window coordinates: hit and the cosines to light and view (:meth:`Shape.trace`).
+
+        Parameters
+        ----------
+        cam, u, w, inv, light
+            As :meth:`Shape.trace`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, cos_l, cos_v)``.
+        """
         t32 = inv.dtype.type
         o = cam.position
         b = cam.dot(u, w, inv, o)
@@ -199,15 +169,26 @@ class Sphere:
         return hit, cos_l, cos_v
 
     def points(self) -> np.ndarray:
+        """Points on the shape, to frame the camera.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+        """
         th, ph = np.meshgrid(np.linspace(0, np.pi, 65), np.linspace(0, 2 * np.pi, 129), indexing="ij")
         return np.stack([np.sin(th) * np.cos(ph), np.cos(th), np.sin(th) * np.sin(ph)], -1).reshape(-1, 3)
 
 
 class HalfCylinder:
-    """A sheet bent into a half cylinder: radius 1 about the y axis, |y| <= h, the half z >= 0.
+    """A sheet bent into a half cylinder: radius 1 about the y axis, |y| ≤ ``half_height``, the half z ≥ 0.
 
-    Both faces are the same anodised metal (the outer, convex face is the one mostly seen; near
-    the top corners the inner face shows through the opening)."""
+    Both faces are the same anodised metal (the outer, convex face is the one mostly seen; near the
+    top corners the inner face shows through the opening).
+
+    Parameters
+    ----------
+    half_height : float
+    """
 
     name = "cylinder"
 
@@ -215,6 +196,18 @@ class HalfCylinder:
         self.h = float(half_height)
 
     def intersect(self, o, dx, dy, dz):
+        """First hits and unit normals of rays from ``o`` (:meth:`Shape.intersect`).
+
+        Parameters
+        ----------
+        o, dx, dy, dz
+            As :meth:`Shape.intersect`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, nx, ny, nz)``.
+        """
         t32 = dx.dtype.type
         ox, oy, oz = (t32(v) for v in o)
         h = t32(self.h)
@@ -246,10 +239,18 @@ class HalfCylinder:
         return hit, nx, t32(0.0), nz
 
     def trace(self, cam: Camera, u, w, inv, light):
-        """(hit, cos_l, cos_v) without normals. With ``p = o + t d``, ``n = ±(p_x, 0, p_z)``,
-        ``b = o_xz·d_xz``, ``a = |d_xz|²``: ``n·d = ±(b + t a) = ∓sqrt(disc)`` for the near (+) and
-        far (−) root, so ``cos_v = sqrt(disc)`` on both faces, and
-        ``n·l = ±((o_x l_x + o_z l_z) + t (d_x l_x + d_z l_z))``."""
+        """Camera rays at window coordinates: hit and the cosines to light and view (:meth:`Shape.trace`).
+
+        Parameters
+        ----------
+        cam, u, w, inv, light
+            As :meth:`Shape.trace`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, cos_l, cos_v)``.
+        """
         t32 = inv.dtype.type
         o = cam.position
         h = t32(self.h)
@@ -280,12 +281,23 @@ class HalfCylinder:
         return hit, cos_l, cos_v
 
     def points(self) -> np.ndarray:
+        """Points on the shape, to frame the camera.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+        """
         ph, y = np.meshgrid(np.linspace(-np.pi / 2, np.pi / 2, 65), np.linspace(-self.h, self.h, 33), indexing="ij")
         return np.stack([np.sin(ph), y, np.cos(ph)], -1).reshape(-1, 3)
 
 
 class Plate:
-    """A flat square plate |x|, |z| <= half in the plane y = 0 (normal +y)."""
+    """A flat square plate |x|, |z| ≤ ``half`` in the plane y = 0 (normal +y).
+
+    Parameters
+    ----------
+    half : float
+    """
 
     name = "flat"
 
@@ -293,6 +305,18 @@ class Plate:
         self.a = float(half)
 
     def intersect(self, o, dx, dy, dz):
+        """First hits and unit normals of rays from ``o`` (:meth:`Shape.intersect`).
+
+        Parameters
+        ----------
+        o, dx, dy, dz
+            As :meth:`Shape.intersect`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, nx, ny, nz)``.
+        """
         t32 = dx.dtype.type
         ox, oy, oz = (t32(v) for v in o)
         a = t32(self.a)
@@ -301,6 +325,18 @@ class Plate:
         return hit, t32(0.0), t32(1.0), t32(0.0)
 
     def trace(self, cam: Camera, u, w, inv, light):
+        """Camera rays at window coordinates: hit and the cosines to light and view (:meth:`Shape.trace`).
+
+        Parameters
+        ----------
+        cam, u, w, inv, light
+            As :meth:`Shape.trace`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(hit, cos_l, cos_v)``.
+        """
         t32 = inv.dtype.type
         o = cam.position
         a = t32(self.a)
@@ -313,12 +349,29 @@ class Plate:
         return hit, cos_l, cos_v
 
     def points(self) -> np.ndarray:
+        """Points on the shape, to frame the camera.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, 3)
+        """
         a = self.a
         return np.array([[-a, 0, -a], [a, 0, -a], [a, 0, a], [-a, 0, a]], dtype=np.float64)
 
 
 @dataclass(frozen=True)
 class Scene:
+    """What a render shows and how.
+
+    Attributes
+    ----------
+    shape : Shape
+    camera : Camera
+    light : numpy.ndarray, shape (3,)
+        Unit vector towards the point light.
+    description, camera_description : str
+        Object, light and camera (the point-light render's geometry); object and camera only.
+    """
     shape: Shape
     camera: Camera
     light: np.ndarray  # unit vector towards the light
@@ -344,11 +397,27 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
                mesh=None) -> Scene:
     """The camera, light and object of a swatch render (see the module documentation).
 
-    ``view_deg``: the camera's polar angle to the plate's normal (world +y; 0 = straight down
-    the normal), default :data:`DEFAULT_VIEW_DEG`; ``view_azimuth_deg`` turns the camera about
-    the normal (0 = the +z side). The point light stays where the default camera puts it.
-    ``mesh``: a :class:`swatch.render.mesh.MeshShape` shown instead of ``shape``, placed, lit and seen
-    like the sphere (it is scaled into the unit sphere).
+    Parameters
+    ----------
+    shape : str
+        One of :data:`swatch.core.choices.SHAPES` (ignored with ``mesh``).
+    light_deg : float
+        The light's polar angle, degrees.
+    view_deg : float, optional
+        The camera's polar angle to the plate's normal (world +y), degrees; default :data:`DEFAULT_VIEW_DEG`.
+    view_azimuth_deg : float
+        Turns the camera about the normal (0 = the +z side), degrees; the light stays put.
+    mesh : swatch.render.mesh.MeshShape, optional
+        Shown instead of ``shape``, placed, lit and seen like the sphere.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        An unknown shape or an angle outside [0, 90).
     """
     shape = "sphere" if mesh is not None else check_shape(shape)
     light_deg = float(geometry.check_polar_deg(light_deg, "light"))
@@ -375,7 +444,7 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
         el = math.radians(20.0)
         ref = Camera.look_at(dist * np.array([0.0, math.sin(el), math.cos(el)]))
         c_hat = -ref.forward
-        w = _unit(-ref.right * math.cos(math.radians(30.0)) + ref.up * math.sin(math.radians(30.0)))
+        w = unit(-ref.right * math.cos(math.radians(30.0)) + ref.up * math.sin(math.radians(30.0)))
         light = math.cos(t) * c_hat + math.sin(t) * w
         pos, up = _camera_position(dist, view, azim)
         cam = Camera.look_at(pos, world_up=up)
@@ -383,12 +452,23 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
         desc = (f"{what}; {cam_text}; light {light_deg:g} deg from the default camera direction (20 deg above the "
                 f"horizon), from the left and 30 deg up")
     cam = cam.fitted(obj.points())
-    return Scene(obj, cam, _unit(light), desc, f"{what}; {cam_text}")
+    return Scene(obj, cam, unit(light), desc, f"{what}; {cam_text}")
 
 
 def scene_geometry(scene: Scene, size_px: int, dtype=np.float64):
-    """Per-pixel (centre) normal, view (H, W, 3), light (3,) and hit (H, W) of a scene: for tests
-    and the benchmark's direct spectral path."""
+    """Per-pixel (centre) normal, view, light and hit of a scene (tests, the benchmark's direct path).
+
+    Parameters
+    ----------
+    scene : Scene
+    size_px : int
+    dtype : numpy dtype
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        Normal (H, W, 3), light (3,), view (H, W, 3), hit (H, W).
+    """
     size = int(size_px)
     c = np.arange(size, dtype=dtype) + dtype(0.5)
     dx, dy, dz = scene.camera.directions(c[None, :], c[:, None], size, dtype=dtype)
