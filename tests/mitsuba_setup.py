@@ -21,3 +21,10 @@ def mitsuba_variant(variant: str = "llvm_ad_spectral"):
 
     use_variant(variant)
     return mi
+
+
+def irregular_spectrum(wl, values) -> dict:
+    """A Mitsuba ``irregular`` spectrum of ``values`` at ``wl`` (nm), 300–900 nm (Mitsuba's range)."""
+    keep = (wl > 300) & (wl < 900)
+    return {"type": "irregular", "wavelengths": ", ".join(f"{x:.9g}" for x in wl[keep]),
+            "values": ", ".join(f"{x:.9g}" for x in values[keep])}

@@ -15,7 +15,7 @@ import tmm
 from scipy.special import roots_legendre
 
 from swatch.physics.materials import load_material
-from tests.mitsuba_setup import mitsuba_variant
+from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
 
 pytestmark = pytest.mark.slow
 
@@ -25,26 +25,19 @@ def mi():
     return mitsuba_variant()
 
 
-def _irregular(wl, values):
-    keep = (wl > 300) & (wl < 900)
-    return {"type": "irregular", "wavelengths": ", ".join(f"{x:.9g}" for x in wl[keep]),
-            "values": ", ".join(f"{x:.9g}" for x in values[keep])}
-
-
 _ZERO_THICKNESS_PAIR = """
 import sys
 import numpy as np
 from swatch.render.mitsuba.engine import render_swatch_mitsuba
 from swatch.physics.materials import load_material
-from tests.mitsuba_setup import mitsuba_variant
-from tests.test_mitsuba_checks import _irregular
+from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
 
 mitsuba_variant()
 s = load_material("Ti-Johnson")
 imgs = [render_swatch_mitsuba(0.0, "sphere", 32, 8, seed=4, lighting_name="studio", bsdf_override=bsdf).linear_rgb
         for bsdf in ({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"},
                      {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,
-                      "eta": _irregular(s.wavelength_nm, s.n), "k": _irregular(s.wavelength_nm, s.k)})]
+                      "eta": irregular_spectrum(s.wavelength_nm, s.n), "k": irregular_spectrum(s.wavelength_nm, s.k)})]
 np.save(sys.argv[1], np.stack(imgs))
 """
 
@@ -67,7 +60,7 @@ def test_zero_thickness_bsdf_is_mitsubas_roughconductor(mi):
     s = load_material("Ti-Johnson")
     film = mi.load_dict({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"})
     rc = mi.load_dict({"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,
-                       "eta": _irregular(s.wavelength_nm, s.n), "k": _irregular(s.wavelength_nm, s.k)})
+                       "eta": irregular_spectrum(s.wavelength_nm, s.n), "k": irregular_spectrum(s.wavelength_nm, s.k)})
     rng = np.random.default_rng(7)
     n = 4096
     wi, wo, u = _hemisphere(rng, n), _hemisphere(rng, n), rng.random((3, n))
