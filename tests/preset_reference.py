@@ -2,7 +2,7 @@
 
 Exact: the Airy reflectance of the film on the substrate (``swatch.physics.model``) through the CIE 1931
 2° observer under D65 (swatch's colorimeter, itself pinned to ``colour.sd_to_XYZ`` by
-tests/test_presets.py), CIELAB relative to the perfect white. A renderer's measured colour is its
+tests/presets/test_presets.py), CIELAB relative to the perfect white. A renderer's measured colour is its
 linear Rec.709 ratio to a white metal plate rendered in the same light, converted with
 colour-science's sRGB matrix. Geometries:
 

@@ -10,7 +10,7 @@ the CIE tables:
   (``COS_NODES`` nodes on [0, 1]). Two sets: XYZ under the catalog's illuminant and observer
   (for L*a*b*) and XYZ under the illuminant and the CIE 1931 2° observer (for display RGB, which
   always comes from 2° colorimetry). Bilinear interpolation of this grid stays within
-  ΔE2000 0.5 of the direct spectral computation (tests/test_catalog_explorer.py; measured
+  ΔE2000 0.5 of the direct spectral computation (tests/catalog/test_catalog_explorer.py; measured
   max ≈ 0.3 on 20–300 nm, worst near grazing cos θ_d < 0.01).
 * ``reference``: the same two XYZ sets at the catalog's reference geometry, every
   ``MATCH_STEP_NM`` (the step of ``swatch match``), so the page's colour search runs on the same

@@ -27,7 +27,7 @@ changes (one pass over the samples) and, per thickness, computes ``p_jk + δ_j s
 in JavaScript (a few thousand products) and shades every pixel with ``BASIS`` products. Constant
 functions lie in the basis, so a uniform environment gives exactly the directional albedo (the
 furnace test holds as in the renderer). Measured against the renderer's per-sample sum on 4 000
-random normal/view pairs in the studio, 20–300 nm (``tests/test_catalog_explorer_env.py``):
+random normal/view pairs in the studio, 20–300 nm (``tests/catalog/test_catalog_explorer_env.py``):
 ΔE2000 max 0.16 with ``BASIS = 4`` in the first (bright-walled) studio (α = 0.3; 0.62 with 3, 0.06
 with 5); see docs/catalog.md for the figures in the present one.
 

@@ -27,7 +27,7 @@ Conventions
   ``G = χ⁺(h·l) χ⁺(h·v) / (1 + Λ(l) + Λ(v))`` (Heitz 2014, eq. 99: the more accurate form; it
   is never below the separable product, which counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with
   ``correlated=False``. Both conserve energy: with ``F = 1`` the directional albedo
-  ``∫ f cos θ_l dω_l`` is ≤ 1 at every view angle (the furnace test in tests/test_microfacet.py).
+  ``∫ f cos θ_l dω_l`` is ≤ 1 at every view angle (the furnace test in tests/physics/test_microfacet.py).
 """
 from __future__ import annotations
 

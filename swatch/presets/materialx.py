@@ -19,7 +19,7 @@ nm), ``libraries/pbrlib/genglsl/lib/mx_microfacet_specular.glsl``:
 
 :func:`displayed_fresnel` is the colour relative to a white metal (F = 1, comp = 1/Ess) in the
 same light: ``F·(Ess + F·(1 − Ess))``, F at the half vector, Ess at N·V. (Measured: equal to
-MaterialX's own GLSL renderer to 7 digits; tests/test_presets.py.)
+MaterialX's own GLSL renderer to 7 digits; tests/presets/test_presets.py.)
 Colours are the document's linear Rec.709.
 """
 from __future__ import annotations

@@ -5,12 +5,12 @@ Unlike the glTF, Blender and MaterialX presets, nothing is fitted: the ``anodic_
 reflectance of the film with the tables' complex dispersive indices, s and p averaged, on the
 facet of the half vector, per sampled wavelength — so a preset is the swatch's own parameters
 written down (thickness, film and substrate tables, film index scale, roughness; ΔE2000 0 by
-construction; tests/test_presets_mitsuba.py evaluates the files in Mitsuba 3.9).
+construction; tests/presets/test_presets_mitsuba.py evaluates the files in Mitsuba 3.9).
 
 A thickness spread (:mod:`swatch.physics.spread`) is written as the plugin's ``spread_nm`` and
 ``spread_fraction``: the plugin averages with the same Gauss–Hermite quadrature as the catalog
 (its node count for Mitsuba's 360–830 nm; the catalog's for 380–780 nm: the averages agree to
-far below a visible difference, tests/test_presets_mitsuba.py).
+far below a visible difference, tests/presets/test_presets_mitsuba.py).
 
 Writing a preset needs no Mitsuba (it is text). Loading one does, with the plugin registered::
 

@@ -10,7 +10,7 @@ f8d6d947dfae4c9b599965a86c22826ea7a8dbfb, sections "Metal" and "Thin-film irides
   taken exactly (:func:`swatch.presets.spectral.cmf_sensitivity`, three orders) rather than through
   the paper's Gaussian fit (:func:`gaussian_sensitivity`, kept for reference): the specification
   leaves the spectral integration to the implementation, and the exact transform makes the port
-  agree with a transfer-matrix reference to a few tenths of ΔE2000 (tests/test_presets.py);
+  agree with a transfer-matrix reference to a few tenths of ΔE2000 (tests/presets/test_presets.py);
 - the metal is specified by the F82-tint Fresnel (F0 = ``base_color``, the value at cos = 1/7 =
   ``specular_color`` × Schlick); for the film the specification suggests mapping it to an
   effective complex IOR, e.g. Gulbrandsen (2014): n, k from r = F0 and g = that F82 value, then

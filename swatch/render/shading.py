@@ -45,7 +45,7 @@ __all__ = [
 ]
 
 #: Nodes of the cos θ_d table (uniform on [0, 1]). 1025 keeps linear interpolation far inside
-#: ΔE00 0.05 even at 1000 nm (checked in tests/test_render.py against the direct path).
+#: ΔE00 0.05 even at 1000 nm (checked in tests/render/test_render.py against the direct path).
 TABLE_NODES = 1025
 
 

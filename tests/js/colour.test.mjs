@@ -1,6 +1,6 @@
 // The page's colorimetry (swatch/catalog/web/colour.js) under node --test, outside the browser:
 // CIEDE2000 on the 34 published pairs of Sharma, Wu & Dalal 2005 (tests/data/ciede2000_sharma2005.csv) and
-// on the values colour-science computes for random pairs (a fixture tests/test_page_js.py writes and names
+// on the values colour-science computes for random pairs (a fixture tests/catalog/test_page_js.py writes and names
 // in SWATCH_JS_FIXTURE); the WCAG ink choice of the compare labels.
 import {test} from "node:test";
 import assert from "node:assert/strict";

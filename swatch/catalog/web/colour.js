@@ -41,7 +41,7 @@ function contrastRatio(hexA, hexB) {
 function inkFor(hex) { return contrastRatio(hex, "#000000") >= contrastRatio(hex, "#ffffff") ? "#000000" : "#ffffff"; }
 
 // CIEDE2000 (Sharma, Wu, Dalal 2005, doi:10.1002/col.20070), as colour.delta_E(method="CIE 2000"); tested on the
-// paper's 34 pairs and on values colour-science writes (tests/js/colour.test.mjs, run by tests/test_page_js.py)
+// paper's 34 pairs and on values colour-science writes (tests/js/colour.test.mjs, run by tests/catalog/test_page_js.py)
 const DEG_ = Math.PI / 180;
 function deltaE00(a, b) { // [L, a, b] twice -> a number
   const [L1, a1, b1] = a, [L2, a2, b2] = b;

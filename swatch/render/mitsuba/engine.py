@@ -63,7 +63,7 @@ PATH_BOUNCES = 12
 #: turbidity 3) and its sky, lit directly: π / E_up of that sunsky emitter, Y-weighted, by the same
 #: deterministic quadrature as the studio's (:func:`_irradiance_scale`, 96² stratified directions per
 #: 4 wavelengths: Y_up = 0.336484 of radiance 1; computing it takes seconds, so it is stored here and
-#: tests/test_mitsuba_render.py recomputes it). Every sun render shares it: a low sun is darker. (It was
+#: tests/mitsuba/test_mitsuba_render.py recomputes it). Every sun render shares it: a low sun is darker. (It was
 #: 1 / 0.338, a 256 spp render's estimate, 0.45 % darker.)
 SUN_Y_UP = 0.336484
 SUN_SCALE = 1.0 / SUN_Y_UP

@@ -5,7 +5,7 @@ The same physics and conventions as :mod:`swatch.physics.optics` (air / film / s
 :func:`swatch.physics.optics.fresnel_r`, the round-trip phase ``4 π d q₁ / λ``), evaluated on Dr.Jit
 arrays so that one call covers every lane and the four wavelengths a spectral Mitsuba variant
 samples per path: no Python loop. Complex numbers are carried as (real, imaginary) pairs of
-arrays. ``tests/test_mitsuba_plugin.py`` checks it against :func:`swatch.physics.optics.film_reflectance`
+arrays. ``tests/mitsuba/test_mitsuba_plugin.py`` checks it against :func:`swatch.physics.optics.film_reflectance`
 (double precision) and ``tmm``.
 """
 from __future__ import annotations

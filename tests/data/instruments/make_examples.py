@@ -16,8 +16,8 @@ import colour
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parents[1]))  # tests/
-from synthetic import tmm_half_vector_reflectance  # noqa: E402
+sys.path.insert(0, str(HERE.parents[2]))  # the repository root (tests.synthetic)
+from tests.synthetic import tmm_half_vector_reflectance  # noqa: E402
 
 
 def lab(R, wl, illuminant, observer):

@@ -1,0 +1,204 @@
+"""The explorer's live view under environment lighting, in real headless Chromium (SwiftShader
+WebGL2), against ``swatch render --environment … --view 0``.
+
+References we did not write for the page: the renderer (swatch.render.env_render), itself checked against
+tmm + scipy quadrature (furnace) and a brute-force integration (studio) in tests/render/test_environment.py
+and tests/render/test_env_render.py; and, for ``uniform``, that quadrature directly. Both images go
+through the same display transform (exposure 1, the shoulder above 0.8, sRGB) before the
+comparison, like with like. Skipped when Chromium is absent, unless SWATCH_REQUIRE_BROWSER=1.
+"""
+from __future__ import annotations
+
+import colour
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+from swatch.colorimetry.colorimeter import delta_E_00
+from swatch.render.display import KNEE, tone
+from tests.browser import CHROMIUM, WEBGL_ARGS, open_catalog_page, wait_until
+from tests.cli_helpers import run_swatch
+from tests.render.test_environment import _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal_view
+
+THICKNESSES = (30.0, 80.0, 160.0)
+BG = (118, 118, 118)  # linear grey 0.18, sRGB-encoded
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+
+
+@pytest.fixture(scope="module")
+def page(chromium, small_catalog):
+    ctx, pg, events = open_catalog_page(chromium, small_catalog)
+    yield pg, events, small_catalog
+    ctx.close()
+
+
+def _centre(pg) -> np.ndarray:
+    """Mean displayed sRGB (0–255) of the 2 × 2 pixels around the canvas centre."""
+    return np.mean([pg.evaluate("q => swatchCatalog.pixel(q).rgb", {"x": x, "y": y})
+                    for x in (399, 400) for y in (299, 300)], axis=0)
+
+
+def _display(linear) -> np.ndarray:
+    """The renderer's PNG transform at exposure 1 (swatch.render.display), in float: 0–255 sRGB."""
+    return 255.0 * colour.cctf_encoding(np.clip(tone(linear), 0.0, 1.0), "sRGB")
+
+
+def _lab_of_display(rgb255) -> np.ndarray:
+    return colour.XYZ_to_Lab(colour.sRGB_to_XYZ(np.asarray(rgb255, dtype=float) / 255.0))
+
+
+def _exr_centre(path) -> np.ndarray:
+    inp = oiio.ImageInput.open(str(path))
+    a = np.asarray(inp.read_image(0, 0, 0, 3, "float"), dtype=np.float64)
+    inp.close()
+    h, w = a.shape[:2]
+    return a[h // 2 - 1:h // 2 + 1, w // 2 - 1:w // 2 + 1].reshape(-1, 3).mean(axis=0)
+
+
+@pytest.mark.parametrize("lighting", ["studio", "uniform"])
+def test_plate_and_sphere_along_the_normal_match_swatch_render(page, tmp_path, lighting):
+    pg, events, _ = page
+    worst = 0.0
+    for shape, page_shape in (("flat", "plate"), ("sphere", "sphere")):
+        run_swatch("render", "--thickness", ",".join(f"{d:g}" for d in THICKNESSES), "--shape", shape, "--view", "0",
+                   "--environment", lighting, "--size", "64", "--out", str(tmp_path / shape))
+        for d in THICKNESSES:
+            want = _display(_exr_centre(tmp_path / shape / f"{shape}_{d:05.1f}nm.exr"))
+            pg.evaluate("q => swatchCatalog.show(q)", {"lighting": lighting, "shape": page_shape, "thickness_nm": d,
+                                                        "view_deg": 0})
+            got = _centre(pg)
+            dE = float(delta_E_00(_lab_of_display(got), _lab_of_display(want)))
+            worst = max(worst, dE)
+            assert dE <= 1.0, (lighting, shape, d, got, want, dE)
+    print(f"{lighting}: max dE00 page vs swatch render {worst:.2f}")
+    assert events["errors"] == []
+
+
+def test_uniform_plate_is_the_directional_albedo(page):
+    """The furnace test through the page: the plate seen along its normal under ``uniform`` equals
+    the directional albedo by tmm + scipy quadrature (tests/render/test_environment.py)."""
+    pg, _, _ = page
+    for d in THICKNESSES:
+        pg.evaluate("q => swatchCatalog.show(q)", {"lighting": "uniform", "shape": "plate", "thickness_nm": d,
+                                                    "view_deg": 0})
+        linear = colour.cctf_decoding(_centre(pg) / 255.0, "sRGB")
+        assert linear.max() < KNEE  # below the shoulder the display is linear: invertible
+        dE = float(delta_E_00(_lab(_xyz_of_srgb(linear)), _lab_of_spectrum(albedo_normal_view(d))))
+        print(f"uniform plate {d:g} nm: dE00 page vs tmm quadrature {dE:.2f}")
+        assert dE <= 1.0, (d, dE)
+
+
+def _canvas_stats(pg) -> dict:
+    """Over the whole canvas: pixels on the object (not the grey background), black ones, and the
+    objects' mean colour."""
+    return pg.evaluate("""bg => { const c = document.getElementById('view'), gl = c.getContext('webgl2');
+        const p = new Uint8Array(c.width * c.height * 4); gl.readPixels(0, 0, c.width, c.height, gl.RGBA, gl.UNSIGNED_BYTE, p);
+        let on = 0, black = 0; const sum = [0, 0, 0];
+        for (let i = 0; i < p.length; i += 4) {
+          if (p[i] === bg[0] && p[i + 1] === bg[1] && p[i + 2] === bg[2]) continue;
+          on++; if (p[i] + p[i + 1] + p[i + 2] === 0) black++;
+          sum[0] += p[i]; sum[1] += p[i + 1]; sum[2] += p[i + 2];
+        }
+        return {on, black, total: c.width * c.height, mean: sum.map((s) => s / Math.max(on, 1))}; }""", list(BG))
+
+
+@pytest.mark.parametrize("lighting", ["studio", "uniform"])
+def test_every_shape_looks_like_the_finish(page, lighting):
+    """No black crescent, no black or NaN pixels; 50.8 nm reads blue and 140 nm pink."""
+    pg, events, out = page
+    for shape in ("plate", "bent sheet", "sphere"):
+        for d in (50.8, 140.0):
+            pg.evaluate("q => swatchCatalog.show(q)", {"lighting": lighting, "shape": shape, "thickness_nm": d,
+                                                        "view_deg": 30, "view_azimuth_deg": 180})
+            s = _canvas_stats(pg)
+            assert s["on"] > 0.1 * s["total"] and s["black"] == 0, (lighting, shape, d, s)
+            r, g, b = s["mean"]
+            if d < 100:
+                assert b > r + 60 and b > g, (lighting, shape, d, s["mean"])
+            else:
+                assert r > g + 40 and b > g + 20, (lighting, shape, d, s["mean"])
+            pg.locator("#view").screenshot(path=str(out.parent / f"env_{lighting}_{shape.replace(' ', '_')}_{d:g}.png"))
+    assert events["errors"] == []
+
+
+def test_switching_lighting_changes_the_canvas(page):
+    pg, events, _ = page
+    grid = [{"x": x, "y": y} for x in (200, 400, 600) for y in (150, 300, 450)]
+    seen = {}
+    for lighting in ("point", "studio", "uniform", "point"):
+        state = pg.evaluate("q => swatchCatalog.show(q)", {"lighting": lighting, "shape": "sphere", "thickness_nm": 80,
+                                                            "view_deg": 20})
+        assert state["lighting"] == lighting
+        assert pg.locator("#lighting").input_value() == lighting
+        assert pg.locator("#light").is_disabled() == (lighting != "point")
+        px = tuple(tuple(pg.evaluate("q => swatchCatalog.pixel(q).rgb", q)) for q in grid)
+        if lighting in seen:
+            assert px == seen[lighting]  # back to the point light: the same picture
+        seen[lighting] = px
+    assert len(set(seen.values())) == 3
+    # the select itself (a user's change event)
+    pg.select_option("#lighting", "studio")
+    assert pg.evaluate("swatchCatalog.show({}).lighting") == "studio"
+    assert pg.evaluate("swatchCatalog.lightings") == ["point", "uniform", "studio"]
+    assert events["errors"] == []
+    assert all(u.startswith("file://") for u in events["requests"])
+
+
+def test_lighting_and_model_stay_consistent(page):
+    pg, _, _ = page
+    st = pg.evaluate("swatchCatalog.show({model: 'paper', lighting: 'point'})")
+    st = pg.evaluate("swatchCatalog.show({lighting: 'studio'})")
+    assert st["model"] == "microfacet"  # an environment integrates the microfacet BRDF
+    st = pg.evaluate("swatchCatalog.show({model: 'paper'})")
+    assert st["lighting"] == "point"
+    err = pg.evaluate("() => { try { swatchCatalog.show({lighting: 'sunset'}); return null; } catch (e) { return e.message; } }")
+    assert err and "lighting must be one of point, uniform, studio" in err
+    err = pg.evaluate("() => { try { swatchCatalog.pixel({x: -1, y: 0}); return null; } catch (e) { return e.message; } }")
+    assert err and "on the canvas" in err
+
+
+def test_dragging_under_an_environment_refines_when_let_go(page):
+    """While the view is dragged the environment is gathered at half resolution; letting go draws
+    the full picture (the same as showing that view afresh)."""
+    pg, events, _ = page
+    pg.evaluate("swatchCatalog.show({lighting: 'studio', shape: 'sphere', thickness_nm: 140, view_deg: 10, "
+                "view_azimuth_deg: 180})")
+    grid = [{"x": x, "y": y} for x in range(150, 651, 25) for y in (150, 300, 450)]
+    before = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    box = pg.locator("#view").bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    pg.mouse.move(x, y)
+    pg.mouse.down()
+    pg.mouse.move(x + 30, y + 60, steps=3)
+    during = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    pg.mouse.up()
+    after = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    assert during != after  # the coarse picture, then the refined one
+    st = pg.evaluate("swatchCatalog.show({})")
+    assert st["view_deg"] > 20 and after != before
+    pg.evaluate("swatchCatalog.show({view_deg: 0})")
+    pg.evaluate("q => swatchCatalog.show(q)", {"view_deg": st["view_deg"], "view_azimuth_deg": st["view_azimuth_deg"]})
+    fresh = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    assert after == fresh
+    assert events["errors"] == []
+
+
+def test_without_webgl_only_the_point_light_is_offered(playwright_session, small_catalog):
+    # a Chromium of its own: without WebGL is the point (the suite's one Chromium has SwiftShader's)
+    browser = playwright_session.chromium.launch(executable_path=CHROMIUM, args=[*WEBGL_ARGS, "--disable-3d-apis"])
+    pg = browser.new_page()
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto((small_catalog / "index.html").resolve().as_uri())
+    wait_until(pg, "() => window.swatchCatalog !== undefined")
+    assert pg.evaluate("swatchCatalog.lightings") == ["point"]
+    assert pg.locator("#lighting").is_disabled()
+    assert pg.locator("#lighting option").count() == 1
+    assert pg.evaluate("swatchCatalog.show({lighting: 'point', thickness_nm: 80}).lighting") == "point"
+    err = pg.evaluate("() => { try { swatchCatalog.show({lighting: 'studio'}); return null; } "
+                      "catch (e) { return e.message; } }")
+    assert err and "one of point" in err
+    assert "no WebGL2" in pg.locator("#view-note").text_content()
+    assert errors == []
+    browser.close()

@@ -1,0 +1,339 @@
+"""The Mitsuba engine against references we did not write (#23): Mitsuba's own roughconductor at 0 nm,
+Mitsuba's chi² test of the plugin's sampling, the white furnace against tmm + scipy quadrature, and the
+built-in engine at the plate and sphere centres. Small images and few samples keep them to seconds each."""
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import colour
+import numpy as np
+import pytest
+import tmm
+from scipy.special import roots_legendre
+
+from swatch.physics.materials import load_material
+from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def mi():
+    return mitsuba_variant()
+
+
+_ZERO_THICKNESS_PAIR = """
+import sys
+import numpy as np
+from swatch.render.mitsuba.engine import render_swatch_mitsuba
+from swatch.physics.materials import load_material
+from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
+
+mitsuba_variant()
+s = load_material("Ti-Johnson")
+imgs = [render_swatch_mitsuba(0.0, "sphere", 32, 8, seed=4, lighting_name="studio", bsdf_override=bsdf).linear_rgb
+        for bsdf in ({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"},
+                     {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,
+                      "eta": irregular_spectrum(s.wavelength_nm, s.n), "k": irregular_spectrum(s.wavelength_nm, s.k)})]
+np.save(sys.argv[1], np.stack(imgs))
+"""
+
+
+def _hemisphere(rng, n):
+    """n cosine-distributed unit vectors on the upper hemisphere, shape (3, n)."""
+    u = rng.random((2, n))
+    ct = np.sqrt(u[0])
+    st = np.sqrt(1.0 - ct * ct)
+    return np.stack([st * np.cos(2 * np.pi * u[1]), st * np.sin(2 * np.pi * u[1]), ct])
+
+
+def test_zero_thickness_bsdf_is_mitsubas_roughconductor(mi):
+    """#23: at thickness_nm = 0 the plugin (separable Smith, as roughconductor) is Mitsuba's own roughconductor
+    with Ti-Johnson's n, k: eval, pdf and sample (direction, weight; pdf where the sample counts) agree at 4096 random (wi, wo) pairs
+    and sampled wavelengths to 1e-5 relative (measured ≤ 6e-7). Evaluated directly, so no sample stream is
+    involved (a rendered same-seed pair differed once with a cold Dr.Jit kernel cache: CI, 2026-12-01)."""
+    import drjit as dr
+
+    s = load_material("Ti-Johnson")
+    film = mi.load_dict({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"})
+    rc = mi.load_dict({"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,
+                       "eta": irregular_spectrum(s.wavelength_nm, s.n), "k": irregular_spectrum(s.wavelength_nm, s.k)})
+    rng = np.random.default_rng(7)
+    n = 4096
+    wi, wo, u = _hemisphere(rng, n), _hemisphere(rng, n), rng.random((3, n))
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(*wi)
+    si.wavelengths = mi.Spectrum(*[mi.Float(w) for w in rng.uniform(380.0, 780.0, (4, n))])
+    si.n = mi.Normal3f(0.0, 0.0, 1.0)
+    si.sh_frame = mi.Frame3f(si.n)
+    ctx = mi.BSDFContext()
+    w = mi.Vector3f(*wo)
+
+    def close(a, b, what):
+        a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+        assert a.shape == b.shape and np.all(np.isfinite(a)), what
+        assert np.max(np.abs(a - b) / np.maximum(np.abs(b), 1e-3)) <= 1e-5, what
+
+    v_rc = np.asarray(rc.eval(ctx, si, w))
+    assert (v_rc > 1e-3).sum() > n  # the comparison is not of zeros
+    close(film.eval(ctx, si, w), v_rc, "eval")
+    close(film.pdf(ctx, si, w), rc.pdf(ctx, si, w), "pdf")
+    bs_f, w_f = film.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1], u[2]))
+    bs_r, w_r = rc.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1], u[2]))
+    close(bs_f.wo, bs_r.wo, "sampled direction")
+    close(w_f, w_r, "sample weight")
+    valid = np.asarray(w_r).max(axis=0) > 0  # roughconductor keeps a pdf on samples it weights 0 (below the horizon)
+    assert valid.sum() > n // 2
+    close(np.asarray(bs_f.pdf)[valid], np.asarray(bs_r.pdf)[valid], "sampled pdf")
+
+
+def test_zero_thickness_renders_as_roughconductor(mi, tmp_path):
+    """#23: rendered in the studio (same scene, seed, spp), the plugin at thickness_nm = 0 and Mitsuba's
+    roughconductor give the same image brightness: mean within 1 % (measured 0–0.2 %). The means, not the
+    pixels: with a cold Dr.Jit kernel cache the two renders can draw different sample streams (seen in CI),
+    so pixel-by-pixel equality is not what Mitsuba promises; the BSDFs themselves are compared exactly in
+    test_zero_thickness_bsdf_is_mitsubas_roughconductor. Rendered in a fresh process."""
+    out = tmp_path / "pair.npy"
+    root = Path(__file__).resolve().parents[2]
+    proc = subprocess.run([sys.executable, "-c", _ZERO_THICKNESS_PAIR, str(out)], cwd=root, capture_output=True,
+                          text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    a, b = np.load(out)
+    assert np.all(np.isfinite(a)) and b.mean() > 0.05
+    assert abs(a.mean() - b.mean()) / b.mean() <= 0.01
+
+
+@pytest.mark.parametrize("params", [
+    {"thickness_nm": 0.0, "alpha": 0.3, "wi_deg": 0.0},
+    {"thickness_nm": 120.0, "alpha": 0.2, "wi_deg": 60.0},
+    {"thickness_nm": 250.0, "alpha_u": 0.2, "alpha_v": 0.5, "wi_deg": 40.0},
+    {"thickness_nm": 50.8, "alpha": 0.4, "distribution": "beckmann", "wi_deg": 70.0},
+], ids=["0nm-iso", "120nm-glossy", "250nm-aniso", "50nm-beckmann"])
+def test_chi2_sampling_matches_pdf(mi, params, tmp_path, monkeypatch):
+    """#23: Mitsuba's χ² test (mitsuba.chi2: BSDFAdapter, ChiSquareTest) accepts the plugin's sampling against
+    its pdf at several thicknesses, roughnesses, anisotropies and incidence angles. (Below α 0.2 the harness
+    rejects Mitsuba's own roughconductor too at these resolutions: its bins cannot resolve the lobe.)"""
+    from mitsuba.chi2 import BSDFAdapter, ChiSquareTest, SphericalDomain
+
+    monkeypatch.chdir(tmp_path)  # a rejected test writes chi2_data.py
+
+    p = dict(params)
+    t = math.radians(p.pop("wi_deg"))
+    wi = [math.sin(t) * 0.8, math.sin(t) * 0.6, math.cos(t)]
+    sample, pdf = BSDFAdapter("anodic_film", {"type": "anodic_film", **p}, wi=wi)
+    chi2 = ChiSquareTest(domain=SphericalDomain(), sample_func=sample, pdf_func=pdf, sample_dim=3,
+                         sample_count=400_000, res=61)
+    assert chi2.run(), chi2.messages
+
+
+def test_chi2_sampling_matches_pdf_with_a_brush_axis(mi, tmp_path, monkeypatch):
+    """#23: the χ² test (mitsuba.chi2.ChiSquareTest) accepts the sampling of an anisotropic lobe turned by
+    ``brush_axis`` (world (0.6, 0.8, 0), 53° from the shading frame's s; 150 nm, α 0.2 × 0.5, 40°), with the
+    shading frame set (BSDFAdapter leaves it zero, where the plugin keeps the frame's own s)."""
+    import drjit as dr
+    from mitsuba.chi2 import ChiSquareTest, SphericalDomain
+
+    monkeypatch.chdir(tmp_path)
+    bsdf = mi.load_dict({"type": "anodic_film", "thickness_nm": 150.0, "alpha_u": 0.2, "alpha_v": 0.5,
+                         "brush_axis": [0.6, 0.8, 0.0]})
+    t = math.radians(40.0)
+    wi = mi.Vector3f(math.sin(t), 0.0, math.cos(t))
+
+    def context(n):
+        si = dr.zeros(mi.SurfaceInteraction3f, n)
+        si.sh_frame = mi.Frame3f(mi.Vector3f(1.0, 0.0, 0.0), mi.Vector3f(0.0, 1.0, 0.0), mi.Vector3f(0.0, 0.0, 1.0))
+        si.wi = wi
+        return si
+
+    def sample(s):
+        bs, weight = bsdf.sample(mi.BSDFContext(), context(dr.width(s)), s[0], mi.Vector2f(s[1], s[2]))
+        w = dr.full(mi.Float, 1.0, dr.width(weight))
+        w[dr.all(weight == 0)] = 0
+        return bs.wo, w
+
+    def pdf(wo):
+        return bsdf.pdf(mi.BSDFContext(), context(dr.width(wo)), wo)
+
+    chi2 = ChiSquareTest(domain=SphericalDomain(), sample_func=sample, pdf_func=pdf, sample_dim=3,
+                         sample_count=400_000, res=61)
+    assert chi2.run(), chi2.messages
+
+
+# -- the white furnace -------------------------------------------------------------------------------------
+_WL = np.arange(380.0, 781.0, 10.0)
+
+
+def _tmm_F(d_nm, theta_d, n_film, n_sub):
+    """Unpolarised Airy reflectance (W,) by tmm.coh_tmm at facet angle theta_d."""
+    out = np.empty(_WL.size)
+    for j, wl in enumerate(_WL):
+        st, ds = [1.0, n_film[j], n_sub[j]], [np.inf, d_nm, np.inf]
+        out[j] = 0.5 * (tmm.coh_tmm("s", st, ds, theta_d, wl)["R"] + tmm.coh_tmm("p", st, ds, theta_d, wl)["R"])
+    return out
+
+
+def _albedo(cos_v, d_nm, alpha, n_film, n_sub, n_q=96):
+    """Spectral directional albedo ∫ F D G₂ / (4 cos θv) dω_l (GGX, height-correlated Smith) by Gauss–Legendre
+    quadrature in (θ_l, φ_l), F from tmm tabulated over θd; shape (len(cos_v), W)."""
+    x, w = roots_legendre(n_q)
+    th, wth = (x + 1) * math.pi / 4, w * math.pi / 4
+    ph, wph = (x + 1) * math.pi, w * math.pi
+    T, P = np.meshgrid(th, ph, indexing="ij")
+    L = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1)
+    dw = np.sin(T) * wth[:, None] * wph[None, :]
+    tds = np.linspace(0.0, math.pi / 2 * 0.9999, 46)
+    Ftab = np.array([_tmm_F(d_nm, t, n_film, n_sub) for t in tds])
+
+    def lam(c):
+        return 0.5 * (np.sqrt(1 + alpha**2 * (1 - c * c) / (c * c)) - 1)
+
+    out = []
+    for cv in cos_v:
+        v = np.array([math.sqrt(1 - cv * cv), 0.0, cv])
+        H = L + v
+        H /= np.linalg.norm(H, axis=-1, keepdims=True)
+        D = alpha**2 / (math.pi * ((alpha**2 - 1) * H[..., 2] ** 2 + 1) ** 2)
+        G = 1 / (1 + lam(L[..., 2]) + lam(cv))
+        wgt = (D * G / (4 * cv) * dw).ravel()
+        td = np.arccos(np.clip((L * H).sum(-1), -1, 1)).ravel()
+        idx = np.clip(np.searchsorted(tds, td) - 1, 0, tds.size - 2)
+        f = ((td - tds[idx]) / (tds[idx + 1] - tds[idx]))[:, None]
+        F = Ftab[idx] * (1 - f) + Ftab[idx + 1] * f
+        out.append(wgt @ F)
+    return np.array(out)
+
+
+def _lab_of_spectrum(R):
+    sd = colour.SpectralDistribution(dict(zip(_WL, R, strict=True)))
+    XYZ = colour.sd_to_XYZ(sd, colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"],
+                           colour.SDS_ILLUMINANTS["D65"], shape=colour.SpectralShape(380, 780, 10)) / 100
+    return colour.XYZ_to_Lab(XYZ, colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"])
+
+
+def _lab_of_srgb(rgb):
+    XYZ = colour.RGB_to_XYZ(np.asarray(rgb, dtype=np.float64), "sRGB", apply_cctf_decoding=False)
+    return colour.XYZ_to_Lab(XYZ, colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"])
+
+
+@pytest.mark.parametrize("d_nm", [50.8, 140.0])
+def test_white_furnace_sphere_equals_tmm_quadrature(mi, d_nm):
+    """#23: a sphere under uniform light (radiance 1, D65), averaged over its fully covered pixels, equals the
+    mean of tmm + Gauss–Legendre quadrature of the single-scattering lobe over the same pixels' view angles:
+    ΔE00 ≤ 0.5 (CIE 1931 2°, D65, α 0.3 GGX)."""
+    from swatch.render.mitsuba.engine import render_swatch_mitsuba
+    from swatch.render.scene import make_scene, scene_geometry
+
+    size, alpha = 48, 0.3
+    img = render_swatch_mitsuba(d_nm, "sphere", size, 64, seed=1, lighting_name="uniform", roughness_alpha=alpha)
+    inside = img.coverage >= 0.999
+    n, _, v, hit = scene_geometry(make_scene("sphere", 45.0), size)
+    inside &= hit
+    cos_v = np.clip(np.einsum("...i,...i->...", n / np.linalg.norm(n, axis=-1, keepdims=True), v), 1e-3, 1)[inside]
+    nodes = np.linspace(cos_v.min(), 1.0, 24)
+    f, s = load_material("TiO2-Siefke"), load_material("Ti-Johnson")
+    A = _albedo(nodes, d_nm, alpha, f.nk(_WL), s.nk(_WL))
+    per_pixel = np.stack([np.interp(cos_v, nodes, A[:, j]) for j in range(_WL.size)], -1)
+    ref = _lab_of_spectrum(per_pixel.mean(axis=0))
+    got = _lab_of_srgb(img.linear_rgb[inside].mean(axis=0))
+    assert colour.delta_E(got, ref, method="CIE 2000") <= 0.5
+
+
+def _studio_map(path):
+    """The built-in studio environment sampled onto an equirectangular EXR (the map both engines then read)."""
+    import OpenImageIO as oiio
+
+    from swatch.render.environment import get_environment
+
+    h, w = 128, 256
+    th = (np.arange(h) + 0.5) / h * math.pi
+    ph = ((np.arange(w) + 0.5) / w - 0.5) * 2 * math.pi
+    T, P = np.meshgrid(th, ph, indexing="ij")
+    d = np.stack([np.sin(T) * np.sin(P), np.cos(T), -np.sin(T) * np.cos(P)], -1)
+    rgb = get_environment("studio").radiance_at(d).astype(np.float32)
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), oiio.ImageSpec(w, h, 3, oiio.FLOAT))
+    out.write_image(np.ascontiguousarray(rgb))
+    out.close()
+    return str(path)
+
+
+def _centre_lab(img, c, r):
+    return _lab_of_srgb(img.linear_rgb[c - r:c + r + 1, c - r:c + r + 1].reshape(-1, 3).mean(0))
+
+
+@pytest.mark.parametrize("shape", ["flat", "sphere"])
+def test_engine_matches_builtin_under_uniform(mi, shape):
+    """#23: --engine mitsuba vs the built-in engine under uniform light (radiance 1, D65) at the plate centre and
+    the sphere centre (5 × 5 pixels of a 64² render, 256 spp), 30/80/160 nm: ΔE00 ≤ 1 (CIE 1931 2°, D65)."""
+    from swatch.render import render_swatch
+    from swatch.render.mitsuba.engine import render_swatch_mitsuba
+
+    for d in (30.0, 80.0, 160.0):
+        m = render_swatch_mitsuba(d, shape, 64, 256, seed=2, lighting_name="uniform")
+        b = render_swatch(d, shape, 64, environment="uniform")
+        assert colour.delta_E(_centre_lab(m, 32, 2), _centre_lab(b, 32, 2), method="CIE 2000") <= 1.0, d
+
+
+def _studio_reference(path, shape, d_nm, size, pixels, alpha=0.3):
+    """Independent quadrature of a pixel's radiance under an equirectangular map: Σ over the map's texels
+    (4 × 4 sub-texels) of L f cos dω, F from tmm as linear sRGB (exact for a neutral map), GGX, correlated Smith;
+    the mean over ``pixels`` (row, column) of a ``size``² render of ``shape``."""
+    from swatch.render.environment import read_equirect
+    from swatch.render.scene import make_scene, scene_geometry
+
+    img = read_equirect(path)
+    h, w, _ = img.shape
+    sub = 4
+    T, P = np.meshgrid((np.arange(h * sub) + 0.5) / (h * sub) * math.pi,
+                       ((np.arange(w * sub) + 0.5) / (w * sub) - 0.5) * 2 * math.pi, indexing="ij")
+    L = np.stack([np.sin(T) * np.sin(P), np.cos(T), -np.sin(T) * np.cos(P)], -1)
+    dw = np.sin(T) * (math.pi / (h * sub)) * (2 * math.pi / (w * sub))
+    rad = np.repeat(np.repeat(img, sub, 0), sub, 1)[..., 1]  # neutral: R = G = B
+    f, s = load_material("TiO2-Siefke"), load_material("Ti-Johnson")
+    tds = np.linspace(0.0, math.pi / 2 * 0.9999, 46)
+    Ftab = np.array([_tmm_F(d_nm, t, f.nk(_WL), s.nk(_WL)) for t in tds])
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    Frgb = np.array([colour.XYZ_to_RGB(colour.sd_to_XYZ(colour.SpectralDistribution(dict(zip(_WL, F, strict=True))),
+                                                         cmfs, colour.SDS_ILLUMINANTS["D65"],
+                                                         shape=colour.SpectralShape(380, 780, 10)) / 100,
+                                       "sRGB", apply_cctf_encoding=False) for F in Ftab])
+    normals, _, views, _ = scene_geometry(make_scene(shape, 45.0), size)
+
+    def lam(c):
+        c = np.maximum(c, 1e-6)
+        return 0.5 * (np.sqrt(1 + alpha**2 * (1 - c * c) / (c * c)) - 1)
+
+    out = []
+    for r, c in pixels:
+        n = normals[r, c] / np.linalg.norm(normals[r, c])
+        v = views[r, c] / np.linalg.norm(views[r, c])
+        H = L + v
+        H /= np.linalg.norm(H, axis=-1, keepdims=True)
+        cl, cv, ch = L @ n, float(v @ n), H @ n
+        D = alpha**2 / (math.pi * ((alpha**2 - 1) * ch * ch + 1) ** 2)
+        wgt = np.where((cl > 0) & (ch > 0), D / (1 + lam(cl) + lam(cv)) / (4 * cv) * dw * rad, 0.0).ravel()
+        td = np.arccos(np.clip((L * H).sum(-1), -1, 1)).ravel()
+        out.append([wgt @ np.interp(td, tds, Frgb[:, k]) for k in range(3)])
+    return _lab_of_srgb(np.mean(out, axis=0))
+
+
+@pytest.mark.parametrize("shape", ["flat", "sphere"])
+def test_engine_under_studio_light(mi, tmp_path, shape):
+    """#23: under the built-in studio resampled to an equirectangular EXR (the studio-like light both engines
+    read), 30 and 80 nm, 3 × 3 centre pixels of a 32² render at 2048 spp: the Mitsuba engine equals an
+    independent quadrature of the map (tmm F, GGX) within ΔE00 1 at the plate and sphere centres (CIE 1931 2°,
+    D65). The built-in engine is not asserted here: it reads 1–4 % brighter at the plate centre (ΔE00 0.7–1.0
+    against this engine) and 8–12 % at the sphere centre (ΔE00 up to 1.9), its filtered-environment
+    approximation (docs/mitsuba.md), left to its owners."""
+    from swatch.render.mitsuba.engine import mitsuba_lighting, render_swatch_mitsuba
+
+    env = _studio_map(tmp_path / "studio.exr")
+    lit = mitsuba_lighting(env)
+    block = [(r, c) for r in (15, 16, 17) for c in (15, 16, 17)]
+    for d in (30.0, 80.0):
+        m = _centre_lab(render_swatch_mitsuba(d, shape, 32, 2048, seed=2, lighting_name=lit), 16, 1)
+        ref = _studio_reference(env, shape, d, 32, block)
+        assert colour.delta_E(m, ref, method="CIE 2000") <= 1.0, ("reference", d)
