@@ -201,10 +201,10 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
         title = ("3-D material presets; max " + str(p.get("conditions", "")) + "; at 0–45°: "
                  + ", ".join(f"{label} {_fmt(p.get(dk + '_45'), 1)}" for _, label, dk in kinds))
         out.append(f'<div class="links presets" title="{e(title)}"><span>3-D material presets, largest ΔE00 from this swatch:</span>'
-                   + "".join(f'<a href="{e(str(p[k]))}">{label} {_fmt(p.get(dk), 1)}</a>'
-                             for k, label, dk in kinds if p.get(k))
-                   + (f'<a href="{e(str(p["mitsuba"]))}" title="Mitsuba 3 with swatch\'s anodic_film BSDF: the exact '
-                      f'model, nothing fitted">Mitsuba (exact)</a><a href="{e(str(p["mitsuba_json"]))}">JSON</a>'
+                   + "".join(f' <a href="{e(str(p[k]))}">{label} {_fmt(p.get(dk), 1)}</a>'
+                             for k, label, dk in kinds if p.get(k))  # a space before each: the line may break there
+                   + (f' <a href="{e(str(p["mitsuba"]))}" title="Mitsuba 3 with swatch\'s anodic_film BSDF: the exact '
+                      f'model, nothing fitted">Mitsuba (exact)</a> <a href="{e(str(p["mitsuba_json"]))}">JSON</a>'
                       if p.get("mitsuba") and p.get("mitsuba_json") else "")
                    + "</div>")
     out.append("</div></article>")

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from swatch.core.errors import SwatchError
 from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, plain_name
+from swatch.presets import EXACT_FORMATS, PRESET_FORMATS
 
 __all__ = ["SUBFOLDERS", "SHEETS", "CHIPS", "PRESETS", "HEROES", "output_name", "subfolders_of", "check_subfolders",
            "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary", "sheet_count"]
@@ -112,6 +113,10 @@ def drop_empty_subfolders(out: Path, files) -> None:
                 os.rmdir(out / sub)
 
 
+#: Files a swatch has in ``presets/``: one per fitted format, an XML and a JSON per exact (Mitsuba) format.
+PRESET_FILES_PER_SWATCH = len(PRESET_FORMATS) + 2 * len(EXACT_FORMATS)
+
+
 def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool) -> str:
     """One line: what a build of ``swatches`` swatches on ``sheets`` sheets writes where (``catalog validate``).
 
@@ -125,9 +130,9 @@ def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool) -> str
     Returns
     -------
     str
-        E.g. ``"index.html, catalog.json/.csv, CxF and ASE at the top; sheets/ 10 files, chips/ 114, presets/ 171"``.
+        E.g. ``"index.html, catalog.json/.csv, CxF and ASE at the top; sheets/ 10 files, chips/ 114, presets/ 285"``.
     """
-    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, 3 * swatches),
+    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, PRESET_FILES_PER_SWATCH * swatches),
               (HEROES, swatches if heroes else 0)]
     subs = [f"{sub}/ {n}" for sub, n in counts if n]
     if subs:

@@ -122,6 +122,7 @@ def written(tmp_path_factory):
     data = compute(catalog_context(spec))
     files, entries = catalog_presets(spec, data.records, root)
     for name, blob in files.items():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
         (root / name).write_bytes(blob)
     return spec, [dict(r, presets=e) for r, e in zip(data.records, entries, strict=True)], root, files
 
