@@ -91,19 +91,21 @@ def test_zero_thickness_bsdf_is_mitsubas_roughconductor(mi):
 
 
 def test_zero_thickness_renders_as_roughconductor(mi, tmp_path):
-    """#23: rendered in the studio (same scene, seed, spp), the plugin at thickness_nm = 0 and Mitsuba's
-    roughconductor give the same image brightness: mean within 1 % (measured 0–0.2 %). The means, not the
-    pixels: with a cold Dr.Jit kernel cache the two renders can draw different sample streams (seen in CI),
-    so pixel-by-pixel equality is not what Mitsuba promises; the BSDFs themselves are compared exactly in
-    test_zero_thickness_bsdf_is_mitsubas_roughconductor. Rendered in a fresh process."""
+    """#23: rendered in the studio (same scene, seed, spp), the plugin at thickness_nm = 0 and Mitsuba's own
+    roughconductor with Ti-Johnson's n, k give the same image: mean relative difference ≤ 1e-3 (measured
+    3e-8). This held only by chance before the scenes were loaded without Mitsuba's merging pass
+    (swatch.render.mitsuba.scene.load_scene): the merge left the studio's emitters in either order, so one
+    load in eight drew another sample stream (CI, 2026-12-01). Rendered in a fresh process; the BSDFs
+    themselves are compared in test_zero_thickness_bsdf_is_mitsubas_roughconductor."""
     out = tmp_path / "pair.npy"
     root = Path(__file__).resolve().parents[2]
     proc = subprocess.run([sys.executable, "-c", _ZERO_THICKNESS_PAIR, str(out)], cwd=root, capture_output=True,
                           text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     a, b = np.load(out)
-    assert np.all(np.isfinite(a)) and b.mean() > 0.05
-    assert abs(a.mean() - b.mean()) / b.mean() <= 0.01
+    m = b > 1e-3
+    assert m.sum() > 500 and np.all(np.isfinite(a))
+    assert np.mean(np.abs(a[m] - b[m]) / b[m]) <= 1e-3
 
 
 @pytest.mark.parametrize("params", [
