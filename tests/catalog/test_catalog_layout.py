@@ -5,7 +5,6 @@ read back from the metadata still resolves inside the folder."""
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import io
 import json
 import os
@@ -20,6 +19,7 @@ from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
 from swatch.catalog.layout import SUBFOLDERS
 from swatch.cli import main
 from swatch.core.errors import SwatchError
+from tests.catalog.folder_helpers import digest
 
 pytestmark = pytest.mark.slow
 
@@ -42,12 +42,6 @@ rows = 1
 def write_spec(path: Path, grade: str = "C") -> Path:
     path.write_text(SPEC.format(grade=grade), encoding="utf-8")
     return path
-
-
-def digest(folder: Path) -> dict[str, str]:
-    """Every file under ``folder`` but the metadata, by its name relative to the folder."""
-    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.rglob("*")) if p.is_file() and META_DIR not in p.relative_to(folder).parts}
 
 
 @pytest.fixture(scope="module")

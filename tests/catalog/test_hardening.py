@@ -19,6 +19,7 @@ from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
 from swatch.cli import main
 from swatch.core.errors import SwatchError
+from tests.catalog.folder_helpers import digest
 from tests.cli_helpers import assert_one_line_error
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
@@ -42,12 +43,6 @@ rows = 1
 def write_spec(path: Path, grade: str = "C") -> Path:
     path.write_text(SPEC.format(grade=grade), encoding="utf-8")
     return path
-
-
-def digest(folder: Path) -> dict[str, str]:
-    """The catalog's files (the top and its subfolders, #21; not the metadata) by relative name."""
-    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.rglob("*")) if p.is_file() and META_DIR not in p.relative_to(folder).parts}
 
 
 def tree(folder: Path) -> dict[str, bytes | None]:
