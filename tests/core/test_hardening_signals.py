@@ -25,6 +25,9 @@ def test_issue22_ctrl_c_while_the_fork_server_starts_is_delivered_not_lost():
     the server itself still ignores it."""
     code = """
 import os, signal
+# as a terminal's foreground job starts it: a test run in the background of a script has SIGINT ignored
+# (inherited SIG_IGN, rightly respected: the Ctrl-C below would then be 'lost' for that reason alone)
+signal.signal(signal.SIGINT, signal.default_int_handler)
 from multiprocessing import forkserver
 from swatch.core import procguard
 procguard.handle_termination()
