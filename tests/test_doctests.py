@@ -55,6 +55,9 @@ MODULES_WITH_EXAMPLES = [
     "swatch.render.shading",
     "swatch.render.env_shading",
     "swatch.render.camera",
+    "swatch.render.octahedral",
+    "swatch.render.hdri",
+    "swatch.render.environment",
 ]
 
 

@@ -239,7 +239,8 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
 # -- the build cache ---------------------------------------------------------------------------
 def _key(roughness_alpha: float, cos_nodes: int) -> str:
     pkg = package_dir()
-    files = ("render/env_shading.py", "render/environment.py", "render/studio.py", "physics/microfacet.py", "catalog/explorer_env.py")
+    files = ("render/env_shading.py", "render/environment.py", "render/octahedral.py", "render/hdri.py", "render/studio.py",
+             "physics/microfacet.py", "catalog/explorer_env.py")
     code = {f: sha256_file(pkg / f) for f in files}
     blob = {"alpha": float(roughness_alpha), "nodes": int(cos_nodes), "code": code,
             "numpy": metadata.version("numpy")}

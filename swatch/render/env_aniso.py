@@ -190,7 +190,7 @@ def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
     ----------
     n, v, tangent : array_like, shape (P, 3)
         Normals, views and brushing directions.
-    maps : swatch.render.environment.LevelMaps
+    maps : swatch.render.octahedral.LevelMaps
         The environment's blurred levels.
     samples : AnisoSampleSet
     table : numpy.ndarray
@@ -246,7 +246,7 @@ def shade_aniso(n, v, maps, samples: AnisoSampleSet, weights, tangent) -> np.nda
     Parameters
     ----------
     n, v : array_like, shape (P, 3)
-    maps : swatch.render.environment.LevelMaps
+    maps : swatch.render.octahedral.LevelMaps
     samples : AnisoSampleSet
     weights : numpy.ndarray
         Band weights of the thickness.

@@ -337,7 +337,7 @@ def level_table(samples, maps) -> np.ndarray:
     Parameters
     ----------
     samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
-    maps : swatch.render.environment.LevelMaps
+    maps : swatch.render.octahedral.LevelMaps
 
     Returns
     -------
@@ -355,7 +355,7 @@ def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.n
     ----------
     n, v : array_like, shape (P, 3)
         Unit normals and views (towards the camera).
-    maps : swatch.render.environment.LevelMaps
+    maps : swatch.render.octahedral.LevelMaps
         The environment's blur levels (:func:`swatch.render.environment.levels`), looked up bilinearly
         in each sample's level.
     samples : SampleSet
@@ -413,7 +413,7 @@ def shade(n, v, maps, samples: SampleSet, weights) -> np.ndarray:
     Parameters
     ----------
     n, v : array_like, shape (P, 3)
-    maps : swatch.render.environment.LevelMaps
+    maps : swatch.render.octahedral.LevelMaps
     samples : SampleSet
     weights : numpy.ndarray, shape (M, N, 3)
 

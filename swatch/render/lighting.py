@@ -11,7 +11,7 @@ camera, the size and the background it implies) before anything is rendered:
 * ``mitsuba`` (:mod:`swatch.render.mitsuba.engine`): ``studio`` (Mitsuba's photographic studio:
   cyclorama and soft boxes; the default), ``sun`` (Mitsuba's ``sunsky``, with a :class:`Sun`),
   ``uniform``, or a map, whose pixels are read and checked once
-  (:func:`swatch.render.environment.read_equirect`).
+  (:func:`swatch.render.hdri.read_equirect`).
 
 Nothing here imports Mitsuba: the built-in path and ``swatch --help`` never load it.
 """
@@ -29,7 +29,8 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_TURBIDITY, MAX_YEAR, MIN_TURBIDITY, MIN_YEAR
 from swatch.physics import geometry
 from swatch.render.env_render import check_env_size_px
-from swatch.render.environment import Environment, get_environment, read_equirect
+from swatch.render.environment import Environment, get_environment
+from swatch.render.hdri import read_equirect
 
 __all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine"]
 

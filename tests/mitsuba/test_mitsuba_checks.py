@@ -283,7 +283,7 @@ def _studio_reference(path, shape, d_nm, size, pixels, alpha=0.3):
     """Independent quadrature of a pixel's radiance under an equirectangular map: Σ over the map's texels
     (4 × 4 sub-texels) of L f cos dω, F from tmm as linear sRGB (exact for a neutral map), GGX, correlated Smith;
     the mean over ``pixels`` (row, column) of a ``size``² render of ``shape``."""
-    from swatch.render.environment import read_equirect
+    from swatch.render.hdri import read_equirect
     from swatch.render.scene import make_scene, scene_geometry
 
     img = read_equirect(path)

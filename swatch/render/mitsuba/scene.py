@@ -16,7 +16,7 @@ Lighting (:func:`lighting`)
   (albedo 0.2); the sun by elevation and azimuth, or by latitude, longitude, date and time
   (the scene's −z is north, +x west: a wall facing the camera faces south);
 * ``uniform``: radiance 1 (D65) from every direction, nothing else in the scene;
-* a user's HDRI (equirectangular EXR or Radiance HDR, as :func:`swatch.render.environment.read_equirect`
+* a user's HDRI (equirectangular EXR or Radiance HDR, as :func:`swatch.render.hdri.read_equirect`
   orients it: row 0 the zenith, the centre column looking along −z).
 """
 from __future__ import annotations
