@@ -19,9 +19,12 @@ the CIE tables:
   Display P3 (XYZ on the Y = 100 scale; rows act on row vectors), linear sRGB → 2° XYZ and its
   white (as ``swatch match --hex`` reads a hex colour), and the white XYZ for L*a*b*.
 
-Values are stored as little-endian uint16 per channel with a per-channel scale
+The grid is stored as little-endian uint16 per channel with a per-channel scale
 (``value = code × scale``; the quantisation error is below 1e-3 of the channel's maximum,
-ΔE2000 < 0.01) and base64-encoded.
+ΔE2000 < 0.01) and base64-encoded. The reference column is stored as little-endian float32
+(``"type": "float32"``, base64): the page's colour search looks for local minima of ΔE2000 along it,
+and the uint16 steps made false ones where the curve is flat (e.g. a candidate at 111.7 nm for
+L*a*b* 70 5 30 that ``swatch match`` does not have; tests/js/match.test.mjs).
 
 XYZ scale: Y = 100 for the perfect white diffuser (colour-science's convention).
 """
@@ -69,19 +72,32 @@ def _encode(values: np.ndarray) -> dict:
             "data": base64.b64encode(codes.tobytes()).decode("ascii")}
 
 
+def _encode_float32(values: np.ndarray) -> dict:
+    """Little-endian float32, base64 (the reference column: no quantisation steps along it)."""
+    v = np.asarray(values, dtype=np.float64)
+    if not np.all(np.isfinite(v)) or v.min() < 0:
+        raise SwatchError("explorer table: tristimulus values must be finite and >= 0")
+    return {"type": "float32", "shape": list(v.shape),
+            "data": base64.b64encode(v.astype("<f4").tobytes()).decode("ascii")}
+
+
 def decode(block: dict) -> np.ndarray:
-    """The float64 array of an encoded block (uint16 codes × per-channel scale; the page's decoder, in Python for tests).
+    """The float64 array of an encoded block (uint16 codes × per-channel scale, or float32 where ``type`` says so;
+    the page's decoder, in Python for tests).
 
     Parameters
     ----------
     block : dict
-        ``data`` (base64), ``shape``, ``scale``.
+        ``data`` (base64), ``shape``, and ``scale`` or ``"type": "float32"``.
 
     Returns
     -------
     numpy.ndarray
     """
-    codes = np.frombuffer(base64.b64decode(block["data"]), dtype="<u2").astype(np.float64)
+    raw = base64.b64decode(block["data"])
+    if block.get("type") == "float32":
+        return np.frombuffer(raw, dtype="<f4").astype(np.float64).reshape(block["shape"])
+    codes = np.frombuffer(raw, dtype="<u2").astype(np.float64)
     return codes.reshape(block["shape"]) * np.asarray(block["scale"])
 
 
@@ -167,7 +183,7 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
     white = colour.xy_to_XYZ(cm.white_xy)  # the Lab white of Colorimeter.Lab (Y = 1)
     return {
         "format": "swatch-explorer-table",
-        "format_version": 1,
+        "format_version": 2,  # 2: the reference column as float32
         "model": "half-vector thin film: Airy reflectance factor of the film at theta_d (as swatch color)",
         "illuminant": cm.illuminant,
         "observer": cm.observer,
@@ -179,7 +195,7 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
         "grid": _encode(grid),
         "reference": {"geometry": ref.to_json(), "cos_theta_d": reference_cos_d,
                       "thickness_nm": {"start": m0, "step": MATCH_STEP_NM, "count": nm},
-                      "values": _encode(column)},
+                      "values": _encode_float32(column)},
         "white_XYZ": [float(v) for v in white],
         "XYZ2_to_srgb_linear": _matrix(lambda e: cm2.rgb_linear(e, "srgb")),
         "XYZ2_to_p3_linear": _matrix(lambda e: cm2.rgb_linear(e, "display-p3")),

@@ -1,6 +1,8 @@
 """The page's JavaScript under ``node --test`` (tests/js/), so CI runs it with the Python suite (issue 17
 item 6): CIEDE2000 on the published pairs of Sharma, Wu & Dalal 2005 and on a fixture of colour-science values
-written here, and the chip-label ink."""
+written here, the chip-label ink, and find by colour (match) and the process window of colour.js against what
+the Python side computes for the same catalog (swatch.fit.matching.match_colour, judge_candidates and
+swatch.catalog.records.process_window, written into the fixture here)."""
 from __future__ import annotations
 
 import json
@@ -12,6 +14,14 @@ from pathlib import Path
 import colour
 import numpy as np
 import pytest
+
+from swatch.catalog.context import catalog_context
+from swatch.catalog.explorer import explorer_data
+from swatch.catalog.records import process_window
+from swatch.catalog.spec import parse_spec
+from swatch.colorimetry.colorimeter import hex_to_Lab
+from swatch.colorimetry.tolerance import get_tolerance
+from swatch.fit.matching import judge_candidates, match_colour
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -25,6 +35,52 @@ def _node() -> str:
     pytest.skip("node not installed (Debian: nodejs)")
 
 
+#: Targets of the find-by-colour fixture: L*a*b* in the catalog's observer and sRGB hex codes (2°), two of them
+#: outside what the film shows (a saturated green, an L*a*b* outside sRGB).
+MATCH_TARGETS = ({"Lab": [70.0, 5.0, 30.0]}, {"Lab": [40.0, 10.0, -40.0]}, {"Lab": [50.0, -90.0, 60.0]},
+                 {"hex": "#2275b5"}, {"hex": "#c65ebf"}, {"hex": "#00ff00"})
+#: Tolerances of the fixture, each in its own metric (the same bound 2 in ΔE*ab and in ΔE2000, and two more).
+TOLERANCES = (("dEab", 2.0), ("dE00", 2.0), ("dEab", 4.0), ("dE00", 1.0))
+#: Nominal thicknesses of the process-window fixture (nm); the first and the last lie within a window of the
+#: catalog's range ends (20 and 300 nm), where the page's table stops.
+WINDOW_NM = (20.3, 25.0, 50.8, 90.0, 140.0, 200.0, 299.6)
+
+
+def _search_fixture() -> dict:
+    """The page's colour table of a small catalog (20–300 nm) and what the Python side answers on it: the
+    match candidates of each target (as ``swatch match`` over the catalog's range at the reference geometry,
+    a hex in 2° colorimetry as ``swatch match --hex``) with their within-tolerance flags, and the process
+    windows of :data:`WINDOW_NM` in each tolerance's metric."""
+    spec = parse_spec({"name": "node fixture", "thickness": {"start_nm": 20, "stop_nm": 300, "step_nm": 70}})
+    ctx = catalog_context(spec)
+    table = explorer_data(ctx)
+    ref = spec.reference
+    col = table["reference"]["thickness_nm"]
+    lo, hi = col["start"], col["start"] + col["step"] * (col["count"] - 1)
+    matches = []
+    for target in MATCH_TARGETS:
+        cm = ctx.colorimeter if "Lab" in target else ctx.colorimeter.display_colorimeter
+        Lab = np.asarray(target["Lab"]) if "Lab" in target else hex_to_Lab(target["hex"], cm)
+        res = match_colour(Lab, ctx.coating, cm, ref.light_deg, ref.view_deg, 0.0, ref.view_azimuth_deg,
+                           thickness_range=(lo, hi), step_nm=col["step"], top=5)
+        within = {}
+        for metric, bound in TOLERANCES:
+            judge_candidates(res, spec.voltage_of, get_tolerance(metric=metric, max=bound))
+            within[f"{metric}<={bound:g}"] = [c["within_grade"] for c in res.candidates]
+        matches.append({"target": target, "target_Lab": [float(v) for v in Lab], "within": within,
+                        "candidates": [{k: c[k] for k in ("thickness_nm", "voltage_V", "delta_E_00", "delta_E_ab")}
+                                       for c in res.candidates]})
+    windows = []
+    d = np.asarray(WINDOW_NM)
+    for metric, bound in TOLERANCES:
+        minus, plus, mcap, pcap = process_window(ctx.coating, ctx.colorimeter, d, ref, bound, spec.search_nm, metric)
+        windows.append({"metric": metric, "bound": bound, "search_nm": spec.search_nm, "thickness_nm": d.tolist(),
+                        "minus_nm": minus.tolist(), "plus_nm": plus.tolist(),
+                        "minus_capped": mcap.tolist(), "plus_capped": pcap.tolist()})
+    return {"table": table, "range_nm": [lo, hi], "match": matches, "window": windows}
+
+
+@pytest.mark.slow  # 6.5 s: the small catalog's table and the Python matches and windows of the fixture
 def test_page_colorimetry_passes_node_test(tmp_path):
     node = _node()
     rng = np.random.default_rng(17)
@@ -35,11 +91,13 @@ def test_page_colorimetry_passes_node_test(tmp_path):
     want = colour.delta_E(lab1, lab2, method="CIE 2000")
     fixture = tmp_path / "fixture.json"
     fixture.write_text(json.dumps({"delta_E_00": [[a.tolist(), b.tolist(), float(d)]
-                                                  for a, b, d in zip(lab1, lab2, want, strict=True)]}), encoding="utf-8")
-    run = subprocess.run([node, "--test", str(ROOT / "tests" / "js" / "colour.test.mjs")], capture_output=True,
+                                                  for a, b, d in zip(lab1, lab2, want, strict=True)],
+                                   **_search_fixture()}), encoding="utf-8")
+    tests = sorted(str(p) for p in (ROOT / "tests" / "js").glob("*.test.mjs"))
+    run = subprocess.run([node, "--test", *tests], capture_output=True,
                          text=True, timeout=120, env={**os.environ, "SWATCH_JS_FIXTURE": str(fixture)})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
-    assert "# pass 3" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
+    assert "# pass 8" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
 
 
 def test_page_script_comments_name_code_that_exists():

@@ -3,8 +3,13 @@
 // half-vector thin-film reflectance over thickness x cos(theta_d), and colour-science's matrices.
 // This file only interpolates, applies those matrices and the CIE formulas (L*a*b*, CIEDE2000).
 
-function decodeBlock(block) {
+function decodeBlock(block) { // uint16 codes x per-channel scale, or little-endian float32 (type "float32")
   const bin = atob(block.data);
+  if (block.type === "float32") {
+    const bytes = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return new Float32Array(bytes.buffer);
+  }
   const n = bin.length >> 1;
   const out = new Float32Array(n);
   const c = block.shape[block.shape.length - 1];
@@ -69,6 +74,13 @@ function deltaE00(a, b) { // [L, a, b] twice -> a number
   const Sc = 1 + 0.045 * Cpm, Sh = 1 + 0.015 * Cpm * Tt;
   const Rt = -Math.sin(2 * dTheta * DEG_) * Rc;
   return Math.sqrt((dL / Sl) ** 2 + (dC / Sc) ** 2 + (dH / Sh) ** 2 + Rt * (dC / Sc) * (dH / Sh));
+}
+
+// whether a match candidate ({delta_E_ab, delta_E_00}) lies within a tolerance, judged in its own metric
+// ("dEab": CIE 1976, which a CSAJ grade bounds; "dE00": CIEDE2000), as swatch.fit.matching.judge_candidates
+function withinTolerance(hit, metric, bound) {
+  if (metric !== "dEab" && metric !== "dE00") throw new Error("withinTolerance: metric must be dEab or dE00");
+  return (metric === "dEab" ? hit.delta_E_ab : hit.delta_E_00) <= bound;
 }
 
 function makeColour(T) {

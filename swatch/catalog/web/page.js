@@ -286,8 +286,7 @@ function find(target) {
   for (const h of hits) {
     const li = el("li");
     li.appendChild(chip(C.refColour(h.thickness_nm), "small"));
-    const dE = tol.metric === "dEab" ? h.delta_E_ab : h.delta_E_00;
-    const ok = dE <= bound;
+    const ok = withinTolerance(h, tol.metric, bound);
     const w = C.windowAt(h.thickness_nm, bound, tol.search_nm, tol.metric);
     li.appendChild(el("span", "num", fmt(h.thickness_nm, 2) + " nm · " + fmt(h.voltage_V, 1) + " V · ΔE00 " + fmt(h.delta_E_00, 2) + " · ΔE*ab " + fmt(h.delta_E_ab, 2)));
     li.appendChild(el("span", ok ? "tol ok" : "tol out", (ok ? "within " : "outside ") + tol.metric + " ≤ " + bound +
