@@ -22,7 +22,7 @@ with ``os.replace`` (SIGINT/SIGTERM held off for those few milliseconds), remove
 build's files that are no longer produced, writes the manifest and deletes the journal. A
 build that fails or is interrupted before the commit leaves the previous catalog untouched (its
 staging folder is removed on the next run); one killed during the commit is completed from the
-journal by the next run, and one whose commit fails is rolled back (``swatch.catalog.folder``).
+journal by the next run, and one whose commit fails is rolled back (``swatch.catalog.journal``).
 Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. An older flat folder
 is migrated by the next commit (its files retired as any the build no longer writes; swatch.catalog.layout). A non-empty ``DIR`` that has no
 manifest is not a swatch catalog and is refused.
@@ -48,20 +48,16 @@ from swatch.catalog.folder import (
     META_DIR,
     cache_folder,
     check_targets,
-    commit,
     file_matches,
     intact,
-    is_catalog,
     load_manifest,
     locked,
     meta_folder,
-    prepare_commit,
-    recover,
     remove_tree,
-    rollback,
     sha256_file,
     signals_held,
 )
+from swatch.catalog.journal import commit, is_catalog, prepare_commit, recover, rollback
 from swatch.catalog.layout import SHEETS, make_subfolders, output_files, sheet_count
 from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.core.errors import SwatchError

@@ -1,35 +1,20 @@
-"""The catalog folder's own metadata: lock, manifest, journal, and the commit that moves a build into place.
+"""The catalog folder's own metadata: names, lock, the manifest, and the checks on what is read back.
 
 Layout (issue 21): the page, ``catalog.json``/``.csv`` and the exports lie at the top of the folder, the
-rest in one of :data:`SUBFOLDERS` (``sheets/``, ``chips/``, ``presets/``, ``heroes/``). A folder an older
-build wrote flat is migrated by the next build through the same journal and commit: its files are
-retired (as any file a build no longer produces), the new ones moved into the subfolders.
+rest in one of :data:`~swatch.catalog.layout.SUBFOLDERS` (``sheets/``, ``chips/``, ``presets/``,
+``heroes/``). A folder an older build wrote flat is migrated by the next build through the same journal
+and commit (:mod:`swatch.catalog.journal`): its files are retired (as any file a build no longer
+produces), the new ones moved into the subfolders.
 
 Trust model: the folder (and its ``.swatch-catalog``) may come from someone else, so everything
 read back from it is untrusted input. Every name in the manifest and the journal must be an output
-name (:func:`output_name`: a plain file name, or one of :data:`SUBFOLDERS`, ``/`` and a plain file name)
-and the staging folder a ``staging-*`` folder of ``.swatch-catalog``; the metadata folder, the cache,
-the lock and every subfolder a name passes through (in the catalog folder, the staging folder and its
-``.previous``) must not be symbolic links; the metadata files are size-capped and must be regular files. Anything else is refused with one line
-(:class:`~swatch.core.errors.SwatchError`) before anything is moved or deleted: a build never writes
-or deletes outside its folder.
-
-Every path a journal names (its staging folder, the staging folder's ``.previous``, the files in
-both) is checked before anything moves: real folders, no link anywhere in the chain, resolving
-inside the metadata folder, regular files in them. A folder without a manifest is a catalog only
-if it is empty or holds nothing but files a first build's journal proves it wrote (their hashes),
-so a crafted journal in a folder of the user's moves and deletes nothing. A file is retired only if
-the previous manifest lists it with its hash; a rollback takes a file back only if its hash is the
-new build's.
-
-Commit protocol (idempotent, so a run killed at any step is finished by the next one): the journal
-lists the staged files and the files to retire and holds the new manifest. Before it is written,
-``.previous``, the new manifest (in the staging folder) and the rollback's journal are created, so
-the commit and the rollback are renames and unlinks only (out of inodes or space, a rename can fail,
-the rollback cannot). Each file in the way is first moved into ``<staging>/.previous``, then the
-staged file takes its place. A commit that fails (not killed) is rolled back from ``.previous``: the
-previous catalog comes back as it was. The journal's ``phase`` says which way a later run must
-finish it (``commit`` or ``rollback``).
+name (:func:`~swatch.catalog.layout.output_name`: a plain file name, or one of the subfolders, ``/`` and
+a plain file name); the metadata folder, the cache, the lock and every subfolder a name passes through
+must not be symbolic links; the metadata files are size-capped
+(:data:`~swatch.core.limits.MAX_METADATA_BYTES`) and must be regular files. Anything else is refused
+with one line (:class:`~swatch.core.errors.SwatchError`) before anything is moved or deleted: a build
+never writes or deletes outside its folder. The commit protocol (journal, commit, rollback, recovery)
+is :mod:`swatch.catalog.journal`.
 """
 from __future__ import annotations
 
@@ -40,19 +25,21 @@ import os
 import shutil
 import signal
 import stat
-from contextlib import contextmanager, suppress
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
-from swatch.catalog.layout import SUBFOLDERS, check_subfolders, drop_empty_subfolders, output_name, subfolders_of
+from swatch.catalog.layout import check_subfolders, output_name, subfolders_of
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
-from swatch.core.safepath import entry_kind, inside, is_regular_file, make_real_folder, plain_name, real_folder
+from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, real_folder
 
-__all__ = ["META_DIR", "MANIFEST", "JOURNAL", "PREVIOUS", "locked", "signals_held", "meta_folder", "cache_folder",
-           "load_manifest", "load_journal", "write_journal", "prepare_commit", "commit", "rollback", "recover",
-           "is_catalog", "intact", "file_matches", "STAGED_MANIFEST", "ROLLBACK_JOURNAL",
-           "write_json_atomic", "read_cache_json", "fsync_dir", "sha256_file", "remove_tree", "check_targets"]
+__all__ = ["META_DIR", "MANIFEST", "JOURNAL", "PREVIOUS", "STAGED_MANIFEST", "ROLLBACK_JOURNAL",
+           "locked", "signals_held", "meta_folder", "cache_folder", "read_metadata", "check_manifest",
+           "load_manifest", "intact", "file_matches", "write_json_atomic", "read_cache_json", "fsync_dir",
+           "sha256_file", "remove_tree", "is_real_dir", "check_targets"]
 
 META_DIR = ".swatch-catalog"
 MANIFEST = "manifest.json"
@@ -60,9 +47,23 @@ JOURNAL = "journal.json"
 PREVIOUS = ".previous"  # inside a staging folder: the files a commit replaced or retired
 STAGED_MANIFEST = ".manifest.json"  # inside a staging folder: the new manifest, renamed into place
 ROLLBACK_JOURNAL = "journal-rollback.json"  # the rollback's journal, written before the commit begins
+
+
 # -- small file helpers ------------------------------------------------------------------------
 
 def sha256_file(path: Path) -> str:
+    """The SHA-256 of a file's bytes, read in 1 MiB chunks.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+
+    Returns
+    -------
+    str
+        64 lowercase hex digits.
+    """
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for chunk in iter(lambda: fh.read(1 << 20), b""):
@@ -71,10 +72,26 @@ def sha256_file(path: Path) -> str:
 
 
 def write_json_atomic(path: Path, obj) -> None:
+    """Write JSON (indent 1, sorted keys, a final newline) atomically: the same object gives the same bytes.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (replaced as a whole; never half-written).
+    obj : object
+        Anything :func:`json.dumps` takes.
+    """
     atomic_write_text(path, json.dumps(obj, indent=1, sort_keys=True) + "\n")
 
 
 def fsync_dir(path: Path) -> None:
+    """Flush a folder's entries to disk (renames in it survive a crash); errors are ignored.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The folder.
+    """
     try:
         fd = os.open(path, os.O_RDONLY)
     except OSError:
@@ -88,7 +105,13 @@ def fsync_dir(path: Path) -> None:
 
 
 def remove_tree(path: Path) -> None:
-    """Remove a folder of ours (a link is unlinked, never followed)."""
+    """Remove a folder of ours, or a file; a link is unlinked, never followed; absent is fine.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The folder, file or link.
+    """
     try:
         st = os.lstat(path)
     except FileNotFoundError:
@@ -99,13 +122,19 @@ def remove_tree(path: Path) -> None:
         Path(path).unlink(missing_ok=True)
 
 
-def _lexists(p: Path) -> bool:
-    return os.path.lexists(p)
+def is_real_dir(path: Path) -> bool:
+    """Whether ``path`` is a folder itself (not a link to one); False when it cannot be examined.
 
+    Parameters
+    ----------
+    path : pathlib.Path
 
-def _is_dir(p: Path) -> bool:
+    Returns
+    -------
+    bool
+    """
     try:
-        return stat.S_ISDIR(os.lstat(p).st_mode)
+        return stat.S_ISDIR(os.lstat(path).st_mode)
     except OSError:
         return False
 
@@ -113,20 +142,67 @@ def _is_dir(p: Path) -> bool:
 # -- folders and lock --------------------------------------------------------------------------
 
 def meta_folder(out: Path) -> Path:
-    """``out/.swatch-catalog``, refused if it is a symbolic link or a file."""
+    """The catalog's metadata folder ``out/.swatch-catalog`` (not created).
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The catalog folder.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        If it is a symbolic link or a file.
+    """
     return real_folder(out / META_DIR, "catalog metadata folder")
 
 
 def cache_folder(meta: Path) -> Path:
+    """The build cache ``meta/cache``, created if absent.
+
+    Parameters
+    ----------
+    meta : pathlib.Path
+        The metadata folder (:func:`meta_folder`).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        If it is a symbolic link or a file.
+    """
     return make_real_folder(meta / "cache", "catalog cache folder")
 
 
 @contextmanager
-def locked(meta: Path, read_only: bool = False):
-    """Hold ``meta/lock`` (flock) for one build; another build holding it is refused. ``read_only``: the
-    folder cannot be written (a check that it is up to date): the lock is opened for reading and held
-    shared, so a writing build still excludes it."""
+def locked(meta: Path, read_only: bool = False) -> Iterator[None]:
+    """Hold ``meta/lock`` (flock) for one build; another build holding it is refused.
 
+    Parameters
+    ----------
+    meta : pathlib.Path
+        The metadata folder.
+    read_only : bool, optional
+        The folder cannot be written (a check that it is up to date): the lock is opened for reading
+        and held shared, so a writing build still excludes it.
+
+    Yields
+    ------
+    None
+        While the lock is held.
+
+    Raises
+    ------
+    SwatchError
+        When another build holds it, or the lock is a link or not a regular file.
+    """
     busy = f"another catalog build is writing {meta.parent}; wait for it to finish"
     flags = os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NONBLOCK
     try:
@@ -151,9 +227,14 @@ def locked(meta: Path, read_only: bool = False):
 
 
 @contextmanager
-def signals_held():
-    """Defer SIGINT/SIGTERM/SIGHUP while the staged files are moved into place."""
+def signals_held() -> Iterator[None]:
+    """Defer SIGINT/SIGTERM/SIGHUP while the staged files are moved into place.
 
+    Yields
+    ------
+    None
+        With the signals blocked (delivered when the block ends); outside the main thread, unblocked.
+    """
     sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
     try:
         old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
@@ -168,9 +249,25 @@ def signals_held():
 
 # -- metadata (untrusted) ----------------------------------------------------------------------
 
-def _read_metadata(path: Path):
-    """The JSON in ``path``; None if absent. Refused if not a regular file, too big or not JSON."""
-    if not _lexists(path):
+def read_metadata(path: Path) -> Any:
+    """The JSON in a metadata file (untrusted), or None if absent.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (at most :data:`~swatch.core.limits.MAX_METADATA_BYTES`).
+
+    Returns
+    -------
+    object or None
+        The parsed JSON, unchecked.
+
+    Raises
+    ------
+    SwatchError
+        If it is not a regular file (a link, folder or device), too big, or not UTF-8 JSON.
+    """
+    if not os.path.lexists(path):
         return None
     what = f"catalog metadata {path}"
     if not is_regular_file(path):
@@ -184,10 +281,23 @@ def _read_metadata(path: Path):
         raise SwatchError(f"{what} is not valid JSON; remove it or use a new folder") from None
 
 
-def read_cache_json(path: Path):
-    """A cache entry's JSON, or None when it is absent or not one we can use (not a regular file, larger
-    than :data:`~swatch.core.limits.MAX_CACHE_ENTRY_BYTES`, not UTF-8 JSON, nested too deep to parse): the
-    cache is ours to rebuild, so a damaged entry is recomputed, never an error."""
+def read_cache_json(path: Path) -> Any:
+    """A cache entry's JSON, or None when it is absent or not one we can use.
+
+    The cache is ours to rebuild, so a damaged entry (not a regular file, larger than
+    :data:`~swatch.core.limits.MAX_CACHE_ENTRY_BYTES`, not UTF-8 JSON, nested too deep to parse) is
+    recomputed, never an error.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The cache entry.
+
+    Returns
+    -------
+    object or None
+        The parsed JSON (to be validated by the caller), or None.
+    """
     if not is_regular_file(path):
         return None
     try:
@@ -198,7 +308,27 @@ def read_cache_json(path: Path):
         return None
 
 
-def _check_manifest(doc, what: str) -> dict:
+def check_manifest(doc, what: str) -> dict:
+    """Check an (untrusted) manifest's shape and every name in it.
+
+    Parameters
+    ----------
+    doc : object
+        The parsed JSON: a table with ``files`` (output name -> ``{"sha256": str, "size": int ≥ 0}``),
+        ``sheet_keys`` (output name -> str) and ``fingerprint`` (str), each optional.
+    what : str
+        Where it came from, for the error message.
+
+    Returns
+    -------
+    dict
+        ``doc`` itself.
+
+    Raises
+    ------
+    SwatchError
+        For any other shape, or a name that is not an output name.
+    """
     bad = SwatchError(f"{what}: not a swatch catalog manifest (a table with 'files' of name -> sha256, size)")
     if not isinstance(doc, dict):
         raise bad
@@ -219,252 +349,65 @@ def _check_manifest(doc, what: str) -> dict:
 
 
 def load_manifest(meta: Path) -> dict:
-    """The manifest of the last build ({} if none), every name checked."""
-    path = meta / MANIFEST
-    doc = _read_metadata(path)
-    return {} if doc is None else _check_manifest(doc, str(path))
+    """The manifest of the last build, every name checked.
 
+    Parameters
+    ----------
+    meta : pathlib.Path
+        The metadata folder.
 
-def load_journal(meta: Path) -> tuple[dict | None, bool]:
-    """The journal (None if none), every name checked, and whether its staging folder is missing.
+    Returns
+    -------
+    dict
+        The manifest (:func:`check_manifest`), ``{}`` if there is none.
 
-    Reading it acts on nothing: recovery (:func:`recover`) and the "not a catalog" guard
-    (:func:`is_catalog`) decide what to do with it.
+    Raises
+    ------
+    SwatchError
+        For a manifest that is not one (:func:`read_metadata`, :func:`check_manifest`).
     """
-    path = meta / JOURNAL
-    doc = _read_metadata(path)
-    if doc is None:
-        return None, False
-    what = str(path)
-    if not (isinstance(doc, dict) and isinstance(doc.get("files"), list) and isinstance(doc.get("remove"), list)
-            and isinstance(doc.get("staging"), str) and doc.get("phase", "commit") in ("commit", "rollback")):
-        raise SwatchError(f"{what}: not a swatch catalog journal; remove it or use a new folder")
-    staging = plain_name(doc["staging"], f"{what} 'staging'")
-    if not staging.startswith("staging-"):
-        raise SwatchError(f"{what} 'staging': {staging[:80]!r} is not a staging-* folder of {meta}")
-    real_folder(meta / staging, f"{what} 'staging'")
-    for key in ("files", "remove"):
-        for name in doc[key]:
-            output_name(name, f"{what} '{key}'")
-    _check_manifest(doc.get("manifest"), f"{what} 'manifest'")
-    return doc, entry_kind(meta / staging) is None
-
-
-def write_journal(meta: Path, journal: dict) -> None:
-    write_json_atomic(meta / JOURNAL, journal)
+    path = meta / MANIFEST
+    doc = read_metadata(path)
+    return {} if doc is None else check_manifest(doc, str(path))
 
 
 def check_targets(out: Path, names) -> None:
-    """Refuse before the commit if a folder stands where an output file goes, or a link or a file where
-    an output subfolder goes (nothing moved yet)."""
+    """Refuse, before the commit, a folder where an output file goes or a link or file where a subfolder goes.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The catalog folder.
+    names : iterable of str
+        The output names the commit will write.
+
+    Raises
+    ------
+    SwatchError
+        Naming the path in the way (nothing moved yet; the previous catalog is unchanged).
+    """
     names = list(names)
     check_subfolders(out, names, f"catalog folder {out}")
     for name in names:
-        if _is_dir(out / name):
+        if is_real_dir(out / name):
             raise SwatchError(f"{out / name} is a folder where the catalog writes a file; move it away and "
                               "build again (the previous catalog is unchanged)")
 
 
-def is_catalog(out: Path, meta: Path) -> bool:
-    """Whether ``out`` may be written as a catalog: empty, or holding a manifest, or holding only what a
-    first build's journal proves it moved there (each file's hash in the journal's manifest).
-
-    A journal alone proves nothing (it is untrusted): a folder of the user's with a crafted journal
-    is not a catalog, and nothing it names is moved or deleted.
-    """
-    entries = [p for p in out.iterdir() if p.name != META_DIR] if _is_dir(out) else []
-    if not entries or _lexists(meta / MANIFEST):
-        return True
-    try:
-        doc, missing = load_journal(meta)
-    except SwatchError:
-        return False
-    if doc is None or missing or doc["remove"]:
-        return False
-    info = doc["manifest"].get("files", {})
-    staged = set(doc["files"])
-    names = []
-    for p in entries:  # a subfolder counts if it is a real one holding only what the journal staged
-        if p.name in SUBFOLDERS and entry_kind(p) == "dir":
-            names += [(f"{p.name}/{q.name}", q) for q in p.iterdir()]
-        else:
-            names.append((p.name, p))
-    return all(n in staged and file_matches(q, info.get(n)) for n, q in names)
-
-
-def prepare_commit(meta: Path, staging: Path, journal: dict) -> None:
-    """Create what the commit and its rollback need, then write the journal (the commit has begun).
-
-    ``.previous``, the new manifest (in the staging folder) and the rollback's journal are created
-    here, so that moving the build into place and undoing it are renames and unlinks only: a file
-    system out of inodes or space during the commit can fail a rename, never the rollback.
-    """
-    prev = make_real_folder(staging / PREVIOUS, "staging folder's .previous")
-    check_subfolders(prev, journal["files"] + journal["remove"], "staging folder's .previous", create=True)
-    write_json_atomic(staging / STAGED_MANIFEST, journal["manifest"])
-    write_json_atomic(meta / ROLLBACK_JOURNAL, dict(journal, phase="rollback"))
-    fsync_dir(staging)
-    write_journal(meta, journal)
-
-
-# -- commit, rollback, recovery ----------------------------------------------------------------
-
-def _checked(out: Path, meta: Path, journal: dict, phase: str) -> tuple[Path, Path | None]:
-    """The staging folder and its ``.previous`` (None if absent), after every path the journal names is
-    checked: real folders (no link anywhere in the chain) resolving inside the metadata folder, regular
-    files (or nothing) inside them, and (commit) files to retire that the previous catalog wrote.
-    Raises SwatchError before anything is moved."""
-    what = f"catalog journal {meta / JOURNAL}"
-    staging = meta / journal["staging"]
-    if entry_kind(staging) != "dir":
-        raise SwatchError(f"{what}: its staging folder {staging} is not a folder (a link or a file); "
-                          "remove the journal and build again")
-    inside(staging, meta, f"{what}: staging folder")
-    prev = staging / PREVIOUS
-    kind = entry_kind(prev)
-    if kind not in (None, "dir"):
-        raise SwatchError(f"{what}: {prev} is a symbolic link or a file; it must be a real folder inside the "
-                          "catalog folder (a link would move files outside it); remove the journal and build again")
-    if kind == "dir":
-        inside(prev, staging, f"{what}: .previous")
-    everything = journal["files"] + journal["remove"]
-    check_subfolders(staging, journal["files"], what)
-    check_subfolders(out, everything, what)
-    if kind == "dir":
-        check_subfolders(prev, everything, what)
-    named = [staging / n for n in journal["files"]]
-    if kind == "dir":
-        named += [prev / n for n in everything]
-    for path in named:
-        if entry_kind(path) not in (None, "file"):
-            raise SwatchError(f"{what}: {path} is not a regular file (a link, folder or device); "
-                              "remove the journal and build again")
-    for name in journal["files"] + journal["remove"]:
-        if entry_kind(out / name) == "other":
-            raise SwatchError(f"{out / name} is a device, pipe or socket where the catalog writes a file; move it away")
-    if phase == "commit":  # (a replay after the manifest was written finds these files gone already)
-        old = load_manifest(meta).get("files", {})
-        for name in journal["remove"]:
-            if entry_kind(out / name) == "file" and not file_matches(out / name, old.get(name)):
-                raise SwatchError(f"{what} would retire {out / name}, which the previous catalog did not write "
-                                  "(not in its manifest, or changed since); remove the journal and build again")
-    return staging, prev if kind == "dir" else None
-
-
-def commit(out: Path, meta: Path, journal: dict) -> None:
-    """Move the staged files into place (idempotent: safe to replay after a crash); renames and unlinks only."""
-    staging, prev = _checked(out, meta, journal, "commit")
-    if prev is None:  # a journal written before .previous was made in advance
-        prev = make_real_folder(staging / PREVIOUS, "staging folder's .previous")
-    check_subfolders(prev, journal["files"] + journal["remove"], "staging folder's .previous", create=True)
-    check_subfolders(out, journal["files"], f"catalog folder {out}", create=True)
-    for name in journal["files"]:
-        src, dst = staging / name, out / name
-        if not _lexists(src):
-            continue  # already in place
-        kind = entry_kind(dst)
-        if kind == "dir":
-            raise SwatchError(f"{dst} is a folder where the catalog writes a file; move it away")
-        if kind == "link":
-            dst.unlink()  # a link is no catalog output: dropped, never followed
-        elif kind == "file" and not _lexists(prev / name):
-            os.replace(dst, prev / name)
-        os.replace(src, dst)
-    for name in journal["remove"]:
-        dst = out / name
-        kind = entry_kind(dst)
-        if kind == "link" or (kind == "file" and _lexists(prev / name)):
-            dst.unlink()
-        elif kind == "file":
-            os.replace(dst, prev / name)
-    _put_manifest(meta, staging, journal["manifest"])
-    drop_empty_subfolders(out, journal["manifest"].get("files", {}))
-    fsync_dir(out)
-    _finish(meta, staging)
-
-
-
-def _put_manifest(meta: Path, staging: Path, manifest: dict) -> None:
-    staged = staging / STAGED_MANIFEST
-    try:
-        ready = is_regular_file(staged) and _read_metadata(staged) == manifest
-    except SwatchError:
-        ready = False
-    if ready:
-        os.replace(staged, meta / MANIFEST)
-    elif load_manifest(meta) != manifest:
-        write_json_atomic(meta / MANIFEST, manifest)
-
-
-def _finish(meta: Path, staging: Path) -> None:
-    (meta / ROLLBACK_JOURNAL).unlink(missing_ok=True)
-    (meta / JOURNAL).unlink(missing_ok=True)
-    fsync_dir(meta)
-    remove_tree(staging)
-
-
-def rollback(out: Path, meta: Path, journal: dict) -> None:
-    """Undo a commit that failed part-way: the previous files come back (idempotent; renames only).
-
-    A file is taken back from the catalog folder only if its hash is the journal's (this build wrote it).
-    """
-    staging, prev = _checked(out, meta, journal, "rollback")
-    if journal.get("phase") != "rollback":  # the journal now says: finish the rollback
-        if is_regular_file(meta / ROLLBACK_JOURNAL):
-            os.replace(meta / ROLLBACK_JOURNAL, meta / JOURNAL)
-        else:
-            write_journal(meta, dict(journal, phase="rollback"))
-    info = journal["manifest"].get("files", {})
-    for name in journal["files"]:
-        src, dst = staging / name, out / name
-        if not _lexists(src) and entry_kind(dst) == "file" and file_matches(dst, info.get(name)):
-            os.replace(dst, src)  # take the new file back
-        if prev is not None and _lexists(prev / name) and not _lexists(dst):
-            os.replace(prev / name, dst)
-    for name in journal["remove"]:
-        if prev is not None and _lexists(prev / name) and not _lexists(out / name):
-            os.replace(prev / name, out / name)
-    with suppress(SwatchError):  # the subfolders the commit made for the new files go again, if empty
-        drop_empty_subfolders(out, load_manifest(meta).get("files", {}))
-    fsync_dir(out)
-    _finish(meta, staging)
-
-
-def recover(out: Path, meta: Path, log=None) -> None:
-    """Finish what a killed build left (its journal), then clear stale staging and temp files and heal the
-    cache (anything in it that is not a regular file is removed: the cache is ours to rebuild).
-
-    Called with the lock held, so nothing found here belongs to a running build.
-    """
-    journal, missing = load_journal(meta)
-    if journal is not None and missing:  # nothing to restore from: the manifest and the files decide
-        if log is not None:
-            log(f"note: {meta / JOURNAL} named a staging folder that is gone; journal dropped, "
-                "files not matching the manifest are rebuilt")
-        (meta / ROLLBACK_JOURNAL).unlink(missing_ok=True)
-        (meta / JOURNAL).unlink()
-    elif journal is not None:
-        if journal.get("phase") == "rollback":
-            rollback(out, meta, journal)
-        else:
-            _checked(out, meta, journal, "commit")  # crafted metadata is refused, not rolled back
-            try:
-                commit(out, meta, journal)
-            except (OSError, SwatchError):
-                rollback(out, meta, journal)
-    (meta / ROLLBACK_JOURNAL).unlink(missing_ok=True)
-    for p in meta.iterdir():
-        if p.name.startswith("staging-") or (p.name.startswith(".") and ".tmp" in p.name):
-            remove_tree(p)
-    cache = meta / "cache"
-    if _is_dir(cache):
-        for p in cache.iterdir():
-            if (p.name.startswith(".") and ".tmp" in p.name) or not is_regular_file(p):
-                remove_tree(p)
-
-
 def file_matches(path: Path, info) -> bool:
-    """``path`` is a regular file with the manifest's size and hash (links and devices never match)."""
+    """Whether a file is a regular file with the manifest's size and hash (links and devices never match).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    info : dict or None
+        Its manifest entry (``{"sha256": str, "size": int}``); None or empty never matches.
+
+    Returns
+    -------
+    bool
+    """
     if not info or not is_regular_file(path):
         return False
     try:
@@ -474,7 +417,20 @@ def file_matches(path: Path, info) -> bool:
 
 
 def intact(out: Path, manifest: dict) -> bool:
-    """Every file the manifest lists is in place as written (its subfolders real folders, not links)."""
+    """Whether every file a manifest lists is in place as written (its subfolders real folders, not links).
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The catalog folder.
+    manifest : dict
+        A checked manifest (:func:`load_manifest`).
+
+    Returns
+    -------
+    bool
+        False too for a manifest without files.
+    """
     files = manifest.get("files") or {}
     return (bool(files) and all(entry_kind(out / sub) == "dir" for sub in subfolders_of(files))
             and all(file_matches(out / name, info) for name, info in files.items()))

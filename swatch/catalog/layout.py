@@ -64,13 +64,47 @@ def output_name(name, what: str) -> str:
 
 
 def subfolders_of(names) -> list[str]:
-    """The subfolders ``names`` pass through (sorted)."""
+    """The subfolders output names pass through.
+
+    Parameters
+    ----------
+    names : iterable of str
+        Output names (``catalog.json``, ``sheets/sheet_01.png``, ...).
+
+    Returns
+    -------
+    list of str
+        Sorted, each once.
+
+    Examples
+    --------
+    >>> subfolders_of(["catalog.json", "sheets/sheet_01.png", "chips/a.png", "sheets/sheet_02.png"])
+    ['chips', 'sheets']
+    """
     return sorted({n.partition("/")[0] for n in names if "/" in n})
 
 
 def check_subfolders(base: Path, names, what: str, create: bool = False) -> None:
-    """Every subfolder of ``base`` that ``names`` pass through is absent or a real folder (never a link,
-    which would send moves elsewhere, nor a file); with ``create``, absent ones are made."""
+    """Check that every subfolder of ``base`` that ``names`` pass through is absent or a real folder.
+
+    Never a link (which would send moves elsewhere), nor a file.
+
+    Parameters
+    ----------
+    base : pathlib.Path
+        The catalog, staging or ``.previous`` folder.
+    names : iterable of str
+        Output names.
+    what : str
+        What ``base`` is, for the error message.
+    create : bool, optional
+        Make the absent subfolders (real folders).
+
+    Raises
+    ------
+    SwatchError
+        Naming the link or file in the way.
+    """
     for sub in subfolders_of(names):
         kind = entry_kind(base / sub)
         if kind not in (None, "dir"):
@@ -81,7 +115,18 @@ def check_subfolders(base: Path, names, what: str, create: bool = False) -> None
 
 
 def make_subfolders(base: Path) -> None:
-    """Create the :data:`SUBFOLDERS` in ``base`` (a staging folder): real folders, links refused."""
+    """Create the :data:`SUBFOLDERS` in a staging folder: real folders, links refused.
+
+    Parameters
+    ----------
+    base : pathlib.Path
+        The staging folder.
+
+    Raises
+    ------
+    SwatchError
+        If a link or a file stands where a subfolder goes.
+    """
     check_subfolders(base, [f"{sub}/x" for sub in SUBFOLDERS], str(base), create=True)
 
 
@@ -105,7 +150,15 @@ def output_files(base: Path) -> list[str]:
 
 
 def drop_empty_subfolders(out: Path, files) -> None:
-    """Remove the output subfolders the catalog no longer uses, if empty (``rmdir``: a user's file keeps its folder)."""
+    """Remove the output subfolders the catalog no longer uses, if empty (``rmdir``: a user's file keeps its folder).
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The catalog folder.
+    files : iterable of str
+        The output names of the new catalog (a manifest's ``files``).
+    """
     used = set(subfolders_of(files))
     for sub in SUBFOLDERS:
         if sub not in used and entry_kind(out / sub) == "dir":

@@ -245,7 +245,7 @@ def test_issue12_failure_during_commit_restores_previous_catalog(cat, monkeypatc
 def test_issue12_interrupted_rollback_is_finished_by_the_next_build(cat, monkeypatch):
     """A run killed while rolling back leaves a 'rollback' journal; the next run completes it."""
     spec, out, _ = cat
-    from swatch.catalog import folder
+    from swatch.catalog import journal
 
     before = digest(out)
     real_replace = os.replace
@@ -260,7 +260,7 @@ def test_issue12_interrupted_rollback_is_finished_by_the_next_build(cat, monkeyp
             raise KeyboardInterrupt  # killed during the rollback
         return real_replace(src, dst)
 
-    real_rollback = folder.rollback
+    real_rollback = journal.rollback
 
     def rollback(*a):
         state["rolling"] = True
