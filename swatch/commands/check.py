@@ -53,7 +53,7 @@ def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observe
     if voltage is not None:
         if proc.nm_per_V is None:
             raise SwatchError(f"process {proc.name} has no growth rate; give --thickness")
-        d = float(check_thickness_nm(proc.thickness_nm([voltage]))[0])
+        d = float(proc.thickness_nm([voltage])[0])  # checked by the growth law
     else:
         d = float(check_thickness_nm([thickness])[0])
     data = finish_spec({"kind": "thickness" if voltage is None else "voltage",

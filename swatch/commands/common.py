@@ -85,10 +85,13 @@ def resolve_thickness(thickness: str | None, voltage: str | None, proc, multiple
     if (thickness is None) == (voltage is None):
         raise SwatchError("give exactly one of --thickness NM or --voltage V")
     v = None if voltage is None else parse_range(voltage, "voltage", "V")
-    d = parse_range(str(thickness), "thickness", "nm") if v is None else proc.thickness_nm(v)
+    # one check each, before anything is computed or written (a range whose last value is out of
+    # range must not leave its first images behind): the library's, which names `thickness_nm` /
+    # `voltage_V` (spoken as --thickness / --voltage); the growth law checks the films it gives
+    d = check_thickness_nm(parse_range(str(thickness), "thickness", "nm")) if v is None else proc.thickness_nm(v)
     if not multiple and d.size != 1:
         raise SwatchError("this command takes one thickness (or voltage), not a range")
-    return check_thickness_nm(d), v
+    return d, v
 
 
 def material_options(f):

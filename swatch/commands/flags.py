@@ -41,6 +41,12 @@ PARAMETER_FLAGS = {
     "seed": "--seed",
     "timezone_h": "--sun-timezone",
     "illuminant": "--illuminant",
+    "thickness_nm": "--thickness",
+    "voltage_V": "--voltage",
+    "light_deg": "--light",
+    "view_deg": "--view",
+    "light_azimuth_deg": "--light-azimuth",
+    "view_azimuth_deg": "--view-azimuth",
 }
 
 _QUOTED = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)(?:=([^`]*))?`")

@@ -239,7 +239,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     else:
         background = background or "grey"
         check_size_px(size_px)
-        geometry.check_polar_deg(light_deg, "light")
+        geometry.check_polar_deg(light_deg, "light_deg")
     light = resolve_lighting(environment, engine, sun, model, distribution, None if mitsuba else size_px, background,
                              view_deg, view_azimuth_deg)
     if not mitsuba:

@@ -294,8 +294,8 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
         ΔE2000 and outlier flags, and the ranking of the tables tried.
     """
     _check(coupons)
-    geometry.check_polar_deg(light_deg, "light")
-    geometry.check_polar_deg(view_deg, "view")
+    geometry.check_polar_deg(light_deg, "light_deg")
+    geometry.check_polar_deg(view_deg, "view_deg")
     wl = DEFAULT_WAVELENGTHS_NM if coupons.Lab is not None else coupons.wavelength_nm
     cm = get_colorimeter(wl, illuminant, observer)
     Lab_m = coupons.Lab if coupons.Lab is not None else cm.Lab(cm.XYZ(coupons.reflectance))

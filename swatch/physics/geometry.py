@@ -37,7 +37,8 @@ def check_polar_deg(angle_deg, what: str) -> np.ndarray:
     angle_deg : array_like, degrees
         Polar angle(s), any shape.
     what : str
-        What the angle is (``light``, ``view``), for the error message.
+        The parameter's name (``light_deg``, ``view_deg``), for the error message (the CLI speaks it
+        as its flag, :mod:`swatch.commands.flags`).
 
     Returns
     -------
@@ -50,7 +51,8 @@ def check_polar_deg(angle_deg, what: str) -> np.ndarray:
     """
     a = np.asarray(angle_deg, dtype=np.float64)
     if not np.all(np.isfinite(a)) or np.any(a < 0) or np.any(a >= 90):
-        raise SwatchError(f"{what} angle must be in [0, 90) degrees from the normal")
+        bad = a.reshape(-1)[~(np.isfinite(a) & (a >= 0) & (a < 90)).reshape(-1)][0]
+        raise SwatchError(f"`{what}` must be in [0, 90) degrees from the normal (got {float(bad):g})")
     return a
 
 
@@ -62,15 +64,20 @@ def check_azimuth_deg(azimuth_deg, what: str) -> np.ndarray:
     azimuth_deg : array_like, degrees
         Azimuth(s) around the normal, any shape.
     what : str
-        What the azimuth is, for the error message.
+        The parameter's name (``light_azimuth_deg``, ``view_azimuth_deg``), for the error message.
 
     Returns
     -------
     numpy.ndarray, float64, the shape of ``azimuth_deg``
+
+    Raises
+    ------
+    SwatchError
+        When an azimuth is not finite.
     """
     a = np.asarray(azimuth_deg, dtype=np.float64)
     if not np.all(np.isfinite(a)):
-        raise SwatchError(f"{what} azimuth must be a finite angle in degrees")
+        raise SwatchError(f"`{what}` must be a finite angle in degrees")
     return a
 
 
@@ -86,7 +93,7 @@ def check_light_view_deg(light_deg, view_deg) -> tuple[np.ndarray, np.ndarray]:
     -------
     (numpy.ndarray, numpy.ndarray), float64, the shapes of the inputs
     """
-    return check_polar_deg(light_deg, "light"), check_polar_deg(view_deg, "view")
+    return check_polar_deg(light_deg, "light_deg"), check_polar_deg(view_deg, "view_deg")
 
 
 def resolve_view_azimuth_deg(light_azimuth_deg, view_azimuth_deg=None) -> np.ndarray:
@@ -128,7 +135,7 @@ def direction(polar_deg, azimuth_deg) -> np.ndarray:
         ``(sin θ cos φ, sin θ sin φ, cos θ)``.
     """
     t = np.radians(np.asarray(polar_deg, dtype=np.float64))
-    p = np.radians(check_azimuth_deg(azimuth_deg, "the"))
+    p = np.radians(check_azimuth_deg(azimuth_deg, "azimuth_deg"))
     t, p = np.broadcast_arrays(t, p)
     s = np.sin(t)
     return np.stack([s * np.cos(p), s * np.sin(p), np.cos(t)], axis=-1)
@@ -155,8 +162,8 @@ def cos_light_view(light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=
     """
     tl = np.radians(np.asarray(light_deg, dtype=np.float64))
     tv = np.radians(np.asarray(view_deg, dtype=np.float64))
-    pl = np.radians(check_azimuth_deg(light_azimuth_deg, "light"))
-    pv = np.radians(check_azimuth_deg(resolve_view_azimuth_deg(light_azimuth_deg, view_azimuth_deg), "view"))
+    pl = np.radians(check_azimuth_deg(light_azimuth_deg, "light_azimuth_deg"))
+    pv = np.radians(check_azimuth_deg(resolve_view_azimuth_deg(light_azimuth_deg, view_azimuth_deg), "view_azimuth_deg"))
     return np.cos(tl) * np.cos(tv) + np.sin(tl) * np.sin(tv) * np.cos(pl - pv)
 
 

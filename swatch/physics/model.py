@@ -47,11 +47,40 @@ DEFAULT_NM_PER_V = 50.8 / 25.0
 
 
 def check_thickness_nm(thickness_nm) -> np.ndarray:
+    """Film thicknesses, checked: the one check of a thickness the library is given (issue 17).
+
+    Parameters
+    ----------
+    thickness_nm : array_like
+        Film thickness(es), nm: finite, from 0 to :data:`swatch.core.limits.MAX_THICKNESS_NM`.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``thickness_nm`` as float64, same shape.
+
+    Raises
+    ------
+    SwatchError
+        Naming the parameter (```thickness_nm```; the CLI says ``--thickness``) and the first value
+        out of range, when any is.
+
+    Examples
+    --------
+    >>> check_thickness_nm([50, 120.5]).tolist()
+    [50.0, 120.5]
+    >>> check_thickness_nm([50, 2000])
+    Traceback (most recent call last):
+    ...
+    swatch.core.errors.SwatchError: `thickness_nm` must be a number from 0 to 1000 nm (got 2000)
+    """
     d = np.asarray(thickness_nm, dtype=np.float64)
     if d.size == 0:
-        raise SwatchError("no thickness given")
-    if not np.all(np.isfinite(d)) or np.any(d < 0) or np.any(d > MAX_THICKNESS_NM):
-        raise SwatchError(f"thickness must be a number from 0 to {MAX_THICKNESS_NM:g} nm")
+        raise SwatchError("no thickness given (`thickness_nm` is empty)")
+    bad = ~(np.isfinite(d) & (d >= 0) & (d <= MAX_THICKNESS_NM))
+    if bad.any():
+        raise SwatchError(f"`thickness_nm` must be a number from 0 to {MAX_THICKNESS_NM:g} nm "
+                          f"(got {float(d.reshape(-1)[bad.reshape(-1)][0]):g})")
     return d
 
 
@@ -76,16 +105,38 @@ def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offse
         Thickness at 0 V (the initial oxide), nm.
     knee_V, nm_per_V_above_knee : float or None
         A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
+
+    Returns
+    -------
+    numpy.ndarray
+        Film thickness, nm, float64, the shape of ``voltage_V``.
+
+    Raises
+    ------
+    SwatchError
+        Naming ```voltage_V``` (the CLI: ``--voltage``) for a voltage out of range or one whose film
+        is outside what the model takes (0 to ``MAX_THICKNESS_NM``); for a growth rate out of range.
     """
     v = np.asarray(voltage_V, dtype=np.float64)
-    if not np.all(np.isfinite(v)) or np.any(v < 0) or np.any(v > MAX_VOLTAGE_V):
-        raise SwatchError(f"voltage must be a number from 0 to {MAX_VOLTAGE_V:g} V")
+    if v.size == 0:
+        raise SwatchError("no voltage given (`voltage_V` is empty)")
+    bad = ~(np.isfinite(v) & (v >= 0) & (v <= MAX_VOLTAGE_V))
+    if bad.any():
+        raise SwatchError(f"`voltage_V` must be a number from 0 to {MAX_VOLTAGE_V:g} V "
+                          f"(got {float(v.reshape(-1)[bad.reshape(-1)][0]):g})")
     rate = _check_rate(nm_per_V)
     if knee_V is None or nm_per_V_above_knee is None:
-        return check_thickness_nm(float(offset_nm) + v * rate)
-    k = float(knee_V)
-    above = _check_rate(nm_per_V_above_knee)
-    return check_thickness_nm(float(offset_nm) + rate * np.minimum(v, k) + above * np.maximum(v - k, 0.0))
+        d = float(offset_nm) + v * rate
+    else:
+        k = float(knee_V)
+        d = float(offset_nm) + rate * np.minimum(v, k) + _check_rate(nm_per_V_above_knee) * np.maximum(v - k, 0.0)
+    d = np.asarray(d, dtype=np.float64)
+    out = ~((d >= 0) & (d <= MAX_THICKNESS_NM))
+    if out.any():
+        raise SwatchError(f"`voltage_V` {float(v.reshape(-1)[out.reshape(-1)][0]):g} V gives a "
+                          f"{float(d.reshape(-1)[out.reshape(-1)][0]):g} nm film by the growth law; the model takes "
+                          f"0 to {MAX_THICKNESS_NM:g} nm")
+    return d
 
 
 def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
@@ -239,7 +290,7 @@ class Coating(_HalfVector):
                 self.n_film, self.n_substrate, amplitudes=amplitudes,
             )
         theta = np.asarray(incidence_deg, dtype=np.float64)
-        geometry.check_polar_deg(theta, "incidence")
+        geometry.check_polar_deg(theta, "incidence_deg")
         return self.reflectance_cos(thickness_nm, np.cos(np.radians(theta)), amplitudes)
 
 

@@ -28,6 +28,7 @@ import math
 from xml.sax.saxutils import quoteattr
 
 from swatch.core.errors import SwatchError
+from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 
 __all__ = ["MITSUBA_VERSION", "PLUGIN", "REGISTER", "bsdf_dict", "mitsuba_json_bytes", "mitsuba_xml_bytes",
@@ -81,11 +82,10 @@ def bsdf_dict(thickness_nm: float, film: str, substrate: str, film_index_scale: 
     Raises
     ------
     SwatchError
-        For a thickness that is not a finite number ≥ 0 or an α outside (0, 1].
+        For a thickness outside what the model takes (:func:`swatch.physics.model.check_thickness_nm`)
+        or an α outside (0, 1].
     """
-    d = float(thickness_nm)
-    if not (math.isfinite(d) and d >= 0.0):
-        raise SwatchError(f"`thickness_nm` must be a finite number ≥ 0 (got {thickness_nm!r})")
+    d = float(check_thickness_nm(float(thickness_nm)))
     a = tuple(float(x) for x in alphas)
     if len(a) not in (1, 2) or not all(math.isfinite(x) and 0.0 < x <= 1.0 for x in a):
         raise SwatchError(f"`alphas` must be one or two GGX α in (0, 1] (got {alphas!r})")

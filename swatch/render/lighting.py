@@ -214,8 +214,8 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
             raise SwatchError(f"this lighting was resolved for the {environment.engine} engine, not {engine}")
         return environment
     if view_deg is not None:
-        geometry.check_polar_deg(view_deg, "view")
-    geometry.check_azimuth_deg(view_azimuth_deg, "view")
+        geometry.check_polar_deg(view_deg, "view_deg")
+    geometry.check_azimuth_deg(view_azimuth_deg, "view_azimuth_deg")
     if engine == "mitsuba":
         return _mitsuba(environment, sun)
     if sun is not None:

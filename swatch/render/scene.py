@@ -420,9 +420,9 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
         An unknown shape or an angle outside [0, 90).
     """
     shape = "sphere" if mesh is not None else check_shape(shape)
-    light_deg = float(geometry.check_polar_deg(light_deg, "light"))
-    view = DEFAULT_VIEW_DEG[shape] if view_deg is None else float(geometry.check_polar_deg(view_deg, "view"))
-    azim = float(geometry.check_azimuth_deg(view_azimuth_deg, "view"))
+    light_deg = float(geometry.check_polar_deg(light_deg, "light_deg"))
+    view = DEFAULT_VIEW_DEG[shape] if view_deg is None else float(geometry.check_polar_deg(view_deg, "view_deg"))
+    azim = float(geometry.check_azimuth_deg(view_azimuth_deg, "view_azimuth_deg"))
     t = math.radians(light_deg)
     obj: Shape
     if shape == "flat":

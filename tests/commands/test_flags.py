@@ -81,3 +81,31 @@ def test_every_mapped_flag_is_an_option_of_some_command():
             stack += list(getattr(cmd, "commands", {}).values())
             options |= {o for p in cmd.params for o in [*getattr(p, "opts", []), *getattr(p, "secondary_opts", [])]}
     assert set(PARAMETER_FLAGS.values()) - options == set()
+
+
+def test_thickness_voltage_and_angles_are_checked_once_and_spoken_as_the_callers_words(tmp_path):
+    """Issue #17, "one way through the code": the library's one thickness / voltage / angle check names the
+    parameter (`thickness_nm`, `voltage_V`, `light_deg`, `view_deg`); ``swatch render`` says --thickness,
+    --voltage, --light, --view, checks the whole range before writing anything, and the value out of range is
+    in the message."""
+    import pytest
+
+    from swatch.physics.model import voltage_to_thickness_nm
+    from swatch.render import render_swatch
+    from tests.cli_helpers import assert_one_line_error, run_swatch
+
+    with pytest.raises(SwatchError, match=r"^`thickness_nm` must be a number from 0 to 1000 nm \(got 1200\)$"):
+        render_swatch(1200.0, "flat", 8)
+    with pytest.raises(SwatchError, match=r"^`light_deg` must be in \[0, 90\) degrees from the normal \(got 95\)$"):
+        render_swatch(50.0, "flat", 8, light_deg=95.0)
+    with pytest.raises(SwatchError, match=r"^`voltage_V` 250 V gives a 1250 nm film by the growth law"):
+        voltage_to_thickness_nm(250.0, nm_per_V=5.0)  # within the voltage cap, beyond the thickness cap
+    out = tmp_path / "out"
+    cases = [(["--thickness", "100,1200"], "--thickness must be a number from 0 to 1000 nm (got 1200)"),
+             (["--voltage", "-3"], "--voltage must be a number from 0"),
+             (["--thickness", "100", "--light", "95"], "--light must be in [0, 90) degrees from the normal (got 95)"),
+             (["--thickness", "100", "--view", "-1"], "--view must be in [0, 90)")]
+    for args, words in cases:
+        proc = run_swatch("render", *args, "--size", "8", "--out", out)
+        assert_one_line_error(proc, words)
+        assert "`" not in proc.stderr and not out.exists()

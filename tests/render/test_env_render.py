@@ -93,7 +93,7 @@ BAD = [
     (["--environment", "sunset"], "unknown environment"),
     (["--environment", "none", "--background", "environment"], "needs an environment"),
     (["--model", "paper", "--environment", "studio"], "microfacet"),
-    (["--view", "95"], "view angle"),
+    (["--view", "95"], "--view must be in [0, 90)"),
     (["--size", "4096"], "at most 2048"),
 ]
 
