@@ -268,3 +268,20 @@ def test_the_builtin_render_path_never_loads_mitsuba():
             "or m.startswith('swatch.render.mitsuba')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert ast.literal_eval(out) == []
+
+
+def test_no_test_module_imports_another_test_module():
+    """Issue #17 item 7: tests share helpers through helper modules and conftest.py fixtures
+    (tests/catalog/folder_helpers.py, tests/render/env_reference.py, ...), never by importing another
+    ``test_*.py`` (which drags its fixtures and private names along)."""
+    tests = Path(__file__).resolve().parent
+    found = []
+    for path in sorted(tests.rglob("*.py")):
+        if "vendor" in path.relative_to(tests).parts:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = ([node.module or ""] if isinstance(node, ast.ImportFrom)
+                     else [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            found += [f"{path.relative_to(tests)} -> {n}" for n in names
+                      if n.split(".")[0] == "tests" and n.rsplit(".", 1)[-1].startswith("test_")]
+    assert found == []

@@ -1,13 +1,71 @@
-"""Helpers the catalog-folder tests share (#12, #21): a digest of a catalog folder's files."""
+"""Helpers the catalog-folder tests share (#12, #21, #22): a small catalog spec, a digest and a snapshot of a
+catalog folder, a crafted journal, and the CLI build refused in one line. The built catalog they start
+from is the ``first_build`` fixture (tests/catalog/conftest.py)."""
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import io
+import json
+import os
+import subprocess
 from pathlib import Path
 
-from swatch.catalog.folder import META_DIR
+from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
+from swatch.cli import main
+from tests.cli_helpers import assert_one_line_error
 
 
 def digest(folder: Path) -> dict[str, str]:
     """The catalog's files (the top and its subfolders, #21; not the metadata) by relative name → SHA-256."""
     return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
             for p in sorted(folder.rglob("*")) if p.is_file() and META_DIR not in p.relative_to(folder).parts}
+
+
+SPEC = """
+name = "Hardening"
+[thickness]
+list_nm = [40, 90, 140]
+[render]
+size_px = 64
+shapes = ["flat"]
+angular_map = false
+[tolerance]
+grade = "{grade}"
+[sheet]
+columns = 2
+rows = 1
+"""
+
+
+def write_spec(path: Path, grade: str = "C") -> Path:
+    path.write_text(SPEC.format(grade=grade), encoding="utf-8")
+    return path
+
+
+def tree(folder: Path) -> dict[str, bytes | None]:
+    """Every entry under ``folder`` (links not followed) with file contents: a before/after snapshot."""
+    out = {}
+    for p in sorted(folder.rglob("*")):
+        rel = p.relative_to(folder).as_posix()
+        out[rel] = p.read_bytes() if p.is_file() and not p.is_symlink() else os.readlink(p) if p.is_symlink() else None
+    return out
+
+
+def refuse(spec, out, *fragments):
+    """The CLI build (in this process: faster) is refused in one line with exit 2."""
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        rc = main(["catalog", "build", str(spec), "--out", str(out), "-q"])
+    proc = subprocess.CompletedProcess([], rc, "", err.getvalue())
+    assert_one_line_error(proc, *fragments)
+    assert proc.returncode == 2
+    return proc
+
+
+def journal(out: Path, **changes) -> None:
+    meta = out / META_DIR
+    man = json.loads((meta / MANIFEST).read_text())
+    doc = {"phase": "commit", "staging": "staging-x", "files": [], "remove": [], "manifest": man}
+    doc.update(changes)
+    (meta / JOURNAL).write_text(json.dumps(doc), encoding="utf-8")

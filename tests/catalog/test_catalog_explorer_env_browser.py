@@ -18,7 +18,7 @@ from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.render.display import KNEE, tone
 from tests.browser import CHROMIUM, WEBGL_ARGS, open_catalog_page, wait_until
 from tests.cli_helpers import run_swatch
-from tests.render.test_environment import _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal_view
+from tests.render.env_reference import albedo_normal_view, lab_2deg, lab_of_spectrum, xyz_of_srgb
 
 THICKNESSES = (30.0, 80.0, 160.0)
 BG = (118, 118, 118)  # linear grey 0.18, sRGB-encoded
@@ -84,7 +84,7 @@ def test_uniform_plate_is_the_directional_albedo(page):
                                                     "view_deg": 0})
         linear = colour.cctf_decoding(_centre(pg) / 255.0, "sRGB")
         assert linear.max() < KNEE  # below the shoulder the display is linear: invertible
-        dE = float(delta_E_00(_lab(_xyz_of_srgb(linear)), _lab_of_spectrum(albedo_normal_view(d))))
+        dE = float(delta_E_00(lab_2deg(xyz_of_srgb(linear)), lab_of_spectrum(albedo_normal_view(d))))
         print(f"uniform plate {d:g} nm: dE00 page vs tmm quadrature {dE:.2f}")
         assert dE <= 1.0, (d, dE)
 

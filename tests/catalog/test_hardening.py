@@ -2,14 +2,11 @@
 failed build leaves the previous catalog (crafted folders, failures during the commit)."""
 from __future__ import annotations
 
-import contextlib
 import fcntl
 import hashlib
-import io
 import json
 import os
 import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -17,51 +14,10 @@ import pytest
 from swatch.catalog import build as buildmod
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
-from swatch.cli import main
 from swatch.core.errors import SwatchError
-from tests.catalog.folder_helpers import digest
-from tests.cli_helpers import assert_one_line_error
+from tests.catalog.folder_helpers import digest, journal, refuse, tree, write_spec
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
-
-SPEC = """
-name = "Hardening"
-[thickness]
-list_nm = [40, 90, 140]
-[render]
-size_px = 64
-shapes = ["flat"]
-angular_map = false
-[tolerance]
-grade = "{grade}"
-[sheet]
-columns = 2
-rows = 1
-"""
-
-
-def write_spec(path: Path, grade: str = "C") -> Path:
-    path.write_text(SPEC.format(grade=grade), encoding="utf-8")
-    return path
-
-
-def tree(folder: Path) -> dict[str, bytes | None]:
-    """Every entry under ``folder`` (links not followed) with file contents: a before/after snapshot."""
-    out = {}
-    for p in sorted(folder.rglob("*")):
-        rel = p.relative_to(folder).as_posix()
-        out[rel] = p.read_bytes() if p.is_file() and not p.is_symlink() else os.readlink(p) if p.is_symlink() else None
-    return out
-
-
-@pytest.fixture(scope="module")
-def first_build(tmp_path_factory):
-    root = tmp_path_factory.mktemp("hard")
-    spec = write_spec(root / "h.toml")
-    out = root / "built"
-    build_catalog(spec, out, jobs=1)
-    return out
-
 
 @pytest.fixture
 def cat(first_build, tmp_path):
@@ -72,25 +28,6 @@ def cat(first_build, tmp_path):
     victim.mkdir()
     (victim / "precious.txt").write_text("do not delete", encoding="utf-8")
     return write_spec(tmp_path / "h.toml", grade="A"), out, victim
-
-
-def refuse(spec, out, *fragments):
-    """The CLI build (in this process: faster) is refused in one line with exit 2."""
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err):
-        rc = main(["catalog", "build", str(spec), "--out", str(out), "-q"])
-    proc = subprocess.CompletedProcess([], rc, "", err.getvalue())
-    assert_one_line_error(proc, *fragments)
-    assert proc.returncode == 2
-    return proc
-
-
-def journal(out: Path, **changes) -> None:
-    meta = out / META_DIR
-    man = json.loads((meta / MANIFEST).read_text())
-    doc = {"phase": "commit", "staging": "staging-x", "files": [], "remove": [], "manifest": man}
-    doc.update(changes)
-    (meta / JOURNAL).write_text(json.dumps(doc), encoding="utf-8")
 
 
 @pytest.mark.parametrize("staging", ["../../../victim", "../../../../victim", "/tmp", "staging-x/../../../victim",

@@ -15,11 +15,11 @@ from swatch.catalog import build as buildmod
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR, PREVIOUS
 from swatch.core.errors import SwatchError
-from tests.catalog.test_hardening import digest, first_build, journal, refuse, tree, write_spec  # noqa: F401  (fixture)
+from tests.catalog.folder_helpers import digest, journal, refuse, tree, write_spec
 
 
 @pytest.fixture
-def cat(first_build, tmp_path):  # noqa: F811
+def cat(first_build, tmp_path):
     """(spec, catalog folder, victim folder outside it with a file and a folder of the user's)."""
     out = tmp_path / "a" / "b" / "out"
     shutil.copytree(first_build, out, symlinks=True)
@@ -87,7 +87,7 @@ def test_issue22_links_and_folders_inside_staging_are_refused(cat, what):
     assert tree(out) == inside
 
 
-def test_issue22_folder_with_journal_but_no_manifest_is_not_a_catalog(first_build, tmp_path):  # noqa: F811
+def test_issue22_folder_with_journal_but_no_manifest_is_not_a_catalog(first_build, tmp_path):
     """Issue #22 group 2: the 'not a catalog' guard holds before any journal is acted on."""
     spec = write_spec(tmp_path / "h.toml")
     mine = tmp_path / "mine"

@@ -9,14 +9,14 @@ import pytest
 from swatch.cli import main
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.render import environment, render_swatch, scene
-from tests.render.test_environment import (
+from tests.render.env_reference import (
     CM,
     COATING,
-    _lab,
-    _lab_of_spectrum,
-    _write_equirect,
-    _xyz_of_srgb,
     albedo_normal_view,
+    lab_2deg,
+    lab_of_spectrum,
+    write_equirect,
+    xyz_of_srgb,
 )
 
 
@@ -24,8 +24,8 @@ from tests.render.test_environment import (
 def test_furnace_plate_along_the_normal(d_nm):
     img = render_swatch(d_nm, "flat", 32, environment="uniform", view_deg=0.0, coating=COATING, colorimeter=CM)
     centre = img.linear_rgb[15:17, 15:17].reshape(-1, 3).mean(axis=0)
-    got = _lab(_xyz_of_srgb(centre))
-    ref = _lab_of_spectrum(albedo_normal_view(d_nm))
+    got = lab_2deg(xyz_of_srgb(centre))
+    ref = lab_of_spectrum(albedo_normal_view(d_nm))
     assert delta_E_00(got, ref) <= 1.0, (d_nm, got, ref)
     assert img.metadata["environment"] == "uniform" and img.exposure == 1.0
 
@@ -40,14 +40,14 @@ def test_furnace_sphere_centre_pixel(d_nm):
     assert cv[i, j] > 0.999
     img = render_swatch(d_nm, "sphere", size, environment="uniform", view_deg=0.0, coating=COATING,
                                colorimeter=CM)
-    got = _lab(_xyz_of_srgb(img.linear_rgb[i, j]))
-    ref = _lab_of_spectrum(albedo_normal_view(d_nm))
+    got = lab_2deg(xyz_of_srgb(img.linear_rgb[i, j]))
+    ref = lab_of_spectrum(albedo_normal_view(d_nm))
     assert delta_E_00(got, ref) <= 1.0, (d_nm, got, ref)
 
 
 def test_constant_exr_equals_uniform(tmp_path):
     p = tmp_path / "grey.exr"
-    _write_equirect(p, np.full((32, 64, 3), 0.37, dtype=np.float32))
+    write_equirect(p, np.full((32, 64, 3), 0.37, dtype=np.float32))
     env = environment.get_environment(str(p))
     assert env.is_constant and env.radiance[0, 0, 0] == pytest.approx(1.0, rel=1e-6)
     for shape in ("flat", "sphere"):

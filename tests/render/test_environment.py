@@ -13,85 +13,27 @@ Renders through the renderer: tests/render/test_env_render.py.
 """
 from __future__ import annotations
 
-import functools
-
 import colour
 import numpy as np
-import OpenImageIO as oiio
 import pytest
-import tmm
 from scipy import integrate
-from scipy.interpolate import CubicSpline
 
-from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
+from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.errors import SwatchError
-from swatch.physics.materials import load_material
-from swatch.physics.model import get_coating
 from swatch.render import env_shading, environment, render_swatch, scene, shading
-
-ALPHA = 0.3
-COATING = get_coating()
-CM = get_colorimeter(COATING.wavelength_nm)
-CM2 = CM.display_colorimeter  # CIE 1931 2°: the observer RGB is defined on
-WL = np.asarray(COATING.wavelength_nm, dtype=float)
-
-
-@functools.cache
-def _indices():
-    return load_material("TiO2-Siefke").nk(WL), load_material("Ti-Johnson").nk(WL)
-
-
-def _tmm_R(d_nm: float, theta_rad: float) -> np.ndarray:
-    nf, ns = _indices()
-    out = []
-    for i, wl in enumerate(WL):
-        n_list, d_list = [1.0, nf[i], ns[i]], [np.inf, d_nm, np.inf]
-        out.append(0.5 * (tmm.coh_tmm("s", n_list, d_list, theta_rad, wl)["R"]
-                          + tmm.coh_tmm("p", n_list, d_list, theta_rad, wl)["R"]))
-    return np.array(out)
-
-
-def _ggx_lambda(c, a):
-    t2 = (1.0 - c * c) / (c * c)
-    return 0.5 * (np.sqrt(1.0 + a * a * t2) - 1.0)
-
-
-@functools.cache
-def albedo_normal_view(d_nm: float, a: float = ALPHA) -> np.ndarray:
-    """Spectral directional albedo (W,) for the view along the normal, by quadrature."""
-    nodes = np.radians(np.arange(0.0, 46.0, 3.0))  # θ_d from 0 to 45°
-    spline = CubicSpline(nodes, np.stack([_tmm_R(d_nm, t) for t in nodes]), axis=0)
-
-    def integrand(theta_l):
-        cl = np.cos(theta_l)
-        ch = np.cos(theta_l / 2)  # h bisects l and n
-        den = (a * a - 1.0) * ch * ch + 1.0
-        D = a * a / (np.pi * den * den)
-        G = 1.0 / (1.0 + _ggx_lambda(max(cl, 1e-12), a))  # Λ(v) = 0 along the normal
-        f = D * G / (4.0 * cl * 1.0)
-        return 2.0 * np.pi * f * cl * np.sin(theta_l) * spline(theta_l / 2)
-
-    val, _err = integrate.quad_vec(integrand, 0.0, np.pi / 2 - 1e-9, epsrel=1e-7)
-    return val
-
-
-def _xyz_of_srgb(rgb) -> np.ndarray:
-    """CIE 1931 2° XYZ (Y = 100 white) of linear sRGB (display RGB is defined on 2° colorimetry;
-    1.0 = white)."""
-    A = CM.rgb_linear(np.eye(3) * 100.0, "srgb").T  # rgb = A @ XYZ_2 / 100
-    return 100.0 * np.linalg.solve(A, np.asarray(rgb, dtype=float).T).T
-
-
-def _lab(XYZ_2):
-    """CIELAB of 2° tristimulus values (D65 white of the 2° observer)."""
-    return CM2.Lab(XYZ_2)
-
-
-def _lab_of_spectrum(R):
-    """CIELAB (D65, CIE 1931 2°) of a reflectance spectrum by colour.sd_to_XYZ (ASTM E308)."""
-    sd = colour.SpectralDistribution(R, WL)
-    xyz = colour.sd_to_XYZ(sd, colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"])
-    return CM2.Lab(xyz)
+from tests.render.env_reference import (
+    ALPHA,
+    CM,
+    COATING,
+    WL,
+    albedo_normal_view,
+    ggx_lambda,
+    lab_2deg,
+    lab_of_spectrum,
+    tmm_R,
+    write_equirect,
+    xyz_of_srgb,
+)
 
 
 @pytest.mark.parametrize("d_nm", [30.0, 80.0, 160.0])
@@ -102,14 +44,14 @@ def test_furnace_integration_along_the_normal(d_nm):
     tab = shading.facet_colour_table(d_nm, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
     n = np.array([[0.0, 1.0, 0.0]])
     rgb = env_shading.shade(n, n, environment.levels(env), ss, env_shading.band_weights(ss, tab))[0]
-    got = _lab(_xyz_of_srgb(rgb))
-    ref = _lab_of_spectrum(albedo_normal_view(d_nm))
+    got = lab_2deg(xyz_of_srgb(rgb))
+    ref = lab_of_spectrum(albedo_normal_view(d_nm))
     assert delta_E_00(got, ref) <= 1.0, (d_nm, got, ref)
 
 
 def test_constant_exr_is_normalised_to_uniform(tmp_path):
     p = tmp_path / "grey.exr"
-    _write_equirect(p, np.full((32, 64, 3), 0.37, dtype=np.float32))
+    write_equirect(p, np.full((32, 64, 3), 0.37, dtype=np.float32))
     env = environment.get_environment(str(p))
     assert env.is_constant and env.radiance[0, 0, 0] == pytest.approx(1.0, rel=1e-6)
 
@@ -127,19 +69,11 @@ def test_albedo_level_of_the_sample_sets():
             h = (l + v) / np.linalg.norm(l + v)
             den = (ALPHA ** 2 - 1.0) * h[2] ** 2 + 1.0
             D = ALPHA ** 2 / (np.pi * den * den)
-            G = 1.0 / (1.0 + _ggx_lambda(max(l[2], 1e-12), ALPHA) + _ggx_lambda(cv, ALPHA))
+            G = 1.0 / (1.0 + ggx_lambda(max(l[2], 1e-12), ALPHA) + ggx_lambda(cv, ALPHA))
             return D * G / (4.0 * cv) * np.sin(th)
 
         ref = integrate.dblquad(f, 0.0, np.pi / 2, 0.0, 2 * np.pi, epsabs=1e-7)[0]
         assert A[j] == pytest.approx(ref, abs=2e-4)
-
-
-def _write_equirect(path, pixels):
-    h, w, c = pixels.shape
-    out = oiio.ImageOutput.create(str(path))
-    out.open(str(path), oiio.ImageSpec(w, h, c, oiio.FLOAT))
-    out.write_image(np.ascontiguousarray(pixels, dtype=np.float32))
-    out.close()
 
 
 def test_equirect_orientation(tmp_path):
@@ -148,7 +82,7 @@ def test_equirect_orientation(tmp_path):
     img[:8] = 5.0
     img[60:] = 0.01
     p = tmp_path / "sky.exr"
-    _write_equirect(p, img)
+    write_equirect(p, img)
     env = environment.get_environment(str(p))
     up, down = env.radiance_at(np.array([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]))
     assert up[0] > 100 * down[0]
@@ -170,7 +104,7 @@ def test_studio_error_against_brute_force():
     tab = shading.facet_colour_table(80.0, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
     fast = env_shading.shade(n, v, environment.levels(env), ss, env_shading.band_weights(ss, tab))
     ref = env_shading.shade_reference(n, v, env, ALPHA, tab, samples=2048)
-    dE = delta_E_00(_lab(_xyz_of_srgb(fast)), _lab(_xyz_of_srgb(ref)))
+    dE = delta_E_00(lab_2deg(xyz_of_srgb(fast)), lab_2deg(xyz_of_srgb(ref)))
     assert np.median(dE) <= 1.0 and np.percentile(dE, 95) <= 2.5, (np.median(dE), np.percentile(dE, 95))
 
 
@@ -182,7 +116,7 @@ def test_studio_error_against_brute_force():
 ])
 def test_bad_maps(tmp_path, pixels, words):
     p = tmp_path / "bad.exr"
-    _write_equirect(p, pixels.astype(np.float32))
+    write_equirect(p, pixels.astype(np.float32))
     with pytest.raises(SwatchError, match=words):
         environment.get_environment(str(p))
 
@@ -209,9 +143,9 @@ def test_level_correction_is_finite_where_a_channel_changes_sign():
     tab = shading.facet_colour_table(170.0, COATING, CM, 257, (0.0, 1.0)).to_rgb(CM).values.astype(float)
     fast = env_shading.shade(n, v, environment.levels(env), ss, env_shading.band_weights(ss, tab))
     ref = env_shading.shade_reference(n, v, env, a, tab, samples=4096)
-    dE = delta_E_00(_lab(_xyz_of_srgb(fast)), _lab(_xyz_of_srgb(ref)))
+    dE = delta_E_00(lab_2deg(xyz_of_srgb(fast)), lab_2deg(xyz_of_srgb(ref)))
     assert dE.max() <= 2.5, (np.degrees(th[np.argmax(dE)]), dE.max())
-    lab = _lab(_xyz_of_srgb(fast))
+    lab = lab_2deg(xyz_of_srgb(fast))
     assert delta_E_00(lab[1:], lab[:-1]).max() <= 1.0, delta_E_00(lab[1:], lab[:-1]).max()
 
 
@@ -234,7 +168,7 @@ def _studio_quadrature(normal, view, d_nm: float, a: float = ALPHA, n_theta: int
     rad = environment.get_environment("studio").scale * studio_radiance(L)[..., 1]
     tds = np.linspace(0.0, np.pi / 2, 46)
     shape = colour.SpectralShape(float(WL[0]), float(WL[-1]), float(WL[1] - WL[0]))
-    F_rgb = np.array([colour.XYZ_to_RGB(colour.sd_to_XYZ(colour.SpectralDistribution(_tmm_R(d_nm, t), WL),
+    F_rgb = np.array([colour.XYZ_to_RGB(colour.sd_to_XYZ(colour.SpectralDistribution(tmm_R(d_nm, t), WL),
                                                           colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"],
                                                           colour.SDS_ILLUMINANTS["D65"], shape=shape) / 100, "sRGB")
                       for t in tds])
@@ -242,7 +176,7 @@ def _studio_quadrature(normal, view, d_nm: float, a: float = ALPHA, n_theta: int
     H /= np.linalg.norm(H, axis=-1, keepdims=True)
     cl, cv, ch = L @ normal, float(view @ normal), H @ normal
     D = a * a / (np.pi * ((a * a - 1) * ch * ch + 1) ** 2)
-    G = 1.0 / (1.0 + _ggx_lambda(np.maximum(cl, 1e-9), a) + _ggx_lambda(cv, a))
+    G = 1.0 / (1.0 + ggx_lambda(np.maximum(cl, 1e-9), a) + ggx_lambda(cv, a))
     wgt = np.where((cl > 0) & (ch > 0), D * G / (4 * cv) * dw * rad, 0.0).ravel()
     td = np.arccos(np.clip((L * H).sum(-1), -1, 1)).ravel()
     return np.array([wgt @ np.interp(td, tds, F_rgb[:, k]) for k in range(3)])

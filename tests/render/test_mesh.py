@@ -18,7 +18,7 @@ from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.errors import SwatchError
 from swatch.render import mesh, render_swatch, scene
 from tests.cli_helpers import assert_one_line_error, run_swatch
-from tests.render.test_environment import CM, COATING, _lab, _lab_of_spectrum, _xyz_of_srgb, albedo_normal_view
+from tests.render.env_reference import CM, COATING, albedo_normal_view, lab_2deg, lab_of_spectrum, xyz_of_srgb
 
 
 def _torus_on_plate():
@@ -80,7 +80,7 @@ def test_mesh_plate_furnace_along_the_normal(tmp_path, d_nm):
     img = render_swatch(d_nm, "mesh", 32, environment="uniform", view_deg=0.0, mesh=mesh.load_mesh(path),
                                coating=COATING, colorimeter=CM)
     centre = img.linear_rgb[15:17, 15:17].reshape(-1, 3).mean(axis=0)
-    assert delta_E_00(_lab(_xyz_of_srgb(centre)), _lab_of_spectrum(albedo_normal_view(d_nm))) <= 1.0
+    assert delta_E_00(lab_2deg(xyz_of_srgb(centre)), lab_of_spectrum(albedo_normal_view(d_nm))) <= 1.0
 
 
 def test_file_formats_render_alike_and_the_torus_shadows_the_plate(torus_files):
