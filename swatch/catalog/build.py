@@ -331,8 +331,9 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         # 1. tiles (renders), from the cache or rendered in parallel
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
-        pool = tilemod.make_pool(spec, sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
-        rendered = tilemod.render_missing(spec, data.thickness_nm, missing, tile_keys, cache, pool,
+        tiles = tilemod.tile_render(data.context)  # the context's coating and colorimeter, sent to the workers
+        pool = tilemod.make_pool(sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
+        rendered = tilemod.render_missing(tiles, data.thickness_nm, missing, tile_keys, cache, pool,
                                            lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)
         sheet_list = []
@@ -353,8 +354,8 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                 for f in (png, exr):
                     files[f] = old_files[f]
             else:
-                args = (spec, header, recs, [tile_keys[r["index"] - 1] for r in recs], cache, s + 1, n_sheets,
-                        staging / png, staging / exr)
+                args = (spec, tiles, header, recs, [tile_keys[r["index"] - 1] for r in recs], cache, s + 1,
+                        n_sheets, staging / png, staging / exr)
                 todo.append(pool.submit(sheetmod.compose_sheet, *args) if pool is not None else args)
         # print chips, in the pool beside the sheets
         chip_jobs: list[Any] = []

@@ -36,7 +36,7 @@ from swatch.catalog.sheet_layout import (
     label_width,
 )
 from swatch.catalog.spec import CatalogSpec
-from swatch.catalog.tiles import LIGHT_DEG, lighting_caption, load_tile, tile_environment
+from swatch.catalog.tiles import LIGHT_DEG, TileRender, lighting_caption, load_tile, tile_environment
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_RUN_BYTES
 from swatch.io.drawing import draw_rect, draw_text
@@ -203,13 +203,15 @@ def _sheet_xmp(header: dict, records: list[dict], number: int, of: int) -> str:
     return xmp_packet(f"{header['name']} — sheet {number} of {of}", description, props)
 
 
-def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: list[str], cache: Path,
-                  number: int, of: int, png_path: Path, exr_path: Path) -> None:
+def compose_sheet(spec: CatalogSpec, tile_job: TileRender, header: dict, records: list[dict], keys: list[str],
+                  cache: Path, number: int, of: int, png_path: Path, exr_path: Path) -> None:
     """Compose one sheet from cached tile renders and write its PNG and EXR (with metadata).
 
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+    tile_job : swatch.catalog.tiles.TileRender
+        What a tile missing from the cache is rendered with.
     header : dict
         ``catalog.json``'s ``catalog``.
     records : list of dict
@@ -236,7 +238,7 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
     tiles = []
     bg = np.float32(BACKGROUND_LINEAR)
     for slot, (rec, key) in enumerate(zip(records, keys, strict=True)):
-        arrays = load_tile(spec, cache, key, spec.thickness_nm[rec["index"] - 1])
+        arrays = load_tile(tile_job, cache, key, spec.thickness_nm[rec["index"] - 1])
         x0, y0 = lay.tile_origin(slot)
         draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, CARD, inplace=True)
         draw_rect(disp, x0, y0, x0 + lay.tile_w, y0 + lay.tile_h, RULE, fill=False, inplace=True)
@@ -265,7 +267,7 @@ def compose_sheet(spec: CatalogSpec, header: dict, records: list[dict], keys: li
     lin = _srgb_decode(disp)
     # the linear renders, one tile in memory at a time (holding them all took 0.6 GB at 512 px, 8 × 8)
     for slot, (rec, key) in enumerate(zip(records, keys, strict=True)):
-        arrays = load_tile(spec, cache, key, spec.thickness_nm[rec["index"] - 1])
+        arrays = load_tile(tile_job, cache, key, spec.thickness_nm[rec["index"] - 1])
         for y, x, _slot, name in (p for p in lin_patches if p[2] == slot):
             if name == "amap":
                 patch = arrays["amap_linear"].astype(np.float32)

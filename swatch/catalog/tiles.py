@@ -16,29 +16,30 @@ import multiprocessing as mp
 import os
 import zipfile
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from swatch.catalog.context import CatalogContext
 from swatch.catalog.folder import remove_tree
 from swatch.catalog.spec import CatalogSpec
-from swatch.colorimetry.colorimeter import get_colorimeter
+from swatch.colorimetry.colorimeter import Colorimeter
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.procguard import exit_with, ignore_interrupts, start_forkserver_ignoring_interrupts
 from swatch.core.safepath import is_regular_file
 from swatch.core.sources import package_dir, source_files
 from swatch.physics.finishes import get_finish
-from swatch.physics.materials import wavelength_grid
-from swatch.physics.model import get_coating
+from swatch.physics.model import Coating
 from swatch.render import render_swatch
 from swatch.render.angular import angular_map
 
 if TYPE_CHECKING:
     from multiprocessing.context import BaseContext
 
-__all__ = ["tile_key", "tile_shapes", "npz_fits", "load_tile", "render_missing", "make_pool", "tile_environment",
-           "lighting_caption", "AMAP_ANGLES_DEG", "AMAP_CELL_PX", "LIGHT_DEG", "ENVIRONMENT"]
+__all__ = ["TileRender", "tile_render", "render_tile", "tile_key", "tile_shapes", "npz_fits", "load_tile",
+           "render_missing", "make_pool", "tile_environment", "lighting_caption", "AMAP_ANGLES_DEG", "AMAP_CELL_PX", "LIGHT_DEG", "ENVIRONMENT"]
 
 TILE_VERSION = 1
 #: Angular-map grid (light × view polar angles, degrees); 60 × 60 cells drawn at 2 px each.
@@ -123,25 +124,88 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
 
 # -- rendering (worker side) -----------------------------------------------------------------
 
-def _render_job(args):
-    """Render one swatch's tile images; a pure function of ``args`` (runs in a worker process)."""
-    (d, film, substrate, scale, wl_step, illuminant, observer, shapes, size, model, roughness, amap, spread, finish) = args
+@dataclass(frozen=True)
+class TileRender:
+    """What every tile of a catalog is rendered with: the build's coating and colorimeter (from its
+    :class:`~swatch.catalog.context.CatalogContext`, not rebuilt from the spec) and the spec's render
+    options. Picklable: it goes to the pool's workers as it is.
 
-    wl = wavelength_grid(380.0, 780.0, wl_step)
-    coating = get_coating(film, substrate, wl, scale, spread)
-    cm = get_colorimeter(wl, illuminant, observer)
+    Attributes
+    ----------
+    coating : swatch.physics.model.Coating
+        The catalog's film on its substrate (the context's).
+    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+        The catalog's illuminant and observer (the context's); display RGB from its 2° twin.
+    shapes : tuple of str
+        The shapes rendered, in order (``r0``, ``r1``, ... in the tile).
+    size_px : int
+        Pixels per side of each render.
+    model : str
+        The intensity model (``microfacet``: under the studio; ``paper``: the point light).
+    roughness_alpha : float
+        GGX α (a finish's replaces it).
+    angular_map : bool
+        Whether the tile holds the angular map.
+    finish : str or None
+        A named finish (:func:`swatch.physics.finishes.get_finish`).
+    """
+
+    coating: Coating
+    colorimeter: Colorimeter
+    shapes: tuple[str, ...]
+    size_px: int
+    model: str
+    roughness_alpha: float
+    angular_map: bool
+    finish: str | None
+
+
+def tile_render(ctx: CatalogContext) -> TileRender:
+    """The :class:`TileRender` of a build, from its context (built once, in the build).
+
+    Parameters
+    ----------
+    ctx : swatch.catalog.context.CatalogContext
+
+    Returns
+    -------
+    TileRender
+    """
+    spec = ctx.spec
+    return TileRender(ctx.coating, ctx.colorimeter, tuple(spec.shapes), spec.size_px, spec.model, spec.roughness,
+                      spec.angular_map, spec.finish)
+
+
+def render_tile(job: TileRender, thickness_nm: float) -> dict:
+    """Render one swatch's tile images: a pure function of its inputs (runs in a worker process).
+
+    Parameters
+    ----------
+    job : TileRender
+        The build's coating, colorimeter and render options.
+    thickness_nm : float
+        The swatch's film thickness, nm.
+
+    Returns
+    -------
+    dict
+        Name → array (:func:`tile_shapes`): per shape the exposed linear render (half), its coverage,
+        its display sRGB and exposure; the angular map (linear and display) when the job asks for it.
+    """
+    d = float(thickness_nm)
+    coating, cm = job.coating, job.colorimeter
     out: dict[str, Any] = {}
-    for i, shape in enumerate(shapes):
-        im = render_swatch(d, shape, size, light_deg=LIGHT_DEG, roughness_alpha=roughness, model=model,
-                           coating=coating, colorimeter=cm, space="srgb", workers=1,
-                           environment=ENVIRONMENT if model == "microfacet" else None,
-                           finish=None if finish is None else get_finish(finish))
+    for i, shape in enumerate(job.shapes):
+        im = render_swatch(d, shape, job.size_px, light_deg=LIGHT_DEG, roughness_alpha=job.roughness_alpha,
+                           model=job.model, coating=coating, colorimeter=cm, space="srgb", workers=1,
+                           environment=ENVIRONMENT if job.model == "microfacet" else None,
+                           finish=None if job.finish is None else get_finish(job.finish))
         # half floats: the sheet EXR is half anyway, and the cache stays small
         out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
         out[f"r{i}_alpha"] = np.asarray(im.coverage, dtype=np.float16)
         out[f"r{i}_display"] = np.asarray(im.display_rgb, dtype=np.uint8)
         out[f"r{i}_exposure"] = np.float64(im.exposure)
-    if amap:
+    if job.angular_map:
         am = angular_map(d, AMAP_ANGLES_DEG, AMAP_ANGLES_DEG, coating=coating, colorimeter=cm, model="paper")
         # rows = light angle: flip so light 0° is at the bottom (as swatch.report.figures.angular_figure)
         lin = np.asarray(am.linear_rgb, dtype=np.float32)[::-1] * np.float32(am.exposure)
@@ -150,12 +214,6 @@ def _render_job(args):
         out["amap_linear"] = np.repeat(np.repeat(lin, c, 0), c, 1).astype(np.float16)
         out["amap_display"] = np.repeat(np.repeat(disp, c, 0), c, 1)
     return out
-
-
-def _job_args(spec: CatalogSpec, d: float):
-    return (float(d), spec.film, spec.substrate, spec.film_index_scale, spec.wavelength_step_nm, spec.illuminant,
-            spec.observer,
-            tuple(spec.shapes), spec.size_px, spec.model, spec.roughness, spec.angular_map, spec.spread, spec.finish)
 
 
 def _save_npz(path: Path, arrays: dict) -> None:
@@ -167,13 +225,14 @@ def _save_npz(path: Path, arrays: dict) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def tile_shapes(spec: CatalogSpec) -> dict:
+def tile_shapes(spec: CatalogSpec | TileRender) -> dict:
     """Name → (shape, dtype) of every array a tile of ``spec`` holds (renders, coverage, display, exposure,
     angular map).
 
     Parameters
     ----------
-    spec : swatch.catalog.spec.CatalogSpec
+    spec : swatch.catalog.spec.CatalogSpec or TileRender
+        Its ``shapes``, ``size_px`` and ``angular_map`` decide.
 
     Returns
     -------
@@ -226,7 +285,7 @@ def npz_fits(path: Path, want: dict) -> bool:
     return True
 
 
-def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> dict:
+def load_tile(job: TileRender, cache: Path, key: str, thickness_nm: float) -> dict:
     """A tile's arrays from the cache; an entry that does not read back intact is rendered again.
 
     The cache is the catalog folder's own but untrusted: only a regular file no larger than
@@ -234,7 +293,8 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
 
     Parameters
     ----------
-    spec : swatch.catalog.spec.CatalogSpec
+    job : TileRender
+        What the tile is rendered with (on a miss).
     cache : pathlib.Path
         The cache folder.
     key : str
@@ -248,7 +308,7 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
     """
 
     path = cache / f"{key}.npz"
-    want = tile_shapes(spec)
+    want = tile_shapes(job)
     if is_regular_file(path) and path.stat().st_size <= MAX_CACHE_ENTRY_BYTES and npz_fits(path, want):
         try:
             with np.load(path, allow_pickle=False) as z:
@@ -258,19 +318,20 @@ def load_tile(spec: CatalogSpec, cache: Path, key: str, thickness_nm: float) -> 
                         return arrays
         except (OSError, ValueError, KeyError, EOFError, MemoryError, zipfile.BadZipFile):
             pass
-    arrays = _render_job(_job_args(spec, thickness_nm))
+    arrays = render_tile(job, thickness_nm)
     remove_tree(path)
     _save_npz(path, arrays)
     return arrays
 
 
-def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: list[str], cache: Path,
+def render_missing(job: TileRender, thickness_nm, missing: list[int], keys: list[str], cache: Path,
                    pool, progress_factory) -> int:
     """Render the swatches ``missing`` into the cache (``<key>.npz``), in a pool or in this process.
 
     Parameters
     ----------
-    spec : swatch.catalog.spec.CatalogSpec
+    job : TileRender
+        What the tiles are rendered with (sent to the workers as it is).
     thickness_nm : sequence of float
         Every swatch's thickness, nm.
     missing : list of int
@@ -290,16 +351,17 @@ def render_missing(spec: CatalogSpec, thickness_nm, missing: list[int], keys: li
     """
     if not missing:
         return 0
-    args = [_job_args(spec, thickness_nm[i]) for i in missing]
+    ds = [float(thickness_nm[i]) for i in missing]
+    jobs = [job] * len(ds)
     with progress_factory(len(missing)) as bar:
-        results = map(_render_job, args) if pool is None else pool.map(_render_job, args, chunksize=1)
+        results = map(render_tile, jobs, ds) if pool is None else pool.map(render_tile, jobs, ds, chunksize=1)
         for i, arrays in zip(missing, results, strict=True):
             _save_npz(cache / f"{keys[i]}.npz", arrays)
             bar.update(1)
     return len(missing)
 
 
-def make_pool(spec: CatalogSpec, jobs: int):
+def make_pool(jobs: int):
     """A process pool of ``jobs`` workers, or None for one job.
 
     The fork server (not ``fork``: a process that used OpenImageIO may hold a lock at the fork)
@@ -307,8 +369,8 @@ def make_pool(spec: CatalogSpec, jobs: int):
 
     Parameters
     ----------
-    spec : swatch.catalog.spec.CatalogSpec
     jobs : int
+        Worker processes.
 
     Returns
     -------
@@ -330,13 +392,9 @@ def make_pool(spec: CatalogSpec, jobs: int):
         start_forkserver_ignoring_interrupts()  # workers ignore Ctrl-C from birth (one message, the build's)
     else:
         ctx = mp.get_context("spawn")
-    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(spec, os.getpid()))
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(os.getpid(),))
 
 
-def _warm(spec: CatalogSpec, parent_pid: int) -> None:
+def _warm(parent_pid: int) -> None:
     exit_with(parent_pid)  # a killed build leaves no worker (nor fork server, nor resource tracker)
     ignore_interrupts()  # Ctrl-C: the build reports it once and shuts the pool down
-
-    wl = wavelength_grid(380.0, 780.0, spec.wavelength_step_nm)
-    spec.coating(wl)
-    get_colorimeter(wl, spec.illuminant, spec.observer)
