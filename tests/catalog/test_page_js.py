@@ -22,6 +22,7 @@ from swatch.catalog.spec import parse_spec
 from swatch.colorimetry.colorimeter import hex_to_Lab
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.fit.matching import judge_candidates, match_colour
+from swatch.physics.microfacet import D_ratio, ggx_reflectance_factor_cos
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -77,7 +78,12 @@ def _search_fixture() -> dict:
         windows.append({"metric": metric, "bound": bound, "search_nm": spec.search_nm, "thickness_nm": d.tolist(),
                         "minus_nm": minus.tolist(), "plus_nm": plus.tolist(),
                         "minus_capped": mcap.tolist(), "plus_capped": pcap.tolist()})
-    return {"table": table, "range_nm": [lo, hi], "match": matches, "window": windows}
+    rng = np.random.default_rng(21)
+    cl, cv, ch = rng.uniform(0.01, 1.0, (3, 300))
+    alpha = rng.uniform(0.02, 1.0, 300)
+    ggx = [[float(x) for x in (l, v, h, a, ggx_reflectance_factor_cos(l, v, h, a), D_ratio(h, a))]
+           for l, v, h, a in zip(cl, cv, ch, alpha, strict=True)]
+    return {"table": table, "range_nm": [lo, hi], "match": matches, "window": windows, "ggx": ggx}
 
 
 @pytest.mark.slow  # 6.5 s: the small catalog's table and the Python matches and windows of the fixture
@@ -97,7 +103,7 @@ def test_page_colorimetry_passes_node_test(tmp_path):
     run = subprocess.run([node, "--test", *tests], capture_output=True,
                          text=True, timeout=120, env={**os.environ, "SWATCH_JS_FIXTURE": str(fixture)})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
-    assert "# pass 8" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
+    assert "# pass 11" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
 
 
 def test_page_script_comments_name_code_that_exists():
@@ -125,3 +131,17 @@ def test_page_script_comments_name_code_that_exists():
             else:
                 missing.append(f"{path.name}: {name}")
     assert missing == []
+
+
+def test_ggx_is_written_once_in_the_page_javascript():
+    """Issue 17 item 6: GGX once per language. The page had it twice (the point-light shader and the exposure rule
+    in view.js); now only microfacet.js writes its terms, in JavaScript and in GLSL, and view.js calls them."""
+    import re
+
+    web = ROOT / "swatch" / "catalog" / "web"
+    ggx_terms = re.compile(r"a2\s*-\s*1(\.0)?\b|1(\.0)?\s*-\s*a2\b|\ba2\s*\*\s*a2\b")
+    for path in sorted(web.glob("*.js")):
+        hits = ggx_terms.findall(path.read_text(encoding="utf-8"))
+        assert (len(hits) > 0) == (path.name == "microfacet.js"), (path.name, hits)
+    view = (web / "view.js").read_text(encoding="utf-8")
+    assert "${GGX_GLSL}" in view and "ggxReflectanceFactorCos(cl, cv, ch, alpha)" in view and "ggxDRatio(" in view

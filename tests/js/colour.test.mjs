@@ -8,7 +8,7 @@ import {readFileSync} from "node:fs";
 import vm from "node:vm";
 
 const here = new URL(".", import.meta.url);
-const ctx = {};  // colour.js is a classic script: its top-level functions become this context's globals
+const ctx = {};  // colour.js is a classic script: its top-level functions become this context's globals (its consts: vm.runInContext)
 vm.runInNewContext(readFileSync(new URL("../../swatch/catalog/web/colour.js", here), "utf8"), ctx);
 
 const pairs = readFileSync(new URL("../data/ciede2000_sharma2005.csv", here), "utf8").split("\n")
@@ -43,4 +43,22 @@ test("the ink on a chip has WCAG contrast of at least 4.5, black on pale chips a
       assert.ok(ctx.contrastRatio(c, ctx.inkFor(c)) >= 4.5, c);
     }
   }
+});
+
+test("the shaders' sRGB encoding without pow stays within 0.004/255 of IEC 61966-2-1's formula", () => {
+  const exact = (c) => c <= 0.0031308 ? 12.92 * c : 1.055 * Math.pow(c, 1 / 2.4) - 0.055;
+  let worst = 0, flips = 0, n = 0;
+  for (let i = 0; i <= 200000; i++) {
+    const c = i < 100000 ? i / 100000 : Math.pow(10, -6 + 6 * (i - 100000) / 100000);  // uniform and logarithmic
+    const e = Math.abs(ctx.srgbEncodeFast(c) - exact(c)) * 255;
+    worst = Math.max(worst, e);
+    if (Math.round(ctx.srgbEncodeFast(c) * 255) !== Math.round(exact(c) * 255)) flips++;
+    n++;
+  }
+  assert.ok(worst <= 0.004, `worst ${worst}/255`);
+  assert.ok(flips / n < 0.01, `${flips} of ${n} 8-bit values differ`);
+  assert.equal(ctx.srgbEncodeFast(0), 0);
+  assert.ok(Math.abs(ctx.srgbEncodeFast(1) - 1) < 2e-5 && ctx.srgbEncodeFast(2) === ctx.srgbEncodeFast(1));
+  // the GLSL the live view compiles carries the same coefficients
+  for (const k of vm.runInContext("SRGB_ENCODE_FIT", ctx)) assert.ok(vm.runInContext("SRGB_ENCODE_GLSL", ctx).includes("(" + k.toFixed(9) + ")"), String(k));
 });

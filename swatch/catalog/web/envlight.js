@@ -71,7 +71,7 @@ void main() {
     vec4 a = texelFetch(coef, ivec2(0, j), 0), b = texelFetch(coef, ivec2(1, j), 0), c = texelFetch(coef, ivec2(2, j), 0);
     vec3 rad = uintBitsToFloat(q.x) * a.xyz + uintBitsToFloat(q.y) * vec3(a.w, b.xy)
              + uintBitsToFloat(q.z) * vec3(b.zw, c.x) + m3 * c.yzw;
-    lin = mix(vec3(BG), vec3(tone(rad.r), tone(rad.g), tone(rad.b)), cover);
+    lin = mix(vec3(BG), tone3(rad), cover);
   }
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;

@@ -2,9 +2,10 @@
 // or an environment (envlight.js).
 // Point light, per pixel: cos(theta_d) = h.l picks the colour of the thin film from the embedded
 // table (one thickness row, linear sRGB from 2-degree XYZ, interpolated on the GPU); the microfacet
-// model multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G, as
-// swatch.physics.microfacet.ggx_reflectance_factor_cos); then the display transform of swatch.render.display:
-// exposure k, per-channel shoulder above 0.8, sRGB encoding, background linear grey 0.18.
+// model multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G:
+// ggxReflectanceFactorCos of microfacet.js, as swatch.physics.microfacet.ggx_reflectance_factor_cos); then the
+// display transform of swatch.render.display: exposure k, per-channel shoulder above 0.8, sRGB encoding,
+// background linear grey 0.18. Two passes (POINT_GEOM when the geometry changes, POINT_SHADE every frame).
 
 const VS = `#version 300 es
 in vec2 p; out vec2 uv;
@@ -115,14 +116,49 @@ float pixelSurface(out vec3 d, out vec3 n) {
   return cover;
 }
 float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
-float enc(float c) { c = clamp(c, 0.0, 1.0); return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055; }
-`;
+// the shoulder on three channels: a branch, so pixels below it (most) skip the exponentials
+vec3 tone3(vec3 x) {
+  if (max(max(x.r, x.g), x.b) <= 0.8) return x;
+  return vec3(tone(x.r), tone(x.g), tone(x.b));
+}
+${SRGB_ENCODE_GLSL}`;
 
-const FS = `
-out vec4 outColor;
-uniform sampler2D row; uniform int nodes;
+// The point light in two passes, as the environment (envlight.js): the geometry pass, when the view, the light,
+// the shape or the model changes, writes per pixel what does not depend on the film (cos theta_d, the GGX
+// factor, the view bin of the fill and the coverage) into an RGBA32UI target; the shade pass, every frame
+// (the thickness slider), only looks the film's colour up in the table row and applies the display transform.
+const POINT_GEOM = `
 uniform vec3 light;
-uniform float alpha, exposure, fill;
+uniform float alpha;
+uniform int bins;  // view bins of the fill's directional albedo (0: the fill uses F(theta_v) instead)
+layout(location = 0) out uvec4 outG;
+${GGX_GLSL}
+void main() {
+  vec3 d, n;
+  float cover = pixelSurface(d, n);
+  if (cover <= 0.0) { outG = uvec4(0u); return; }
+  vec3 v = -d;
+  if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
+  float cl = dot(n, light), cv = max(dot(n, v), 0.0);
+  float lv = dot(light, v); float cd = sqrt(max((lv + 1.0) * 0.5, 1e-12));
+  float ch = (cl + cv) * (0.5 / cd);
+#if MODEL == 1
+  float s = (cl > 0.0 && cv > 0.0) ? 1.0 : 0.0;
+#else
+  float s = ggxReflectanceFactorCos(cl, cv, ch, alpha);
+#endif
+  int j = bins > 0 ? bins - 1 - clamp(int(acos(clamp(cv, 0.0, 1.0)) * (float(bins) / 1.5707963267948966)), 0, bins - 1) : 0;
+  // w: the view bin (above bit 8) and the coverage (8 bits, at least 1 on the object)
+  outG = uvec4(floatBitsToUint(cd), floatBitsToUint(s), floatBitsToUint(cv),
+               (uint(j) << 8u) | uint(max(round(cover * 255.0), 1.0)));
+}`;
+
+const POINT_SHADE = `
+out vec4 outColor;
+uniform highp usampler2D geo;
+uniform int lod;  // the geometry at 1 / 2^lod of the resolution (while the view is dragged)
+uniform sampler2D row; uniform int nodes;
+uniform float exposure, fill;
 uniform sampler2D alb;  // directional albedo per view bin (RGB), for the fill; bins = 0: F(theta_v) instead
 uniform int bins;
 vec3 tableAt(float c) {
@@ -130,39 +166,16 @@ vec3 tableAt(float c) {
   int i = min(int(x), nodes - 2); float f = x - float(i);
   return mix(texelFetch(row, ivec2(i, 0), 0).rgb, texelFetch(row, ivec2(i + 1, 0), 0).rgb, f);
 }
-vec3 shade(vec3 d, vec3 n) {  // linear radiance of a surface point, at exposure 1 for the fill
-  vec3 v = -d;
-  if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
-  float cl = dot(n, light), cv = max(dot(n, v), 0.0);
-  float lv = dot(light, v); float cd = sqrt(max((lv + 1.0) * 0.5, 1e-12));
-  float ch = (cl + cv) * (0.5 / cd);
-  float s;
-#if MODEL == 1
-  s = (cl > 0.0 && cv > 0.0) ? 1.0 : 0.0;
-#else
-  {
-    float c = max(cl, 0.0), a2 = alpha * alpha, om = 1.0 - a2;
-    float den = ch * ch * (a2 - 1.0) + 1.0;
-    float vis = c * sqrt(cv * cv * om + a2) + cv * sqrt(c * c * om + a2);
-    s = 0.5 * a2 * c / max(den * den * vis, 1e-30);
-  }
-#endif
-  vec3 col = tableAt(cd) * s * exposure;
-  if (fill > 0.0) {  // a uniform white surround of radiance fill: the directional albedo of the view bin
-    vec3 a;
-    if (bins > 0) {
-      int j = bins - 1 - clamp(int(acos(clamp(cv, 0.0, 1.0)) * (float(bins) / 1.5707963267948966)), 0, bins - 1);
-      a = texelFetch(alb, ivec2(0, j), 0).rgb;
-    } else a = tableAt(cv);
-    col += fill * a;
-  }
-  return vec3(tone(col.r), tone(col.g), tone(col.b));
-}
 void main() {
-  vec3 d, n;
-  float cover = pixelSurface(d, n);
+  uvec4 q = texelFetch(geo, ivec2(gl_FragCoord.xy) >> lod, 0);
   vec3 lin = vec3(BG);
-  if (cover > 0.0) lin = mix(lin, shade(d, n), cover);  // (a branch, not a select: the background skips it)
+  if (q.w != 0u) {  // (a branch, not a select: the background skips it)
+    vec3 col = tableAt(uintBitsToFloat(q.x)) * (uintBitsToFloat(q.y) * exposure);
+    if (fill > 0.0) {  // a uniform white surround of radiance fill: the directional albedo of the view bin
+      col += fill * (bins > 0 ? texelFetch(alb, ivec2(0, int(q.w >> 8u)), 0).rgb : tableAt(uintBitsToFloat(q.z)));
+    }
+    lin = mix(lin, tone3(col), float(q.w & 255u) / 255.0);
+  }
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 
@@ -179,12 +192,12 @@ function makeView(canvas, C, settings, envData) {
   const programs = new Map();
   const vs = compile(gl.VERTEX_SHADER, VS);
   const UNIFORMS = ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
-    "bendR", "bendPhi", "fill", "alb", "bins"];
+    "bendR", "bendPhi", "fill", "alb", "bins", "geo", "lod"];
   let env = null;  // the environment passes (envlight.js), when the page embeds them
   function program(pass, shape, model) {
     const key = pass + "/" + shape + "/" + model;
     if (programs.has(key)) return programs.get(key);
-    const body = pass === "point" ? FS : pass === "gather" ? env.gatherSource : env.shadeSource;
+    const body = {pgeom: POINT_GEOM, pshade: POINT_SHADE}[pass] || (pass === "gather" ? env.gatherSource : env.shadeSource);
     const src = GEOM.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model) + body;
     const prog = gl.createProgram();
     gl.attachShader(prog, vs);
@@ -195,9 +208,10 @@ function makeView(canvas, C, settings, envData) {
     const U = {};
     for (const name of UNIFORMS.concat(env ? env.uniforms : [])) U[name] = gl.getUniformLocation(prog, name);
     gl.useProgram(prog);
-    if (pass === "point") {
+    if (pass === "pgeom") gl.uniform1i(U.bins, env ? env.bins : 0);
+    else if (pass === "pshade") {
       gl.uniform1i(U.row, 0); gl.uniform1i(U.nodes, C.cosNodes); gl.uniform1i(U.alb, ALB_UNIT);
-      gl.uniform1i(U.bins, env ? env.bins : 0);
+      gl.uniform1i(U.bins, env ? env.bins : 0); gl.uniform1i(U.geo, GEO_UNIT);
     }
     else if (pass === "gather") env.setupGather(prog, U);
     else env.setupShade(prog, U);
@@ -214,6 +228,7 @@ function makeView(canvas, C, settings, envData) {
   gl.bindTexture(gl.TEXTURE_2D, tex);
   for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
     [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, v);
+  gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, C.cosNodes, 1);  // the thickness row, rewritten per thickness
   const BEND_R = 1.2, BEND_PHI = 56 * DEG, FOV = 32 * DEG, DIST = 5.2;
   let lastRowD = null, lastKey = null, lastK = 1;
 
@@ -254,7 +269,7 @@ function makeView(canvas, C, settings, envData) {
   }
   function exposure(st, cam, light, aspect) {
     if (st.model === "paper") return 1;
-    const a2 = settings.roughness ** 2, off = [], all = [];
+    const alpha = settings.roughness, off = [], all = [];
     const N = 28;
     for (let yi = 0; yi < N; yi++) for (let xi = 0; xi < N; xi++) {
       const u = (xi + 0.5) / N * 2 - 1, w = (yi + 0.5) / N * 2 - 1, th = Math.tan(FOV / 2);
@@ -263,10 +278,9 @@ function makeView(canvas, C, settings, envData) {
       const v = d.map((x) => -x); if (dot(n, v) < 0) n = n.map((x) => -x);
       const cl = dot(n, light), cv = Math.max(dot(n, v), 0); if (cl <= 0 || cv <= 0) continue;
       const cd = Math.sqrt(Math.max((dot(light, v) + 1) / 2, 1e-12)), ch = (cl + cv) * (0.5 / cd);
-      const den = ch * ch * (a2 - 1) + 1, vis = cl * Math.sqrt(cv * cv * (1 - a2) + a2) + cv * Math.sqrt(cl * cl * (1 - a2) + a2);
-      const s = 0.5 * a2 * cl / Math.max(den * den * vis, 1e-30);
+      const s = ggxReflectanceFactorCos(cl, cv, ch, alpha);
       all.push(s);
-      if (a2 * a2 / (den * den) < 0.5) off.push(s); // GGX: D(h)/D(n) = alpha^4 / den^2
+      if (ggxDRatio(ch, alpha) < 0.5) off.push(s);
     }
     const pick = off.length >= Math.max(16, 0.01 * all.length) ? off : all;
     if (!pick.length) return 1;
@@ -278,12 +292,32 @@ function makeView(canvas, C, settings, envData) {
   if (envData) {
     try { env = makeEnvLight(gl, envData, C); } catch (e) { env = null; console.warn("environment lighting is off: " + String(e)); }
   }
-  let lastGather = null;
+  let lastGather = null, lastGeom = null;
+  // the point light's geometry target (RGBA32UI, the size of the canvas at 1 / 2^lod)
+  const GEO_UNIT = 7;
+  let geoTex = null, geoFbo = null, geoSize = [0, 0];
+  function geoTarget(wd, h) {
+    if (geoSize[0] === wd && geoSize[1] === h) return;
+    if (geoTex) gl.deleteTexture(geoTex);
+    if (!geoFbo) geoFbo = gl.createFramebuffer();
+    gl.activeTexture(gl.TEXTURE0 + GEO_UNIT);
+    geoTex = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, geoTex);
+    for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+      [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, v);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32UI, wd, h, 0, gl.RGBA_INTEGER, gl.UNSIGNED_INT, null);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, geoFbo);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, geoTex, 0);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.activeTexture(gl.TEXTURE0);
+    geoSize = [wd, h];
+  }
   const ALB_UNIT = 6, albTex = gl.createTexture();  // the fill's directional albedo per view bin
   gl.activeTexture(gl.TEXTURE0 + ALB_UNIT);
   gl.bindTexture(gl.TEXTURE_2D, albTex);
   for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
     [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, v);
+  if (env) gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, 1, env.bins);
   gl.activeTexture(gl.TEXTURE0);
   function setCamera(U, cam, aspect) {
     gl.uniform3fv(U.eye, cam.eye); gl.uniform3fv(U.fwd, cam.fwd); gl.uniform3fv(U.right, cam.right);
@@ -321,11 +355,11 @@ function makeView(canvas, C, settings, envData) {
       const row = C.rowLinearSrgb(st.thickness_nm);
       gl.activeTexture(gl.TEXTURE0);
       gl.bindTexture(gl.TEXTURE_2D, tex);
-      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, C.cosNodes, 1, 0, gl.RGBA, gl.FLOAT, row);
+      gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, C.cosNodes, 1, gl.RGBA, gl.FLOAT, row);  // (storage made once)
       if (env) {
         gl.activeTexture(gl.TEXTURE0 + ALB_UNIT);
         gl.bindTexture(gl.TEXTURE_2D, albTex);
-        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, 1, env.bins, 0, gl.RGBA, gl.FLOAT, env.albedo(row));
+        gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, 1, env.bins, gl.RGBA, gl.FLOAT, env.albedo(row));
         gl.activeTexture(gl.TEXTURE0);
       }
       lastRowD = st.thickness_nm;
@@ -336,12 +370,31 @@ function makeView(canvas, C, settings, envData) {
     const key = [st.shape, st.model, st.view_deg, st.view_azimuth_deg, st.light_deg, st.light_azimuth_deg, aspect].join();
     if (key !== lastKey) { lastK = exposure(st, cam, light, aspect); lastKey = key; }
     const k = lastK;
-    const {prog, U} = program("point", shape, st.model === "paper" ? 1 : 0);
+    // the geometry pass when the geometry changed (at half the resolution while the view is dragged)
+    const lod = st.coarse ? 1 : 0, gw = Math.max(1, w >> lod), gh = Math.max(1, h >> lod);
+    const gkey = key + "," + [w, h, lod].join();
+    if (gkey !== lastGeom) {
+      const g = program("pgeom", shape, st.model === "paper" ? 1 : 0);
+      gl.useProgram(g.prog);
+      setCamera(g.U, cam, aspect);
+      gl.uniform3fv(g.U.light, light);
+      gl.uniform1f(g.U.alpha, settings.roughness);
+      geoTarget(gw, gh);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, geoFbo);
+      gl.viewport(0, 0, gw, gh);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      lastGeom = gkey;
+    }
+    const {prog, U} = program("pshade", 0, 0);
     gl.useProgram(prog);
-    setCamera(U, cam, aspect);
-    gl.uniform3fv(U.light, light);
-    gl.uniform1f(U.alpha, settings.roughness); gl.uniform1f(U.exposure, k);
+    gl.activeTexture(gl.TEXTURE0 + GEO_UNIT);
+    gl.bindTexture(gl.TEXTURE_2D, geoTex);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.uniform1i(U.lod, lod);
+    gl.uniform1f(U.exposure, k);
     gl.uniform1f(U.fill, st.model === "paper" ? 0 : Math.max(0, Number(st.fill) || 0));
+    gl.viewport(0, 0, w, h);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     return k;
   }
