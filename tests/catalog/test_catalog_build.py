@@ -5,6 +5,7 @@ import csv
 import hashlib
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -52,6 +53,19 @@ def outputs(folder: Path) -> list[Path]:
 
 def digest(folder: Path) -> dict[str, str]:
     return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest() for p in outputs(folder)}
+
+
+def copy_of_built(built, tmp_path: Path) -> tuple[Path, Path]:
+    """(spec, out): a private copy of the module's built catalog and its spec (same file name: the spec's
+    name is part of the outputs), for a test that changes an existing catalog. Copying instead of
+    building again saves one full build a test (issue 17 item 7: the suite's time); the copy is a
+    catalog like any other (``test_deterministic_and_independent_of_jobs`` pins that a fresh build
+    gives the same bytes, and each test below checks the copy's state it starts from)."""
+    spec, out, _ = built
+    mine = tmp_path / "cat"
+    mine.mkdir()
+    shutil.copytree(out, mine / "out", symlinks=True)
+    return write_spec(mine / spec.name), mine / "out"
 
 
 @pytest.fixture(scope="module")
@@ -181,10 +195,9 @@ def test_fingerprint_covers_every_engine_module_a_build_uses(built):
     assert {p.relative_to(pkg).as_posix() for p in pkg.rglob("*.py")} - set(code) == set()
 
 
-def test_incremental_rebuilds_only_what_changed(tmp_path):
-    spec = write_spec(tmp_path / "s.toml")
-    out = tmp_path / "out"
-    build_catalog(spec, out, jobs=1)
+def test_incremental_rebuilds_only_what_changed(built, tmp_path):
+    spec, out = copy_of_built(built, tmp_path)
+    assert build_catalog(spec, out, jobs=1).noop  # the copy is up to date as it stands
     first = digest(out)
     # a tolerance change: no render, both sheets recomposed (their labels changed)
     write_spec(spec, grade="B")
@@ -209,20 +222,17 @@ def test_incremental_rebuilds_only_what_changed(tmp_path):
     assert digest(out) == first
 
 
-def test_fewer_sheets_removes_old_ones(tmp_path):
-    spec = write_spec(tmp_path / "s.toml")
-    out = tmp_path / "out"
-    build_catalog(spec, out, jobs=1)
+def test_fewer_sheets_removes_old_ones(built, tmp_path):
+    spec, out = copy_of_built(built, tmp_path)
+    assert (out / "sheets/sheet_02.png").exists()
     write_spec(spec, THICKNESSES[:3])
     build_catalog(spec, out, jobs=1)
     assert not (out / "sheets/sheet_02.png").exists() and not (out / "sheets/sheet_02.exr").exists()
     assert (out / "sheets/sheet_01.png").exists()
 
 
-def test_failed_build_leaves_previous_catalog(tmp_path, monkeypatch):
-    spec = write_spec(tmp_path / "s.toml")
-    out = tmp_path / "out"
-    build_catalog(spec, out, jobs=1)
+def test_failed_build_leaves_previous_catalog(built, tmp_path, monkeypatch):
+    spec, out = copy_of_built(built, tmp_path)
     before = digest(out)
     manifest = (out / META_DIR / "manifest.json").read_bytes()
 
@@ -238,10 +248,8 @@ def test_failed_build_leaves_previous_catalog(tmp_path, monkeypatch):
     assert not list((out / META_DIR).glob("staging-*"))
 
 
-def test_interrupted_commit_is_completed_by_the_next_build(tmp_path, monkeypatch):
-    spec = write_spec(tmp_path / "s.toml")
-    out = tmp_path / "out"
-    build_catalog(spec, out, jobs=1)
+def test_interrupted_commit_is_completed_by_the_next_build(built, tmp_path, monkeypatch):
+    spec, out = copy_of_built(built, tmp_path)
     write_spec(spec, grade="A")
     real_replace = os.replace
     calls = {"n": 0}
