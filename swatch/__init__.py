@@ -38,7 +38,7 @@ _API = {
     "wavelength_grid": "swatch.physics.materials",
     "Coating": "swatch.physics.model",
     "get_coating": "swatch.physics.model",
-    "overcoat": "swatch.physics.model",
+    "overcoat": "swatch.physics.overcoat",
     "voltage_to_thickness_nm": "swatch.physics.model",
     "thickness_to_voltage_V": "swatch.physics.model",
     "film_reflectance": "swatch.physics.optics",

@@ -15,6 +15,8 @@ MODULES_WITH_EXAMPLES = [
     "swatch.core.errors",
     "swatch.physics.materials",
     "swatch.physics.model",
+    "swatch.physics.overcoat",
+    "swatch.physics.spread",
     "swatch.physics.process",
     "swatch.colorimetry.appearance",
     "swatch.colorimetry.names",

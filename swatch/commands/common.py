@@ -111,7 +111,7 @@ def overcoat_option(f):
 
 def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
     """The :class:`swatch.physics.process.Process`'s coating with any ``--overcoat`` layers on top."""
-    from swatch.physics.model import OvercoatedCoating, overcoat
+    from swatch.physics.overcoat import OvercoatedCoating, overcoat
 
     coating = proc.coating(resolve_grid(wavelengths))
     if not overcoats:

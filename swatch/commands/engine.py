@@ -4,7 +4,7 @@ from __future__ import annotations
 import click
 
 from swatch.commands import common
-from swatch.physics.model import overcoat_json, overcoat_text
+from swatch.physics.overcoat import overcoat_json, overcoat_text
 
 
 @click.command()

@@ -69,15 +69,33 @@ class Finish:
 
     @property
     def anisotropic(self) -> bool:
+        """Whether the lobe differs along and across the grain (``alpha_u != alpha_v``: brushed).
+
+        Returns
+        -------
+        bool
+        """
         return self.alpha_u != self.alpha_v
 
     @property
     def roughness_alpha(self) -> float:
-        """The isotropic GGX α of the same lobe area: ``sqrt(alpha_u alpha_v)`` (α itself when isotropic)."""
+        """The isotropic GGX α of the same lobe area: ``sqrt(alpha_u alpha_v)`` (α itself when isotropic).
+
+        Returns
+        -------
+        float
+            Rounded to 6 decimals.
+        """
         return round(math.sqrt(self.alpha_u * self.alpha_v), 6)
 
     def metadata(self) -> dict:
-        """The ``finish`` entry of an output's metadata."""
+        """The ``finish`` entry of an output's metadata.
+
+        Returns
+        -------
+        dict
+            Name and description; the two α and the grain's direction when anisotropic, else the α.
+        """
         out: dict = {"name": self.name, "description": self.description}
         if self.anisotropic:
             out.update({"alpha_along": self.alpha_u, "alpha_across": self.alpha_v,
@@ -90,7 +108,13 @@ class Finish:
         return out
 
     def label(self) -> str:
-        """A short label for sheet headers: ``satin (GGX 0.2)``, ``brushed (GGX 0.12 along, 0.4 across)``."""
+        """A short label for sheet headers.
+
+        Returns
+        -------
+        str
+            ``satin (GGX 0.2)``, ``brushed (GGX 0.12 along, 0.4 across the grain)``.
+        """
         if self.anisotropic:
             return f"{self.name} (GGX {self.alpha_u:g} along, {self.alpha_v:g} across the grain)"
         return f"{self.name} (GGX {self.alpha_u:g})"

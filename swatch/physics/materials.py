@@ -156,15 +156,38 @@ class Material:
 
     @property
     def wavelength_range_nm(self) -> tuple[float, float]:
-        """(shortest, longest) tabulated wavelength in nm."""
+        """The tabulated range.
+
+        Returns
+        -------
+        tuple of float
+            (shortest, longest) tabulated wavelength, nm.
+        """
         return float(self.wavelength_nm[0]), float(self.wavelength_nm[-1])
 
     def nk(self, wavelength_nm) -> np.ndarray:
-        """Complex index ``n + i k`` at ``wavelength_nm`` (nm), interpolated linearly.
+        """Complex index ``n + i k`` at wavelengths, interpolated linearly in the table.
 
-        Accepts a scalar or an array; returns a complex128 array of the same shape.
-        Raises SwatchError if any wavelength is not finite or lies outside the table
-        (no extrapolation).
+        Parameters
+        ----------
+        wavelength_nm : array_like
+            Vacuum wavelengths, nm (a scalar or any shape), inside the table's range.
+
+        Returns
+        -------
+        numpy.ndarray
+            complex128, the shape of ``wavelength_nm``.
+
+        Raises
+        ------
+        SwatchError
+            If any wavelength is not finite or lies outside the table (no extrapolation).
+
+        Examples
+        --------
+        >>> n = load_material("TiO2-Siefke").nk(550.0)
+        >>> n.dtype.name, bool(2.0 < n.real < 3.0)
+        ('complex128', True)
         """
         wl = np.asarray(wavelength_nm, dtype=np.float64)
         if wl.size == 0:
@@ -188,7 +211,16 @@ def tables_dir() -> Path:
 
     Looked up first inside the package (``swatch/tables``, for installed copies that
     ship the tables as package data), then next to it in the source tree
-    (``<repo>/tables``).  Raises SwatchError if neither has an ``optical`` folder.
+    (``<repo>/tables``).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    SwatchError
+        If neither has an ``optical`` folder.
     """
     package_dir = Path(__file__).resolve().parent.parent  # swatch/ (this module is swatch/physics/materials.py)
     candidates = (package_dir / "tables", package_dir.parent / "tables")

@@ -27,11 +27,9 @@ from swatch.physics.spread import NO_SPREAD, ThicknessSpread, spread_average
 __all__ = [
     "DEFAULT_NM_PER_V",
     "Coating",
-    "Overcoat",
-    "OvercoatedCoating",
-    "overcoat",
-    "overcoat_json",
-    "overcoat_text",
+    "HalfVector",
+    "averaged_over_spread",
+    "check_no_amplitudes",
     "get_coating",
     "check_thickness_nm",
     "voltage_to_thickness_nm",
@@ -198,21 +196,83 @@ def intensity_correction(simulated, measured) -> np.ndarray:
 
     Works on the last axis (wavelength) of broadcastable arrays; returns the scaled spectra
     (``simulated × intensity_scale(simulated, measured)``).
+
+    Parameters
+    ----------
+    simulated, measured : array_like, shapes (..., W) broadcasting together
+        Spectra on one wavelength grid (last axis).
+
+    Returns
+    -------
+    numpy.ndarray
+        The scaled simulated spectra, the broadcast shape (..., W).
+
+    Examples
+    --------
+    >>> intensity_correction([0.1, 0.3], [0.2, 0.6]).tolist()
+    [0.2, 0.6]
     """
     return np.asarray(simulated, dtype=np.float64) * intensity_scale(simulated, measured)[..., None]
 
 
-class _HalfVector:
-    """The half-vector model on top of a ``reflectance_cos`` method."""
+class HalfVector:
+    """The half-vector model (Fujii et al., eq. 5) on top of a ``reflectance_cos`` method: the base of
+    :class:`Coating` and :class:`swatch.physics.overcoat.OvercoatedCoating`."""
 
     def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
+        """Reflectance at incidence cosines on the facet (implemented by the coating).
+
+        Parameters
+        ----------
+        thickness_nm : array_like
+            Film thickness, nm.
+        cos_incidence : array_like
+            Cosine of the incidence angle on the facet, broadcast with ``thickness_nm`` to S.
+        amplitudes : bool, optional
+            Also the complex amplitudes ``r_s``, ``r_p``.
+
+        Returns
+        -------
+        swatch.physics.optics.Reflectance
+            Shapes S + (W,).
+        """
         raise NotImplementedError
 
     def half_vector(
         self, thickness_nm, light_deg, view_deg, light_azimuth_deg=0.0, view_azimuth_deg=None,
         amplitudes: bool = False,
     ) -> tuple[optics.Reflectance, np.ndarray]:
-        """The half-vector model: reflectance at ``theta_d`` (eq. 5) and ``theta_d`` in degrees."""
+        """The half-vector model: reflectance at ``theta_d`` (eq. 5) and ``theta_d`` in degrees.
+
+        Parameters
+        ----------
+        thickness_nm : array_like
+            Film thickness, nm (0 to ``MAX_THICKNESS_NM``).
+        light_deg, view_deg : array_like
+            Polar angles of light and view from the surface normal, degrees in [0, 90).
+        light_azimuth_deg : array_like, optional
+            The light's azimuth, degrees.
+        view_azimuth_deg : array_like or None, optional
+            The view's azimuth, degrees; None: opposite the light (the plane of incidence).
+        amplitudes : bool, optional
+            Also the complex amplitudes.
+
+        Returns
+        -------
+        reflectance : swatch.physics.optics.Reflectance
+            At θ_d, shapes S + (W,) (S: all inputs broadcast).
+        theta_d_deg : numpy.ndarray
+            θ_d = ½ arccos(l·v), degrees, shape S.
+
+        Raises
+        ------
+        SwatchError
+            For a thickness or an angle out of range (naming the parameter).
+
+        References
+        ----------
+        M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D (2019), eq. 5, doi:10.14923/transinfj.2018JDP7030.
+        """
         geometry.check_light_view_deg(light_deg, view_deg)
         cos_d = geometry.cos_theta_d(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
         theta_d = geometry.theta_d_deg(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
@@ -220,7 +280,7 @@ class _HalfVector:
 
 
 @dataclass(frozen=True)
-class Coating(_HalfVector):
+class Coating(HalfVector):
     """Ambient (air) / film / substrate with tabulated complex indices on a wavelength grid.
 
     The half-vector model of Fujii et al.: :meth:`half_vector` evaluates Airy's reflectance
@@ -268,22 +328,68 @@ class Coating(_HalfVector):
     film_index_scale: float = 1.0
 
     def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
-        """Reflectance for thicknesses and incidence cosines broadcast together (shape S + (W,))."""
+        """Reflectance for thicknesses and incidence cosines on the facet, broadcast together.
+
+        Parameters
+        ----------
+        thickness_nm : array_like
+            Film thickness, nm (0 to ``MAX_THICKNESS_NM``); the mean one with a spread.
+        cos_incidence : array_like
+            Cosine of the incidence angle on the facet (0, 1], broadcast with ``thickness_nm`` to S.
+        amplitudes : bool, optional
+            Also the complex amplitudes ``r_s``, ``r_p`` (not with a thickness spread).
+
+        Returns
+        -------
+        swatch.physics.optics.Reflectance
+            ``R_s``, ``R_p`` (and ``R``), shapes S + (W,).
+
+        Raises
+        ------
+        SwatchError
+            For a thickness out of range (```thickness_nm```), or amplitudes of a spread film.
+        """
         d = check_thickness_nm(thickness_nm)
         if self.spread.is_zero:
             return optics.film_reflectance_cos(d, cos_incidence, self.wavelength_nm,
                                                self.n_film, self.n_substrate, amplitudes=amplitudes)
-        _no_amplitudes(amplitudes)
+        check_no_amplitudes(amplitudes)
         film = optics.FilmAtAngles(cos_incidence, self.wavelength_nm, self.n_film, self.n_substrate)
 
         def reflect(t):
             r = film.reflectance(t)
             return r.R_s, r.R_p
 
-        return _averaged(reflect, d, self)
+        return averaged_over_spread(reflect, d, self)
 
     def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
-        """Reflectance at incidence angles in degrees (on the facet)."""
+        """Reflectance at incidence angles on the facet, in degrees.
+
+        Parameters
+        ----------
+        thickness_nm : array_like
+            Film thickness, nm (0 to ``MAX_THICKNESS_NM``).
+        incidence_deg : array_like
+            Incidence angle on the facet, degrees in [0, 90), broadcast with ``thickness_nm`` to S.
+        amplitudes : bool, optional
+            Also the complex amplitudes (not with a thickness spread).
+
+        Returns
+        -------
+        swatch.physics.optics.Reflectance
+            Shapes S + (W,).
+
+        Raises
+        ------
+        SwatchError
+            For a thickness or angle out of range, or amplitudes of a spread film.
+
+        Examples
+        --------
+        >>> R = get_coating().reflectance([0.0, 50.8], 0.0)
+        >>> R.R.shape, bool((R.R > 0).all() and (R.R < 1).all())
+        ((2, 81), True)
+        """
         if self.spread.is_zero:
             return optics.film_reflectance(
                 check_thickness_nm(thickness_nm), incidence_deg, self.wavelength_nm,
@@ -294,137 +400,44 @@ class Coating(_HalfVector):
         return self.reflectance_cos(thickness_nm, np.cos(np.radians(theta)), amplitudes)
 
 
-def _no_amplitudes(amplitudes: bool) -> None:
+def check_no_amplitudes(amplitudes: bool) -> None:
+    """Refuse complex amplitudes of a film with a thickness spread (its local reflectances add incoherently).
+
+    Parameters
+    ----------
+    amplitudes : bool
+        Whether amplitudes were asked for.
+
+    Raises
+    ------
+    SwatchError
+        When they were.
+    """
     if amplitudes:
         raise SwatchError("a film with a thickness spread has no single complex amplitude (its local "
                           "reflectances add incoherently); ask for reflectances, or set the spread to 0")
 
 
-def _averaged(reflect, d: np.ndarray, base: Coating) -> optics.Reflectance:
-    R_s, R_p = spread_average(reflect, d, base.spread, float(np.max(base.n_film.real)),
-                              float(np.min(base.wavelength_nm)))
-    return optics.Reflectance(R_s=R_s, R_p=R_p)
-
-
-@dataclass(frozen=True)
-class Overcoat:
-    """A clear layer over the oxide (e.g. a thin lacquer or sol-gel topcoat), treated coherently."""
-
-    label: str  # a table name, or "n=1.5" for a constant index
-    n: np.ndarray  # complex index on the coating's wavelength grid
-    thickness_nm: float
-
-
-@dataclass(frozen=True)
-class OvercoatedCoating(_HalfVector):
-    """Ambient / overcoats / oxide film / substrate: the oxide's thickness varies, the overcoats are
-    fixed. Reflectance by the transfer-matrix product (:func:`swatch.physics.optics.stack_reflectance`)."""
-
-    base: Coating
-    overcoats: tuple[Overcoat, ...]
-
-    @property
-    def film(self) -> str:
-        return self.base.film
-
-    @property
-    def substrate(self) -> str:
-        return self.base.substrate
-
-    @property
-    def wavelength_nm(self) -> np.ndarray:
-        return self.base.wavelength_nm
-
-    @property
-    def spread(self) -> ThicknessSpread:
-        return self.base.spread
-
-    def _stack(self, thickness_nm, incidence_deg) -> optics.Reflectance:
-        return optics.stack_reflectance(
-            [o.thickness_nm for o in self.overcoats] + [thickness_nm],
-            [o.n for o in self.overcoats] + [self.base.n_film],
-            self.base.n_substrate, incidence_deg, self.base.wavelength_nm,
-        )
-
-    def reflectance(self, thickness_nm, incidence_deg, amplitudes: bool = False) -> optics.Reflectance:
-        d = check_thickness_nm(thickness_nm)
-        if self.base.spread.is_zero:
-            return self._stack(d, incidence_deg)
-        _no_amplitudes(amplitudes)
-
-        def reflect(t):
-            r = self._stack(t, incidence_deg)
-            return r.R_s, r.R_p
-
-        return _averaged(reflect, d, self.base)
-
-    def reflectance_cos(self, thickness_nm, cos_incidence, amplitudes: bool = False) -> optics.Reflectance:
-        theta = np.degrees(np.arccos(np.clip(np.asarray(cos_incidence, dtype=np.float64), 0.0, 1.0)))
-        return self.reflectance(thickness_nm, theta, amplitudes)
-
-
-def overcoat(spec: str, wavelength_nm) -> Overcoat:
-    """Parse ``N_OR_TABLE:THICKNESS_NM`` (``1.5:200`` or ``TiO2-Siefke:20``) into an :class:`Overcoat`.
+def averaged_over_spread(reflect, d: np.ndarray, base: Coating) -> optics.Reflectance:
+    """Reflectance averaged incoherently over a coating's thickness spread (Gauss–Hermite nodes).
 
     Parameters
     ----------
-    spec : str
-        A constant real index from 1 to 5, or a film table's name, then ``:`` and the layer's
-        thickness in nm (more than 0, at most ``MAX_THICKNESS_NM``).
-    wavelength_nm : array_like, shape (W,)
-        The coating's wavelength grid, nm (the layer's index is evaluated on it).
+    reflect : callable
+        Local thickness array (nm) -> ``(R_s, R_p)`` arrays of shape ``t.shape + (W,)``.
+    d : numpy.ndarray
+        The mean thicknesses, nm (checked).
+    base : Coating
+        Its ``spread``, the film's largest real index and the shortest wavelength set the node count.
 
     Returns
     -------
-    Overcoat
-        The layer (label, complex index (W,), thickness_nm), treated coherently by the transfer matrix.
-
-    Examples
-    --------
-    >>> overcoat("1.5:200", [500.0, 600.0]).label
-    'n=1.5'
+    swatch.physics.optics.Reflectance
+        ``R_s``, ``R_p`` (no amplitudes), shapes ``d.shape``-broadcast + (W,).
     """
-    text = str(spec).strip()
-    what, sep, thick = text.rpartition(":")
-    if not sep or not what:
-        raise SwatchError(f"overcoat {text!r} must be INDEX:THICKNESS_NM or TABLE:THICKNESS_NM, e.g. 1.5:200")
-    try:
-        d = float(thick)
-    except ValueError:
-        raise SwatchError(f"overcoat thickness {thick!r} is not a number of nm") from None
-    if not (math.isfinite(d) and 0 < d <= MAX_THICKNESS_NM):
-        raise SwatchError(f"overcoat thickness must be more than 0 and at most {MAX_THICKNESS_NM:g} nm "
-                          "(a thicker layer is not coherent: its fringes are finer than the wavelength grid)")
-    wl = np.asarray(wavelength_nm, dtype=np.float64)
-    n_real: float | None
-    try:
-        n_real = float(what)
-    except ValueError:
-        n_real = None
-    if n_real is None:
-        mat = load_material(what)
-        if mat.role != "film":  # a metal is not a clear layer (it would be opaque at these thicknesses)
-            choices = ", ".join(m.name for m in list_materials("film"))
-            raise SwatchError(f"overcoat {mat.name} is a {mat.role} table, not a clear film; use an index "
-                              f"from 1 to 5 or one of {choices}")
-        return Overcoat(mat.name, mat.nk(wl), d)
-    if not (math.isfinite(n_real) and 1.0 <= n_real <= 5.0):
-        raise SwatchError(f"overcoat index must be from 1 to 5 (got {what})")
-    return Overcoat(f"n={n_real:g}", np.full(wl.shape, n_real, dtype=np.complex128), d)
-
-
-def overcoat_json(coating) -> dict:
-    """``{"overcoat": [{"layer", "thickness_nm"}, ...]}`` for a coating with overcoats, else ``{}``."""
-    overcoats = getattr(coating, "overcoats", ())
-    if not overcoats:
-        return {}
-    return {"overcoat": [{"layer": o.label, "thickness_nm": o.thickness_nm} for o in overcoats]}
-
-
-def overcoat_text(coating) -> str:
-    """``" under 1.5 200 nm / ..."`` for a coating with overcoats (from the air side), else ``""``."""
-    layers = [f"{o.label} {o.thickness_nm:g} nm" for o in getattr(coating, "overcoats", ())]
-    return f" under {' / '.join(layers)}" if layers else ""
+    R_s, R_p = spread_average(reflect, d, base.spread, float(np.max(base.n_film.real)),
+                              float(np.min(base.wavelength_nm)))
+    return optics.Reflectance(R_s=R_s, R_p=R_p)
 
 
 @functools.lru_cache(maxsize=64)

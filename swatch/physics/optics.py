@@ -19,17 +19,15 @@ float64 / complex128 and vectorised by broadcasting: no loops over thickness, an
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from swatch.core.errors import SwatchError
 
-__all__ = ["Reflectance", "FilmAtAngles", "layer_q", "fresnel_r", "film_reflectance", "stack_reflectance",
-           "film_reflectance_cos", "film_reflectance_sweep"]
+__all__ = ["Reflectance", "FilmAtAngles", "layer_q", "fresnel_r", "film_reflectance", "film_reflectance_cos",
+           "film_reflectance_sweep", "check_index", "check_film_geometry", "check_wavelengths"]
 
 
 @dataclass(frozen=True)
@@ -51,7 +49,13 @@ class Reflectance:
 
     @property
     def R(self) -> np.ndarray:
-        """Unpolarised reflectance: the mean of s and p."""
+        """Unpolarised reflectance: the mean of s and p.
+
+        Returns
+        -------
+        numpy.ndarray
+            The shape of ``R_s``.
+        """
         return 0.5 * (self.R_s + self.R_p)
 
 
@@ -101,7 +105,23 @@ def fresnel_r(n_i, q_i, n_j, q_j) -> tuple[np.ndarray, np.ndarray]:
     return r_s, r_p
 
 
-def _as_index(n, wavelength_nm: np.ndarray, what: str) -> np.ndarray:
+def check_index(n, wavelength_nm: np.ndarray, what: str) -> np.ndarray:
+    """A medium's complex index on the grid, checked: finite, ``k >= 0``.
+
+    Parameters
+    ----------
+    n : array_like
+        Complex index, scalar or shape (W,).
+    wavelength_nm : numpy.ndarray
+        The grid, shape (W,).
+    what : str
+        The medium, for the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        complex128, shape (W,); SwatchError for non-finite values or ``k < 0``.
+    """
     arr = np.broadcast_to(np.asarray(n, dtype=np.complex128), wavelength_nm.shape)
     if not np.all(np.isfinite(arr)):
         raise SwatchError(f"{what} refractive index has non-finite values; give finite n and k")
@@ -110,17 +130,39 @@ def _as_index(n, wavelength_nm: np.ndarray, what: str) -> np.ndarray:
     return arr
 
 
-def _check_geometry(thickness_nm: np.ndarray, incidence_deg: np.ndarray) -> None:
+def check_film_geometry(thickness_nm: np.ndarray, incidence_deg: np.ndarray) -> None:
+    """Check film thicknesses (finite, ≥ 0 nm) and incidence angles (in [0, 90) degrees).
+
+    Parameters
+    ----------
+    thickness_nm, incidence_deg : numpy.ndarray
+
+    Raises
+    ------
+    SwatchError
+        Naming the parameter out of range.
+    """
     if not np.all(np.isfinite(thickness_nm)) or np.any(thickness_nm < 0):
-        raise SwatchError("film thickness must be finite and >= 0 nm")
+        raise SwatchError("`thickness_nm` must be finite and >= 0 nm")
     if not np.all(np.isfinite(incidence_deg)) or np.any(incidence_deg < 0) or np.any(incidence_deg >= 90):
-        raise SwatchError("incidence angle must be in [0, 90) degrees")
+        raise SwatchError("`incidence_deg` must be in [0, 90) degrees")
 
 
-def _wavelengths(wavelength_nm) -> np.ndarray:
+def check_wavelengths(wavelength_nm) -> np.ndarray:
+    """A wavelength grid, checked: a non-empty 1-D array of positive, finite nm.
+
+    Parameters
+    ----------
+    wavelength_nm : array_like
+
+    Returns
+    -------
+    numpy.ndarray
+        float64, shape (W,); SwatchError otherwise (naming ``wavelength_nm``).
+    """
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     if wl.ndim != 1 or wl.size == 0 or not np.all(np.isfinite(wl)) or np.any(wl <= 0):
-        raise SwatchError("wavelength grid must be a non-empty 1-D array of positive nm values")
+        raise SwatchError("`wavelength_nm` must be a non-empty 1-D array of positive nm values")
     return wl
 
 
@@ -151,9 +193,9 @@ class FilmAtAngles:
     """
 
     def __init__(self, cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0):
-        wl = _wavelengths(wavelength_nm)
-        n1 = _as_index(n_film, wl, "film")
-        n2 = _as_index(n_substrate, wl, "substrate")
+        wl = check_wavelengths(wavelength_nm)
+        n1 = check_index(n_film, wl, "film")
+        n2 = check_index(n_substrate, wl, "substrate")
         n0 = float(np.real(n_ambient))
         cos0 = np.asarray(cos_incidence, dtype=np.float64)[..., None]
         sin0 = np.sqrt(np.clip(1.0 - cos0 * cos0, 0.0, 1.0))
@@ -190,7 +232,22 @@ class FilmAtAngles:
         return np.exp(-d * self.k4.imag) * (np.cos(phi) + 1j * np.sin(phi))
 
     def reflectance_from_phase(self, E: np.ndarray, out_s=None, out_p=None, work=None):
-        """R_s, R_p for phase factors ``E``; optional output and work arrays of E's shape."""
+        """R_s, R_p for phase factors (the thin film's poles and zeros form; no complex division per sample).
+
+        Parameters
+        ----------
+        E : numpy.ndarray
+            Phase factors ``exp(2iδ)`` (:meth:`phase_factor`), complex, shape E.
+        out_s, out_p : numpy.ndarray, optional
+            Output arrays of shape E (float64).
+        work : tuple of numpy.ndarray, optional
+            A complex and a real work array of shape E.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(R_s, R_p)``, shape E.
+        """
         if work is None:
             work = (np.empty(E.shape, dtype=np.complex128), np.empty(E.shape))
         w, den = work
@@ -231,6 +288,13 @@ class FilmAtAngles:
 
     def sweep(self, thickness_start_nm: float, thickness_step_nm: float, count: int) -> Reflectance:
         """Reflectance over ``start + step * j``, ``j < count`` (see :func:`film_reflectance_sweep`).
+
+        Parameters
+        ----------
+        thickness_start_nm, thickness_step_nm : float
+            The first thickness and the step, nm.
+        count : int
+            The number of thicknesses.
 
         Returns
         -------
@@ -345,7 +409,7 @@ def film_reflectance_sweep(
     Reflectance
         ``R_s``, ``R_p`` of shape (count,) + A + (W,).
     """
-    _check_geometry(np.zeros(1), np.asarray(incidence_deg, dtype=np.float64))
+    check_film_geometry(np.zeros(1), np.asarray(incidence_deg, dtype=np.float64))
     film = FilmAtAngles(np.cos(np.radians(np.asarray(incidence_deg, dtype=np.float64))),
                         wavelength_nm, n_film, n_substrate, n_ambient)
     return film.sweep(thickness_start_nm, thickness_step_nm, count)
@@ -357,7 +421,7 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
         raise SwatchError("a thickness sweep needs at least one thickness")
     start = float(thickness_start_nm)
     step = float(thickness_step_nm)
-    _check_geometry(np.array([start, start + step * (count - 1)]), np.zeros(1))
+    check_film_geometry(np.array([start, start + step * (count - 1)]), np.zeros(1))
     rows = film.k4.shape
 
     B = max(1, int(np.ceil(np.sqrt(count))))
@@ -424,76 +488,7 @@ def film_reflectance(
     """
     d = np.asarray(thickness_nm, dtype=np.float64)
     theta = np.asarray(incidence_deg, dtype=np.float64)
-    _check_geometry(d, theta)
+    check_film_geometry(d, theta)
     return film_reflectance_cos(
         d, np.cos(np.radians(theta)), wavelength_nm, n_film, n_substrate, n_ambient, amplitudes
     )
-
-
-def stack_reflectance(
-    thicknesses_nm: Sequence,
-    n_layers: Sequence,
-    n_substrate,
-    incidence_deg,
-    wavelength_nm,
-    n_ambient: float = 1.0,
-) -> Reflectance:
-    """Coherent reflectance of a stack of films on a substrate by the transfer-matrix product.
-
-    The characteristic matrix is ``M = D_01 P_1 D_12 P_2 ... D_N,sub`` with
-    ``D_ij = [[1, r_ij], [r_ij, 1]] / t_ij`` and ``P_j = diag(exp(-i delta_j), exp(i delta_j))``;
-    ``r = M_10 / M_00`` (the 1/t factors cancel in the ratio and are left out). With one film
-    this equals :func:`film_reflectance`.
-
-    Parameters
-    ----------
-    thicknesses_nm : sequence of array_like, nm
-        One thickness per film, listed from the ambient side (e.g. a clear lacquer first, then
-        the oxide); each broadcasts with ``incidence_deg`` to S.
-    n_layers : sequence of array_like, complex, shape (W,) or scalar
-        The films' indices, in the same order.
-    n_substrate : array_like, complex, shape (W,) or scalar
-    incidence_deg : array_like, degrees
-        Incidence angles in [0, 90).
-    wavelength_nm : array_like, shape (W,), nm
-    n_ambient : float
-        Real index of the ambient medium.
-
-    Returns
-    -------
-    Reflectance
-        ``R_s``, ``R_p``, ``r_s``, ``r_p`` of shape S + (W,).
-    """
-    if len(thicknesses_nm) != len(n_layers):
-        raise SwatchError("a stack needs one thickness per film layer")
-    wl = _wavelengths(wavelength_nm)
-    theta = np.asarray(incidence_deg, dtype=np.float64)
-    ds = [np.asarray(t, dtype=np.float64) for t in thicknesses_nm]
-    for d in ds:
-        _check_geometry(d, theta)
-    n0 = float(np.real(n_ambient))
-    ns = [np.asarray(n0, dtype=np.complex128)] + [
-        _as_index(n, wl, f"layer {j + 1}") for j, n in enumerate(n_layers)
-    ] + [_as_index(n_substrate, wl, "substrate")]
-    kx = n0 * np.sin(np.radians(theta))[..., None]
-    qs = [layer_q(n, kx) for n in ns]
-    out: dict[str, np.ndarray] = {}
-    for pol in ("s", "p"):
-        m00: Any = None
-        m01: Any = None
-        m10: Any = None
-        m11: Any = None
-        for j in range(len(ns) - 1):
-            rs, rp = fresnel_r(ns[j], qs[j], ns[j + 1], qs[j + 1])
-            r = rs if pol == "s" else rp
-            if m00 is None:  # D_01
-                m00, m01, m10, m11 = 1.0 + 0 * r, r, r, 1.0 + 0 * r
-            else:  # multiply by P_j then D_j,j+1
-                delta = (2.0 * np.pi / wl) * qs[j] * ds[j - 1][..., None]
-                em, ep = np.exp(-1j * delta), np.exp(1j * delta)
-                a00, a01, a10, a11 = m00 * em, m01 * ep, m10 * em, m11 * ep
-                m00, m01 = a00 + a01 * r, a00 * r + a01
-                m10, m11 = a10 + a11 * r, a10 * r + a11
-        out[pol] = m10 / m00
-    r_s, r_p = out["s"], out["p"]
-    return Reflectance(R_s=np.abs(r_s) ** 2, R_p=np.abs(r_p) ** 2, r_s=r_s, r_p=r_p)

@@ -106,21 +106,64 @@ class Process:
 
     @property
     def label(self) -> str:
-        """The name, with the thickness spread when there is one (for text reports)."""
+        """The name, with the thickness spread when there is one (for text reports).
+
+        Returns
+        -------
+        str
+        """
         return self.name + (f", thickness spread{self.spread.text()}" if not self.spread.is_zero else "")
 
     @property
     def has_growth_law(self) -> bool:
+        """Whether the profile has a growth rate (voltages can be turned into thicknesses).
+
+        Returns
+        -------
+        bool
+        """
         return self.nm_per_V is not None
 
     def thickness_nm(self, voltage_V) -> np.ndarray:
-        """Oxide thickness, nm, grown at ``voltage_V`` (V) by this line's growth law."""
+        """Oxide thickness grown at a voltage by this line's growth law.
+
+        Parameters
+        ----------
+        voltage_V : array_like
+            Anodising voltage, V (0 to ``MAX_VOLTAGE_V``).
+
+        Returns
+        -------
+        numpy.ndarray
+            Thickness, nm, the shape of ``voltage_V``.
+
+        Raises
+        ------
+        SwatchError
+            Without a growth rate, or for a voltage (or the film it gives) out of range (```voltage_V```).
+
+        Examples
+        --------
+        >>> float(load_process("titanium-fujii2019").thickness_nm(25.0))
+        50.8
+        """
         from swatch.physics.model import voltage_to_thickness_nm  # lazy: see tests/test_layers.py
 
         return voltage_to_thickness_nm(voltage_V, self._rate(), self.offset_nm, self.knee_V, self.nm_per_V_above_knee)
 
     def voltage_V(self, thickness_nm) -> np.ndarray | None:
-        """Voltage, V, that grows ``thickness_nm``; None when the profile has no growth rate."""
+        """The voltage that grows a thickness (the inverse of :meth:`thickness_nm`).
+
+        Parameters
+        ----------
+        thickness_nm : array_like
+            Oxide thickness, nm.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            Voltage, V, the shape of ``thickness_nm``; None when the profile has no growth rate.
+        """
         from swatch.physics.model import thickness_to_voltage_V  # lazy: see tests/test_layers.py
 
         if self.nm_per_V is None:
@@ -129,14 +172,39 @@ class Process:
                                       self.nm_per_V_above_knee)
 
     def coating(self, wavelength_nm=None):
-        """The :class:`swatch.physics.model.Coating` of this profile on a wavelength grid (nm)."""
+        """The coating of this profile (film, substrate, index scale, thickness spread).
+
+        Parameters
+        ----------
+        wavelength_nm : array_like or None, optional
+            The grid, nm (default 380–780 nm every 5 nm).
+
+        Returns
+        -------
+        swatch.physics.model.Coating
+        """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
         return get_coating(self.film, self.substrate, wavelength_nm, self.film_index_scale, self.spread)
 
     def with_overrides(self, film: str | None = None, substrate: str | None = None,
                        nm_per_V: float | None = None, spread: ThicknessSpread | None = None) -> Process:
-        """The profile with command-line overrides (``--film``, ``--substrate``, ``--nm-per-volt``, ``--spread``)."""
+        """The profile with a caller's overrides (the CLI's ``--film``, ``--substrate``, ``--nm-per-volt``, ``--spread``).
+
+        Parameters
+        ----------
+        film, substrate : str or None
+            Table names replacing the profile's; None keeps them.
+        nm_per_V : float or None
+            A growth rate replacing the profile's, nm/V.
+        spread : ThicknessSpread or None
+            A thickness spread replacing the profile's.
+
+        Returns
+        -------
+        Process
+            ``self`` when nothing changes; otherwise a copy whose origin says what was overridden.
+        """
         changes: dict = {}
         if spread is not None and spread != self.spread:
             changes["spread"] = spread
@@ -152,7 +220,13 @@ class Process:
                                    **changes)
 
     def metadata(self) -> dict:
-        """What every output records about the profile."""
+        """What every output records about the profile (name, origin, materials, growth law, spread).
+
+        Returns
+        -------
+        dict
+            JSON-ready.
+        """
         return {
             "process": self.name, "process_origin": self.origin, "film": self.film, "substrate": self.substrate,
             "nm_per_V": self.nm_per_V, "offset_nm": self.offset_nm, "film_index_scale": self.film_index_scale,
@@ -160,14 +234,26 @@ class Process:
         }
 
     def knee_metadata(self) -> dict:
-        """``{"knee_V", "nm_per_V_above_knee"}`` for a two-slope law, else ``{}``."""
+        """The knee of a two-slope growth law, as metadata.
+
+        Returns
+        -------
+        dict
+            ``{"knee_V", "nm_per_V_above_knee"}`` for a two-slope law, else ``{}``.
+        """
         if self.knee_V is None:
             return {}
         return {"knee_V": self.knee_V, "nm_per_V_above_knee": self.nm_per_V_above_knee}
 
     @property
     def growth_law_text(self) -> str:
-        """The growth law in words and numbers (``no growth rate`` without one)."""
+        """The growth law in words and numbers.
+
+        Returns
+        -------
+        str
+            E.g. ``0 nm + 2.032 nm/V``; ``no growth rate`` without one.
+        """
         if self.nm_per_V is None:
             return "no growth rate"
         law = f"{self.offset_nm:g} nm + {self.nm_per_V:g} nm/V"
@@ -189,8 +275,25 @@ def _number(value, key: str, lo: float, hi: float, source: str = "process") -> f
 
 
 def check_profile_name(name: str, what: str = "--name") -> str:
-    """A profile name as a profile file may hold it (what ``--process`` reads back): one line of printable
-    text, not empty, at most MAX_PROFILE_NAME_CHARS characters; SwatchError otherwise."""
+    """Check a profile name as a profile file may hold it (what ``--process`` reads back).
+
+    Parameters
+    ----------
+    name : str
+        One line of printable text, not empty, at most ``MAX_PROFILE_NAME_CHARS`` characters.
+    what : str, optional
+        What the name is, for the message.
+
+    Returns
+    -------
+    str
+        ``name``.
+
+    Raises
+    ------
+    SwatchError
+        Otherwise.
+    """
     text = str(name)
     if not text.strip() or len(text) > MAX_PROFILE_NAME_CHARS or not text.isprintable():
         raise SwatchError(f"{what} must be one line of printable text of 1 to {MAX_PROFILE_NAME_CHARS} characters "
@@ -273,7 +376,18 @@ def _presets_dir() -> Path:
 
 
 def preset_names() -> list[str]:
-    """The names of the preset profiles (``tables/processes/*.toml``), sorted."""
+    """The names of the preset profiles (``tables/processes/*.toml``).
+
+    Returns
+    -------
+    list of str
+        Sorted.
+
+    Examples
+    --------
+    >>> "titanium-fujii2019" in preset_names()
+    True
+    """
     return sorted(p.stem for p in _presets_dir().glob("*.toml"))
 
 
@@ -347,7 +461,19 @@ def _toml_value(value) -> str:
 
 
 def process_toml(p: Process, header: str = "") -> str:
-    """The TOML text of a profile (deterministic: same profile, same bytes)."""
+    """The TOML text of a profile (deterministic: same profile, same bytes).
+
+    Parameters
+    ----------
+    p : Process
+    header : str, optional
+        Lines written first as ``#`` comments.
+
+    Returns
+    -------
+    str
+        Readable back by :func:`load_process`.
+    """
     lines = [f"# {ln}" for ln in header.splitlines()] if header else []
     lines += [f"name = {_toml_value(p.name)}", f"description = {_toml_value(p.description)}",
               f"film = {_toml_value(p.film)}", f"substrate = {_toml_value(p.substrate)}"]

@@ -77,16 +77,39 @@ class ThicknessSpread:
 
     @property
     def is_zero(self) -> bool:
+        """Whether the film is uniform (both parts 0: the uniform film's code path runs).
+
+        Returns
+        -------
+        bool
+        """
         return self.spread_nm == 0.0 and self.spread_fraction == 0.0
 
     def metadata(self) -> dict:
-        """``{"spread_nm", "spread_fraction"}`` when there is a spread, else ``{}`` (outputs unchanged)."""
+        """The spread as metadata.
+
+        Returns
+        -------
+        dict
+            ``{"spread_nm", "spread_fraction"}`` when there is a spread, else ``{}`` (outputs unchanged).
+        """
         if self.is_zero:
             return {}
         return {"spread_nm": float(self.spread_nm), "spread_fraction": float(self.spread_fraction)}
 
     def text(self) -> str:
-        """``" ± 4 nm + 2 %"`` style suffix for labels; ``""`` for no spread."""
+        """The spread as a suffix for labels.
+
+        Returns
+        -------
+        str
+            ``" ± 4 nm + 2 % (1σ)"``; ``""`` for no spread.
+
+        Examples
+        --------
+        >>> ThicknessSpread(4.0, 0.02).text()
+        ' ± 4 nm + 2 % (1σ)'
+        """
         if self.is_zero:
             return ""
         parts = [f"{self.spread_nm:g} nm"] if self.spread_nm else []

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.physics.model import overcoat_text
+from swatch.physics.overcoat import overcoat_text
 
 __all__ = ["spectrum_text", "colour_table_text", "materials_text", "material_text", "materials_json", "material_json"]
 
@@ -18,7 +18,7 @@ def spectrum_text(out: dict, under: str = "", process: str = "") -> list[str]:
         ``film``, ``substrate``, ``thickness_nm`` (nm), ``theta_d_deg`` (degrees) and the columns
         ``wavelength_nm``, ``reflectance``, ``reflectance_s``, ``reflectance_p`` (reflectance factors, 0–1).
     under : str
-        The overcoat description (:func:`swatch.physics.model.overcoat_text`), or empty.
+        The overcoat description (:func:`swatch.physics.overcoat.overcoat_text`), or empty.
     process : str
         The process profile's label.
 

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swatch.core.errors import SwatchError
-from swatch.physics import model
+from swatch.physics import model, overcoat
 
 
 def test_half_vector_reflectance_equals_tmm_at_theta_d():
@@ -75,8 +75,8 @@ def test_thickness_checked(bad):
 def test_overcoated_coating_equals_tmm_stack():
     """A clear overcoat over the oxide: the transfer-matrix path against tmm on the 4-medium stack."""
     c = model.get_coating()
-    oc = model.OvercoatedCoating(c, (model.overcoat("1.5:200", c.wavelength_nm),
-                                     model.overcoat("TiO2-Jolivet-amorphous:15", c.wavelength_nm)))
+    oc = overcoat.OvercoatedCoating(c, (overcoat.overcoat("1.5:200", c.wavelength_nm),
+                                     overcoat.overcoat("TiO2-Jolivet-amorphous:15", c.wavelength_nm)))
     refl, theta_d = oc.half_vector(np.array([0.0, 50.8, 173.9]), 10.0, 45.0)
     assert theta_d == pytest.approx(27.5)
     jolivet = oc.overcoats[1].n
@@ -94,4 +94,4 @@ def test_overcoated_coating_equals_tmm_stack():
 ])
 def test_overcoat_parsing_errors(text, message):
     with pytest.raises(SwatchError, match=message):
-        model.overcoat(text, model.get_coating().wavelength_nm)
+        overcoat.overcoat(text, model.get_coating().wavelength_nm)

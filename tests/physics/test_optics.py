@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swatch.core.errors import SwatchError
-from swatch.physics import optics
+from swatch.physics import multilayer, optics
 
 TOL = 1e-10
 
@@ -47,7 +47,7 @@ def test_stack_equals_coh_tmm(layers, ns, ks, th, wl):
     ns_c = complex(ns, ks)
     n_layers = [complex(n, k) for n, k, _ in layers]
     ds = [d for _, _, d in layers]
-    res = optics.stack_reflectance(ds, n_layers, ns_c, th, [wl])
+    res = multilayer.stack_reflectance(ds, n_layers, ns_c, th, [wl])
     for pol, R, r in (("s", res.R_s, res.r_s), ("p", res.R_p, res.r_p)):
         ref = reference(pol, [1.0, *n_layers, ns_c], [np.inf, *ds, np.inf], th, wl)
         assert abs(R[0] - ref["R"]) <= TOL
@@ -194,8 +194,8 @@ def test_colour_science_thin_film_tmm_takes_every_angle_from_the_first_wavelengt
     [
         ({"thickness_nm": -1.0}, "thickness"),
         ({"thickness_nm": np.nan}, "thickness"),
-        ({"incidence_deg": 90.0}, "angle"),
-        ({"incidence_deg": -5.0}, "angle"),
+        ({"incidence_deg": 90.0}, "`incidence_deg` must be in"),
+        ({"incidence_deg": -5.0}, "`incidence_deg` must be in"),
     ],
 )
 def test_bad_input_raises_swatch_error(kwargs, message):

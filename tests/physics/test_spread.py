@@ -18,7 +18,8 @@ from scipy.special import roots_legendre
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.core.errors import SwatchError
 from swatch.physics import optics
-from swatch.physics.model import OvercoatedCoating, get_coating, overcoat
+from swatch.physics.model import get_coating
+from swatch.physics.overcoat import OvercoatedCoating, overcoat
 from swatch.physics.process import load_process, process_toml
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread, parse_spread, spread_sigma_nm
 
