@@ -27,6 +27,15 @@ and the uint16 steps made false ones where the curve is flat (e.g. a candidate a
 L*a*b* 70 5 30 that ``swatch match`` does not have; tests/js/match.test.mjs).
 
 XYZ scale: Y = 100 for the perfect white diffuser (colour-science's convention).
+
+``scene`` (:func:`scene_data`): the live view's shapes, cameras and point light are those of
+``swatch render`` (:func:`swatch.render.scene.make_scene`), so the page's bent sheet *is* ``--shape cylinder``
+(radius 1, height 2.2, the convex half towards the default camera): per shape the camera distance, the
+default view angle, the framing (the shape's points, or for the sphere its view-independent window, filling
+:data:`swatch.render.camera.FRAME_FILL` of the square, as :meth:`~swatch.render.camera.Camera.fitted`) and the
+light's two axes (``light = cos θ c + sin θ w``). The page's world is z-up: a render's world vector
+``(x, y, z)`` (y up) is ``(-z, -x, y)`` on the page (:data:`PAGE_FROM_RENDER`), the render's view azimuth φ
+is the page's φ + 180°.
 """
 from __future__ import annotations
 
@@ -45,9 +54,11 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
 from swatch.fit.matching import MATCH_MIN_SEPARATION_NM
 from swatch.physics import geometry
+from swatch.render.camera import FRAME_FILL
+from swatch.render.scene import DEFAULT_VIEW_DEG, HalfCylinder, make_scene
 
-__all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "explorer_data", "decode", "grid_lookup",
-           "tile_rects", "chip_colours"]
+__all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "PAGE_FROM_RENDER", "explorer_data",
+           "scene_data", "decode", "grid_lookup", "tile_rects", "chip_colours"]
 
 #: Thickness step of the shading grid (nm); 2 nm would give ΔE2000 up to 0.27 with 129 cos nodes, 1 nm keeps
 #: the cos θ_d axis short (97 nodes) for the same accuracy.
@@ -99,6 +110,57 @@ def decode(block: dict) -> np.ndarray:
         return np.frombuffer(raw, dtype="<f4").astype(np.float64).reshape(block["shape"])
     codes = np.frombuffer(raw, dtype="<u2").astype(np.float64)
     return codes.reshape(block["shape"]) * np.asarray(block["scale"])
+
+
+#: The page's z-up world from a render's y-up world: ``page = PAGE_FROM_RENDER @ render`` (a rotation).
+PAGE_FROM_RENDER = np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+
+
+def _page(v) -> list:
+    """Render-world vectors (..., 3) in page coordinates, as nested lists."""
+    return (np.asarray(v, dtype=np.float64) @ PAGE_FROM_RENDER.T).tolist()
+
+
+def scene_data() -> dict:
+    """The live view's scene, from :func:`swatch.render.scene.make_scene` (see the module doc), page coordinates.
+
+    Returns
+    -------
+    dict
+        Per shape (``flat``, ``cylinder``, ``sphere``): ``distance`` (object units), ``default_view_deg``,
+        ``light_axes`` ``[c, w]`` (unit vectors: the light at ``light_deg`` θ is ``cos θ c + sin θ w``),
+        and ``points`` (float32 block, the points :meth:`~swatch.render.camera.Camera.fitted` frames) or, for
+        the sphere, ``window_half`` (its framing does not depend on the view); ``cylinder`` adds ``radius``,
+        ``half_height``, ``half_angle_deg`` (90: a half cylinder), ``axis`` and ``middle`` (the direction from the
+        axis to the middle of the sheet);
+        ``fill``.
+
+    Examples
+    --------
+    >>> s = scene_data()
+    >>> s["cylinder"]["distance"], s["cylinder"]["half_height"], s["cylinder"]["axis"], s["flat"]["light_axes"][0]
+    (5.5, 1.1, [0.0, 0.0, 1.0], [0.0, 0.0, 1.0])
+    """
+    out: dict = {"fill": FRAME_FILL}
+    c45 = math.cos(math.radians(45.0))
+    for shape in ("flat", "cylinder", "sphere"):
+        s0, s45 = make_scene(shape, 0.0), make_scene(shape, 45.0)
+        c = s0.light
+        w = (s45.light - c45 * c) / math.sin(math.radians(45.0))
+        entry: dict = {"distance": round(float(np.linalg.norm(s0.camera.position)), 9),
+                       "default_view_deg": DEFAULT_VIEW_DEG[shape],
+                       "light_axes": [[round(x, 12) + 0.0 for x in v] for v in _page(np.stack([c, w]))]}
+        if shape == "sphere":
+            entry["window_half"] = float(s0.camera.half)
+        else:
+            pts = np.asarray(_page(s0.shape.points()), dtype="<f4")
+            entry["points"] = {"type": "float32", "shape": list(pts.shape),
+                               "data": base64.b64encode(pts.tobytes()).decode("ascii")}
+        if shape == "cylinder":
+            entry.update(radius=1.0, half_height=HalfCylinder().h, half_angle_deg=90.0, axis=_page([0.0, 1.0, 0.0]),
+                         middle=_page([0.0, 0.0, 1.0]))  # HalfCylinder: radius 1 about y, the half z >= 0
+        out[shape] = entry
+    return out
 
 
 def _matrix(fn) -> list[list[float]]:
@@ -210,6 +272,7 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
         "match": {"min_separation_nm": MATCH_MIN_SEPARATION_NM, "step_nm": MATCH_STEP_NM},
         "name_rules": [list(r) for r in NAME_RULES],
         "render": {"model": spec.model, "roughness": spec.roughness, "shapes": list(spec.shapes)},
+        "scene": scene_data(),
     }
 
 

@@ -275,7 +275,7 @@ the film's colour dimmed rather than black. Outlines are antialiased.</p></div>
 <label id="voltage-range-label"><span>voltage (through the process's growth law)</span>
 <input id="voltage-range" type="range" step="0.05" aria-label="voltage (V)"></label>
 <div class="pair"><label>voltage V<input id="voltage" type="number" step="0.1"></label>
-<label>shape<select id="shape"><option value="plate">plate</option><option value="bent sheet">bent sheet</option>
+<label>shape<select id="shape"><option value="plate">plate</option><option value="bent sheet">bent sheet (half cylinder)</option>
 <option value="sphere">sphere</option></select></label>
 <label>shading<select id="model"><option value="microfacet">microfacet (D·G)</option>
 <option value="paper">paper (facet colour only)</option></select></label></div>

@@ -6,7 +6,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Camera", "unit"]
+__all__ = ["Camera", "unit", "FRAME_FILL"]
+
+#: How much of the square window a framed object fills (:meth:`Camera.fitted`; the catalog page's live view
+#: frames its shapes the same way, swatch.catalog.explorer.scene_data).
+FRAME_FILL = 0.86
 
 
 def unit(v) -> np.ndarray:
@@ -70,7 +74,7 @@ class Camera:
         up = np.cross(right, fwd)
         return cls(pos, right, up, fwd)
 
-    def fitted(self, points, fill: float = 0.86) -> Camera:
+    def fitted(self, points, fill: float = FRAME_FILL) -> Camera:
         """The camera with its window framing ``points``, filling ``fill`` of the square.
 
         Parameters

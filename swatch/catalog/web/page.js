@@ -82,7 +82,7 @@ const state = {thickness_nm: swatches.length ? swatches[0].thickness_nm : C.rang
   shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point", fill: DEFAULT_FILL};
 const canvas = $("view");
 let view = null;
-try { view = makeView(canvas, C, {roughness: T.render.roughness}, ENV); } catch (e) { view = null; console.warn(String(e)); }
+try { view = makeView(canvas, C, {roughness: T.render.roughness, scene: T.scene}, ENV); } catch (e) { view = null; console.warn(String(e)); }
 if (!view) {
   $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
   $("lighting").disabled = true;
@@ -168,7 +168,10 @@ $("live-form").addEventListener("input", (e) => {
   else if (id === "light-azimuth") show({light_azimuth_deg: e.target.value});
   else if (id === "view-deg") show({view_deg: e.target.value});
   else if (id === "fill") show({fill: e.target.value});
-  else if (id === "shape") show({shape: e.target.value});
+  else if (id === "shape") { // as swatch render --shape: the shape's default camera (swatch.render.scene.DEFAULT_VIEW_DEG)
+    const py = T.scene[{"plate": "flat", "bent sheet": "cylinder", "sphere": "sphere"}[e.target.value]];
+    show({shape: e.target.value, view_deg: py ? py.default_view_deg : state.view_deg, view_azimuth_deg: 180});
+  }
   else if (id === "model") show({model: e.target.value});
   else if (id === "lighting") show({lighting: e.target.value});
 });

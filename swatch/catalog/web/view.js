@@ -17,7 +17,9 @@ precision highp float;
 precision highp int;
 in vec2 uv;
 uniform vec3 eye, fwd, right, up;
-uniform float tanHalf, aspect, bendR, bendPhi;
+uniform float tanHalf, aspect, bendR, bendPhi, bendH;
+uniform vec2 win;  // the window's centre (swatch.render.camera.Camera.fitted: cx, cy); tanHalf its half height
+uniform vec3 bendX, bendY, bendZ;  // the sheet's frame: across, its axis, towards its middle (page coordinates)
 const float BG = 0.18;
 // Each shape gives, for the pixel's ray d, a signed distance e to its outline (world units; > 0 on the
 // object) and the normal n of the nearest surface point, defined on both sides of the outline: the pass
@@ -47,7 +49,7 @@ float edgeBend(vec3 o, vec3 d, out vec3 n) {
   sil = n; silD = normalize(vec3(dd.x, 0, dd.y)); silR = bendR;
   if (disc < 0.0) {  // the ray passes the cylinder: how far from the sheet's outline there
     vec3 q = o - (b / a) * d;
-    float ey = 1.0 - abs(q.y), ep = (bendPhi - abs(atan(near.x, near.y))) * bendR, e = min(min(tangent, ey), ep);
+    float ey = bendH - abs(q.y), ep = (bendPhi - abs(atan(near.x, near.y))) * bendR, e = min(min(tangent, ey), ep);
     kind = e == tangent ? SIL : NONE;
     return e;
   }
@@ -57,7 +59,7 @@ float edgeBend(vec3 o, vec3 d, out vec3 n) {
     float t = (i == 0 ? (-b - s) : (-b + s)) / a;
     if (t <= 0.0) continue;
     vec3 q = o + t * d; vec3 r = q - c;
-    float phi = atan(r.x, r.z), ey = 1.0 - abs(q.y), ep = (bendPhi - abs(phi)) * bendR;
+    float phi = atan(r.x, r.z), ey = bendH - abs(q.y), ep = (bendPhi - abs(phi)) * bendR;
     float et = i == 0 ? tangent : 1e3, e = min(min(ey, ep), et);
     if (e > best) {
       best = e; n = normalize(vec3(r.x, 0, r.z));
@@ -76,12 +78,18 @@ float edgeSphere(vec3 o, vec3 d, out vec3 n) {
   n = r < 1.0 ? normalize(o - (b + sqrt(1.0 - r * r)) * d) : near / r;
   return 1.0 - r;
 }
+vec3 bendToPage(vec3 v) { return v.x * bendX + v.y * bendY + v.z * bendZ; }
 float edge(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d, the outline distance and the normal
-  d = normalize(fwd + tanHalf * (p.x * aspect * right + p.y * up));
+  d = normalize(fwd + (win.x + p.x * aspect * tanHalf) * right + (win.y + p.y * tanHalf) * up);
 #if SHAPE == 0
   return edgePlate(eye, d, n);
 #elif SHAPE == 1
-  return edgeBend(eye, d, n);
+  // edgeBend works in the sheet's frame (axis y, the middle of the sheet at the origin, its axis at z = -R)
+  vec3 nl;
+  float e = edgeBend(vec3(dot(eye, bendX), dot(eye, bendY), dot(eye, bendZ) - bendR),
+                     vec3(dot(d, bendX), dot(d, bendY), dot(d, bendZ)), nl);
+  n = bendToPage(nl);
+  return e;
 #else
   return edgeSphere(eye, d, n);
 #endif
@@ -90,15 +98,18 @@ float edge(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d, the outline 
 // on a silhouette of radius R, the front point at distance R - e2 from the centre (or axis) in the plane
 // of the ray; at the sheet's curved end, e2 / R further round; a straight edge does not turn the normal
 vec3 tilt(vec3 n, float e2) {
+  vec3 r;
   if (kind == SIL) {
     float rho = clamp(silR - e2, 0.0, silR);
-    return normalize(sil * rho - silD * sqrt(silR * silR - rho * rho));
-  }
-  if (kind == END) {
+    r = normalize(sil * rho - silD * sqrt(silR * silR - rho * rho));
+  } else if (kind == END) {
     float phi = sign(endPhi) * max(bendPhi - e2 / bendR, 0.0);
-    return vec3(sin(phi), 0, cos(phi));
-  }
-  return n;
+    r = vec3(sin(phi), 0, cos(phi));
+  } else return n;
+#if SHAPE == 1
+  r = bendToPage(r);  // from the sheet's frame
+#endif
+  return r;
 }
 // the pixel's coverage by the object (0 to 1) from e and its change across the pixel (derivatives: in
 // uniform control flow), and the ray and normal to shade it with: the pixel's centre, or on the outline
@@ -192,7 +203,7 @@ function makeView(canvas, C, settings, envData) {
   const programs = new Map();
   const vs = compile(gl.VERTEX_SHADER, VS);
   const UNIFORMS = ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
-    "bendR", "bendPhi", "fill", "alb", "bins", "geo", "lod"];
+    "bendR", "bendPhi", "bendH", "bendX", "bendY", "bendZ", "win", "fill", "alb", "bins", "geo", "lod"];
   let env = null;  // the environment passes (envlight.js), when the page embeds them
   function program(pass, shape, model) {
     const key = pass + "/" + shape + "/" + model;
@@ -229,20 +240,52 @@ function makeView(canvas, C, settings, envData) {
   for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
     [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, v);
   gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, C.cosNodes, 1);  // the thickness row, rewritten per thickness
-  const BEND_R = 1.2, BEND_PHI = 56 * DEG, FOV = 32 * DEG, DIST = 5.2;
-  let lastRowD = null, lastKey = null, lastK = 1;
+  // the scene of swatch render (swatch.render.scene.make_scene), embedded by the build (swatch.catalog.explorer.
+  // scene_data) in page coordinates: per shape the camera distance, the framing and the light's axes; the
+  // bent sheet is --shape cylinder's half cylinder
+  const SC = settings.scene, PY_SHAPES = ["flat", "cylinder", "sphere"];
+  const CYL = SC.cylinder, BEND_R = CYL.radius, BEND_H = CYL.half_height, BEND_PHI = CYL.half_angle_deg * DEG;
+  const BZ = CYL.middle, BY = CYL.axis;
+  const BX = [BY[1] * BZ[2] - BY[2] * BZ[1], BY[2] * BZ[0] - BY[0] * BZ[2], BY[0] * BZ[1] - BY[1] * BZ[0]];
+  const POINTS = PY_SHAPES.map((k) => SC[k].points ? decodeBlock(SC[k].points) : null);
+  let lastRowD = null, lastKey = null, lastK = 1, lastCam = null, lastCamKey = null;
 
   function dir(polar, az) { const t = polar * DEG, p = az * DEG; return [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)]; }
   function cross(a, b) { return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]; }
   function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
   function norm(a) { const l = Math.hypot(...a); return a.map((x) => x / l); }
-  function camera(st) {
-    const back = dir(st.view_deg, st.view_azimuth_deg);
-    const eye = back.map((x) => x * DIST);
-    const fwd = back.map((x) => -x);
-    const right = [-Math.sin(st.view_azimuth_deg * DEG), Math.cos(st.view_azimuth_deg * DEG), 0];
-    const up = norm(cross(right, fwd));
-    return {eye, fwd, right, up};
+  // as swatch.render.scene: the camera at the shape's distance, view_deg from the vertical (the plate's normal),
+  // looking at the origin (Camera.look_at; straight down, the image's up points away from the azimuth's side),
+  // its square window fitted to the shape's points (Camera.fitted), the canvas wider by its aspect
+  function camera(st, shape) {
+    const S = SC[PY_SHAPES[shape]];
+    const eye = dir(st.view_deg, st.view_azimuth_deg).map((x) => x * S.distance);
+    const az = st.view_azimuth_deg * DEG;
+    const worldUp = Math.sin(st.view_deg * DEG) > 1e-6 ? [0, 0, 1] : [-Math.cos(az), -Math.sin(az), 0];
+    const fwd = norm(eye.map((x) => -x)), right = norm(cross(fwd, worldUp)), up = cross(right, fwd);
+    let cx = 0, cy = 0, half = S.window_half;
+    const P = POINTS[shape];
+    if (P) {
+      let u0 = Infinity, u1 = -Infinity, w0 = Infinity, w1 = -Infinity;
+      for (let i = 0; i < P.length; i += 3) {
+        const q = [P[i] - eye[0], P[i + 1] - eye[1], P[i + 2] - eye[2]], z = dot(q, fwd);
+        const u = dot(q, right) / z, w = dot(q, up) / z;
+        u0 = Math.min(u0, u); u1 = Math.max(u1, u); w0 = Math.min(w0, w); w1 = Math.max(w1, w);
+      }
+      half = 0.5 * Math.max(u1 - u0, w1 - w0) / SC.fill; cx = 0.5 * (u0 + u1); cy = 0.5 * (w0 + w1);
+    }
+    return {eye, fwd, right, up, cx, cy, half};
+  }
+  // the point light as swatch render's: light_deg from the axis c towards w (the plate: from its normal, on
+  // the far side; the sheet and the sphere: from the default camera's direction, from the upper left), turned
+  // about the vertical by light_azimuth_deg
+  function lightOf(st, shape) {
+    const [c, w] = SC[PY_SHAPES[shape]].light_axes, t = st.light_deg * DEG, a = st.light_azimuth_deg * DEG;
+    const l = c.map((x, i) => Math.cos(t) * x + Math.sin(t) * w[i]);
+    return norm([l[0] * Math.cos(a) - l[1] * Math.sin(a), l[0] * Math.sin(a) + l[1] * Math.cos(a), l[2]]);
+  }
+  function ray(cam, u, w, aspect) {
+    return norm(cam.fwd.map((f, i) => f + (cam.cx + u * aspect * cam.half) * cam.right[i] + (cam.cy + w * cam.half) * cam.up[i]));
   }
   // JS twin of the shader's geometry on a coarse grid: the exposure rule of swatch.render
   // (k = 1 / median F=1 intensity over the off-mirror pixels, D(h) < D(n)/2)
@@ -252,13 +295,16 @@ function makeView(canvas, C, settings, envData) {
       const t = -o[2] / d[2]; const q = [o[0] + t * d[0], o[1] + t * d[1]];
       return (t > 0 && Math.abs(q[0]) <= 1 && Math.abs(q[1]) <= 1) ? [0, 0, 1] : null;
     }
-    if (shape === 1) {
-      const oc = [o[0], o[2] + BEND_R], dd = [d[0], d[2]];
+    if (shape === 1) {  // in the sheet's frame (as the shader's edgeBend), the normal back in page coordinates
+      const ol = [dot(o, BX), dot(o, BY), dot(o, BZ) - BEND_R], dl = [dot(d, BX), dot(d, BY), dot(d, BZ)];
+      const oc = [ol[0], ol[2] + BEND_R], dd = [dl[0], dl[2]];
       const a = dd[0] * dd[0] + dd[1] * dd[1], b = oc[0] * dd[0] + oc[1] * dd[1], k = oc[0] * oc[0] + oc[1] * oc[1] - BEND_R * BEND_R;
       const disc = b * b - a * k; if (a < 1e-9 || disc < 0) return null;
       for (const t of [(-b - Math.sqrt(disc)) / a, (-b + Math.sqrt(disc)) / a]) {
-        const q = o.map((x, i) => x + t * d[i]); const r = [q[0], 0, q[2] + BEND_R];
-        if (t > 0 && Math.abs(q[1]) <= 1 && Math.abs(Math.atan2(r[0], r[2])) <= BEND_PHI) return norm(r);
+        const q = ol.map((x, i) => x + t * dl[i]); const r = norm([q[0], 0, q[2] + BEND_R]);
+        if (t > 0 && Math.abs(q[1]) <= BEND_H && Math.abs(Math.atan2(r[0], r[2])) <= BEND_PHI) {
+          return [0, 1, 2].map((i) => r[0] * BX[i] + r[1] * BY[i] + r[2] * BZ[i]);
+        }
       }
       return null;
     }
@@ -272,8 +318,7 @@ function makeView(canvas, C, settings, envData) {
     const alpha = settings.roughness, off = [], all = [];
     const N = 28;
     for (let yi = 0; yi < N; yi++) for (let xi = 0; xi < N; xi++) {
-      const u = (xi + 0.5) / N * 2 - 1, w = (yi + 0.5) / N * 2 - 1, th = Math.tan(FOV / 2);
-      const d = norm(cam.fwd.map((f, i) => f + th * (u * aspect * cam.right[i] + w * cam.up[i])));
+      const d = ray(cam, (xi + 0.5) / N * 2 - 1, (yi + 0.5) / N * 2 - 1, aspect);
       let n = hit(SHAPES.indexOf(st.shape), cam.eye, d); if (!n) continue;
       const v = d.map((x) => -x); if (dot(n, v) < 0) n = n.map((x) => -x);
       const cl = dot(n, light), cv = Math.max(dot(n, v), 0); if (cl <= 0 || cv <= 0) continue;
@@ -322,8 +367,9 @@ function makeView(canvas, C, settings, envData) {
   function setCamera(U, cam, aspect) {
     gl.uniform3fv(U.eye, cam.eye); gl.uniform3fv(U.fwd, cam.fwd); gl.uniform3fv(U.right, cam.right);
     gl.uniform3fv(U.up, cam.up);
-    gl.uniform1f(U.tanHalf, Math.tan(FOV / 2)); gl.uniform1f(U.aspect, aspect);
-    gl.uniform1f(U.bendR, BEND_R); gl.uniform1f(U.bendPhi, BEND_PHI);
+    gl.uniform1f(U.tanHalf, cam.half); gl.uniform2f(U.win, cam.cx, cam.cy); gl.uniform1f(U.aspect, aspect);
+    gl.uniform1f(U.bendR, BEND_R); gl.uniform1f(U.bendPhi, BEND_PHI); gl.uniform1f(U.bendH, BEND_H);
+    gl.uniform3fv(U.bendX, BX); gl.uniform3fv(U.bendY, BY); gl.uniform3fv(U.bendZ, BZ);
   }
   // under an environment: the gather pass when the geometry or the lighting changed (at half the
   // resolution while the view is dragged: a quarter of the work), then the shade pass
@@ -347,8 +393,10 @@ function makeView(canvas, C, settings, envData) {
   }
   function draw(st) {
     const w = canvas.width, h = canvas.height;
-    const cam = camera(st);
     const shape = Math.max(0, SHAPES.indexOf(st.shape));
+    const ckey = [shape, st.view_deg, st.view_azimuth_deg].join();
+    if (ckey !== lastCamKey) { lastCam = camera(st, shape); lastCamKey = ckey; }
+    const cam = lastCam;
     if (env && st.lighting !== "point" && env.names.includes(st.lighting)) return drawEnvironment(st, cam, shape, w, h);
     gl.viewport(0, 0, w, h);
     if (lastRowD !== st.thickness_nm) {
@@ -364,7 +412,7 @@ function makeView(canvas, C, settings, envData) {
       }
       lastRowD = st.thickness_nm;
     }
-    const light = dir(st.light_deg, st.light_azimuth_deg);
+    const light = lightOf(st, shape);
     const aspect = w / h;
     // the exposure depends on the geometry only (as in swatch.render): cached across thicknesses
     const key = [st.shape, st.model, st.view_deg, st.view_azimuth_deg, st.light_deg, st.light_azimuth_deg, aspect].join();
