@@ -54,6 +54,7 @@ __all__ = [
     "ggx_reflectance_factor_cos",
     "D_ggx_aniso",
     "smith_lambda_ggx_aniso",
+    "sample_vndf_ggx",
 ]
 
 _TINY = 1e-12
@@ -432,3 +433,60 @@ def smith_lambda_ggx_aniso(w_local, alpha_u: float, alpha_v: float) -> np.ndarra
     au, av = float(alpha_u), float(alpha_v)
     z2 = np.maximum(w[..., 2] * w[..., 2], _TINY)
     return 0.5 * (np.sqrt(1.0 + (au * au * w[..., 0] ** 2 + av * av * w[..., 1] ** 2) / z2) - 1.0)
+
+
+def sample_vndf_ggx(views, alpha_u: float, alpha_v: float, u1, u2):
+    """GGX visible-normal samples, isotropic or anisotropic: the one sampler of the renderer's
+    environment path (Heitz 2018, listing 1; pbrt-v4's ``TrowbridgeReitzDistribution::Sample_wm``).
+    The view is stretched by ``(α_u, α_v, 1)``, a disk point is warped onto the visible hemisphere
+    and the normal unstretched; ``l`` is the view mirrored about it.
+
+    Parameters
+    ----------
+    views : array_like, shape (B, 3)
+        Unit views in the tangent frame (z the normal, x along ``alpha_u``; ``ω_z > 0``).
+    alpha_u, alpha_v : float
+        GGX α along x and y (equal: isotropic).
+    u1, u2 : array_like, shape (N,)
+        Points in [0, 1)² (radius² and angle on the disk).
+
+    Returns
+    -------
+    l : numpy.ndarray, shape (B, N, 3)
+        Light directions (tangent frame).
+    weight : numpy.ndarray, shape (B, N)
+        ``f cos θ_l / pdf / F = G2 / G1(v)`` (height-correlated Smith), 0 below the horizon.
+    cos_d : numpy.ndarray, shape (B, N)
+        ``v·h`` in [0, 1].
+    pdf : numpy.ndarray, shape (B, N)
+        The density of ``l``, ``G1(v) D(h) / (4 cos θ_v)``, sr⁻¹.
+
+    References
+    ----------
+    E. Heitz (2018), "Sampling the GGX Distribution of Visible Normals", JCGT 7(4):1–13,
+    https://jcgt.org/published/0007/04/01/; M. Pharr, W. Jakob, G. Humphreys, *pbrt-v4* (2023), §9.6.4.
+    """
+    V = np.asarray(views, dtype=np.float64)
+    au, av = float(alpha_u), float(alpha_v)
+    vh = np.stack([au * V[:, 0], av * V[:, 1], V[:, 2]], -1)
+    vh /= np.linalg.norm(vh, axis=-1, keepdims=True)
+    lensq = vh[:, 0] ** 2 + vh[:, 1] ** 2
+    inv = 1.0 / np.sqrt(np.where(lensq > 0, lensq, 1.0))
+    t1 = np.where((lensq > 0)[:, None], np.stack([-vh[:, 1] * inv, vh[:, 0] * inv, 0 * inv], -1), np.array([1.0, 0.0, 0.0]))
+    t2 = np.cross(vh, t1)
+    r = np.sqrt(np.asarray(u1, dtype=np.float64))[None, :]
+    ph = 2.0 * np.pi * np.asarray(u2, dtype=np.float64)[None, :]
+    p1, p2 = r * np.cos(ph), r * np.sin(ph)
+    s = 0.5 * (1.0 + vh[:, 2:3])
+    p2 = (1.0 - s) * np.sqrt(np.maximum(1.0 - p1 * p1, 0.0)) + s * p2
+    pz = np.sqrt(np.maximum(1.0 - p1 * p1 - p2 * p2, 0.0))
+    nh = p1[..., None] * t1[:, None, :] + p2[..., None] * t2[:, None, :] + pz[..., None] * vh[:, None, :]
+    h = np.stack([au * nh[..., 0], av * nh[..., 1], np.maximum(nh[..., 2], 0.0)], -1)
+    h /= np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-300)
+    vdh = np.clip(np.einsum("bnk,bk->bn", h, V), 0.0, 1.0)
+    l = 2.0 * vdh[..., None] * h - V[:, None, :]
+    lam_v = smith_lambda_ggx_aniso(V, au, av)[:, None]
+    lam_l = smith_lambda_ggx_aniso(np.where(l[..., 2:3] > 0, l, np.array([0.0, 0.0, 1.0])), au, av)
+    w = np.where(l[..., 2] > 0, (1.0 + lam_v) / (1.0 + lam_v + lam_l), 0.0)
+    pdf = D_ggx_aniso(h, au, av) / ((1.0 + lam_v) * 4.0 * np.maximum(V[:, 2:3], 1e-6))
+    return l, w, vdh, pdf

@@ -11,10 +11,9 @@ environment, the level fixed by a dense set: :mod:`swatch.render.env_shading`), 
   as fans of streaks; the gather costs four times the isotropic one). Anisotropic GGX is
   symmetric under ``x → −x`` and ``y → −y`` in the tangent frame, so a view in any quadrant uses
   the first quadrant's samples with the frame's axes flipped (:meth:`AnisoSampleSet.frames`).
-* **Anisotropic visible-normal sampling** (Heitz 2018, listing 1, with ``α_x``, ``α_y``): the
-  view is stretched by ``(α_u, α_v, 1)``, a disk point is projected onto the hemisphere and the
-  normal unstretched; ``D`` and Smith's ``Λ`` are :func:`swatch.physics.microfacet.D_ggx_aniso` and
-  :func:`swatch.physics.microfacet.smith_lambda_ggx_aniso`, the weight ``G2/G1`` (height-correlated).
+* **Anisotropic visible-normal sampling**: the renderer's one GGX sampler,
+  :func:`swatch.physics.microfacet.sample_vndf_ggx` (Heitz 2018, listing 1, with ``α_x``, ``α_y``), whose
+  isotropic case the isotropic set uses; the weight ``G2/G1`` (height-correlated).
 
 Each pixel needs the brushing tangent (:func:`swatch.physics.finishes.brush_tangent`). With
 ``α_u = α_v`` the result equals the isotropic set's up to the bins (tested).
@@ -28,7 +27,7 @@ import numpy as np
 from swatch.physics import microfacet
 from swatch.render.env_shading import CHUNK, SAMPLES, SIGMA_PER_FOOTPRINT, combine, fibonacci_lattice, level_table
 
-__all__ = ["THETA_BINS", "PHI_BINS", "AnisoSampleSet", "aniso_sample_set", "vndf_aniso", "gather_aniso", "combine_aniso",
+__all__ = ["THETA_BINS", "PHI_BINS", "AnisoSampleSet", "aniso_sample_set", "gather_aniso", "combine_aniso",
            "shade_aniso"]
 
 #: View bins: polar angle (uniform over 0–90°) × azimuth to the brushing direction (0–90°),
@@ -37,60 +36,6 @@ THETA_BINS = 64
 PHI_BINS = 12
 #: Dense samples per bin for the level (fewer than the isotropic set's: there are 6× the bins).
 ANISO_DENSE = 1024
-
-
-def vndf_aniso(views, alpha_u: float, alpha_v: float, u1, u2):
-    """Anisotropic GGX visible-normal samples (Heitz 2018, listing 1, with ``α_x``, ``α_y``).
-
-    Parameters
-    ----------
-    views : array_like, shape (B, 3)
-        Unit views in the local frame (z the normal, x the brushing direction).
-    alpha_u, alpha_v : float
-        GGX α along and across the brushing.
-    u1, u2 : array_like, shape (N,)
-        Lattice points in [0, 1) (:func:`swatch.render.env_shading.fibonacci_lattice`).
-
-    Returns
-    -------
-    l : numpy.ndarray, shape (B, N, 3)
-        Light directions.
-    w : numpy.ndarray, shape (B, N)
-        Weights ``G2/G1`` (height-correlated Smith; 0 below the horizon).
-    cos_d : numpy.ndarray, shape (B, N)
-        ``v·h``.
-    pdf : numpy.ndarray, shape (B, N)
-        The pdf of ``l``, sr⁻¹.
-
-    References
-    ----------
-    E. Heitz (2018), "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), https://jcgt.org/published/0007/04/01/ (listing 1).
-    """
-    V = np.asarray(views, dtype=np.float64)
-    vh = np.stack([alpha_u * V[:, 0], alpha_v * V[:, 1], V[:, 2]], -1)
-    vh /= np.linalg.norm(vh, axis=-1, keepdims=True)
-    lensq = vh[:, 0] ** 2 + vh[:, 1] ** 2
-    inv = 1.0 / np.sqrt(np.where(lensq > 0, lensq, 1.0))
-    t1 = np.where((lensq > 0)[:, None], np.stack([-vh[:, 1] * inv, vh[:, 0] * inv, 0 * inv], -1),
-                  np.array([1.0, 0.0, 0.0]))
-    t2 = np.cross(vh, t1)
-    r = np.sqrt(np.asarray(u1, dtype=np.float64))[None, :]
-    ph = 2.0 * np.pi * np.asarray(u2, dtype=np.float64)[None, :]
-    p1 = r * np.cos(ph)
-    p2 = r * np.sin(ph)
-    s = 0.5 * (1.0 + vh[:, 2:3])
-    p2 = (1.0 - s) * np.sqrt(np.maximum(1.0 - p1 * p1, 0.0)) + s * p2
-    pz = np.sqrt(np.maximum(1.0 - p1 * p1 - p2 * p2, 0.0))
-    nh = p1[..., None] * t1[:, None, :] + p2[..., None] * t2[:, None, :] + pz[..., None] * vh[:, None, :]
-    h = np.stack([alpha_u * nh[..., 0], alpha_v * nh[..., 1], np.maximum(nh[..., 2], 0.0)], -1)
-    h /= np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-300)
-    vdh = np.clip(np.einsum("bnk,bk->bn", h, V), 0.0, 1.0)
-    l = 2.0 * vdh[..., None] * h - V[:, None, :]
-    lam_v = microfacet.smith_lambda_ggx_aniso(V, alpha_u, alpha_v)[:, None]
-    lam_l = microfacet.smith_lambda_ggx_aniso(np.where(l[..., 2:3] > 0, l, np.array([0.0, 0.0, 1.0])), alpha_u, alpha_v)
-    w = np.where(l[..., 2] > 0, (1.0 + lam_v) / (1.0 + lam_v + lam_l), 0.0)
-    pdf = microfacet.D_ggx_aniso(h, alpha_u, alpha_v) / ((1.0 + lam_v) * 4.0 * np.maximum(V[:, 2:3], 1e-6))
-    return l, w, vdh, pdf
 
 
 class AnisoSampleSet:
@@ -118,12 +63,12 @@ class AnisoSampleSet:
         T, P = np.meshgrid(th, ph, indexing="ij")
         V = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1).reshape(-1, 3)
         self.bins = V.shape[0]
-        l, w, cd, pdf = vndf_aniso(V, self.alpha_u, self.alpha_v, *fibonacci_lattice(self.n))
+        l, w, cd, pdf = microfacet.sample_vndf_ggx(V, self.alpha_u, self.alpha_v, *fibonacci_lattice(self.n))
         self.l = l.astype(np.float32)
         self.w = w / self.n
         self.cos_d = cd
         self.sigma_deg = np.degrees(SIGMA_PER_FOOTPRINT * np.sqrt(1.0 / (self.n * np.maximum(pdf, 1e-12))))
-        parts = [vndf_aniso(V[a:a + 64], self.alpha_u, self.alpha_v, *fibonacci_lattice(int(dense)))
+        parts = [microfacet.sample_vndf_ggx(V[a:a + 64], self.alpha_u, self.alpha_v, *fibonacci_lattice(int(dense)))
                  for a in range(0, self.bins, 64)]
         self.dense_w = np.concatenate([p[1] for p in parts]) / int(dense)
         self.dense_cos_d = np.concatenate([p[2] for p in parts]).astype(np.float32)

@@ -91,36 +91,12 @@ def fibonacci_lattice(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _vndf(cos_v: np.ndarray, roughness_alpha: float, u1: np.ndarray, u2: np.ndarray):
-    """GGX visible-normal samples: (l (B, N, 3), weight G2/G1 (B, N), cos θ_d (B, N)) for views
-    ``v = (sin θ_v, 0, cos θ_v)`` (B,) and lattice points (N,) (Heitz 2018, listing 1)."""
-    cv = np.clip(np.asarray(cos_v, dtype=np.float64), 1e-6, 1.0)[:, None]
-    sv = np.sqrt(1.0 - cv * cv)
-    vh = np.concatenate([roughness_alpha * sv, 0 * sv, cv], -1)
-    vh /= np.linalg.norm(vh, axis=-1, keepdims=True)  # (B, 3)
-    lensq = vh[:, 0] ** 2
-    t1 = np.where(lensq[:, None] > 0, np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 0.0]))  # (−vh.y, vh.x, 0)/|.| = (0, 1, 0)
-    t1 = np.broadcast_to(t1, vh.shape)
-    t2 = np.cross(vh, t1)
-    r = np.sqrt(u1)[None, :]
-    ph = 2.0 * np.pi * u2[None, :]
-    p1 = r * np.cos(ph)
-    p2 = r * np.sin(ph)
-    s = 0.5 * (1.0 + vh[:, 2:3])
-    p2 = (1.0 - s) * np.sqrt(np.maximum(1.0 - p1 * p1, 0.0)) + s * p2
-    pz = np.sqrt(np.maximum(1.0 - p1 * p1 - p2 * p2, 0.0))
-    nh = p1[..., None] * t1[:, None, :] + p2[..., None] * t2[:, None, :] + pz[..., None] * vh[:, None, :]
-    h = np.stack([roughness_alpha * nh[..., 0], roughness_alpha * nh[..., 1], np.maximum(nh[..., 2], 0.0)], -1)
-    h /= np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-300)
-    v = np.concatenate([sv, 0 * sv, cv], -1)[:, None, :]
-    vdh = np.clip((h * v).sum(-1), 0.0, 1.0)
-    l = 2.0 * vdh[..., None] * h - v
-    cl = l[..., 2]
-    lam_v = microfacet.smith_lambda(cv, roughness_alpha)
-    lam_l = microfacet.smith_lambda(np.clip(cl, 1e-9, 1.0), roughness_alpha)
-    w = np.where(cl > 0, (1.0 + lam_v) / (1.0 + lam_v + lam_l), 0.0)
-    # pdf of l: D_v(h) / (4 v·h) = G1(v) D(h) / (4 cos θ_v)
-    pdf = microfacet.D_ggx(h[..., 2], roughness_alpha) / ((1.0 + lam_v) * 4.0 * cv)
-    return l, w, vdh, pdf
+    """Isotropic GGX visible-normal samples for views ``v = (sin θ_v, 0, cos θ_v)`` (B,) and lattice
+    points (N,): (l (B, N, 3), weight G2/G1 (B, N), cos θ_d (B, N), pdf (B, N)), by the one sampler
+    :func:`swatch.physics.microfacet.sample_vndf_ggx` (the anisotropic set's)."""
+    cv = np.clip(np.asarray(cos_v, dtype=np.float64), 1e-6, 1.0)
+    views = np.stack([np.sqrt(1.0 - cv * cv), 0.0 * cv, cv], -1)
+    return microfacet.sample_vndf_ggx(views, roughness_alpha, roughness_alpha, u1, u2)
 
 
 class SampleSet:
