@@ -67,8 +67,13 @@ def _views(count: int, seed: int):
     return n[keep], v[keep]
 
 
-@pytest.mark.parametrize("alpha, bound", [(0.3, 0.3), (0.1, 0.55), (0.6, 0.5)])
+@pytest.mark.parametrize("alpha, bound", [(0.3, 0.55), (0.1, 0.75), (0.6, 0.5)])
 def test_page_method_matches_the_renderers_sum(alpha, bound):
+    """The page's projection of F (a cubic in cos θ_d per view bin) against the renderer's per-sample sum,
+    1500 random normal/view pairs in the studio, 20–300 nm (CIE 1931 2°, D65). Measured with the renderer's
+    128 samples per bin (#23): max ΔE00 0.48 (α 0.3), 0.67 (α 0.1), 0.40 (α 0.6), at grazing views
+    (cos θ_v < 0.07, where the lobe's samples reach the Fresnel rise near cos θ_d = 0); with the earlier 24
+    samples 0.16–0.52, but the page was then as far from the brute force as the renderer (the test below)."""
     block = environment_data(alpha, COS_NODES)
     env = environment.get_environment("studio")
     ss = env_shading.sample_set(alpha)
@@ -83,6 +88,29 @@ def test_page_method_matches_the_renderers_sum(alpha, bound):
         worst = max(worst, float(delta_E_00(_lab(got), _lab(want)).max()))
     print(f"alpha {alpha}: max dE00 {worst:.3f}")
     assert 0.0 < worst <= bound, worst
+
+
+@pytest.mark.slow
+def test_page_method_is_close_to_the_brute_force():
+    """#23: what the page shows against the brute force (8192 visible-normal samples per point on the
+    unfiltered map, ``env_shading.shade_reference``), 200 random normal/view pairs in the studio, 40 and
+    220 nm, α 0.3 (CIE 1931 2°, D65): median ΔE00 ≤ 0.4, p95 ≤ 1 (measured 0.23 / 0.72 with 128 samples
+    per bin; 0.58 / 1.74 with the earlier 24)."""
+    alpha = 0.3
+    block = environment_data(alpha, COS_NODES)
+    env = environment.get_environment("studio")
+    ss = env_shading.sample_set(alpha)
+    n, v = _views(200, 5)
+    E, j = env_shading.gather(n, v, environment.levels(env), ss)
+    E = E[..., 0].astype(np.float64)
+    dE = []
+    for d in (40.0, 220.0):
+        F = _f_table(d)
+        ref = env_shading.shade_reference(n, v, env, alpha, F, samples=8192)
+        dE.append(delta_E_00(_lab(_page_radiance(block, E, j, F)), _lab(ref)))
+    dE = np.concatenate(dE)
+    print(f"page vs brute force: median {np.median(dE):.2f}, p95 {np.percentile(dE, 95):.2f}, max {dE.max():.2f}")
+    assert np.median(dE) <= 0.4 and np.percentile(dE, 95) <= 1.0, (np.median(dE), np.percentile(dE, 95))
 
 
 def test_uniform_environment_gives_the_directional_albedo():

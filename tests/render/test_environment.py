@@ -89,8 +89,9 @@ def test_equirect_orientation(tmp_path):
 
 
 def test_studio_error_against_brute_force():
-    """The fast path (24 samples, filtered map) against 4096 samples on the unfiltered map, over
-    random normals and views: the error this module documents (median ΔE00 ≤ 1, p95 ≤ 2.5)."""
+    """#23: the fast path (128 samples, filtered map) against 2048 samples on the unfiltered map, over
+    random normals and views (80 nm, α 0.3, CIE 1931 2°, D65): median ΔE00 ≤ 0.4, p95 ≤ 1 (measured 0.22 and
+    0.78, max 1.28; with the earlier 24 samples the bound was median 1, p95 2.5)."""
     rng = np.random.default_rng(7)
     n = rng.normal(size=(300, 3))
     n /= np.linalg.norm(n, axis=1, keepdims=True)
@@ -105,7 +106,7 @@ def test_studio_error_against_brute_force():
     fast = env_shading.shade(n, v, environment.levels(env), ss, env_shading.band_weights(ss, tab))
     ref = env_shading.shade_reference(n, v, env, ALPHA, tab, samples=2048)
     dE = delta_E_00(lab_2deg(xyz_of_srgb(fast)), lab_2deg(xyz_of_srgb(ref)))
-    assert np.median(dE) <= 1.0 and np.percentile(dE, 95) <= 2.5, (np.median(dE), np.percentile(dE, 95))
+    assert np.median(dE) <= 0.4 and np.percentile(dE, 95) <= 1.0, (np.median(dE), np.percentile(dE, 95))
 
 
 @pytest.mark.parametrize("pixels,words", [
@@ -189,14 +190,16 @@ def _lab_of_rgb(rgb):
 
 @pytest.mark.slow
 def test_studio_integral_equals_quadrature_and_the_fast_path_error_is_bounded():
-    """#23: why the built-in engine reads brighter than Mitsuba under the studio. The built-in's map,
-    its normalisation and solid angles and its BRDF are right: the brute force over the unfiltered map
-    (8192 VNDF samples) equals an independent quadrature of BRDF × the studio's radiance function at the
-    plate and the sphere centre within ΔE00 0.05 (measured ≤ 0.01; CIE 1931 2°, D65, 80 nm, α 0.3). What
-    differs is the fast path (24 fixed VNDF samples on a blurred map, ``env_shading``): there +1.2 % at the
-    plate centre (ΔE00 0.27) and +7.5 % at the sphere centre (ΔE00 1.5), the error that test above bounds."""
+    """#23: the built-in's map, its normalisation and solid angles and its BRDF are right: the brute force
+    over the unfiltered map (8192 VNDF samples) equals an independent quadrature of BRDF × the studio's
+    radiance function at the plate and the sphere centre within ΔE00 0.05 (measured ≤ 0.01; CIE 1931 2°,
+    D65, 80 nm, α 0.3). The fast path (fixed VNDF samples on a per-sample blurred map, ``env_shading``) is
+    within ΔE00 0.75 at the plate centre and 0.5 at the sphere centre (measured 0.51 and 0.26). With the
+    earlier 24 samples it read +1.2 % at the plate centre (ΔE00 0.27) and +7.5 % at the sphere centre
+    (ΔE00 1.5): the lobe's tails there reach the soft boxes beside a dark wall, and 24 samples with their
+    wide blur picked them up (the built-in engine then read 8–12 % brighter than Mitsuba)."""
     size = 32
-    for shape, fast_max in (("flat", 0.6), ("sphere", 2.0)):
+    for shape, fast_max in (("flat", 0.75), ("sphere", 0.5)):
         normals, _, views, _ = scene.scene_geometry(scene.make_scene(shape, 45.0), size)
         n = normals[16, 16] / np.linalg.norm(normals[16, 16])
         v = views[16, 16] / np.linalg.norm(views[16, 16])
