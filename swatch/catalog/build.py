@@ -54,7 +54,6 @@ from swatch.catalog.folder import (
     locked,
     meta_folder,
     remove_tree,
-    sha256_file,
     signals_held,
 )
 from swatch.catalog.journal import commit, is_catalog, prepare_commit, recover, rollback
@@ -63,6 +62,7 @@ from swatch.catalog.spec import CatalogSpec, load_spec
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
 from swatch.core.safepath import make_real_folder
+from swatch.core.sources import sha256_file
 from swatch.core.version import __version__
 
 if TYPE_CHECKING:

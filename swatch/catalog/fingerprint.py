@@ -9,8 +9,7 @@ import hashlib
 import json
 from importlib import metadata
 
-from swatch.catalog.folder import sha256_file
-from swatch.core.sources import package_dir, source_files
+from swatch.core.sources import package_dir, sha256_file, source_files
 from swatch.physics.materials import tables_dir
 
 __all__ = ["FORMAT_VERSION", "code_fingerprint", "hash_json", "slug"]

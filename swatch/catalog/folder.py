@@ -19,7 +19,6 @@ is :mod:`swatch.catalog.journal`.
 from __future__ import annotations
 
 import fcntl
-import hashlib
 import json
 import os
 import shutil
@@ -35,11 +34,12 @@ from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
 from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, real_folder
+from swatch.core.sources import sha256_file
 
 __all__ = ["META_DIR", "MANIFEST", "JOURNAL", "PREVIOUS", "STAGED_MANIFEST", "ROLLBACK_JOURNAL",
            "locked", "signals_held", "meta_folder", "cache_folder", "read_metadata", "check_manifest",
            "load_manifest", "intact", "file_matches", "write_json_atomic", "read_cache_json", "fsync_dir",
-           "sha256_file", "remove_tree", "is_real_dir", "check_targets"]
+           "remove_tree", "is_real_dir", "check_targets"]
 
 META_DIR = ".swatch-catalog"
 MANIFEST = "manifest.json"
@@ -50,26 +50,6 @@ ROLLBACK_JOURNAL = "journal-rollback.json"  # the rollback's journal, written be
 
 
 # -- small file helpers ------------------------------------------------------------------------
-
-def sha256_file(path: Path) -> str:
-    """The SHA-256 of a file's bytes, read in 1 MiB chunks.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The file.
-
-    Returns
-    -------
-    str
-        64 lowercase hex digits.
-    """
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
-
 
 def write_json_atomic(path: Path, obj) -> None:
     """Write JSON (indent 1, sorted keys, a final newline) atomically: the same object gives the same bytes.

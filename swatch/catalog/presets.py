@@ -6,7 +6,7 @@ every record's ``presets`` entry (the build puts it on the typed record):
 
 ``presets/preset_S001.gltf``, ``presets/preset_S001_blender.py``, ``presets/preset_S001.mtlx`` and
 the exact Mitsuba 3 presets ``presets/preset_S001_mitsuba.xml`` / ``presets/preset_S001_mitsuba.json``
-(:func:`mitsuba_presets`, nothing fitted; in the catalog's ``presets/`` folder), and in each record::
+(:func:`swatch.catalog.presets_mitsuba.mitsuba_presets`, nothing fitted; in the catalog's ``presets/`` folder), and in each record::
 
     "presets": {"gltf": "presets/preset_S001.gltf", "gltf_max_delta_E_00": 1.9,
                 "blender": "presets/preset_S001_blender.py", "blender_max_delta_E_00": 1.4,
@@ -27,17 +27,16 @@ from pathlib import Path
 import numpy as np
 
 from swatch.catalog.folder import read_cache_json, remove_tree
-from swatch.catalog.layout import PRESETS
+from swatch.catalog.layout import PRESETS, preset_file_name
+from swatch.catalog.presets_mitsuba import mitsuba_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import package_dir, sha256_file
-from swatch.physics.spread import NO_SPREAD
 from swatch.presets import FORMAT_MODEL, PRESET_FORMATS, anisotropy, materialx, mitsuba_bsdf, write
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, fit_presets
 from swatch.presets.spectral import rgb_to_Lab
 
-__all__ = ["catalog_presets", "mitsuba_presets", "single_preset", "single_mitsuba_preset",
-           "preset_file_name", "round_params", "roughness_factor", "ERROR_KEYS"]
+__all__ = ["catalog_presets", "single_preset", "round_params", "roughness_factor", "ERROR_KEYS"]
 
 #: catalog.json key of each format's headline error: max ΔE2000 over mirror geometries 0–60° in the
 #: renderer the preset targets (``_45``: 0–45°). glTF: what three.js r187 shows (``threejs_*``);
@@ -54,25 +53,6 @@ FORMAT_FIGURES = {"gltf": ("threejs", "gltf"), "blender": ("blender",), "materia
 GEOMETRY_45_0 = {"threejs": (22.5, 0.0), "gltf": (22.5, 22.5), "cycles": (22.5, 22.5), "openpbr": (22.5, 22.5),
                  "materialx": (22.5, 22.5)}
 _DIGITS = (3, 4, 4, 4, 4)  # thickness nm, IOR, base R G B, as written
-
-
-def preset_file_name(ident: str, fmt: str) -> str:
-    """A preset's file name in the catalog folder (in its ``presets/``).
-
-    Parameters
-    ----------
-    ident : str
-        The swatch id.
-    fmt : str
-        ``gltf``, ``blender`` or ``materialx``.
-
-    Returns
-    -------
-    str
-    """
-    return {"gltf": f"preset_{ident}.gltf", "blender": f"preset_{ident}_blender.py",
-            "materialx": f"preset_{ident}.mtlx", "mitsuba": f"preset_{ident}_mitsuba.xml",
-            "mitsuba_json": f"preset_{ident}_mitsuba.json"}[fmt]
 
 
 def round_params(params) -> np.ndarray:
@@ -397,72 +377,3 @@ def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film
                f"(linear Rec.709); max ΔE2000 {dE.max():.2f} at 0–60°, {dE[FIT_ANGLES_DEG <= 45].max():.2f} at "
                f"0–45° (D65, 2°)") + ("" if finish is None else f"; finish {finish.label()}")
     return data, summary
-
-
-def _alphas(alpha: float, finish) -> tuple[float, ...]:
-    if finish is not None and finish.anisotropic:
-        return (float(finish.alpha_u), float(finish.alpha_v))
-    return (float(finish.alpha_u if finish is not None else alpha),)
-
-
-def _mitsuba_files(ident: str, thickness_nm: float, film: str, substrate: str, film_index_scale: float,
-                   alphas: tuple[float, ...], spread, info: dict) -> dict[str, bytes]:
-    bsdf = mitsuba_bsdf.bsdf_dict(thickness_nm, film, substrate, film_index_scale, alphas, spread, ident=ident)
-    rough = (f"GGX alpha {alphas[0]:g}" if len(alphas) == 1
-             else f"GGX alpha_u {alphas[0]:g} along dp/du (the grain), alpha_v {alphas[1]:g} across")
-    xml_name = preset_file_name(ident, "mitsuba")
-    comment = [f"Mitsuba {mitsuba_bsdf.MITSUBA_VERSION} preset written by swatch (anodic-swatch): {info['title']}",
-               f"oxide {thickness_nm:g} nm{spread.text()}: {film} on {substrate}, film index scale "
-               f"{film_index_scale:g}, {rough}, Smith height-correlated shadowing.",
-               "Exact: swatch's anodic_film BSDF evaluates the catalog's own model (Airy film with the tables'",
-               "complex dispersive indices on the half-vector facet, per sampled wavelength); nothing is fitted.",
-               "Register the plugin first (Python, a spectral variant):",
-               f"    {mitsuba_bsdf.REGISTER}",
-               f"then mi.load_file(\"{xml_name}\"), or in a scene: <include filename=\"{xml_name}\"/> and",
-               f"<ref id=\"{mitsuba_bsdf.preset_id(ident)}\"/> inside a shape."]
-    return {xml_name: mitsuba_bsdf.mitsuba_xml_bytes(bsdf, comment),
-            preset_file_name(ident, "mitsuba_json"): mitsuba_bsdf.mitsuba_json_bytes(bsdf, info)}
-
-
-def mitsuba_presets(spec, records: list[dict]) -> tuple[dict[str, bytes], list[dict]]:
-    """The exact Mitsuba 3 presets of every swatch (XML and JSON; text, nothing fitted): {file name
-    (in ``presets/``): bytes} and each record's entries ``mitsuba`` / ``mitsuba_json`` (``records``
-    are read only). A thickness spread is written as the plugin's ``spread_nm`` / ``spread_fraction``."""
-    alphas = _alphas(spec.roughness, spec.finish_spec)
-    files: dict[str, bytes] = {}
-    entries: list[dict] = []
-    for rec in records:
-        info = {"title": f"{rec['id']} anodised {rec['thickness_nm']:g} nm", "id": rec["id"],
-                "thickness_nm": rec["thickness_nm"], "film": spec.film, "substrate": spec.substrate,
-                "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
-                "model": "exact: the catalog's half-vector Airy model (nothing fitted)",
-                "catalog_Lab": rec["Lab"], "catalog_colour": f"{spec.illuminant}, CIE observer {spec.observer}°, "
-                                                            "geometry 45:0 (the catalog's reference)"}
-        if spec.finish_spec is not None:
-            info["finish"] = spec.finish_spec.label()
-        written = _mitsuba_files(rec["id"], float(rec["thickness_nm"]), spec.film, spec.substrate,
-                                 spec.film_index_scale, alphas, spec.spread, info)
-        files |= {f"{PRESETS}/{name}": blob for name, blob in written.items()}
-        entries.append({"mitsuba": f"{PRESETS}/{preset_file_name(rec['id'], 'mitsuba')}",
-                        "mitsuba_json": f"{PRESETS}/{preset_file_name(rec['id'], 'mitsuba_json')}"})
-    return files, entries
-
-
-def single_mitsuba_preset(thickness_nm: float, film: str, substrate: str, film_index_scale: float,
-                          roughness_alpha: float, spread=None, finish=None) -> tuple[dict[str, bytes], str]:
-    """One thickness's exact Mitsuba presets (``swatch preset --format mitsuba``): {file name: bytes}
-    (the XML and the JSON) and a line saying what they hold."""
-    d = float(thickness_nm)
-    ident = f"{d:g}nm"
-    spread = NO_SPREAD if spread is None else spread
-    alphas = _alphas(roughness_alpha, finish)
-    info = {"title": f"anodised {d:g} nm", "thickness_nm": d, "film": film, "substrate": substrate,
-            "film_index_scale": film_index_scale, **spread.metadata(),
-            "model": "exact: swatch's half-vector Airy model (nothing fitted)"}
-    if finish is not None:
-        info["finish"] = finish.label()
-    files = _mitsuba_files(ident, d, film, substrate, film_index_scale, alphas, spread, info)
-    summary = (f"Mitsuba {mitsuba_bsdf.MITSUBA_VERSION} anodic_film BSDF (exact, nothing fitted), thickness {d:g} nm"
-               f"{spread.text()}, {film} on {substrate}; XML and JSON (register the plugin: import swatch.mitsuba; "
-               "swatch.mitsuba.register())")
-    return files, summary

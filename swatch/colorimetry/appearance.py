@@ -18,7 +18,28 @@ _BYTES_PER_LAYER_SAMPLE = 1024
 
 @dataclass(frozen=True)
 class ThicknessColours:
-    """Colours of a series of thicknesses at one light/view geometry (arrays with N rows)."""
+    """Colours of a series of thicknesses at one light/view geometry (arrays with N rows).
+
+    Attributes
+    ----------
+    thickness_nm : numpy.ndarray
+        The film thicknesses, nm, shape (N,).
+    theta_d_deg : float
+        The facet incidence angle θ_d of the geometry, degrees.
+    reflectance : numpy.ndarray
+        Spectral reflectance at θ_d, shape (N, W).
+    XYZ, Lab, LCh : numpy.ndarray
+        Tristimulus values (Y = 100 for a perfect reflector), CIELAB and its LCh, under the
+        colorimeter's illuminant and observer, shape (N, 3).
+    srgb : numpy.ndarray
+        Display-encoded sRGB clipped to [0, 1] (CIE 1931 2°), shape (N, 3).
+    in_srgb_gamut, in_display_p3_gamut : numpy.ndarray
+        Whether each colour is inside the gamut, bool, shape (N,).
+    srgb_hex : numpy.ndarray
+        ``#rrggbb`` of ``srgb``, shape (N,).
+    delta_E_ab_to_previous : numpy.ndarray
+        ΔE*ab to the row before, NaN for the first, shape (N,).
+    """
 
     thickness_nm: np.ndarray
     theta_d_deg: float
@@ -33,7 +54,13 @@ class ThicknessColours:
     delta_E_ab_to_previous: np.ndarray  # (N,), NaN for the first row
 
     def rows(self) -> list[dict]:
-        """JSON-ready rows (the public contract of ``swatch color --json``)."""
+        """JSON-ready rows (the public contract of ``swatch color --json``).
+
+        Returns
+        -------
+        list of dict
+            One per thickness: thickness, XYZ, Lab, LCh, sRGB and hex, gamut flags, ΔE*ab to the previous row.
+        """
         out = []
         for i, d in enumerate(self.thickness_nm):
             dE = self.delta_E_ab_to_previous[i]

@@ -211,17 +211,44 @@ class Colorimeter:
         return colour.XYZ_to_Lab(np.asarray(XYZ) / 100.0, self.white_xy)
 
     def Lab_to_XYZ(self, Lab) -> np.ndarray:
-        """The inverse of :meth:`Lab`: XYZ (..., 3) with Y = 100 for the white, from CIELAB (..., 3)."""
+        """The inverse of :meth:`Lab`.
+
+        Parameters
+        ----------
+        Lab : array_like, shape (..., 3)
+            CIELAB relative to this colorimeter's white.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            XYZ with Y = 100 for the white.
+        """
         return colour.Lab_to_XYZ(np.asarray(Lab), self.white_xy) * 100.0
 
     def spectrum_Lab(self, reflectance) -> np.ndarray:
-        """CIELAB (..., 3) of reflectance spectra (..., W): :meth:`Lab` of :meth:`XYZ`."""
+        """CIELAB of reflectance spectra: :meth:`Lab` of :meth:`XYZ`.
+
+        Parameters
+        ----------
+        reflectance : array_like, shape (..., W)
+            Reflectance factors on the grid.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+        """
         return self.Lab(self.XYZ(reflectance))
 
     # -- display RGB (always from CIE 1931 2° colorimetry) ----------------------------------
     @property
     def display_colorimeter(self) -> Colorimeter:
-        """The colorimeter display RGB is computed with: same grid and illuminant, CIE 1931 2°."""
+        """The colorimeter display RGB is computed with: same grid and illuminant, CIE 1931 2°.
+
+        Returns
+        -------
+        Colorimeter
+            ``self`` when it is already 2°.
+        """
         if self.observer == DISPLAY_OBSERVER:
             return self
         return get_colorimeter(self.wavelength_nm, self.illuminant, DISPLAY_OBSERVER)
@@ -291,11 +318,37 @@ class Colorimeter:
         return np.clip(encoded, 0.0, 1.0), in_gamut
 
     def reflectance_rgb(self, reflectance, space: str = "srgb") -> np.ndarray:
-        """Linear RGB of reflectance spectra (..., W), by CIE 1931 2° colorimetry."""
+        """Linear RGB of reflectance spectra, by CIE 1931 2° colorimetry.
+
+        Parameters
+        ----------
+        reflectance : array_like, shape (..., W)
+        space : str, optional
+            ``srgb``, ``display-p3`` or ``acescg``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (..., 3)
+            1.0 = white (unclipped).
+        """
         return self.rgb_linear(self.display_XYZ(reflectance), space)
 
     def reflectance_display(self, reflectance, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:
-        """Display-encoded RGB and in-gamut flags of reflectance spectra (CIE 1931 2°)."""
+        """Display-encoded RGB and in-gamut flags of reflectance spectra (CIE 1931 2°).
+
+        Parameters
+        ----------
+        reflectance : array_like, shape (..., W)
+        space : str, optional
+            ``srgb``, ``display-p3`` or ``acescg``.
+
+        Returns
+        -------
+        encoded : numpy.ndarray, shape (..., 3)
+            Encoded and clipped to [0, 1].
+        in_gamut : numpy.ndarray, shape (...,)
+            bool.
+        """
         return self.display(self.display_XYZ(reflectance), space)
 
 

@@ -73,5 +73,10 @@ def colour_name(L: float, C: float, h: float) -> str:
 
 
 def colour_names() -> tuple[str, ...]:
-    """Every name :func:`colour_name` can give, once each, in the order of :data:`NAME_RULES`."""
+    """Every name :func:`colour_name` can give, once each, in the order of :data:`NAME_RULES`.
+
+    Returns
+    -------
+    tuple of str
+    """
     return tuple(dict.fromkeys(r[0] for r in NAME_RULES))

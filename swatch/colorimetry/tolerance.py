@@ -82,19 +82,48 @@ class Tolerance:
 
     @property
     def label(self) -> str:
-        """``C`` for a named grade, ``dE00 ≤ 2`` for a written tolerance."""
+        """A short label.
+
+        Returns
+        -------
+        str
+            ``C`` for a named grade, ``dE00 ≤ 2`` for a written tolerance.
+        """
         return self.grade if self.grade is not None else f"{self.metric} ≤ {self.max:g}"
 
     @property
     def text(self) -> str:
-        """One line for sheets and pages: what is bounded, by how much, from which grade."""
+        """One line for sheets and pages: what is bounded, by how much, from which grade.
+
+        Returns
+        -------
+        str
+        """
         grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
         return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
 
     def delta_E(self, Lab1, Lab2) -> np.ndarray:
+        """The colour difference in this tolerance's own metric.
+
+        Parameters
+        ----------
+        Lab1, Lab2 : array_like, shape (..., 3)
+            CIELAB, broadcast together.
+
+        Returns
+        -------
+        numpy.ndarray, shape (...)
+            In ``metric`` units (compare with ``max``).
+        """
         return delta_E(self.metric, Lab1, Lab2)
 
     def to_json(self) -> dict:
+        """The tolerance as JSON (metric, max, scheme, grade, description).
+
+        Returns
+        -------
+        dict
+        """
         return {"metric": self.metric, "max": self.max, "scheme": self.scheme, "grade": self.grade,
                 "description": self.description}
 

@@ -31,7 +31,9 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     import math
     from pathlib import Path
 
-    from swatch.catalog.presets import preset_file_name, single_mitsuba_preset, single_preset
+    from swatch.catalog.layout import preset_file_name
+    from swatch.catalog.presets import single_preset
+    from swatch.catalog.presets_mitsuba import single_mitsuba_preset
     from swatch.commands.common import resolve_process, resolve_thickness
     from swatch.core.errors import SwatchError
     from swatch.core.fileio import atomic_write_bytes, check_new, check_writable_dir

@@ -18,7 +18,12 @@ _default_hook = sys.excepthook
 
 
 def build_alive() -> bool:
-    """Whether the build process is still running (not gone, not a zombie waiting to be reaped)."""
+    """Whether the build process is still running (not gone, not a zombie waiting to be reaped).
+
+    Returns
+    -------
+    bool
+    """
     try:
         os.kill(BUILD_PID, 0)
     except ProcessLookupError:

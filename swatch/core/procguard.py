@@ -19,7 +19,13 @@ __all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts",
 
 
 class Terminated(KeyboardInterrupt):
-    """Raised in the main thread on SIGTERM/SIGHUP, so cleanup runs exactly as for Ctrl-C."""
+    """Raised in the main thread on SIGTERM/SIGHUP, so cleanup runs exactly as for Ctrl-C.
+
+    Parameters
+    ----------
+    signum : int
+        The signal (``signal.SIGTERM`` or ``signal.SIGHUP``); the CLI exits with 128 + it.
+    """
 
     def __init__(self, signum: int):
         super().__init__(signum)
@@ -41,7 +47,13 @@ def _raise_interrupt(signum, frame):
 
 def signal_received() -> int | None:
     """The first termination signal this process received, or None: an error raised while a run is
-    being stopped (a worker gone, a pool broken) is reported as the stop, not as a failure."""
+    being stopped (a worker gone, a pool broken) is reported as the stop, not as a failure.
+
+    Returns
+    -------
+    int or None
+        The signal number.
+    """
     return _RECEIVED[0] if _RECEIVED else None
 
 
@@ -49,7 +61,15 @@ def raise_if_signalled() -> None:
     """Raise the stop a signal asked for if it has not been raised yet, or was lost on the way: the
     exception raised while C++ runs Python code (Mitsuba calling the film BSDF plugin while it loads or
     traces a scene) is swallowed there, and the render ran on to the end, exit 0 (a SIGTERM at 9 s).
-    Called between the pieces of long native work."""
+    Called between the pieces of long native work.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        After a SIGINT.
+    Terminated
+        After a SIGTERM or SIGHUP.
+    """
     sig = signal_received()
     if sig is None:
         return
@@ -59,7 +79,13 @@ def raise_if_signalled() -> None:
 
 
 def handle_termination() -> None:
-    """SIGTERM and SIGHUP raise :class:`Terminated` (a KeyboardInterrupt) in the main thread."""
+    """SIGTERM and SIGHUP raise :class:`Terminated` (a KeyboardInterrupt) in the main thread.
+
+    Returns
+    -------
+    None
+        (Installs the handlers; nothing outside the main thread.)
+    """
     if threading.current_thread() is not threading.main_thread():
         return
     for sig in (signal.SIGTERM, signal.SIGHUP):
@@ -77,7 +103,12 @@ def handle_termination() -> None:
 
 def ignore_interrupts() -> None:
     """For workers: Ctrl-C and a hang-up go to the whole process group; only the parent reacts (one
-    message, no worker traceback). SIGTERM keeps its default (the pool ends broken workers with it)."""
+    message, no worker traceback). SIGTERM keeps its default (the pool ends broken workers with it).
+
+    Returns
+    -------
+    None
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGHUP, signal.SIG_IGN)
 
@@ -92,6 +123,10 @@ def start_forkserver_ignoring_interrupts() -> None:
     ignored: one that arrives meanwhile is delivered when the server is up (setting SIG_IGN here
     instead lost a Ctrl-C sent in that second: the build went on and exited 0). A server already
     running is left as it is.
+
+    Returns
+    -------
+    None
     """
     from multiprocessing import forkserver, resource_tracker  # stdlib, 0.2 s: kept off every command's start
 
@@ -127,7 +162,13 @@ def _watch_poll(pid: int) -> None:
 
 
 def exit_with(pid: int) -> None:
-    """End this process (immediately, ``os._exit``) when process ``pid`` ends."""
+    """End this process (immediately, ``os._exit``) when process ``pid`` ends (a watcher thread).
+
+    Parameters
+    ----------
+    pid : int
+        The process to follow (the build, for a pool worker).
+    """
     try:
         fd = os.pidfd_open(pid)
     except ProcessLookupError:

@@ -13,7 +13,7 @@ import colour
 import numpy as np
 import pytest
 
-from swatch.catalog.presets import mitsuba_presets, single_mitsuba_preset
+from swatch.catalog.presets_mitsuba import mitsuba_presets, single_mitsuba_preset
 from swatch.colorimetry.colorimeter import delta_E_00
 from tests.mitsuba_setup import mitsuba_variant
 
