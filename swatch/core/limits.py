@@ -47,8 +47,23 @@ MAX_CSV_FIELD_CHARS = 131_072
 MAX_LAB_AB = 200.0
 #: A measured spectrum whose largest reflectance (fraction) is below this is not a measurement.
 MIN_PEAK_REFLECTANCE = 1e-4
+
+
+def _lowered_budget(default: int, variable: str = "SWATCH_MAX_RUN_BYTES", floor: int = 64 * 1024 ** 2) -> int:
+    """``default``, or the smaller budget (bytes, at least ``floor``) that the environment variable
+    ``variable`` names; a larger or unreadable value is ignored (a run may be told to plan for less
+    memory, never for more)."""
+    try:
+        asked = int(os.environ.get(variable, ""))
+    except ValueError:
+        return default
+    return min(default, max(asked, floor))
+
+
 #: Working memory one run may plan for; large jobs are done in chunks or refused beyond it.
-MAX_RUN_BYTES = 2 * 1024 ** 3
+#: ``SWATCH_MAX_RUN_BYTES`` (bytes, 64 MiB at least) lowers it for a run: the memory-cap tests plan the
+#: chunked commands against a small budget under a matching address-space limit (issue 17 item 7).
+MAX_RUN_BYTES = _lowered_budget(2 * 1024 ** 3)
 #: Distinct geometries in one measurement to fit (an 86 × 86 sBRDF set has 7,396): one thickness of the
 #: search sweep at the cap (~20k facet angles × the wavelengths) stays well inside MAX_RUN_BYTES.
 MAX_FIT_GEOMETRIES = 20_000
