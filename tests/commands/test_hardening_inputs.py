@@ -12,7 +12,7 @@ import pytest
 
 from swatch.cli import main
 from swatch.core.limits import MAX_RUN_BYTES
-from tests.cli_helpers import assert_one_line_error
+from tests.cli_helpers import assert_one_line_error, run_capped_batch
 
 MEMORY_CAP_BYTES = 1024 ** 3  # well under MAX_RUN_BYTES: a refusal must come before any big allocation
 
@@ -38,7 +38,7 @@ def test_issue12_memory_cap_is_below_the_run_budget():
     assert MEMORY_CAP_BYTES < MAX_RUN_BYTES
 
 
-@pytest.mark.parametrize("args, fragment", [
+HUGE_INPUTS = [
     (["materials", "show", "TiO2-Siefke", "--wavelengths", "380:780:1e-7"], "at most 10001"),
     (["materials", "show", "TiO2-Siefke", "--wavelengths", "380:780:0.00001"], "at most 10001"),
     (["spectrum", "--thickness", "50", "--wavelengths", "380:780:5e-324"], "at most 10001"),
@@ -50,12 +50,27 @@ def test_issue12_memory_cap_is_below_the_run_budget():
     (["angular", "--thickness", "50", "--out", "{tmp}/a", "--light-range", "0:85:0.0852", "--view-range",
       "0:85:0.0852"], "at most 40,000,000 samples"),
     (["render", "--thickness", "50", "--out", "{tmp}/r", "--size", "8192"], "from 1 to 4096"),
-])
-def test_issue12_huge_inputs_are_refused_under_a_memory_cap(tmp_path, args, fragment):
-    proc = run_capped(*[a.replace("{tmp}", str(tmp_path)) for a in args], timeout=30)
-    assert_one_line_error(proc, fragment)
+]
+
+
+@pytest.fixture(scope="module")
+def huge_input_runs(tmp_path_factory):
+    """Every HUGE_INPUTS case run under MEMORY_CAP_BYTES, all in one capped subprocess (issue 17 item 7: one
+    interpreter start-up instead of ten), each case writing under its own empty folder: (folder, result)s."""
+    root = tmp_path_factory.mktemp("huge")
+    folders = [root / str(i) for i in range(len(HUGE_INPUTS))]
+    for f in folders:
+        f.mkdir()
+    argvs = [[a.replace("{tmp}", str(f)) for a in args] for (args, _), f in zip(HUGE_INPUTS, folders, strict=True)]
+    return list(zip(folders, run_capped_batch(argvs, MEMORY_CAP_BYTES, timeout=120), strict=True))
+
+
+@pytest.mark.parametrize("case", range(len(HUGE_INPUTS)), ids=[f"{a[0]}-{i}" for i, (a, _) in enumerate(HUGE_INPUTS)])
+def test_issue12_huge_inputs_are_refused_under_a_memory_cap(huge_input_runs, case):
+    folder, proc = huge_input_runs[case]
+    assert_one_line_error(proc, HUGE_INPUTS[case][1])
     assert proc.returncode == 2
-    assert list(tmp_path.iterdir()) == []  # nothing written
+    assert list(folder.iterdir()) == []  # nothing written
 
 
 def test_issue12_angular_map_is_computed_in_blocks(tmp_path):
