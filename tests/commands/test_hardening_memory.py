@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import os
-import resource
 import subprocess
 import sys
 
@@ -15,23 +14,7 @@ import pytest
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_FIT_GEOMETRIES, MAX_RUN_BYTES, plan_rows
 from tests.cli_helpers import assert_one_line_error
-
-BASELINE_BYTES = 512 * 1024 ** 2  # the interpreter, numpy, scipy, colour-science, OpenImageIO and thread stacks
-CAP_BYTES = MAX_RUN_BYTES + BASELINE_BYTES
-
-
-def run_capped(*args, timeout: float = 900, budget: int | None = None) -> subprocess.CompletedProcess:
-    """The CLI in a subprocess under an address-space limit of the run's budget plus the baseline:
-    ``MAX_RUN_BYTES``, or ``budget`` (bytes), which the run is then told to plan for
-    (``SWATCH_MAX_RUN_BYTES``, read by swatch.core.limits)."""
-    cap = (MAX_RUN_BYTES if budget is None else budget) + BASELINE_BYTES
-    env = dict(os.environ, SWATCH_MAX_RUN_BYTES=str(budget)) if budget is not None else None
-
-    def limit():
-        resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
-
-    return subprocess.run([sys.executable, "-m", "swatch.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, preexec_fn=limit, check=False, env=env)
+from tests.commands.memory_helpers import run_capped
 
 
 def lab_file(path, n: int):
@@ -121,62 +104,3 @@ def test_issue22_the_colour_table_is_chunked_within_a_lowered_budget():
                       budget=256 * 1024 ** 2)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert len(json.loads(proc.stdout)["rows"]) == 25_000
-
-
-def parts_file(path, n: int):
-    """``n`` measured parts (CIELAB at 45:0, D65, 10°) in a CGATS file: ``check`` at MAX_INSTRUMENT_SAMPLES."""
-    rows = "\n".join(f"P{i} {50 + (i % 7) / 7:.2f} {(i % 5) / 5 - 2:.2f} {-30 + (i % 3) / 3:.2f}" for i in range(n))
-    path.write_text('CGATS.17\nORIGINATOR "test"\nMEASUREMENT_SOURCE "Illumination=D65 ObserverAngle=10"\n'
-                    'MEASUREMENT_GEOMETRY "45:0"\nNUMBER_OF_FIELDS 4\n'
-                    "BEGIN_DATA_FORMAT\nSAMPLE_ID LAB_L LAB_A LAB_B\nEND_DATA_FORMAT\n"
-                    f"NUMBER_OF_SETS {n}\nBEGIN_DATA\n{rows}\nEND_DATA\n", encoding="utf-8")
-    return path
-
-
-BIG_SHEET = ('name = "Big"\n[thickness]\nlist_nm = [120]\n[render]\nsize_px = 512\nshapes = ["flat", "sphere"]\n'
-             "angular_map = true\n[sheet]\ncolumns = 8\nrows = 8\n")
-
-
-def cap_case(case: str, tmp_path) -> list[str]:
-    from swatch.core.limits import MAX_ENV_RENDER_PX, MAX_INSTRUMENT_SAMPLES, MAX_SIZE_PX
-
-    out = str(tmp_path / "out")
-    if case == "render-flat":
-        return ["render", "--thickness", "100", "--size", str(MAX_SIZE_PX), "--shape", "flat", "--environment", "none",
-                "--out", out]
-    if case == "render-studio":
-        return ["render", "--thickness", "100", "--size", str(MAX_ENV_RENDER_PX), "--shape", "sphere", "--out", out]
-    if case == "match-step":
-        return ["match", "--hex", "257ab8", "--step", "0.005", "--json"]
-    if case == "spec-angles":
-        return ["spec", "--hex", "b08d57", "--angles", "45:0,45:15,45:25,45:45,45:60,45:75,15:0,75:0", "--out", out]
-    if case == "preset":
-        return ["preset", "--thickness", "1000", "--format", "materialx", "--out", out]
-    if case == "check-parts":
-        parts = parts_file(tmp_path / "parts.cgats", MAX_INSTRUMENT_SAMPLES)
-        return ["check", str(parts), "--thickness", "120", "--illuminant", "D65", "--observer", "10", "--json",
-                "--report", out]
-    if case == "catalog-sheet":
-        spec = tmp_path / "big.toml"
-        spec.write_text(BIG_SHEET, encoding="utf-8")
-        return ["catalog", "build", str(spec), "--out", out, "-j", "1", "-q"]
-    raise AssertionError(case)
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("case", ["render-flat", "render-studio", "match-step", "spec-angles", "preset", "check-parts",
-                                  "catalog-sheet"])
-def test_issue22_every_command_at_its_caps_runs_or_refuses_under_the_memory_limit(tmp_path, case):
-    """Issue #22 group 3: every command at its largest allowed input, under the 2 GB (+ baseline) address-space
-    limit: it runs, or is refused in one line (exit 2); never a MemoryError, an OOM kill or a traceback. The
-    catalog's largest sheet (512 px tiles, 8 × 8, two shapes and angular maps; the explorer page with it)
-    is composed in the building process (-j 1). Peaks: the README's memory table (with the cases too slow
-    for the suite: the angular map at MAX_ANGULAR_SAMPLES, `color` at 100,000 × 471 wavelengths, `calibrate`
-    of 1,000 coupons)."""
-    proc = run_capped(*cap_case(case, tmp_path))
-    if case == "check-parts":  # exit 1: the documented verdict (a part fails), the report written
-        assert proc.returncode == 1 and (tmp_path / "out").is_dir(), proc.stderr[-2000:]
-    elif proc.returncode != 0:
-        assert_one_line_error(proc)
-        assert proc.returncode == 2
-    assert "MemoryError" not in proc.stderr and "Traceback" not in proc.stderr
