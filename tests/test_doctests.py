@@ -60,6 +60,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.render.octahedral",
     "swatch.render.hdri",
     "swatch.render.environment",
+    "swatch.render.mitsuba.setup",
 ]
 
 

@@ -231,7 +231,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
             raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
         if str(illuminant).strip().upper() != "D65":
             raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
-        from swatch.render.mitsuba.engine import check_mitsuba_request
+        from swatch.render.mitsuba.setup import check_mitsuba_request
 
         check_mitsuba_request(size_px, spp, seed)
     elif sun is not None or (environment or "").strip().lower() == "sun":

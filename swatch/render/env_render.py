@@ -43,7 +43,22 @@ from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, chec
 __all__ = ["check_env_size_px", "render_swatch_environment", "Prepared", "prepared", "render_environment"]
 
 def check_env_size_px(size_px: int) -> int:
-    """The size of an environment-lit render, or SwatchError outside :data:`MIN_ENV_RENDER_PX`–:data:`MAX_ENV_RENDER_PX`."""
+    """The size of an environment-lit render, checked.
+
+    Parameters
+    ----------
+    size_px : int
+        Pixels per side, from :data:`MIN_ENV_RENDER_PX` to :data:`MAX_ENV_RENDER_PX` (memory).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    SwatchError
+        Outside that range (naming ```size_px```).
+    """
     if int(size_px) < MIN_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at least {MIN_ENV_RENDER_PX} pixels per side (got "
                           f"{int(size_px)}); use a larger `size_px`, or `environment=None`")
@@ -82,7 +97,27 @@ class _Points:
 @dataclass
 class Prepared:
     """A scene's thickness-independent part (see the module doc): which pixels are shaded how,
-    their gathered environment samples, coverage and the background."""
+    their gathered environment samples, coverage and the background.
+
+    Attributes
+    ----------
+    size : int
+        Pixels per side.
+    coverage : numpy.ndarray
+        Fraction of each pixel the object covers, shape (H, W).
+    nodes, exact, edge
+        The coarse shading nodes, the pixels shaded exactly at their centre, and the silhouette
+        pixels (shaded at the centroid of their covered sub-samples), with their gathered samples.
+    interp_pixels, interp_nodes, interp_weights : numpy.ndarray
+        Flat indices of the pixels interpolated from nodes (I,), their four nodes (I, 4) and
+        bilinear weights (I, 4).
+    exact_pixels, edge_pixels : numpy.ndarray
+        Flat pixel indices (X,), (Q,).
+    background : numpy.ndarray or None
+        The environment behind the object (H, W, 3), or None.
+    samples : swatch.render.env_shading.SampleSet or swatch.render.env_aniso.AnisoSampleSet
+        The fixed GGX visible-normal samples per pixel.
+    """
 
     size: int
     coverage: np.ndarray  # (H, W)
@@ -115,7 +150,27 @@ _CACHE: dict = {}
 def prepared(scene, scene_key, size: int, env, roughness_alpha: float, background: str, finish=None) -> Prepared:
     """The thickness-independent part of a render (cached on ``scene_key``, the environment
     object, the roughness α (or an anisotropic ``finish``'s two), the size and whether the
-    background is the environment)."""
+    background is the environment).
+
+    Parameters
+    ----------
+    scene : swatch.render.scene.Scene
+        Camera and shape.
+    scene_key : tuple
+        Identifies the scene in the cache (shape key and camera angles).
+    size : int
+        Pixels per side.
+    env : swatch.render.environment.Environment
+    roughness_alpha : float
+        GGX α (ignored for an anisotropic finish).
+    background : str
+        ``grey``, ``white`` or ``environment``.
+    finish : swatch.physics.finishes.Finish, optional
+
+    Returns
+    -------
+    Prepared
+    """
 
     aniso = finish is not None and finish.anisotropic
     lobe = (finish.alpha_u, finish.alpha_v) if aniso else float(roughness_alpha)
@@ -211,9 +266,25 @@ def _srgb_to(space: str) -> np.ndarray | None:
 def render_environment(prep: Prepared, f_table_srgb: np.ndarray, background: str, space: str = "srgb"):
     """Shade a prepared scene for one thickness.
 
-    ``f_table_srgb`` (K, 3): linear sRGB of the film's reflectance ``F`` on a uniform grid of
-    ``cos θ_d`` over [0, 1]. Returns (linear RGB (H, W, 3) in ``space``, coverage (H, W), display
-    sRGB uint8 (H, W, 3)).
+    Parameters
+    ----------
+    prep : Prepared
+        :func:`prepared`.
+    f_table_srgb : numpy.ndarray
+        Linear sRGB of the film's reflectance ``F`` on a uniform grid of ``cos θ_d`` over [0, 1], shape (K, 3).
+    background : str
+        ``grey``, ``white`` or ``environment``.
+    space : str, optional
+        RGB space of the linear result (``srgb`` or ``acescg``).
+
+    Returns
+    -------
+    linear : numpy.ndarray
+        Linear RGB in ``space`` (scene-referred, 1 = white diffuser), shape (H, W, 3) float32.
+    coverage : numpy.ndarray
+        Shape (H, W).
+    display : numpy.ndarray
+        sRGB uint8, shape (H, W, 3).
     """
 
     size = prep.size
@@ -252,7 +323,45 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
                               roughness_alpha: float,
                               model: str, distribution: str, coating, colorimeter, space: str, meta: dict,
                               camera: tuple, finish=None):
-    """The environment engine of :func:`swatch.render.dispatch.render_swatch` (returns a SwatchImage)."""
+    """The environment engine of :func:`swatch.render.dispatch.render_swatch`.
+
+    Parameters
+    ----------
+    d : float
+        Film thickness, nm (checked by the dispatcher).
+    shape : str
+        The shape's name (``mesh`` for a mesh).
+    scene : swatch.render.scene.Scene
+    size : int
+        Pixels per side.
+    environment : swatch.render.environment.Environment or str
+        The lighting (the dispatcher passes its resolved :class:`~swatch.render.environment.Environment`).
+    background : str
+        ``grey``, ``white`` or ``environment``.
+    roughness_alpha : float
+        GGX α.
+    model, distribution : str
+        Must be ``microfacet`` and ``ggx``.
+    coating, colorimeter
+        The film and the colorimetry.
+    space : str
+        RGB space of ``linear_rgb``.
+    meta : dict
+        The common metadata (:func:`swatch.render.metadata.common_metadata`).
+    camera : tuple
+        ``(light_deg, view_deg, view_azimuth_deg)``, degrees (keys the prepared scene).
+    finish : swatch.physics.finishes.Finish, optional
+
+    Returns
+    -------
+    swatch.render.image.SwatchImage
+        Exposure 1 (the white diffuser under the same environment is display white).
+
+    Raises
+    ------
+    SwatchError
+        For a size, background, model or distribution the environment engine does not take.
+    """
     background = check_background(background)
     check_env_size_px(size)
     if model != "microfacet" or distribution != "ggx":

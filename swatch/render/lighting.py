@@ -39,7 +39,28 @@ __all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine"]
 class Sun:
     """The sun and sky of ``sun`` lighting: by angles (``elevation_deg``, ``azimuth_deg`` about +y from
     +z towards +x) or by place and time (``latitude_deg``, ``longitude_deg``, ``timezone_h``, the
-    local ``year``, ``month``, ``day``, ``hour``); ``turbidity`` 1–10 (Hosek–Wilkie)."""
+    local ``year``, ``month``, ``day``, ``hour``); ``turbidity`` 1–10 (Hosek–Wilkie).
+
+    Attributes
+    ----------
+    elevation_deg, azimuth_deg : float
+        The sun's elevation above the horizon and azimuth about +y from +z towards +x, degrees.
+    latitude_deg, longitude_deg : float or None
+        The place, degrees (both set: the sun by place and time; the angles are then ignored).
+    timezone_h : float
+        The local time's offset from UTC, hours.
+    year, month, day : int
+        The local date.
+    hour : float
+        The local time, hours.
+    turbidity : float
+        Atmospheric turbidity of the Hosek–Wilkie sky model, 1–10.
+
+    References
+    ----------
+    L. Hosek and A. Wilkie, "An Analytic Model for Full Spectral Sky-Dome Radiance", ACM TOG 31(4),
+    95 (2012), doi:10.1145/2185520.2185591.
+    """
 
     elevation_deg: float | None = 45.0
     azimuth_deg: float = 0.0
@@ -54,9 +75,21 @@ class Sun:
 
     @property
     def by_place(self) -> bool:
+        """Whether the sun is given by place and time (latitude set) rather than by angles.
+
+        Returns
+        -------
+        bool
+        """
         return self.latitude_deg is not None
 
     def description(self) -> str:
+        """One line for metadata and reports.
+
+        Returns
+        -------
+        str
+        """
         if self.by_place:
             return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie) at latitude {self.latitude_deg:g}, longitude "
                     f"{self.longitude_deg:g}, {self.year:04d}-{self.month:02d}-{self.day:02d} {self.hour:g} h "
@@ -74,7 +107,22 @@ def _finite_in(value, lo: float, hi: float, what: str, unit: str = "") -> float:
 
 
 def check_sun(sun: Sun) -> Sun:
-    """The sun, checked: angles, place, a real calendar date in [MIN_YEAR, MAX_YEAR], hour, turbidity."""
+    """The sun, checked: angles, place, a real calendar date in [MIN_YEAR, MAX_YEAR], hour, turbidity.
+
+    Parameters
+    ----------
+    sun : Sun
+
+    Returns
+    -------
+    Sun
+        ``sun`` itself.
+
+    Raises
+    ------
+    SwatchError
+        For a value out of range (one line, what is allowed).
+    """
     _finite_in(sun.turbidity, MIN_TURBIDITY, MAX_TURBIDITY, "sun turbidity")
     _finite_in(sun.azimuth_deg, -360.0, 360.0, "sun azimuth", " deg")
     if sun.by_place:
@@ -98,7 +146,23 @@ def check_sun(sun: Sun) -> Sun:
 
 
 def check_engine(engine: str) -> str:
-    """``engine`` if it is one of :data:`swatch.core.choices.ENGINES`, else SwatchError naming them."""
+    """A render engine's name, checked.
+
+    Parameters
+    ----------
+    engine : str
+        One of :data:`swatch.core.choices.ENGINES` (case and spaces ignored).
+
+    Returns
+    -------
+    str
+        The name, lower case.
+
+    Raises
+    ------
+    SwatchError
+        For another name (naming ```engine``` and the choices).
+    """
     key = str(engine).strip().lower()
     if key not in ENGINES:
         raise SwatchError(f"unknown render `engine` {engine!r}; use one of {', '.join(ENGINES)}")

@@ -77,7 +77,20 @@ def _span(wl: np.ndarray) -> slice:
 
 
 def table_texture(wavelength_nm: np.ndarray, values: np.ndarray):
-    """An ``irregular`` spectrum texture of tabulated values (linear between nodes, like ``np.interp``)."""
+    """An ``irregular`` spectrum texture of tabulated values (linear between nodes, like ``np.interp``).
+
+    Parameters
+    ----------
+    wavelength_nm : numpy.ndarray
+        The table's wavelengths, nm, shape (N,) ascending.
+    values : numpy.ndarray
+        Its values, shape (N,).
+
+    Returns
+    -------
+    mitsuba.Texture
+        Written with 9 significant digits, over the span of the tables.
+    """
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     v = np.asarray(values, dtype=np.float64)
     keep = _span(wl)
@@ -86,7 +99,27 @@ def table_texture(wavelength_nm: np.ndarray, values: np.ndarray):
 
 
 def index_textures(film: str, substrate: str, film_index_scale: float = 1.0):
-    """(n, k) textures of the film (real part scaled) and of the substrate, and the clamp range (nm)."""
+    """(n, k) textures of the film (real part scaled) and of the substrate, and the clamp range.
+
+    Parameters
+    ----------
+    film, substrate : str
+        Table names (:func:`swatch.physics.materials.load_material`).
+    film_index_scale : float, optional
+        Multiplies the film's real index.
+
+    Returns
+    -------
+    textures : tuple
+        ``(n_film, k_film, n_substrate, k_substrate)`` Mitsuba textures.
+    range_nm : tuple of float
+        The wavelengths both tables cover, nm (lookups outside are clamped to it).
+
+    Raises
+    ------
+    SwatchError
+        For a table of the wrong role.
+    """
     f, s = load_material(film), load_material(substrate)
     for mat, role in ((f, "film"), (s, "substrate")):
         if mat.role != role:
@@ -99,7 +132,22 @@ def index_textures(film: str, substrate: str, film_index_scale: float = 1.0):
 
 
 def check_parameters(thickness_nm: float, film_index_scale: float, distribution: str, shadowing: str) -> None:
-    """SwatchError for a thickness outside [0, MAX], a scale outside [0.5, 1.5] or an unknown choice."""
+    """Check the plugin's parameters (a scene file's, untrusted).
+
+    Parameters
+    ----------
+    thickness_nm : float
+        Film thickness, nm, from 0 to ``MAX_THICKNESS_NM``.
+    film_index_scale : float
+        From 0.5 to 1.5.
+    distribution, shadowing : str
+        One of :data:`swatch.core.choices.DISTRIBUTIONS`, one of :data:`SHADOWING`.
+
+    Raises
+    ------
+    SwatchError
+        Naming the plugin's parameter out of range.
+    """
     if not (math.isfinite(thickness_nm) and 0.0 <= thickness_nm <= MAX_THICKNESS_NM):
         raise SwatchError(f"anodic_film: thickness_nm must be from 0 to {MAX_THICKNESS_NM:g}, got {thickness_nm!r}")
     if not (math.isfinite(film_index_scale) and 0.5 <= film_index_scale <= 1.5):
@@ -322,6 +370,11 @@ def register() -> None:
 
     Call after ``mitsuba.set_variant(...)``; registering again after switching variants defines
     the plugin for the new variant.
+
+    Raises
+    ------
+    SwatchError
+        When the current variant is not spectral.
     """
     variant = mi.variant()
     if variant not in SPECTRAL_VARIANTS:

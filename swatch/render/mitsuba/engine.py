@@ -32,7 +32,7 @@ import numpy as np
 from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
 from swatch.core.choices import BACKGROUNDS, DISTRIBUTIONS
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_PASS_LANES, MAX_SEED, MAX_SPP
+from swatch.core.limits import MAX_PASS_LANES
 from swatch.core.procguard import raise_if_signalled
 from swatch.physics import microfacet
 from swatch.physics.finishes import brush_axis
@@ -50,13 +50,14 @@ from swatch.render.mitsuba.setup import (
     ENV_VAR,
     INSTALL_HINT,
     OLDEST_LLVM_MAJOR,
+    check_mitsuba_request,
     check_variant,
     llvm_major,
 )
 from swatch.render.scene import check_shape, make_scene
 
-__all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "check_spp", "check_seed", "mitsuba_lighting",
-           "render_swatch_mitsuba", "Lighting", "check_mitsuba_request"]
+__all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "mitsuba_lighting",
+           "render_swatch_mitsuba", "Lighting"]
 
 PATH_BOUNCES = 12
 #: Sun and sky: 1.0 = a white diffuser facing up under the reference sun (45° elevation, azimuth 0,
@@ -72,7 +73,23 @@ _REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 
 
 def use_variant(variant: str = DEFAULT_VARIANT) -> str:
-    """Set Mitsuba's ``variant`` (spectral) and register the plugin; SwatchError with what to install."""
+    """Set Mitsuba's ``variant`` (spectral) and register the plugin.
+
+    Parameters
+    ----------
+    variant : str, optional
+        A spectral variant (:data:`swatch.render.mitsuba.setup.SPECTRAL_VARIANTS`).
+
+    Returns
+    -------
+    str
+        The variant set.
+
+    Raises
+    ------
+    SwatchError
+        When the variant cannot run here (no usable libLLVM for an ``llvm_*`` one), with what to install.
+    """
 
     variant = check_variant(variant)
     if variant.startswith("llvm"):
@@ -93,48 +110,21 @@ def use_variant(variant: str = DEFAULT_VARIANT) -> str:
     return variant
 
 
-def check_spp(spp) -> int:
-    try:
-        ok = float(spp) == int(spp)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not 1 <= int(spp) <= MAX_SPP:
-        raise SwatchError(f"samples per pixel must be a whole number from 1 to {MAX_SPP}, got {spp!r}")
-    return int(spp)
-
-
-def check_seed(seed) -> int:
-    try:
-        ok = float(seed) == int(seed)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not 0 <= int(seed) <= MAX_SEED:
-        raise SwatchError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
-    return int(seed)
-
-
-def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
-    """(size, spp, seed) checked: size ≤ :data:`swatch.core.limits.MAX_MITSUBA_PX`, spp ≤ MAX_SPP, seed ≤
-    MAX_SEED, and size² × spp ≤ MAX_MITSUBA_SAMPLES; SwatchError (one line) otherwise."""
-    try:
-        size = int(size_px)
-        ok = float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
-    spp = check_spp(spp)
-    seed = check_seed(seed)
-    if size * size * spp > MAX_MITSUBA_SAMPLES:
-        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
-                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower `spp` or `size_px`)")
-    return size, spp, seed
-
-
 def mitsuba_lighting(lighting_name: str | None = "studio", sun: Sun | None = None) -> Lighting:
     """The :class:`swatch.render.lighting.Lighting` of this engine: ``studio`` (default), ``sun`` (with
     ``sun``, default 45° elevation), ``uniform``, or an .exr/.hdr map (read and checked once; reuse the
-    result across thicknesses)."""
+    result across thicknesses).
+
+    Parameters
+    ----------
+    lighting_name : str or None, optional
+        ``studio`` (None too), ``sun``, ``uniform`` or a map's path.
+    sun : swatch.render.lighting.Sun, optional
+
+    Returns
+    -------
+    swatch.render.lighting.Lighting
+    """
     return resolve_lighting(lighting_name, "mitsuba", sun)
 
 
@@ -198,7 +188,18 @@ def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
 
 def reference_sun_y_up(grid: int = 96) -> float:
     """Y of the irradiance over π on an upward white diffuser under the reference sun of :data:`SUN_SCALE`
-    (45° elevation, turbidity 3), lit directly, relative to radiance 1 (the quadrature of :func:`_irradiance_scale`)."""
+    (45° elevation, turbidity 3), lit directly, relative to radiance 1 (the quadrature of :func:`_irradiance_scale`).
+
+    Parameters
+    ----------
+    grid : int, optional
+        Quadrature nodes per axis.
+
+    Returns
+    -------
+    float
+        Dimensionless.
+    """
     entries = lighting("sun", -1.0, Sun(), None)
     return 1.0 / _irradiance_scale({"light": entries["light"]}, grid)
 

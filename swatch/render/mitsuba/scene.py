@@ -43,7 +43,17 @@ def load_scene(scene: dict):
     emitters in an order that changes from load to load (the two strip boxes swapped in about one
     load in eight, in this process or the next); the light sampler picks emitters by index, so the
     same seed then drew a different sample stream (a different image, #23). Without it the order is
-    the dictionary's, every time."""
+    the dictionary's, every time.
+
+    Parameters
+    ----------
+    scene : dict
+        A Mitsuba scene dictionary.
+
+    Returns
+    -------
+    mitsuba.Scene
+    """
     return mi.load_dict(scene, optimize=False)
 
 
@@ -52,7 +62,21 @@ def _transform(matrix) -> mi.ScalarTransform4f:
 
 
 def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
-    """Mitsuba's perspective sensor for a :class:`swatch.render.scene.Camera` (same rays through pixel centres)."""
+    """Mitsuba's perspective sensor for a :class:`swatch.render.scene.Camera` (same rays through pixel centres).
+
+    Parameters
+    ----------
+    cam : swatch.render.scene.Camera
+    size_px : int
+        Pixels per side of the film.
+    spp : int
+        Samples per pixel.
+
+    Returns
+    -------
+    dict
+        The sensor's scene entry (with its film and sampler).
+    """
     m = np.eye(4)
     # Mitsuba's camera looks along +z with +x to the image's left and +y up.
     m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = -cam.right, cam.up, cam.forward, cam.position
@@ -72,7 +96,23 @@ def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
 
 
 def triangle_mesh(name: str, positions: np.ndarray, faces: np.ndarray, normals: np.ndarray | None, bsdf):
-    """A ``mitsuba.Mesh`` from arrays (positions (N, 3), faces (F, 3), optional normals (N, 3))."""
+    """A ``mitsuba.Mesh`` from arrays.
+
+    Parameters
+    ----------
+    name : str
+    positions : numpy.ndarray
+        Vertex positions, shape (N, 3).
+    faces : numpy.ndarray
+        Vertex indices of the triangles, shape (F, 3).
+    normals : numpy.ndarray or None
+        Vertex normals, shape (N, 3); None: flat faces.
+    bsdf : mitsuba.BSDF
+
+    Returns
+    -------
+    mitsuba.Mesh
+    """
     props = mi.Properties()
     props["bsdf"] = bsdf
     pos = np.ascontiguousarray(positions, dtype=np.float32)
@@ -89,7 +129,20 @@ def triangle_mesh(name: str, positions: np.ndarray, faces: np.ndarray, normals: 
 
 def half_cylinder_arrays(half_height: float = 1.1, segments: int = 256):
     """The half cylinder of :class:`swatch.render.scene.HalfCylinder` (radius 1, |y| ≤ h, z ≥ 0) as a strip:
-    positions, faces, outward normals."""
+    positions, faces, outward normals.
+
+    Parameters
+    ----------
+    half_height : float, optional
+        Half its length along y.
+    segments : int, optional
+        Facets around the half circle.
+
+    Returns
+    -------
+    positions, faces, normals : numpy.ndarray
+        Shapes (2(S+1), 3), (2S, 3), (2(S+1), 3).
+    """
     ph = np.linspace(-math.pi / 2, math.pi / 2, segments + 1)
     x, z = np.sin(ph), np.cos(ph)
     pos = np.concatenate([np.stack([x, np.full_like(x, -half_height), z], -1),
@@ -102,7 +155,22 @@ def half_cylinder_arrays(half_height: float = 1.1, segments: int = 256):
 
 
 def object_shapes(shape: str, bsdf: dict, mesh=None) -> dict:
-    """The swatch object(s) of ``shape`` (flat, cylinder, sphere) or ``mesh``, with ``bsdf`` on both faces."""
+    """The swatch object(s) of ``shape`` (flat, cylinder, sphere) or ``mesh``, with ``bsdf`` on both faces.
+
+    Parameters
+    ----------
+    shape : str
+        ``flat``, ``cylinder``, ``sphere`` or ``mesh``.
+    bsdf : dict
+        The BSDF's scene entry.
+    mesh : swatch.render.mesh.MeshShape, optional
+        With ``shape="mesh"``.
+
+    Returns
+    -------
+    dict
+        Scene entries.
+    """
     two = {"type": "twosided", "material": bsdf}
     if shape == "flat":
         # rectangle: [-1, 1]² in z = 0, normal +z; turned to y = 0, normal +y
@@ -151,8 +219,21 @@ def _box(centre, normal_to, size, radiance: float) -> dict:
 def lighting(kind: str, floor_y: float, sun: Sun | None = None, hdri: np.ndarray | None = None) -> dict:
     """Scene entries of a lighting ``kind`` (module doc): emitters, and the studio's cyclorama or the ground.
 
-    ``floor_y``: the height of the floor or ground (just under the object); ``hdri``: the
-    equirectangular radiance (H, W, 3) of a user map, already checked.
+    Parameters
+    ----------
+    kind : str
+        ``uniform``, ``studio``, ``sun`` or ``map``.
+    floor_y : float
+        The height of the floor or ground (just under the object).
+    sun : swatch.render.lighting.Sun, optional
+        With ``kind="sun"``.
+    hdri : numpy.ndarray, optional
+        With ``kind="map"``: the equirectangular radiance (H, W, 3) of a user map, already checked.
+
+    Returns
+    -------
+    dict
+        Scene entries.
     """
     if kind == "uniform":
         return {"light": {"type": "constant", "radiance": 1.0}}

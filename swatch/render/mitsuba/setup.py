@@ -1,4 +1,5 @@
-"""Setting Mitsuba 3 up: the system libLLVM its JIT needs, the variant, and the one-line hint.
+"""Setting Mitsuba 3 up: the system libLLVM its JIT needs, the variant, the one-line hint, and the
+checks of a render request (size, samples per pixel, seed) made before a scene is built.
 
 Mitsuba's ``llvm_ad_*`` variants compile kernels with Dr.Jit's LLVM backend, which loads a
 system ``libLLVM`` through the LLVM C API at run time. On Debian the one that works with Mitsuba
@@ -15,9 +16,10 @@ import os
 import re
 
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
 
 __all__ = ["ENV_VAR", "INSTALL_HINT", "SPECTRAL_VARIANTS", "DEFAULT_VARIANT", "find_libllvm", "configure_llvm", "llvm_major",
-           "check_variant"]
+           "check_variant", "check_spp", "check_seed", "check_mitsuba_request"]
 
 ENV_VAR = "DRJIT_LIBLLVM_PATH"
 #: What to install when no usable libLLVM is found (one line, said by ``--engine mitsuba``).
@@ -35,13 +37,35 @@ _SEARCH = ("/usr/lib/x86_64-linux-gnu/libLLVM.so.*", "/usr/lib/x86_64-linux-gnu/
 
 
 def llvm_major(path: str) -> int:
-    """The LLVM major version in a library's file name (``libLLVM.so.19.1``, ``libLLVM-19.so``), or 0."""
+    """The LLVM major version in a library's file name.
+
+    Parameters
+    ----------
+    path : str
+        E.g. ``/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1`` or ``libLLVM-19.so``.
+
+    Returns
+    -------
+    int
+        The major version, 0 when the name does not say.
+
+    Examples
+    --------
+    >>> llvm_major("/usr/lib/llvm-19/lib/libLLVM.so.19.1"), llvm_major("libLLVM-17.so"), llvm_major("libfoo.so")
+    (19, 17, 0)
+    """
     m = re.search(r"libLLVM(?:\.so\.|-)(\d+)", os.path.basename(path)) or re.search(r"llvm-(\d+)", path)
     return int(m.group(1)) if m else 0
 
 
 def find_libllvm() -> str | None:
-    """The newest libLLVM of a usable version (≥ 17) in the usual system folders, or None."""
+    """The newest libLLVM of a usable version (≥ 17) in the usual system folders.
+
+    Returns
+    -------
+    str or None
+        Its real path; None when there is none.
+    """
     found = [p for pattern in _SEARCH for p in glob.glob(pattern) if os.path.isfile(p)]
     usable = sorted({os.path.realpath(p) for p in found if llvm_major(p) >= OLDEST_LLVM_MAJOR},
                     key=lambda p: (llvm_major(p), p))
@@ -49,7 +73,13 @@ def find_libllvm() -> str | None:
 
 
 def configure_llvm() -> str | None:
-    """Point ``DRJIT_LIBLLVM_PATH`` at a usable libLLVM when it is unset; returns the path in use (or None)."""
+    """Point ``DRJIT_LIBLLVM_PATH`` at a usable libLLVM when it is unset.
+
+    Returns
+    -------
+    str or None
+        The path in use (the variable's own when set), or None.
+    """
     current = os.environ.get(ENV_VAR)
     if current:
         return current
@@ -60,9 +90,111 @@ def configure_llvm() -> str | None:
 
 
 def check_variant(variant: str) -> str:
-    """``variant`` if the plugin can run in it, else SwatchError naming the choices."""
+    """A Mitsuba variant the plugin can run in (a spectral one).
+
+    Parameters
+    ----------
+    variant : str
+
+    Returns
+    -------
+    str
+        ``variant`` (stripped).
+
+    Raises
+    ------
+    SwatchError
+        Naming the choices, for another variant.
+    """
     key = str(variant).strip()
     if key not in SPECTRAL_VARIANTS:
         raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
                           f"variant: {', '.join(SPECTRAL_VARIANTS)}")
     return key
+
+
+def check_spp(spp) -> int:
+    """Samples per pixel, checked: a whole number from 1 to ``MAX_SPP``.
+
+    Parameters
+    ----------
+    spp : int
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    SwatchError
+        Otherwise.
+    """
+    try:
+        ok = float(spp) == int(spp)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 1 <= int(spp) <= MAX_SPP:
+        raise SwatchError(f"samples per pixel must be a whole number from 1 to {MAX_SPP}, got {spp!r}")
+    return int(spp)
+
+
+def check_seed(seed) -> int:
+    """The sampler's seed, checked: a whole number from 0 to ``MAX_SEED``.
+
+    Parameters
+    ----------
+    seed : int
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    SwatchError
+        Otherwise.
+    """
+    try:
+        ok = float(seed) == int(seed)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not 0 <= int(seed) <= MAX_SEED:
+        raise SwatchError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
+    return int(seed)
+
+
+def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
+    """A Mitsuba render's size, samples and seed, checked before anything is loaded.
+
+    Parameters
+    ----------
+    size_px : int
+        Pixels per side, at most :data:`swatch.core.limits.MAX_MITSUBA_PX`.
+    spp : int
+        Samples per pixel (:func:`check_spp`).
+    seed : int
+        (:func:`check_seed`).
+
+    Returns
+    -------
+    tuple of int
+        ``(size, spp, seed)``.
+
+    Raises
+    ------
+    SwatchError
+        One line, for a value out of range or size² × spp above ``MAX_MITSUBA_SAMPLES``.
+    """
+    try:
+        size = int(size_px)
+        ok = float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
+    spp = check_spp(spp)
+    seed = check_seed(seed)
+    if size * size * spp > MAX_MITSUBA_SAMPLES:
+        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
+                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower `spp` or `size_px`)")
+    return size, spp, seed
