@@ -61,6 +61,9 @@ MODULES_WITH_EXAMPLES = [
     "swatch.render.hdri",
     "swatch.render.environment",
     "swatch.render.mitsuba.setup",
+    "swatch.presets.anisotropy",
+    "swatch.presets.mitsuba_bsdf",
+    "swatch.presets.spectral",
 ]
 
 

@@ -24,20 +24,64 @@ __all__ = ["gltf_anisotropy", "blender_anisotropy", "openpbr_anisotropy"]
 
 
 def gltf_anisotropy(alpha_u: float, alpha_v: float) -> tuple[float, dict]:
-    """(roughnessFactor, the ``KHR_materials_anisotropy`` object) for α along / across the grain."""
+    """(roughnessFactor, the ``KHR_materials_anisotropy`` object) for α along / across the grain.
+
+    Parameters
+    ----------
+    alpha_u, alpha_v : float
+        GGX α along and across the grain (0 < alpha_u ≤ alpha_v < 1).
+
+    Returns
+    -------
+    roughness_factor : float
+        The material's ``roughnessFactor``.
+    extension : dict
+        ``{"anisotropyStrength", "anisotropyRotation"}`` (rotation π/2, radians).
+
+    Examples
+    --------
+    >>> r, ext = gltf_anisotropy(0.1, 0.1)
+    >>> round(r, 6), ext["anisotropyStrength"]
+    (0.316228, 0.0)
+    """
     strength = math.sqrt(max(alpha_v - alpha_u, 0.0) / (1.0 - alpha_u))
     return math.sqrt(alpha_u), {"anisotropyStrength": round(strength, 6), "anisotropyRotation": round(math.pi / 2, 6)}
 
 
 def blender_anisotropy(alpha_u: float, alpha_v: float) -> tuple[float, dict]:
-    """(Roughness, {"Anisotropic", "Anisotropic Rotation"}) of Cycles' Principled BSDF."""
+    """(Roughness, {"Anisotropic", "Anisotropic Rotation"}) of Cycles' Principled BSDF.
+
+    Parameters
+    ----------
+    alpha_u, alpha_v : float
+        GGX α along and across the grain.
+
+    Returns
+    -------
+    roughness : float
+        ``Roughness`` (α = r² on average).
+    inputs : dict
+        ``{"Anisotropic", "Anisotropic Rotation"}`` (rotation 0.25 turns).
+    """
     rough = (alpha_u * alpha_v) ** 0.25
     aniso = (1.0 - alpha_u / alpha_v) / 0.9
     return rough, {"Anisotropic": round(min(aniso, 1.0), 6), "Anisotropic Rotation": 0.25}
 
 
 def openpbr_anisotropy(alpha_u: float, alpha_v: float) -> tuple[float, dict]:
-    """(specular_roughness, {"specular_roughness_anisotropy"}) of OpenPBR, the tangent across the grain."""
+    """(specular_roughness, {"specular_roughness_anisotropy"}) of OpenPBR, the tangent across the grain.
+
+    Parameters
+    ----------
+    alpha_u, alpha_v : float
+        GGX α along and across the grain.
+
+    Returns
+    -------
+    specular_roughness : float
+    inputs : dict
+        ``{"specular_roughness_anisotropy"}``.
+    """
     a = 1.0 - alpha_u / alpha_v
     rough = math.sqrt(alpha_v / math.sqrt(2.0 / (1.0 + (1.0 - a) ** 2)))
     return rough, {"specular_roughness_anisotropy": round(a, 6)}

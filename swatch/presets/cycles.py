@@ -31,7 +31,18 @@ _COS_82 = 1.0 / 7.0
 
 
 def f82_B(F0, F82):
-    """``fresnel_f82_B``: the B factor giving reflectance F82 at cos = 1/7."""
+    """``fresnel_f82_B``: the B factor giving reflectance F82 at cos = 1/7.
+
+    Parameters
+    ----------
+    F0, F82 : array_like
+        Reflectance at normal incidence and at cos θ = 1/7 (per channel).
+
+    Returns
+    -------
+    numpy.ndarray
+        B, broadcast shape.
+    """
     f = 6.0 / 7.0
     f5 = f ** 5
     schlick = F0 + (1.0 - F0) * f5
@@ -39,7 +50,20 @@ def f82_B(F0, F82):
 
 
 def f82tint_B(F0, tint):
-    """``fresnel_f82tint_B``: the B factor for a tint of the Schlick value at cos = 1/7."""
+    """``fresnel_f82tint_B``: the B factor for a tint of the Schlick value at cos = 1/7.
+
+    Parameters
+    ----------
+    F0 : array_like
+        Reflectance at normal incidence (per channel).
+    tint : array_like
+        The F82 tint (Specular Tint), 1 = Schlick.
+
+    Returns
+    -------
+    numpy.ndarray
+        B, broadcast shape.
+    """
     f = 6.0 / 7.0
     f5 = f ** 5
     schlick = F0 + (1.0 - F0) * f5
@@ -47,14 +71,45 @@ def f82tint_B(F0, tint):
 
 
 def f82(cos_i, F0, B):
-    """``fresnel_f82``: Schlick minus B·cos·(1-cos)^6, clamped to [0, 1]."""
+    """``fresnel_f82``: Schlick minus B·cos·(1-cos)^6, clamped to [0, 1].
+
+    Parameters
+    ----------
+    cos_i : array_like
+        Cosine of the incidence angle.
+    F0, B : array_like
+        Normal-incidence reflectance and the F82 factor (:func:`f82_B`), broadcast with ``cos_i``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Reflectance in [0, 1].
+    """
     s = np.clip(1.0 - cos_i, 0.0, 1.0)
     s5 = s ** 5
     return np.clip(F0 + (1.0 - F0) * s5 - B * cos_i * s5 * s, 0.0, 1.0)
 
 
 def gulbrandsen_nk(r, g):
-    """n, k of a metal from reflectance r at normal incidence and edge value g (Gulbrandsen 2014)."""
+    """n, k of a metal from reflectance r at normal incidence and edge value g (Gulbrandsen 2014).
+
+    Parameters
+    ----------
+    r : array_like
+        Reflectance at normal incidence (clamped to 0.999).
+    g : array_like
+        The edge tint in [0, 1].
+
+    Returns
+    -------
+    n, k : numpy.ndarray
+        Real and imaginary index, broadcast shape.
+
+    References
+    ----------
+    O. Gulbrandsen, "Artist Friendly Metallic Fresnel", Journal of Computer Graphics Techniques 3(4),
+    64–72 (2014), https://jcgt.org/published/0003/04/03/.
+    """
     r = np.minimum(r, 0.999)
     sqrt_r = np.sqrt(r)
     n_min = (1.0 - r) / (1.0 + r)
@@ -70,6 +125,18 @@ def dielectric_polarized(cos_i, eta):
     ``cos_t`` is returned positive (Cycles returns it negative, relative to the normal); the signs
     are those of Cycles' amplitudes r_s = (cos_i − η cos_t)/(cos_i + η cos_t),
     r_p = (η cos_i − cos_t)/(η cos_i + cos_t). Total internal reflection gives R = 1, sign +1.
+
+    Parameters
+    ----------
+    cos_i : array_like
+        Cosine of the incidence angle.
+    eta : array_like
+        Relative IOR (transmitted over incident), broadcast with ``cos_i``.
+
+    Returns
+    -------
+    R_s, R_p, sign_s, sign_p, cos_t : numpy.ndarray
+        Reflectances, amplitude signs (±1) and the transmitted cosine.
     """
     eta_cos_t_sq = eta ** 2 - (1.0 - cos_i ** 2)
     tir = eta_cos_t_sq <= 0.0
@@ -89,6 +156,24 @@ def conductor_polarized(cos_i, ambient_ior, n, k, F82=None):
     ñ = n + ik and w = ñ cos θ_t = u + iv are the formulas Cycles evaluates in real arithmetic;
     the phasors are r/|r|. With ``F82`` the reflectances come from the F82 model with F0 of the
     metal relative to the ambient (film) index, as Cycles does.
+
+    Parameters
+    ----------
+    cos_i : array_like
+        Cosine of the incidence angle in the ambient (the film).
+    ambient_ior : array_like
+        The ambient's real index.
+    n, k : array_like
+        The metal's complex index ``n + ik``, per channel.
+    F82 : array_like, optional
+        The F82 reflectance: the reflectances then come from the F82 model.
+
+    Returns
+    -------
+    R_s, R_p : numpy.ndarray
+        Reflectances.
+    phasor_s, phasor_p : numpy.ndarray
+        Unit complex phases of the amplitudes.
     """
     nc = n + 1j * k
     eta1 = ambient_ior
@@ -112,12 +197,47 @@ def conductor_polarized(cos_i, ambient_ior, n, k, F82=None):
 
 
 def sensitivities(opd_nm, sensitivity=cmf_sensitivity, orders: int = 3) -> list:
-    """The sensitivity at m·OPD for m = 1..orders (shared by the s and p sums)."""
+    """The sensitivity at m·OPD for m = 1..orders (shared by the s and p sums).
+
+    Parameters
+    ----------
+    opd_nm : array_like
+        Optical path difference, nm.
+    sensitivity : callable, optional
+        OPD (nm) -> complex (..., 3) (:func:`swatch.presets.spectral.cmf_sensitivity`).
+    orders : int, optional
+        The series' orders.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        One complex (..., 3) array per order.
+    """
     return [sensitivity(m * opd_nm) for m in range(1, orders + 1)]
 
 
 def airy_summation(R12, R23, S, phasor):
-    """``iridescence_airy_summation``: Belcour & Barla eq. 10, (..., 3); ``S`` from :func:`sensitivities`."""
+    """``iridescence_airy_summation``: Belcour & Barla eq. 10, (..., 3); ``S`` from :func:`sensitivities`.
+
+    Parameters
+    ----------
+    R12, R23 : array_like
+        Reflectances at the ambient/film and film/base interfaces (..., 1 or 3).
+    S : list of numpy.ndarray
+        :func:`sensitivities`.
+    phasor : numpy.ndarray
+        The round trip's unit phase (both interfaces' phases), complex (..., 3).
+
+    Returns
+    -------
+    numpy.ndarray
+        The spectrally integrated reflectance, linear Rec.709 (..., 3).
+
+    References
+    ----------
+    L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of Varying
+    Iridescence", ACM Trans. Graph. 36(4), 65 (2017), doi:10.1145/3072959.3073620.
+    """
     T121 = 1.0 - R12
     R123 = R12 * R23
     r123 = np.sqrt(R123)
@@ -184,6 +304,20 @@ def film_on_dielectric_fresnel(cos_theta, thickness_nm, film_ior, base_ior) -> n
     Cycles' dielectric branch (used by its Principled BSDF for non-metals); with real indices and
     no dispersion it is exact up to the series truncation and the table, so it is what the port
     is checked with against a transfer-matrix reference.
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        Cosine of the incidence angle on the facet.
+    thickness_nm, film_ior : array_like
+        Film thickness (nm) and IOR, broadcast with ``cos_theta``.
+    base_ior : array_like
+        The dielectric base's real IOR.
+
+    Returns
+    -------
+    numpy.ndarray
+        Fresnel factor, linear Rec.709 (..., 3) in [0, 1].
     """
     cos1 = np.asarray(cos_theta, dtype=np.float64)
     d = np.asarray(thickness_nm, dtype=np.float64)

@@ -88,6 +88,22 @@ def model_Lab(model: str, params, angles_deg, roughness: float | None = None) ->
 
     The angle is the facet angle (the model's cos θ argument; N·V for ``threejs``, which is the
     facet angle at mirror geometries). ``roughness``: the glTF roughnessFactor (``threejs`` only).
+
+    Parameters
+    ----------
+    model : str
+        One of :data:`MODELS`.
+    params : array_like, shape (..., 5)
+        ``(thickness_nm, film_ior, base R, G, B)`` (base linear Rec.709).
+    angles_deg : array_like, shape (A,)
+        Facet angles, degrees.
+    roughness : float, optional
+        glTF ``roughnessFactor`` (``threejs`` only).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., A, 3)
+        CIELAB, D65, CIE 1931 2°.
     """
 
     p = np.asarray(params, dtype=np.float64)
@@ -101,7 +117,24 @@ def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str 
               film_index_scale: float = 1.0, spread=None) -> np.ndarray:
     """The exact colour (N, A, 3): Airy reflectance at facet angle θ_d, CIELAB under D65, 2°
     (``film_index_scale``: a process profile's scale of the film's real index; ``spread``: its
-    :class:`swatch.physics.spread.ThicknessSpread`, the colour averaged over it)."""
+    :class:`swatch.physics.spread.ThicknessSpread`, the colour averaged over it).
+
+    Parameters
+    ----------
+    thickness_nm : array_like, shape (N,)
+        Film thicknesses, nm.
+    angles_deg : array_like, shape (A,)
+        Facet angles θ_d, degrees.
+    film, substrate : str, optional
+        Table names (default TiO2 on Ti).
+    film_index_scale : float, optional
+    spread : swatch.physics.spread.ThicknessSpread, optional
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, A, 3)
+        CIELAB, D65, CIE 1931 2°.
+    """
 
     wl = wavelength_grid(380.0, 780.0, 5.0)
     coating = get_coating(film or DEFAULT_FILM, substrate or DEFAULT_SUBSTRATE, wl, film_index_scale, spread)
@@ -116,7 +149,28 @@ def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DE
                       model_angles_deg=None) -> np.ndarray:
     """ΔE2000 (N, A) between ``model`` with ``params`` (N, 5) and the exact colour at facet angles
     ``angles_deg``; the model is evaluated at ``model_angles_deg`` (default the same angles: mirror
-    geometries; e.g. 0 for three.js at 45:0, whose N·V is 0° where the facet angle is 22.5°)."""
+    geometries; e.g. 0 for three.js at 45:0, whose N·V is 0° where the facet angle is 22.5°).
+
+    Parameters
+    ----------
+    model : str
+    params : array_like, shape (N, 5)
+    thickness_nm : array_like, shape (N,)
+        The swatches' thicknesses, nm.
+    angles_deg : array_like, shape (A,), optional
+        Facet angles of the exact colour, degrees.
+    film, substrate, film_index_scale, spread
+        As :func:`exact_Lab`.
+    roughness : float, optional
+        As :func:`model_Lab`.
+    model_angles_deg : array_like, shape (A,), optional
+        Where the model is evaluated, degrees.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, A)
+        ΔE2000 (``swatch.colorimetry.colorimeter.delta_E_00``, i.e. colour-science's CIEDE2000).
+    """
 
     at = angles_deg if model_angles_deg is None else model_angles_deg
     return delta_E_00(model_Lab(model, params, at, roughness),
@@ -125,7 +179,21 @@ def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DE
 
 @dataclass
 class PresetFit:
-    """Fitted parameters of one model for N swatches, and their errors against the exact colour."""
+    """Fitted parameters of one model for N swatches, and their errors against the exact colour.
+
+    Attributes
+    ----------
+    model : str
+        The renderer's model (:data:`MODELS`).
+    thickness_nm : numpy.ndarray
+        The swatches' thicknesses, nm, shape (N,).
+    params : numpy.ndarray
+        Model thickness (nm), film IOR, base colour linear RGB, shape (N, 5).
+    angles_deg : numpy.ndarray
+        Facet angles of the errors, degrees, shape (A,).
+    delta_E_00 : numpy.ndarray
+        ΔE2000 against the exact colour, shape (N, A).
+    """
 
     model: str
     thickness_nm: np.ndarray  # (N,) the swatches'
@@ -134,6 +202,18 @@ class PresetFit:
     delta_E_00: np.ndarray  # (N, A)
 
     def max_delta_E_00(self, up_to_deg: float = 60.0) -> np.ndarray:
+        """Each swatch's largest error up to a facet angle.
+
+        Parameters
+        ----------
+        up_to_deg : float, optional
+            The largest facet angle counted, degrees.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N,)
+            ΔE2000.
+        """
         return self.delta_E_00[:, self.angles_deg <= up_to_deg + 1e-9].max(axis=1)
 
 
@@ -248,6 +328,26 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     ``groups`` (N,) confines the continuity coupling: a swatch's preset depends only on the
     thicknesses of its own group (the catalog passes its sheets, so that changing one swatch
     leaves the other sheets' presets, and so the sheets, as they were).
+
+    Parameters
+    ----------
+    thickness_nm : array_like, shape (N,)
+        The swatches' thicknesses, nm.
+    model : str
+        One of :data:`MODELS`.
+    extra_angles_deg : sequence of float, optional
+        The catalog's geometries as facet angles, degrees.
+    film, substrate : str, optional
+    film_index_scale : float, optional
+    groups : array_like, shape (N,), optional
+    spread : swatch.physics.spread.ThicknessSpread, optional
+    roughness : float, optional
+    extra_model_angles_deg : sequence of float, optional
+
+    Returns
+    -------
+    PresetFit
+        Errors on :data:`FIT_ANGLES_DEG`.
     """
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     groups = np.zeros(d.size, dtype=np.int64) if groups is None else np.asarray(groups, dtype=np.int64)

@@ -40,7 +40,22 @@ _ITERATIONS = 2
 
 
 def hoffman_schlick(cos_theta, F0, F82, F90=1.0, exponent: float = 5.0):
-    """``mx_fresnel_hoffman_schlick``: the F82 generalisation of Schlick (..., 3)."""
+    """``mx_fresnel_hoffman_schlick``: the F82 generalisation of Schlick (..., 3).
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        Cosine of the incidence angle (clipped to [0, 1]).
+    F0, F82 : array_like
+        Reflectance at normal incidence and the F82 tint (per channel).
+    F90 : array_like, optional
+    exponent : float, optional
+
+    Returns
+    -------
+    numpy.ndarray
+        Reflectance, broadcast shape.
+    """
     cmax = 1.0 / 7.0
     factor = 1.0 / (cmax * (1.0 - cmax) ** 6)
     x = np.clip(cos_theta, 0.0, 1.0)
@@ -105,7 +120,20 @@ def fresnel_airy(cos_theta, thickness_nm, film_ior, F0, F82=1.0) -> np.ndarray:
 
 
 def ggx_dir_albedo(cos_nv, alpha):
-    """``mx_ggx_dir_albedo_analytic(N·V, α, 1, 1)``: the white GGX lobe's directional albedo Ess."""
+    """``mx_ggx_dir_albedo_analytic(N·V, α, 1, 1)``: the white GGX lobe's directional albedo Ess.
+
+    Parameters
+    ----------
+    cos_nv : array_like
+        N·V.
+    alpha : array_like
+        GGX α, broadcast with ``cos_nv``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Ess (the fit's two terms, each clipped to [0, 1], summed).
+    """
     x = np.asarray(cos_nv, dtype=np.float64)
     y = np.asarray(alpha, dtype=np.float64)
     x, y = np.broadcast_arrays(x, y)
@@ -124,6 +152,25 @@ def displayed_fresnel(cos_theta, thickness_nm, film_ior, base_color, roughness, 
 
     ``cos_theta`` is V·H; ``cos_nv`` N·V (default V·H: mirror geometries; 1 at 45:0).
     ``roughness`` is ``specular_roughness`` (α = roughness², clamped as MaterialX does).
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        V·H.
+    thickness_nm, film_ior : array_like
+        ``thin_film_thickness`` (nm) and ``thin_film_ior``.
+    base_color : array_like, shape (..., 3)
+        The F0 colour.
+    roughness : float
+        ``specular_roughness``.
+    specular_color : array_like, optional
+    cos_nv : array_like, optional
+        N·V.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        Linear Rec.709, relative to a white metal.
     """
     F = fresnel_airy(cos_theta, thickness_nm, film_ior, base_color, specular_color)
     alpha = np.clip(np.asarray(roughness, dtype=np.float64) ** 2, 1e-6, 1.0)

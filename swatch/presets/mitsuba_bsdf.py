@@ -46,7 +46,22 @@ _XML_VERSION = "3.0.0"
 
 
 def preset_id(ident: str) -> str:
-    """The BSDF's ``id`` in the files (``swatch_S001``): what a scene's ``<ref id=…/>`` names."""
+    """The BSDF's ``id`` in the files (``swatch_S001``): what a scene's ``<ref id=…/>`` names.
+
+    Parameters
+    ----------
+    ident : str
+        The swatch id or a thickness label (``150nm``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> preset_id("S001")
+    'swatch_S001'
+    """
     return "swatch_" + "".join(c if c.isalnum() or c in "_-" else "_" for c in str(ident))
 
 
@@ -103,7 +118,20 @@ def bsdf_dict(thickness_nm: float, film: str, substrate: str, film_index_scale: 
 
 
 def mitsuba_json_bytes(bsdf: dict, info: dict) -> bytes:
-    """The JSON preset: ``{"swatch": info (what it is, how to load it), "bsdf": the scene dictionary}``."""
+    """The JSON preset: ``{"swatch": info (what it is, how to load it), "bsdf": the scene dictionary}``.
+
+    Parameters
+    ----------
+    bsdf : dict
+        :func:`bsdf_dict`.
+    info : dict
+        What the preset is (title, thickness, materials, the catalog's colour).
+
+    Returns
+    -------
+    bytes
+        UTF-8 JSON (the same inputs give the same bytes).
+    """
     doc = {"swatch": {**info, "mitsuba": f"Mitsuba {MITSUBA_VERSION} (pip install 'mitsuba>=3.9,<3.10'), a spectral "
                                          "variant", "register": REGISTER,
                       "load": 'bsdf = mi.load_dict(json.load(open(path))["bsdf"])'},
@@ -132,7 +160,20 @@ def _xml_lines(node: dict) -> list[str]:
 def mitsuba_xml_bytes(bsdf: dict, comment_lines: list[str]) -> bytes:
     """The XML preset: one ``<bsdf>`` element (Mitsuba's scene format, ``version`` on it so that
     ``mitsuba.load_string`` / ``load_file`` and a scene's ``<include>`` take it), the same
-    dictionary as the JSON, after a comment saying what it is and how to register the plugin."""
+    dictionary as the JSON, after a comment saying what it is and how to register the plugin.
+
+    Parameters
+    ----------
+    bsdf : dict
+        :func:`bsdf_dict`.
+    comment_lines : list of str
+        The comment's lines.
+
+    Returns
+    -------
+    bytes
+        UTF-8 XML.
+    """
     text = "\n".join(line.replace("--", "- -") for line in comment_lines)
     head = ['<?xml version="1.0" encoding="utf-8"?>', "<!--", text, "-->"]
     return ("\n".join(head + _xml_lines(bsdf)) + "\n").encode("utf-8")

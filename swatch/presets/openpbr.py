@@ -41,6 +41,21 @@ def gaussian_sensitivity(opd_nm) -> np.ndarray:
 
     Re(e^{iφ}·conj(S)) equals the real ``evalSensitivity(OPD, φ)`` of the paper's code for one
     phase φ on all components.
+
+    Parameters
+    ----------
+    opd_nm : array_like
+        Optical path difference, nm.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex linear Rec.709, shape ``opd_nm.shape + (3,)``.
+
+    References
+    ----------
+    L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of Varying
+    Iridescence", ACM Trans. Graph. 36(4), 65 (2017), doi:10.1145/3072959.3073620.
     """
     phase = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64)[..., None] * 1.0e-9
     val = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
@@ -57,6 +72,22 @@ def thin_film_metal_fresnel(cos_theta, thickness_nm, film_ior, base_color, specu
     """Fresnel (..., 3), linear Rec.709, of an OpenPBR metal under a thin film (weight 1).
 
     ``thickness_nm`` is ``thin_film_thickness`` × 1000; ``base_color`` (..., 3) the F0 colour.
+
+    Parameters
+    ----------
+    cos_theta : array_like
+        Cosine of the incidence angle on the facet.
+    thickness_nm, film_ior : array_like
+        ``thin_film_thickness`` × 1000 and ``thin_film_ior``, broadcast with ``cos_theta``.
+    base_color : array_like, shape (..., 3)
+        F0 colour (linear Rec.709).
+    specular_color : array_like, optional
+        The F82 tint.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        In [0, 1].
     """
     cos1 = np.asarray(cos_theta, dtype=np.float64)
     d = np.asarray(thickness_nm, dtype=np.float64)

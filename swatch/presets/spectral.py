@@ -42,13 +42,43 @@ def gltf_sensitivity(opd_nm, shift) -> np.ndarray:
 
     ``opd_nm`` (...) is the optical path difference in nm; ``shift`` (..., 3) the phase shift per
     component (applied to X, Y, Z in that order, as the reference code does).
+
+    Parameters
+    ----------
+    opd_nm : array_like
+        Optical path difference, nm.
+    shift : array_like, shape (..., 3)
+        Phase shifts, radians.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        Linear Rec.709.
     """
     return gaussian_sensitivity_xyz(opd_nm, shift) @ XYZ_TO_REC709.T
 
 
 def gaussian_sensitivity_xyz(opd_nm, shift) -> np.ndarray:
     """Belcour & Barla's Gaussian fits of the XYZ CMFs' transforms at ``opd_nm`` with per-component
-    phase ``shift`` (..., 3): XYZ, before any conversion to RGB (MaterialX's ``mx_eval_sensitivity``)."""
+    phase ``shift`` (..., 3): XYZ, before any conversion to RGB (MaterialX's ``mx_eval_sensitivity``).
+
+    Parameters
+    ----------
+    opd_nm : array_like
+        Optical path difference, nm.
+    shift : array_like, shape (..., 3)
+        Phase shifts, radians.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        XYZ, normalised as the reference code (÷ 1.0685e-7).
+
+    References
+    ----------
+    L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of Varying
+    Iridescence", ACM Trans. Graph. 36(4), 65 (2017), doi:10.1145/3072959.3073620.
+    """
     phase = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64)[..., None] * 1.0e-9
     shift = np.asarray(shift, dtype=np.float64)
     val = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
@@ -81,7 +111,18 @@ def _cycles_table() -> np.ndarray:
 
 
 def cmf_sensitivity(opd_nm) -> np.ndarray:
-    """Cycles' ``iridescence_lookup_sensitivity(OPD)``: (..., 3) complex (re, im per channel)."""
+    """Cycles' ``iridescence_lookup_sensitivity(OPD)``: (..., 3) complex (re, im per channel).
+
+    Parameters
+    ----------
+    opd_nm : array_like
+        Optical path difference, nm.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex, shape ``opd_nm.shape + (3,)``.
+    """
     table = _cycles_table()
     x = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64) / _CYCLES_TABLE_SPAN_NM
     pos = np.clip(x, 0.0, 1.0) * (CYCLES_TABLE_SIZE - 1)
@@ -93,14 +134,36 @@ def cmf_sensitivity(opd_nm) -> np.ndarray:
 
 @functools.lru_cache(maxsize=1)
 def rgb_to_xyz_matrix() -> tuple[np.ndarray, np.ndarray]:
-    """sRGB (Rec.709 primaries) linear RGB → XYZ matrix (3, 3) and the D65 white point xy (colour-science)."""
+    """sRGB (Rec.709 primaries) linear RGB → XYZ matrix (3, 3) and the D65 white point xy (colour-science).
+
+    Returns
+    -------
+    matrix : numpy.ndarray, shape (3, 3)
+        XYZ = matrix @ RGB.
+    white_xy : numpy.ndarray, shape (2,)
+    """
 
     space = colour.RGB_COLOURSPACES["sRGB"]
     return np.asarray(space.matrix_RGB_to_XYZ, dtype=np.float64), np.asarray(space.whitepoint, dtype=np.float64)
 
 
 def rgb_to_Lab(rgb) -> np.ndarray:
-    """CIELAB (D65, CIE 1931 2°) of a linear Rec.709 reflectance (..., 3); 1 = perfect white."""
+    """CIELAB (D65, CIE 1931 2°) of a linear Rec.709 reflectance (..., 3); 1 = perfect white.
+
+    Parameters
+    ----------
+    rgb : array_like, shape (..., 3)
+        Linear Rec.709 reflectance.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+
+    Examples
+    --------
+    >>> round(float(rgb_to_Lab([1.0, 1.0, 1.0])[0]), 4)  # white: L* = 100
+    100.0
+    """
 
     m, white = rgb_to_xyz_matrix()
     XYZ = np.asarray(rgb, dtype=np.float64) @ m.T

@@ -79,7 +79,20 @@ def _lut() -> np.ndarray:
 
 
 def dfg(roughness, cos_nv) -> np.ndarray:
-    """``texture2D(dfgLUT, vec2(roughness, N·V)).rg`` (..., 2): bilinear, clamped to the edges."""
+    """``texture2D(dfgLUT, vec2(roughness, N·V)).rg`` (..., 2): bilinear, clamped to the edges.
+
+    Parameters
+    ----------
+    roughness : array_like
+        glTF roughness.
+    cos_nv : array_like
+        N·V, broadcast with ``roughness``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 2)
+        The scale and bias of the split-sum DFG term.
+    """
     lut = _lut()
     r = np.asarray(roughness, dtype=np.float64)
     c = np.asarray(cos_nv, dtype=np.float64)
@@ -102,6 +115,22 @@ def displayed_fresnel(cos_nv, thickness_nm, film_ior, base_f0, roughness) -> np.
 
     ``F_irid(N·V) · (1 + base·(1/Ess − 1)) · Ess`` with ``Ess`` from the DFG LUT at
     (``max(roughness, 0.045)``, N·V); ``roughness`` is the glTF ``roughnessFactor``.
+
+    Parameters
+    ----------
+    cos_nv : array_like
+        N·V.
+    thickness_nm, film_ior : array_like
+        Film thickness (nm) and ``iridescenceIOR``.
+    base_f0 : array_like, shape (..., 3)
+        The metal's colour (linear).
+    roughness : float
+        glTF ``roughnessFactor``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        Linear Rec.709.
     """
     F = iridescence_fresnel(cos_nv, thickness_nm, film_ior, base_f0)
     rough = np.clip(np.asarray(roughness, dtype=np.float64), 0.045, 1.0)

@@ -76,7 +76,25 @@ def _check(params, roughness) -> tuple[float, float, list[float], float]:
 def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None, anisotropy: dict | None = None) -> bytes:
     """A .gltf (JSON, embedded buffer) with a plate carrying the iridescent metal material;
     ``anisotropy``: a ``KHR_materials_anisotropy`` object (brushed finishes; the plate then has
-    tangents along +x, the brushing direction)."""
+    tangents along +x, the brushing direction).
+
+    Parameters
+    ----------
+    name : str
+        The material's name.
+    params : array_like, shape (5,)
+        ``(thickness_nm, film_ior, base R, G, B)``.
+    roughness : float
+        ``roughnessFactor``.
+    extras : dict, optional
+        The material's ``extras`` (what it was fitted to).
+    anisotropy : dict, optional
+
+    Returns
+    -------
+    bytes
+        UTF-8 JSON (deterministic).
+    """
     d, eta, base, rough = _check(params, roughness)
     blob, views, accessors = _plate_buffer(tangents=anisotropy is not None)
     extensions: dict = {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": _r(eta),
@@ -153,7 +171,23 @@ for obj in bpy.context.selected_objects:
 def blender_bytes(name: str, params, roughness: float, file_name: str, note: str = "",
                   anisotropy: dict | None = None) -> bytes:
     """A Blender Python script that builds the Principled BSDF material (``anisotropy``: the
-    Principled inputs ``Anisotropic`` and ``Anisotropic Rotation`` of a brushed finish)."""
+    Principled inputs ``Anisotropic`` and ``Anisotropic Rotation`` of a brushed finish).
+
+    Parameters
+    ----------
+    name : str
+    params : array_like, shape (5,)
+    roughness : float
+    file_name : str
+        The script's own file name (for its usage line).
+    note : str, optional
+    anisotropy : dict, optional
+
+    Returns
+    -------
+    bytes
+        UTF-8 Python (for ``blender --python``).
+    """
     d, eta, base, rough = _check(params, roughness)
     aniso = "".join(f"\n    {k!r}: {_r(v)},  # brushed finish: swatch.presets.anisotropy" for k, v in
                     (anisotropy or {}).items())
@@ -174,7 +208,22 @@ def materialx_bytes(name: str, params, roughness: float, note: str = "", anisotr
     """A MaterialX 1.39 document with an OpenPBR surface, validated with the MaterialX library
     (``note``: what it was fitted to and its error, in the material's doc string; ``anisotropy``:
     ``specular_roughness_anisotropy`` of a brushed finish, the geometry tangent then the mesh's
-    bitangent, across the grain)."""
+    bitangent, across the grain).
+
+    Parameters
+    ----------
+    name : str
+    params : array_like, shape (5,)
+    roughness : float
+        ``specular_roughness``.
+    note : str, optional
+    anisotropy : dict, optional
+
+    Returns
+    -------
+    bytes
+        UTF-8 XML.
+    """
 
     d, eta, base, rough = _check(params, roughness)
     ident = mx.createValidName(name)
