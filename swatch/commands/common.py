@@ -28,6 +28,16 @@ def spread_option(f):
 
     The value is kept in the click context (no parameter for the command); :func:`resolve_process`
     applies it, so every command that takes a process takes it the same way.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
     """
     return click.option("--spread", "spread", default=None, metavar="NM[,FRACTION]", expose_value=False,
                         callback=_spread_callback,
@@ -37,13 +47,30 @@ def spread_option(f):
 
 
 def given_spread():
-    """The ``--spread`` of the running command (None when not given or outside a command)."""
+    """The ``--spread`` of the running command.
+
+    Returns
+    -------
+    swatch.physics.spread.ThicknessSpread or None
+        None when not given or outside a command.
+    """
     ctx = click.get_current_context(silent=True)
     return None if ctx is None else ctx.meta.get(_SPREAD_META)
 
 
 def process_options(f):
-    """``--process NAME|FILE`` and its overrides ``--nm-per-volt`` and ``--spread``."""
+    """``--process NAME|FILE`` and its overrides ``--nm-per-volt`` and ``--spread``.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
+    """
     f = spread_option(f)
     f = click.option("--nm-per-volt", type=float, default=None,
                      help="anodic growth rate, nm/V, overriding the process profile's")(f)
@@ -56,7 +83,24 @@ def process_options(f):
 def resolve_process(process: str | None, film: str | None = None, substrate: str | None = None,
                     nm_per_volt: float | None = None):
     """The :class:`swatch.physics.process.Process` for ``--process`` with ``--film``/``--substrate``/``--nm-per-volt``
-    and ``--spread``."""
+    and ``--spread``.
+
+    Parameters
+    ----------
+    process : str or None
+        A preset's name or a profile's path; None: the default profile.
+    film, substrate : str or None
+    nm_per_volt : float or None
+
+    Returns
+    -------
+    swatch.physics.process.Process
+
+    Raises
+    ------
+    SwatchError
+        For an empty ``--process`` or a profile that cannot be read.
+    """
     from swatch.physics.process import DEFAULT_PROCESS, load_process
 
     if process is not None and not process.strip():  # ('' silently took the default)
@@ -65,7 +109,18 @@ def resolve_process(process: str | None, film: str | None = None, substrate: str
 
 
 def thickness_options(multiple: bool):
-    """``--thickness`` / ``--voltage`` (+ ``--process``, ``--nm-per-volt``) resolving to ``thickness_nm``."""
+    """``--thickness`` / ``--voltage`` (+ ``--process``, ``--nm-per-volt``) resolving to ``thickness_nm``.
+
+    Parameters
+    ----------
+    multiple : bool
+        Whether the options take ranges (``A:B:STEP`` or lists).
+
+    Returns
+    -------
+    callable
+        The decorator adding the options.
+    """
     t_help = "film thickness in nm: A:B:STEP or N,N,..." if multiple else "film thickness in nm"
     v_help = ("anodising voltage in V instead of a thickness (through the process's growth law)"
               + (": A:B:STEP or N,N,..." if multiple else ""))
@@ -80,8 +135,28 @@ def thickness_options(multiple: bool):
 
 
 def resolve_thickness(thickness: str | None, voltage: str | None, proc, multiple: bool):
-    """Return (thickness_nm array, voltage_V array or None); voltages through the growth law of the
-    :class:`swatch.physics.process.Process` ``proc``."""
+    """The thicknesses a command was given, directly or as voltages through ``proc``'s growth law.
+
+    Parameters
+    ----------
+    thickness, voltage : str or None
+        The options' text (exactly one given).
+    proc : swatch.physics.process.Process
+    multiple : bool
+        Whether a range is allowed.
+
+    Returns
+    -------
+    thickness_nm : numpy.ndarray
+        Checked (the library's checks; the whole range before anything is computed).
+    voltage_V : numpy.ndarray or None
+        The voltages given, if any.
+
+    Raises
+    ------
+    SwatchError
+        For neither or both, a bad range, a range where one value is allowed, or a value out of range.
+    """
     if (thickness is None) == (voltage is None):
         raise SwatchError("give exactly one of --thickness NM or --voltage V")
     v = None if voltage is None else parse_range(voltage, "voltage", "V")
@@ -95,6 +170,18 @@ def resolve_thickness(thickness: str | None, voltage: str | None, proc, multiple
 
 
 def material_options(f):
+    """``--film`` and ``--substrate`` (default: the process's tables).
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
+    """
     f = click.option("--substrate", default=None,
                      help=f"substrate table (swatch materials list) [default: the process's; {DEFAULT_SUBSTRATE}]")(f)
     f = click.option("--film", default=None,
@@ -103,6 +190,18 @@ def material_options(f):
 
 
 def overcoat_option(f):
+    """``--overcoat INDEX:NM|TABLE:NM`` (repeatable).
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
+    """
     return click.option("--overcoat", "overcoats", multiple=True, metavar="INDEX:NM|TABLE:NM",
                          help="a thin clear layer over the oxide, e.g. 1.5:200 (index 1.5, 200 nm) or "
                               "TiO2-Siefke:20; repeat for several, listed from the air side; coherent, so "
@@ -110,7 +209,25 @@ def overcoat_option(f):
 
 
 def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
-    """The :class:`swatch.physics.process.Process`'s coating with any ``--overcoat`` layers on top."""
+    """The :class:`swatch.physics.process.Process`'s coating with any ``--overcoat`` layers on top.
+
+    Parameters
+    ----------
+    proc : swatch.physics.process.Process
+    wavelengths : str, optional
+        ``--wavelengths`` (START:STOP:STEP, nm).
+    overcoats : sequence of str, optional
+        The ``--overcoat`` values, from the air side.
+
+    Returns
+    -------
+    swatch.physics.model.Coating or swatch.physics.overcoat.OvercoatedCoating
+
+    Raises
+    ------
+    SwatchError
+        For too many layers or a stack thicker than ``MAX_THICKNESS_NM``.
+    """
     from swatch.physics.overcoat import OvercoatedCoating, overcoat
 
     coating = proc.coating(resolve_grid(wavelengths))
@@ -127,11 +244,35 @@ def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
 
 
 def grid_option(f):
+    """``--wavelengths START:STOP:STEP``.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
+    """
     return click.option("--wavelengths", "wavelengths", default="380:780:5", show_default=True,
                         help="wavelength grid START:STOP:STEP in nm (colorimetry: 1, 5, 10 or 20 nm steps)")(f)
 
 
 def resolve_grid(text: str) -> np.ndarray:
+    """The wavelength grid of ``--wavelengths``.
+
+    Parameters
+    ----------
+    text : str
+        START:STOP:STEP in nm.
+
+    Returns
+    -------
+    numpy.ndarray
+        nm, shape (W,).
+    """
     return wavelength_grid(*parse_grid(text))
 
 
@@ -142,6 +283,18 @@ def _finite(ctx, param, value):
 
 
 def geometry_options(f):
+    """``--light``, ``--view`` (polar, degrees) and ``--light-azimuth``, ``--view-azimuth``.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
+    """
     f = click.option("--view-azimuth", "view_azimuth", type=float, default=None, callback=_finite,
                      help="view azimuth in degrees (default: light azimuth + 180, the plane of incidence)")(f)
     f = click.option("--light-azimuth", "light_azimuth", type=float, default=0.0, show_default=True, callback=_finite,
@@ -154,18 +307,47 @@ def geometry_options(f):
 
 
 def colour_options(f):
+    """``--illuminant`` and ``--observer``.
+
+    Parameters
+    ----------
+    f : callable
+        The click command function.
+
+    Returns
+    -------
+    callable
+        ``f`` with the option(s).
+    """
     f = click.option("--observer", default="10", show_default=True, help="10 (CIE 1964) or 2 (CIE 1931)")(f)
     f = click.option("--illuminant", default="D65", show_default=True, help="CIE illuminant name (D65, D50, A, FL2, ...)")(f)
     return f
 
 
 def echo_json(obj) -> None:
+    """Print ``obj`` as indented UTF-8 JSON (NaN refused: the JSON stays standard).
+
+    Parameters
+    ----------
+    obj : object
+        JSON-ready.
+    """
     click.echo(json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False))
 
 
 def instrument_request(percent=None):
     """The :class:`swatch.io.instruments.Request` of the running command: its geometry, illuminant and
-    observer options, and which of them the user gave (those must agree with a measurement file)."""
+    observer options, and which of them the user gave (those must agree with a measurement file).
+
+    Parameters
+    ----------
+    percent : bool or None, optional
+        The reflectance unit (None: detect).
+
+    Returns
+    -------
+    swatch.io.instruments.Request
+    """
     from click.core import ParameterSource
 
     from swatch.io.instruments import Request
@@ -188,7 +370,18 @@ def instrument_request(percent=None):
 
 def unit_options(help_text: str):
     """``--percent`` / ``--fraction`` (the reflectance unit), passed to the command as ``percent``
-    (True, False, or None to detect); both together are refused (with a flag pair the last one won)."""
+    (True, False, or None to detect); both together are refused (with a flag pair the last one won).
+
+    Parameters
+    ----------
+    help_text : str
+        ``--percent``'s help.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
     import functools
 
     def deco(f):

@@ -53,7 +53,24 @@ _QUOTED = re.compile(r"`([A-Za-z_][A-Za-z0-9_]*)(?:=([^`]*))?`")
 
 
 def speak_flags(message: str) -> str:
-    """``message`` with every backquoted parameter of :data:`PARAMETER_FLAGS` written as its option."""
+    """``message`` with every backquoted parameter of :data:`PARAMETER_FLAGS` written as its option.
+
+    Parameters
+    ----------
+    message : str
+        A library error's one line.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> speak_flags("`thickness_nm` must be a number from 0 to 1000 nm (got 1200)")
+    '--thickness must be a number from 0 to 1000 nm (got 1200)'
+    >>> speak_flags("use a smaller `size_px`, or `environment=None`")
+    'use a smaller --size, or --environment none'
+    """
 
     def flag(m: re.Match) -> str:
         name, value = m.group(1), m.group(2)
