@@ -63,16 +63,14 @@ uniform int lod;  // the moments at 1 / 2^lod of the resolution (while the view 
 out vec4 outColor;
 void main() {
   uvec4 q = texelFetch(mom, ivec2(gl_FragCoord.xy) >> lod, 0);
-  vec3 lin = vec3(BG);
-  if (q.w != 0u) {
-    float m3 = unpackHalf2x16(q.w >> 16u).x;
-    int j = int((q.w >> 7u) & 511u) - 1;
-    float cover = float(q.w & 127u) / 127.0;  // of the pixel covered by the object
-    vec4 a = texelFetch(coef, ivec2(0, j), 0), b = texelFetch(coef, ivec2(1, j), 0), c = texelFetch(coef, ivec2(2, j), 0);
-    vec3 rad = uintBitsToFloat(q.x) * a.xyz + uintBitsToFloat(q.y) * vec3(a.w, b.xy)
-             + uintBitsToFloat(q.z) * vec3(b.zw, c.x) + m3 * c.yzw;
-    lin = mix(vec3(BG), tone3(rad), cover);
-  }
+  if (q.w == 0u) { outColor = vec4(vec3(BG_ENC), 1.0); return; }  // the background: no shading, no encoding
+  float m3 = unpackHalf2x16(q.w >> 16u).x;
+  int j = int((q.w >> 7u) & 511u) - 1;
+  float cover = float(q.w & 127u) / 127.0;  // of the pixel covered by the object
+  vec4 a = texelFetch(coef, ivec2(0, j), 0), b = texelFetch(coef, ivec2(1, j), 0), c = texelFetch(coef, ivec2(2, j), 0);
+  vec3 rad = uintBitsToFloat(q.x) * a.xyz + uintBitsToFloat(q.y) * vec3(a.w, b.xy)
+           + uintBitsToFloat(q.z) * vec3(b.zw, c.x) + m3 * c.yzw;
+  vec3 lin = mix(vec3(BG), tone3(rad), cover);
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 

@@ -20,7 +20,7 @@ uniform vec3 eye, fwd, right, up;
 uniform float tanHalf, aspect, bendR, bendPhi, bendH;
 uniform vec2 win;  // the window's centre (swatch.render.camera.Camera.fitted: cx, cy); tanHalf its half height
 uniform vec3 bendX, bendY, bendZ;  // the sheet's frame: across, its axis, towards its middle (page coordinates)
-const float BG = 0.18;
+const float BG = 0.18, BG_ENC = ${srgbEncodeFast(0.18).toFixed(9)};  // the background and its sRGB
 // Each shape gives, for the pixel's ray d, a signed distance e to its outline (world units; > 0 on the
 // object) and the normal n of the nearest surface point, defined on both sides of the outline: the pass
 // turns e into the pixel's coverage with its screen-space derivative (analytic antialiasing: one ray a
@@ -179,14 +179,12 @@ vec3 tableAt(float c) {
 }
 void main() {
   uvec4 q = texelFetch(geo, ivec2(gl_FragCoord.xy) >> lod, 0);
-  vec3 lin = vec3(BG);
-  if (q.w != 0u) {  // (a branch, not a select: the background skips it)
-    vec3 col = tableAt(uintBitsToFloat(q.x)) * (uintBitsToFloat(q.y) * exposure);
-    if (fill > 0.0) {  // a uniform white surround of radiance fill: the directional albedo of the view bin
-      col += fill * (bins > 0 ? texelFetch(alb, ivec2(0, int(q.w >> 8u)), 0).rgb : tableAt(uintBitsToFloat(q.z)));
-    }
-    lin = mix(lin, tone3(col), float(q.w & 255u) / 255.0);
+  if (q.w == 0u) { outColor = vec4(vec3(BG_ENC), 1.0); return; }  // the background: no shading, no encoding
+  vec3 col = tableAt(uintBitsToFloat(q.x)) * (uintBitsToFloat(q.y) * exposure);
+  if (fill > 0.0) {  // a uniform white surround of radiance fill: the directional albedo of the view bin
+    col += fill * (bins > 0 ? texelFetch(alb, ivec2(0, int(q.w >> 8u)), 0).rgb : tableAt(uintBitsToFloat(q.z)));
   }
+  vec3 lin = mix(vec3(BG), tone3(col), float(q.w & 255u) / 255.0);
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 
