@@ -1,5 +1,5 @@
-// view.js — the live WebGL2 view: a plate, a bent sheet or a sphere under one directional light
-// or an environment (envlight.js).
+// view.js — the live WebGL2 view: a plate, a bent sheet or a sphere (the scenes of swatch render, embedded by
+// the build: swatch.catalog.explorer.scene_data) under one directional light or an environment (envlight.js).
 // Point light, per pixel: cos(theta_d) = h.l picks the colour of the thin film from the embedded
 // table (one thickness row, linear sRGB from 2-degree XYZ, interpolated on the GPU); the microfacet
 // model multiplies it by pi D G / (4 cos_l cos_v) * cos_l (GGX, height-correlated Smith G:
