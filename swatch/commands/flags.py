@@ -41,6 +41,7 @@ PARAMETER_FLAGS = {
     "seed": "--seed",
     "timezone_h": "--sun-timezone",
     "illuminant": "--illuminant",
+    "observer": "--observer",
     "thickness_nm": "--thickness",
     "voltage_V": "--voltage",
     "light_deg": "--light",

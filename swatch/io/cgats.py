@@ -219,7 +219,7 @@ def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
     stated = _stated(ident, kw, source)
     geom = stated.get("geometry")
     check_agrees(source, "geometry", geom[0] if geom else None, geom[1] if geom else "", request, "geometry",
-                 (request.light_deg, request.view_deg), "--light/--view")
+                 (request.light_deg, request.view_deg), "`light_deg`/`view_deg`")
     light, view = geom[0] if geom else (request.light_deg, request.view_deg)
     if request.view_azimuth_deg is not None or request.light_azimuth_deg:
         raise SwatchError(f"{source}: azimuths apply to CSV files with angle columns; a CGATS file is in plane")
@@ -270,11 +270,11 @@ def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
 
 
 def _resolve(stated: dict, request: Request, source: str) -> tuple[str, str]:
-    for what, option in (("illuminant", "--illuminant"), ("observer", "--observer")):
+    for what, option in (("illuminant", "`illuminant`"), ("observer", "`observer`")):
         s = stated.get(what)
         cli = request.illuminant if what == "illuminant" else request.observer
         if s is not None and what in request.given:
-            cli_norm = parse_illuminant(cli, "--illuminant") if what == "illuminant" else parse_observer(cli, option)
+            cli_norm = parse_illuminant(cli, "`illuminant`") if what == "illuminant" else parse_observer(cli, option)
             check_agrees(source, what, s[0], s[1], request, what, cli_norm, option)
     ill = stated["illuminant"][0] if "illuminant" in stated else request.illuminant
     obs = stated["observer"][0] if "observer" in stated else request.observer
@@ -286,5 +286,5 @@ def _white(stated: dict, request: Request, source: str) -> tuple[str, str]:
     missing = [w for w in ("illuminant", "observer") if w not in stated and w not in request.given]
     if missing:
         raise SwatchError(f"{source}: CIE values without a white point: the file states no {' or '.join(missing)}; "
-                          "give --illuminant and --observer as measured (e.g. D50 and 2)")
+                          "give `illuminant` and `observer` as measured (e.g. D50 and 2)")
     return _resolve(stated, request, source)

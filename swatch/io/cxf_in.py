@@ -206,7 +206,7 @@ def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
             if geom is not None:
                 stated_geom.add(geom)
                 check_agrees(source, "geometry", geom, "its ColorSpecification", request, "geometry", cli_geom,
-                             "--light/--view")
+                             "`light_deg`/`view_deg`")
             geom = geom if geom is not None else cli_geom
             if kind == "ReflectanceSpectrum":
                 inc = getattr(getattr(getattr(spec, "measurement_spec", None), "wavelength_range", None),
@@ -254,7 +254,7 @@ def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
             missing = [n for n, v in (("illuminant", w_ill), ("observer", w_obs)) if v is None]
             if not all(m in request.given for m in missing):
                 raise SwatchError(f"{source}: CIELAB without a white point: its ColorSpecification states no "
-                                  f"{' or '.join(missing)}; give --illuminant and --observer as measured")
+                                  f"{' or '.join(missing)}; give `illuminant` and `observer` as measured")
         if w_ill == "custom":
             raise SwatchError(f"{source}: CIELAB under a custom illuminant; swatch reads CIE illuminants "
                               "(or give the spectra)")
@@ -263,13 +263,13 @@ def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
             stated["illuminant"] = ill
             if "illuminant" in request.given:
                 check_agrees(source, "illuminant", ill, "TristimulusSpec", request, "illuminant",
-                             parse_illuminant(request.illuminant, "--illuminant"), "--illuminant")
+                             parse_illuminant(request.illuminant, "`illuminant`"), "`illuminant`")
         if w_obs is not None:
             obs = parse_observer(w_obs, source)
             stated["observer"] = obs
             if "observer" in request.given:
                 check_agrees(source, "observer", obs, "TristimulusSpec", request, "observer",
-                             parse_observer(request.observer, "--observer"), "--observer")
+                             parse_observer(request.observer, "`observer`"), "`observer`")
     if stated_geom:
         stated["geometry"] = ", ".join(f"{a:g}:{b:g}" for a, b in sorted(stated_geom))
     return InstrumentFile(source, "cxf3", out, ill, obs, stated)

@@ -271,7 +271,8 @@ def check_agrees(source: str, what: str, stated, where: str, request: Request, g
     cli_value : tuple of float or str
         The option's value.
     option : str
-        The option's name, for the message.
+        The parameter's name in backquotes (```illuminant```, ```light_deg```/```view_deg```), for the
+        message: the CLI speaks it as its flag (:mod:`swatch.commands.flags`).
 
     Returns
     -------
@@ -289,8 +290,8 @@ def check_agrees(source: str, what: str, stated, where: str, request: Request, g
     if not same:
         shown = geometry_name(*stated) if isinstance(stated, tuple) else stated
         cli = geometry_name(*cli_value) if isinstance(cli_value, tuple) else cli_value
-        raise SwatchError(f"{source}: the file states {what} {shown} ({where}) but the command line gives {option} "
-                          f"{cli}; leave the option out to use the file's, or measure under {cli}")
+        raise SwatchError(f"{source}: the file states {what} {shown} ({where}) but {option} {cli} was given; leave it "
+                          f"out to use the file's, or measure under {cli}")
 
 
 def _finite(values: np.ndarray, source: str, sample_id: str, what: str) -> None:

@@ -13,10 +13,7 @@ from swatch.fit.matching import match_colour
 PKG = Path(__file__).resolve().parents[2] / "swatch"
 
 #: Library modules whose errors still name CLI flags, each with its reason (to convert with their owners).
-STILL_NAMING_FLAGS = {
-    "io/cgats.py": "instrument files checked against --light/--view/--illuminant; its branch converts them",
-    "io/cxf_in.py": "as io/cgats.py (--illuminant, --observer of a CxF file)",
-}
+STILL_NAMING_FLAGS: dict[str, str] = {}
 
 
 def test_parameters_are_spoken_as_flags():
