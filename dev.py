@@ -70,7 +70,9 @@ def test_workers(args: list[str]) -> list[str]:
     file runs on one worker, so its module-scoped catalogs are built once; each worker starts the
     suite's one Chromium and small catalog only if it runs a browser file). ``loadgroup`` would keep
     every browser test on one worker, but pytest-xdist 3.8 cannot tag groups under pytest 9 (it sets
-    ``item._nodeid``, which pytest 9 no longer reads). A run of named files or tests, or one that
+    ``item._nodeid``, which pytest 9 no longer reads). ``--no-loadscope-reorder``: xdist hands the files
+    out in the order the workers collected them, which tests/conftest.py sets longest first (xdist's own
+    order, most tests first, put the longest file near the end). A run of named files or tests, or one that
     says ``-n``/``--dist``/``-p no:xdist`` itself, stays as asked; ``SWATCH_TEST_WORKERS=0`` runs the
     suite in one process."""
     workers = os.environ.get("SWATCH_TEST_WORKERS", "2")
@@ -78,7 +80,7 @@ def test_workers(args: list[str]) -> list[str]:
     asked = any(a.startswith(("-n", "--numprocesses", "--dist")) or a == "no:xdist" for a in args)
     if named or asked or workers in {"", "0", "1"}:
         return []
-    return ["-n", workers, "--dist", "loadfile"]
+    return ["-n", workers, "--dist", "loadfile", "--no-loadscope-reorder"]
 
 
 def main(argv: list[str]) -> int:

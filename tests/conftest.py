@@ -6,14 +6,60 @@ before, each browser file launched its own Chromium and built its own copy of th
 Under pytest-xdist (``python3 dev.py test`` runs the whole suite on two workers, ``--dist loadfile``)
 each worker starts them at most once, when it runs a browser file.
 
+Under xdist the longest files run first (:data:`LONGEST_FIRST`, :func:`pytest_collection_modifyitems`;
+dev.py passes ``--no-loadscope-reorder`` so that xdist keeps that order instead of ordering files by their
+number of tests): with ``--dist loadfile`` a long file started last kept one worker busy while the other
+idled (issue 17 item 7).
+
 Markers are set in each test file (``pytestmark = pytest.mark.slow``: builds catalogs, drives
 Chromium or runs processes; ``pytest -m "not slow"`` leaves them out, CI runs every test).
 """
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chromium
+
+#: The suite's longest files, longest first: seconds per file (sum of its tests' durations) in the run
+#: ``python -m pytest -n 2 --dist loadfile --durations=0`` of 2026-12-02 (2 workers, VM load 6–8; 789 s
+#: wall in all). Files not named run after these, in collection order. A name that no longer exists is
+#: harmless; a new long file belongs here.
+LONGEST_FIRST = (
+    "tests/commands/test_hardening_memory_caps.py",  # 180 s
+    "tests/catalog/test_catalog_layout_browser.py",  # 122
+    "tests/core/test_hardening_runs.py",  # 108
+    "tests/catalog/test_catalog_explorer_env_browser.py",  # 78
+    "tests/presets/test_presets.py",  # 71
+    "tests/mitsuba/test_mitsuba_checks.py",  # 68
+    "tests/mitsuba/test_mitsuba_determinism.py",  # 60
+    "tests/catalog/test_catalog_hero.py",  # 58
+    "tests/physics/test_spread.py",  # 44
+    "tests/catalog/test_hardening_escape.py",  # 41
+    "tests/catalog/test_catalog_browser.py",  # 34
+    "tests/fit/test_fit.py",  # 34
+    "tests/presets/test_presets_mitsuba.py",  # 34
+    "tests/catalog/test_catalog_layout.py",  # 34
+    "tests/catalog/test_hardening.py",  # 33
+    "tests/commands/test_hardening_inputs.py",  # 33
+    "tests/catalog/test_catalog_build.py",  # 27
+    "tests/catalog/test_catalog_explorer_browser.py",  # 25
+    "tests/colorimetry/test_colorimetry.py",  # 23
+    "tests/mitsuba/test_mitsuba_render.py",  # 22
+    "tests/commands/test_hardening_memory.py",  # 21
+    "tests/catalog/test_page_js.py",  # 20
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    """In an xdist worker, put the files of :data:`LONGEST_FIRST` first, in its order (a stable sort: the
+    tests of a file keep their order, the other files theirs). Every worker sorts alike, so their
+    collections stay identical; a run in one process keeps the collection order."""
+    if not os.environ.get("PYTEST_XDIST_WORKER"):
+        return
+    rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
+    items.sort(key=lambda item: rank.get(item.nodeid.split("::", 1)[0], len(rank)))
 
 
 @pytest.fixture(scope="session")
