@@ -309,7 +309,9 @@ def _bins(samples: SampleSet, cv):
     return samples.bins - 1 - np.clip(k, 0, samples.bins - 1)
 
 
-CHUNK = 8192
+#: Points per chunk of the gather (and of combine): ~256 k sample lookups a chunk keeps the temporaries
+#: in cache (8192 points × 128 samples took twice the CPU time of 2048); results do not depend on it.
+CHUNK = 2048
 
 
 def level_table(samples, maps) -> np.ndarray:
