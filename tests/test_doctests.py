@@ -16,6 +16,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.physics.materials",
     "swatch.physics.model",
     "swatch.physics.overcoat",
+    "swatch.physics.growth",
     "swatch.physics.spread",
     "swatch.physics.process",
     "swatch.colorimetry.appearance",

@@ -15,8 +15,6 @@ import tomllib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-import numpy as np
-
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
 from swatch.catalog.geometry import DEFAULT_ASPECULAR_DEG, Geometry, geometry_name
 from swatch.catalog.spec_checks import SpecChecker, spec_material, spec_process, spec_range
@@ -26,6 +24,7 @@ from swatch.core.choices import FINISHES, MODELS, SHAPES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CHIP_PX, MAX_SPEC_BYTES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_text_capped
 from swatch.physics.finishes import get_finish
+from swatch.physics.growth import growth_law_nm, thickness_to_voltage_V
 from swatch.physics.process import DEFAULT_PROCESS
 from swatch.physics.spread import ThicknessSpread
 
@@ -156,12 +155,8 @@ class CatalogSpec:
         numpy.ndarray or None
             V, the shape of ``thickness_nm``; None without a rate.
         """
-        from swatch.physics.model import thickness_to_voltage_V  # lazy: see tests/test_layers.py
-
         if self.nm_per_V is None:
             return None
-        if self.knee_V is None:
-            return (np.asarray(thickness_nm, dtype=np.float64) - self.offset_nm) / self.nm_per_V
         return thickness_to_voltage_V(thickness_nm, self.nm_per_V, self.offset_nm, self.knee_V,
                                       self.nm_per_V_above_knee)
 
@@ -278,9 +273,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
             raise SwatchError(f"{source}: process {proc.name} has no growth rate, so the catalog needs a "
                               "[thickness] table (or nm_per_V, or a calibrated profile)")
         volts = spec_range(c, data["voltage"], "voltage", "V", MAX_VOLTAGE_V)
-        d = [proc.offset_nm + v * rate for v in volts] if proc.knee_V is None else [
-            proc.offset_nm + rate * min(v, proc.knee_V) + proc.nm_per_V_above_knee * max(v - proc.knee_V, 0.0)
-            for v in volts]
+        d = growth_law_nm(volts, rate, proc.offset_nm, proc.knee_V, proc.nm_per_V_above_knee).tolist()
         for v, t in zip(volts, d, strict=True):
             if not 0 <= t <= MAX_THICKNESS_NM:
                 c.fail("voltage", f"{v:g} V gives {t:g} nm at {rate:g} nm/V + {proc.offset_nm:g} nm; "

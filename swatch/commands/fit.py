@@ -10,7 +10,7 @@ from swatch.commands import common
 from swatch.core import choices
 from swatch.core.errors import SwatchError
 from swatch.core.ranges import parse_pair
-from swatch.physics.model import DEFAULT_NM_PER_V
+from swatch.physics.growth import DEFAULT_NM_PER_V
 
 _RANGE_DEFAULT = "{:g}:{:g}".format(*choices.DEFAULT_THICKNESS_RANGE_NM)
 

@@ -14,7 +14,8 @@ from swatch.core.errors import SwatchError
 from swatch.fit.fitting import FacetModel, model_reflectance, sweep_reflectance
 from swatch.fit.search import N_REFINE, check_search_range, multimodal_search
 from swatch.physics import geometry
-from swatch.physics.model import DEFAULT_NM_PER_V, Coating, get_coating, thickness_to_voltage_V
+from swatch.physics.growth import DEFAULT_NM_PER_V, thickness_to_voltage_V
+from swatch.physics.model import Coating, get_coating
 
 __all__ = ["MatchResult", "match_colour", "judge_candidates", "MATCH_MIN_SEPARATION_NM"]
 

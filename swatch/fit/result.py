@@ -12,8 +12,8 @@ from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.errors import SwatchError
 from swatch.fit.fitting import mirror_angle_deg
 from swatch.physics import geometry
+from swatch.physics.growth import DEFAULT_NM_PER_V, thickness_to_voltage_V
 from swatch.physics.materials import wavelength_grid
-from swatch.physics.model import DEFAULT_NM_PER_V, thickness_to_voltage_V
 
 __all__ = ["FitResult", "colour_grid", "interp_rows", "geometry_arrays", "used_geometries", "colour_summary",
            "search_fields", "geometry_fields", "delta_e_grid", "MIN_COLOUR_SAMPLES"]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
+from swatch.core.limits import MAX_THICKNESS_NM
 from swatch.physics import geometry, optics
 from swatch.physics.materials import (
     DEFAULT_FILM,
@@ -25,24 +25,15 @@ from swatch.physics.materials import (
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread, spread_average
 
 __all__ = [
-    "DEFAULT_NM_PER_V",
     "Coating",
     "HalfVector",
     "averaged_over_spread",
     "check_no_amplitudes",
     "get_coating",
     "check_thickness_nm",
-    "voltage_to_thickness_nm",
-    "thickness_to_voltage_V",
     "intensity_correction",
     "intensity_scale",
 ]
-
-#: Anodic growth rate, nm per volt: the paper's blue sample (Fig. 3) was anodised at 25 V and its
-#: thickness estimated at 50.8 nm (Table 2), i.e. 2.032 nm/V. Published anodic-TiO2 rates are
-#: 1.5–3 nm/V depending on electrolyte; override it with ``--nm-per-volt``.
-DEFAULT_NM_PER_V = 50.8 / 25.0
-
 
 def check_thickness_nm(thickness_nm) -> np.ndarray:
     """Film thicknesses, checked: the one check of a thickness the library is given (issue 17).
@@ -80,95 +71,6 @@ def check_thickness_nm(thickness_nm) -> np.ndarray:
         raise SwatchError(f"`thickness_nm` must be a number from 0 to {MAX_THICKNESS_NM:g} nm "
                           f"(got {float(d.reshape(-1)[bad.reshape(-1)][0]):g})")
     return d
-
-
-def _check_rate(nm_per_V: float) -> float:
-    if not (isinstance(nm_per_V, (int, float)) and math.isfinite(nm_per_V) and 0.1 <= nm_per_V <= 10):
-        raise SwatchError("growth rate must be between 0.1 and 10 nm per volt")
-    return float(nm_per_V)
-
-
-def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
-                            knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
-    """Film thickness for an anodising voltage by the growth law ``offset_nm + nm_per_V × voltage_V``
-    (with a knee: ``nm_per_V`` up to ``knee_V`` and ``nm_per_V_above_knee`` beyond it, continuous).
-
-    Parameters
-    ----------
-    voltage_V : array_like
-        Anodising (cell) voltage, V, from 0 to ``MAX_VOLTAGE_V``.
-    nm_per_V : float
-        Growth rate, nm per volt.
-    offset_nm : float
-        Thickness at 0 V (the initial oxide), nm.
-    knee_V, nm_per_V_above_knee : float or None
-        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
-
-    Returns
-    -------
-    numpy.ndarray
-        Film thickness, nm, float64, the shape of ``voltage_V``.
-
-    Raises
-    ------
-    SwatchError
-        Naming ```voltage_V``` (the CLI: ``--voltage``) for a voltage out of range or one whose film
-        is outside what the model takes (0 to ``MAX_THICKNESS_NM``); for a growth rate out of range.
-    """
-    v = np.asarray(voltage_V, dtype=np.float64)
-    if v.size == 0:
-        raise SwatchError("no voltage given (`voltage_V` is empty)")
-    bad = ~(np.isfinite(v) & (v >= 0) & (v <= MAX_VOLTAGE_V))
-    if bad.any():
-        raise SwatchError(f"`voltage_V` must be a number from 0 to {MAX_VOLTAGE_V:g} V "
-                          f"(got {float(v.reshape(-1)[bad.reshape(-1)][0]):g})")
-    rate = _check_rate(nm_per_V)
-    if knee_V is None or nm_per_V_above_knee is None:
-        d = float(offset_nm) + v * rate
-    else:
-        k = float(knee_V)
-        d = float(offset_nm) + rate * np.minimum(v, k) + _check_rate(nm_per_V_above_knee) * np.maximum(v - k, 0.0)
-    d = np.asarray(d, dtype=np.float64)
-    out = ~((d >= 0) & (d <= MAX_THICKNESS_NM))
-    if out.any():
-        raise SwatchError(f"`voltage_V` {float(v.reshape(-1)[out.reshape(-1)][0]):g} V gives a "
-                          f"{float(d.reshape(-1)[out.reshape(-1)][0]):g} nm film by the growth law; the model takes "
-                          f"0 to {MAX_THICKNESS_NM:g} nm")
-    return d
-
-
-def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
-                           knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
-    """Anodising voltage for a film thickness, V: the inverse of :func:`voltage_to_thickness_nm`.
-
-    Parameters
-    ----------
-    thickness_nm : array_like
-        Film thickness, nm.
-    nm_per_V : float
-        Growth rate, nm per volt (up to the knee, with one).
-    offset_nm : float
-        Thickness at 0 V (the initial oxide), nm.
-    knee_V, nm_per_V_above_knee : float or None
-        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
-
-    Returns
-    -------
-    numpy.ndarray, float64, the shape of ``thickness_nm``
-        Voltage, V. Below the initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film.
-
-    Examples
-    --------
-    >>> float(thickness_to_voltage_V(101.6, nm_per_V=2.032))
-    50.0
-    """
-    d = np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)
-    rate = _check_rate(nm_per_V)
-    if knee_V is None or nm_per_V_above_knee is None:
-        return d / rate
-    k = float(knee_V)
-    at_knee = rate * k
-    return np.where(d <= at_knee, d / rate, k + (d - at_knee) / _check_rate(nm_per_V_above_knee))
 
 
 def intensity_scale(simulated, measured) -> np.ndarray:

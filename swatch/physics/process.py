@@ -29,6 +29,7 @@ from swatch.core.limits import (
     MAX_VOLTAGE_V,
     read_capped,
 )
+from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
 from swatch.physics.materials import list_materials, tables_dir
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 
@@ -147,8 +148,6 @@ class Process:
         >>> float(load_process("titanium-fujii2019").thickness_nm(25.0))
         50.8
         """
-        from swatch.physics.model import voltage_to_thickness_nm  # lazy: see tests/test_layers.py
-
         return voltage_to_thickness_nm(voltage_V, self._rate(), self.offset_nm, self.knee_V, self.nm_per_V_above_knee)
 
     def voltage_V(self, thickness_nm) -> np.ndarray | None:
@@ -164,8 +163,6 @@ class Process:
         numpy.ndarray or None
             Voltage, V, the shape of ``thickness_nm``; None when the profile has no growth rate.
         """
-        from swatch.physics.model import thickness_to_voltage_V  # lazy: see tests/test_layers.py
-
         if self.nm_per_V is None:
             return None
         return thickness_to_voltage_V(thickness_nm, self.nm_per_V, self.offset_nm, self.knee_V,

@@ -29,8 +29,9 @@ from swatch.fit.result import colour_grid, interp_rows
 from swatch.io.instruments import InstrumentFile
 from swatch.io.measurements import LabMeasurement, SpectralMeasurement
 from swatch.physics import geometry
+from swatch.physics.growth import thickness_to_voltage_V
 from swatch.physics.materials import wavelength_grid
-from swatch.physics.model import get_coating, thickness_to_voltage_V
+from swatch.physics.model import get_coating
 from swatch.physics.spread import ThicknessSpread
 
 __all__ = ["load_spec_json", "check_spec", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from swatch.physics.model import DEFAULT_NM_PER_V
+from swatch.physics.growth import DEFAULT_NM_PER_V
 from tests.cli_helpers import assert_one_line_error, run_json, run_swatch, run_swatch_process
 
 

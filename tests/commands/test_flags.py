@@ -87,7 +87,7 @@ def test_thickness_voltage_and_angles_are_checked_once_and_spoken_as_the_callers
     in the message."""
     import pytest
 
-    from swatch.physics.model import voltage_to_thickness_nm
+    from swatch.physics.growth import voltage_to_thickness_nm
     from swatch.render import render_swatch
     from tests.cli_helpers import assert_one_line_error, run_swatch
 

@@ -19,7 +19,8 @@ from swatch.core.errors import SwatchError
 from swatch.fit import calibration_table as ctab
 from swatch.fit.calibration import calibrate
 from swatch.io.coupons import read_coupons
-from swatch.physics.model import get_coating, thickness_to_voltage_V, voltage_to_thickness_nm
+from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
+from swatch.physics.model import get_coating
 from swatch.physics.process import load_process, process_toml
 from swatch.physics.spread import ThicknessSpread
 from tests.cli_helpers import assert_one_line_error, run_swatch

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swatch.core.errors import SwatchError
-from swatch.physics import model, overcoat
+from swatch.physics import growth, model, overcoat
 
 
 def test_half_vector_reflectance_equals_tmm_at_theta_d():
@@ -54,16 +54,16 @@ def test_voltage_conversion_round_trip():
     from swatch.physics.materials import tables_dir
 
     profile = tomllib.loads((tables_dir() / "processes" / "titanium-fujii2019.toml").read_text(encoding="utf-8"))
-    assert profile["nm_per_V"] == pytest.approx(model.DEFAULT_NM_PER_V)  # the paper's 50.8 nm at 25 V
-    assert model.voltage_to_thickness_nm(10.0, 3.0) == pytest.approx(30.0)
-    assert model.voltage_to_thickness_nm(10.0, 3.0, offset_nm=5.0) == pytest.approx(35.0)
-    assert model.thickness_to_voltage_V(35.0, 3.0, offset_nm=5.0) == pytest.approx(10.0)
+    assert profile["nm_per_V"] == pytest.approx(growth.DEFAULT_NM_PER_V)  # the paper's 50.8 nm at 25 V
+    assert growth.voltage_to_thickness_nm(10.0, 3.0) == pytest.approx(30.0)
+    assert growth.voltage_to_thickness_nm(10.0, 3.0, offset_nm=5.0) == pytest.approx(35.0)
+    assert growth.thickness_to_voltage_V(35.0, 3.0, offset_nm=5.0) == pytest.approx(10.0)
     volts = np.array([0.0, 7.5, 42.0, 110.0])
-    assert model.thickness_to_voltage_V(model.voltage_to_thickness_nm(volts, 2.5, 3.0), 2.5, 3.0) == pytest.approx(volts)
+    assert growth.thickness_to_voltage_V(growth.voltage_to_thickness_nm(volts, 2.5, 3.0), 2.5, 3.0) == pytest.approx(volts)
     with pytest.raises(SwatchError, match="growth rate"):
-        model.voltage_to_thickness_nm(10.0, 0.0)
+        growth.voltage_to_thickness_nm(10.0, 0.0)
     with pytest.raises(SwatchError, match="voltage"):
-        model.voltage_to_thickness_nm(-1.0)
+        growth.voltage_to_thickness_nm(-1.0)
 
 
 @pytest.mark.parametrize("bad", [-0.1, np.nan, 1000.5, np.inf])

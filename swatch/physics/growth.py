@@ -1,0 +1,163 @@
+"""The anodic growth law: film thickness from the anodising voltage and back (numpy only).
+
+``thickness = offset_nm + nm_per_V × voltage_V``, or with a knee ``nm_per_V`` up to ``knee_V`` and
+``nm_per_V_above_knee`` beyond it (continuous). Light (no optics), so a process profile and a catalog
+spec use it at import time, and every caller computes the law the same way (:func:`growth_law_nm`).
+
+References
+----------
+M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+Structure", IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030 (Table 2:
+50.8 nm at 25 V).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
+
+__all__ = ["DEFAULT_NM_PER_V", "check_growth_rate", "growth_law_nm", "voltage_to_thickness_nm",
+           "thickness_to_voltage_V"]
+
+#: Anodic growth rate, nm per volt: the paper's blue sample (Fig. 3) was anodised at 25 V and its
+#: thickness estimated at 50.8 nm (Table 2), i.e. 2.032 nm/V. Published anodic-TiO2 rates are
+#: 1.5–3 nm/V depending on electrolyte; override it with ``--nm-per-volt``.
+DEFAULT_NM_PER_V = 50.8 / 25.0
+
+
+def check_growth_rate(nm_per_V: float) -> float:
+    """A growth rate, checked: a number from 0.1 to 10 nm/V.
+
+    Parameters
+    ----------
+    nm_per_V : float
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    SwatchError
+        Otherwise.
+    """
+    if not (isinstance(nm_per_V, (int, float)) and math.isfinite(nm_per_V) and 0.1 <= nm_per_V <= 10):
+        raise SwatchError("growth rate must be between 0.1 and 10 nm per volt")
+    return float(nm_per_V)
+
+
+def growth_law_nm(voltage_V, nm_per_V: float, offset_nm: float = 0.0, knee_V: float | None = None,
+                  nm_per_V_above_knee: float | None = None) -> np.ndarray:
+    """The growth law itself, unchecked (callers check their inputs and outputs their own way).
+
+    Parameters
+    ----------
+    voltage_V : array_like
+        Anodising voltage, V.
+    nm_per_V : float
+        Growth rate, nm/V (up to the knee, with one).
+    offset_nm : float, optional
+        Thickness at 0 V, nm.
+    knee_V, nm_per_V_above_knee : float or None, optional
+        The knee (V) and the rate above it (nm/V); None: linear.
+
+    Returns
+    -------
+    numpy.ndarray
+        Thickness, nm, float64, the shape of ``voltage_V``.
+
+    Examples
+    --------
+    >>> growth_law_nm([25.0, 100.0], 2.032).tolist()
+    [50.8, 203.2]
+    >>> float(growth_law_nm(100.0, 2.0, 4.0, knee_V=50.0, nm_per_V_above_knee=3.0))
+    254.0
+    """
+    v = np.asarray(voltage_V, dtype=np.float64)
+    if knee_V is None or nm_per_V_above_knee is None:
+        return np.asarray(float(offset_nm) + v * nm_per_V, dtype=np.float64)
+    k = float(knee_V)
+    return np.asarray(float(offset_nm) + nm_per_V * np.minimum(v, k) + nm_per_V_above_knee * np.maximum(v - k, 0.0),
+                      dtype=np.float64)
+
+
+def voltage_to_thickness_nm(voltage_V, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
+                            knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
+    """Film thickness for an anodising voltage by the growth law ``offset_nm + nm_per_V × voltage_V``
+    (with a knee: ``nm_per_V`` up to ``knee_V`` and ``nm_per_V_above_knee`` beyond it, continuous).
+
+    Parameters
+    ----------
+    voltage_V : array_like
+        Anodising (cell) voltage, V, from 0 to ``MAX_VOLTAGE_V``.
+    nm_per_V : float
+        Growth rate, nm per volt.
+    offset_nm : float
+        Thickness at 0 V (the initial oxide), nm.
+    knee_V, nm_per_V_above_knee : float or None
+        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
+
+    Returns
+    -------
+    numpy.ndarray
+        Film thickness, nm, float64, the shape of ``voltage_V``.
+
+    Raises
+    ------
+    SwatchError
+        Naming ```voltage_V``` (the CLI: ``--voltage``) for a voltage out of range or one whose film
+        is outside what the model takes (0 to ``MAX_THICKNESS_NM``); for a growth rate out of range.
+    """
+    v = np.asarray(voltage_V, dtype=np.float64)
+    if v.size == 0:
+        raise SwatchError("no voltage given (`voltage_V` is empty)")
+    bad = ~(np.isfinite(v) & (v >= 0) & (v <= MAX_VOLTAGE_V))
+    if bad.any():
+        raise SwatchError(f"`voltage_V` must be a number from 0 to {MAX_VOLTAGE_V:g} V "
+                          f"(got {float(v.reshape(-1)[bad.reshape(-1)][0]):g})")
+    rate = check_growth_rate(nm_per_V)
+    above = None if knee_V is None or nm_per_V_above_knee is None else check_growth_rate(nm_per_V_above_knee)
+    d = growth_law_nm(v, rate, offset_nm, knee_V if above is not None else None, above)
+    out = ~((d >= 0) & (d <= MAX_THICKNESS_NM))
+    if out.any():
+        raise SwatchError(f"`voltage_V` {float(v.reshape(-1)[out.reshape(-1)][0]):g} V gives a "
+                          f"{float(d.reshape(-1)[out.reshape(-1)][0]):g} nm film by the growth law; the model takes "
+                          f"0 to {MAX_THICKNESS_NM:g} nm")
+    return d
+
+
+def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, offset_nm: float = 0.0,
+                           knee_V: float | None = None, nm_per_V_above_knee: float | None = None) -> np.ndarray:
+    """Anodising voltage for a film thickness, V: the inverse of :func:`voltage_to_thickness_nm`.
+
+    Parameters
+    ----------
+    thickness_nm : array_like
+        Film thickness, nm.
+    nm_per_V : float
+        Growth rate, nm per volt (up to the knee, with one).
+    offset_nm : float
+        Thickness at 0 V (the initial oxide), nm.
+    knee_V, nm_per_V_above_knee : float or None
+        A two-slope law's knee voltage (V) and its rate above the knee (nm/V); None: linear.
+
+    Returns
+    -------
+    numpy.ndarray, float64, the shape of ``thickness_nm``
+        Voltage, V. Below the initial oxide ``offset_nm`` it is negative: no voltage grows so thin a film.
+
+    Examples
+    --------
+    >>> float(thickness_to_voltage_V(101.6, nm_per_V=2.032))
+    50.0
+    """
+    d = np.asarray(thickness_nm, dtype=np.float64) - float(offset_nm)
+    rate = check_growth_rate(nm_per_V)
+    if knee_V is None or nm_per_V_above_knee is None:
+        return d / rate
+    k = float(knee_V)
+    at_knee = rate * k
+    return np.where(d <= at_knee, d / rate, k + (d - at_knee) / check_growth_rate(nm_per_V_above_knee))
