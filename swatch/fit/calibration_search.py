@@ -22,13 +22,13 @@ coupons leave enough degrees of freedom.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00
 from swatch.core.limits import MAX_COUPONS, plan_rows
+from swatch.fit.batch_lm import batch_lm
 from swatch.fit.calibration_table import TABLE_SCALES, TABLE_SPREADS, U_MAX_NM, U_STEP_NM, ComboTable
 
 __all__ = ["Problem", "ModelFit", "PARAMS", "MODELS", "fit_model",
@@ -135,59 +135,6 @@ def _residuals(table, prob, X, weights, spread: bool, robust: bool, row=None) ->
     return np.concatenate(rows, axis=1)
 
 
-def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarray, free: list[int],
-             iters: int = 30) -> tuple[np.ndarray, np.ndarray]:
-    """Levenberg–Marquardt on a batch of problems (each iteration vectorised over the batch; forward-difference Jacobians).
-
-    Parameters
-    ----------
-    resid : callable
-        ``resid(X, rows)`` → residuals (len(rows), M) of parameter rows X for the batch's problems ``rows``.
-    X0 : numpy.ndarray, shape (B, 6)
-        Starting rows (clipped to the parameters' bounds).
-    free : list of int
-        The free parameters' indices in :data:`PARAMS`.
-    iters : int
-
-    Returns
-    -------
-    (numpy.ndarray, numpy.ndarray)
-        The parameters (B, 6) and costs (B,).
-    """
-    X = np.clip(X0.astype(np.float64), LO, HI)
-    B, P = X.shape[0], len(free)
-    batch = np.arange(B)
-    h = _STEPS[free]
-
-    def at(Xc):
-        """Residuals at rows Xc (B, 6) and their forward-difference Jacobian, in ONE call of ``resid``
-        (B·(P + 1) rows: each call costs colour-science's fixed overhead, ~4 ms)."""
-        Xs = np.repeat(Xc[:, None, :], P + 1, axis=1)
-        Xs[:, 1 + np.arange(P), free] += h
-        Rs = resid(Xs.reshape(B * (P + 1), -1), np.repeat(batch, P + 1)).reshape(B, P + 1, -1)
-        return Rs[:, 0], (Rs[:, 1:] - Rs[:, :1]) / h[None, :, None]  # (B, M), (B, P, M)
-
-    r, J = at(X)
-    cost = np.sum(r * r, axis=1)
-    lam = np.full(B, 1e-3)
-    for _ in range(iters):  # iterations of the whole batch (each one vectorised)
-        A = J @ np.swapaxes(J, 1, 2)
-        g = np.einsum("bpm,bm->bp", J, r)
-        diag = np.einsum("bpp->bp", A)
-        Areg = A + (lam[:, None] * (diag + 1e-12))[..., None] * np.eye(P)
-        step = -np.linalg.solve(Areg, g[..., None])[..., 0]
-        Xn = X.copy()
-        Xn[:, free] = np.clip(X[:, free] + step, LO[free], HI[free])
-        rn, Jn = at(Xn)  # the trial point and, should it be taken, its Jacobian (a refused step keeps J)
-        cn = np.sum(rn * rn, axis=1)
-        better = cn < cost
-        X[better], r[better], cost[better], J[better] = Xn[better], rn[better], cn[better], Jn[better]
-        lam = np.where(better, lam * 0.3, lam * 10.0)
-        if np.all(lam > 1e8) or np.all(np.abs(step) < 1e-9):
-            break
-    return X, cost
-
-
 @dataclass
 class ModelFit:
     """One model fitted to one table pair.
@@ -261,7 +208,7 @@ def fit_model(table: ComboTable, prob: Problem, names: tuple[str, ...], starts: 
     def resid(X, rows):
         return _residuals(table, prob, X, weights[rows], spread, robust)
 
-    X, cost = batch_lm(resid, starts, free, iters=iters)
+    X, cost = batch_lm(resid, starts, free, LO, HI, _STEPS, iters=iters)
     best = X[int(np.argmin(cost))]
     dE = delta_E_00(predict_Lab(table, prob, best[None], spread)[0], prob.Lab)
     return ModelFit(model, tuple(names), best, dE)
@@ -316,7 +263,7 @@ def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndar
     def resid(X, rows):
         return _residuals(table, prob, X, W[rows], spread, False)
 
-    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, iters=6)
+    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, LO, HI, _STEPS, iters=6)
     Lab = predict_Lab(table, prob, X, spread)  # (K, N, 3)
     out = np.full(prob.n, np.nan)
     out[idx] = delta_E_00(Lab[np.arange(idx.size), idx], prob.Lab[idx])
@@ -474,7 +421,7 @@ def screen(tables: list[ComboTable], prob: Problem, scale0: float, knee: bool, i
         def resid(X, rows):
             return _residuals(stack, prob, X, np.broadcast_to(ones, (rows.size, prob.n)), False, True, of[rows])
 
-        X, cost = batch_lm(resid, X0, _free_index(names), iters=iters)
+        X, cost = batch_lm(resid, X0, _free_index(names), LO, HI, _STEPS, iters=iters)
         best = {}
         for k in np.unique(of):
             i = np.flatnonzero(of == k)
