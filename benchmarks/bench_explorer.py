@@ -9,8 +9,8 @@ second) in software WebGL. (The page opens under the studio environment since is
 silently measured that default, not the point light.)
 ``explorer_env_frame_ms``: the same under the ``studio`` environment (the shade pass: four moments per
 pixel, per-bin coefficients computed in JavaScript per thickness). ``explorer_env_gather_ms``: median
-time of a geometry change under ``studio`` (the gather pass over the 24 samples per pixel, then a
-frame), the view angle of the sphere stepped 0–60°.
+time of a geometry change under ``studio`` (the gather pass over the renderer's samples per pixel,
+``env_shading.SAMPLES``, then a frame), the view angle of the sphere stepped 0–60°.
 Skipped (a line saying so) when /usr/bin/chromium or Playwright is missing.
 """
 from __future__ import annotations
