@@ -16,6 +16,7 @@ uniform sampler2D samp, wts, atlas;
 uniform vec4 levels[8];
 uniform vec2 atlasSize;
 uniform int bins;
+uniform int stride;  // every stride-th sample, weighted stride times (1; more while the view is dragged)
 layout(location = 0) out uvec4 outM;
 vec3 toEnv(vec3 p) { return vec3(-p.y, p.z, -p.x); }
 vec3 toPage(vec3 e) { return vec3(-e.z, -e.x, e.y); }
@@ -39,7 +40,7 @@ void main() {
   float th = acos(clamp(cv, 0.0, 1.0));
   int j = bins - 1 - clamp(int(th * (float(bins) / 1.5707963267948966)), 0, bins - 1);
   vec4 m = vec4(0.0);
-  for (int i = 0; i < NSAMPLES; i++) {
+  for (int i = 0; i < NSAMPLES; i += stride) {
     vec4 s = texelFetch(samp, ivec2(i, j), 0);  // local direction (normal z, view in +x), level
     vec3 e = toEnv(s.x * t + s.y * b + s.z * n);
     float inv = 1.0 / (abs(e.x) + abs(e.y) + abs(e.z));
@@ -51,6 +52,7 @@ void main() {
     float r = texture(atlas, (vec2(L.x, 0.0) + f + 0.5) / atlasSize).r;
     m += texelFetch(wts, ivec2(i, j), 0) * r;
   }
+  m *= float(stride);
   // w: the fourth moment (half float, high 16 bits), bin + 1 (9 bits), coverage (7 bits)
   outM = uvec4(floatBitsToUint(m.x), floatBitsToUint(m.y), floatBitsToUint(m.z),
                (packHalf2x16(vec2(m.w, 0.0)) << 16u) | (uint(j + 1) << 7u) | uint(round(cover * 127.0)));
@@ -193,6 +195,9 @@ function makeEnvLight(gl, E, C) {
     gl.bindTexture(gl.TEXTURE_2D, env.tex);
     gl.activeTexture(gl.TEXTURE0);
     gl.uniform4fv(U.levels, env.levels);
+    // while dragged (lod > 0) about 32 of the renderer's samples: a preview, refined when let go (issue 23 gave
+    // the renderer 128 samples a bin, which made a drag step five times the work of the earlier 24)
+    gl.uniform1i(U.stride, lod > 0 ? Math.max(1, Math.round(N / 32)) : 1);
     gl.uniform2f(U.atlasSize, env.size[0], env.size[1]);
     gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
     gl.viewport(0, 0, wd, h);
@@ -201,5 +206,5 @@ function makeEnvLight(gl, E, C) {
   }
   return {gather, setThickness, setupGather, setupShade, albedo, bins: M, names: E.lightings.filter((n) => n in maps), samples: N,
     gatherSource: "#define NSAMPLES " + N + "\n" + ENV_GATHER, shadeSource: ENV_SHADE,
-    uniforms: ["samp", "wts", "atlas", "levels", "atlasSize", "mom", "coef", "lod"]};
+    uniforms: ["samp", "wts", "atlas", "levels", "atlasSize", "mom", "coef", "lod", "stride"]};
 }
