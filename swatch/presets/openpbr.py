@@ -31,7 +31,14 @@ from swatch.presets.cycles import (
     gulbrandsen_nk,
     sensitivities,
 )
-from swatch.presets.spectral import XYZ_TO_REC709
+from swatch.presets.spectral import (
+    SENSITIVITY_FIT_NORM,
+    SENSITIVITY_FIT_POS,
+    SENSITIVITY_FIT_VAL,
+    SENSITIVITY_FIT_VAR,
+    SENSITIVITY_FIT_X2,
+    XYZ_TO_REC709,
+)
 
 __all__ = ["thin_film_metal_fresnel", "gaussian_sensitivity"]
 
@@ -58,13 +65,12 @@ def gaussian_sensitivity(opd_nm) -> np.ndarray:
     Iridescence", ACM Trans. Graph. 36(4), 65 (2017), doi:10.1145/3072959.3073620.
     """
     phase = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64)[..., None] * 1.0e-9
-    val = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
-    pos = np.array([1.6810e06, 1.7953e06, 2.2084e06])
-    var = np.array([4.3278e09, 9.3046e09, 6.6121e09])
+    val, pos, var = SENSITIVITY_FIT_VAL, SENSITIVITY_FIT_POS, SENSITIVITY_FIT_VAR
+    a2, p2, v2 = SENSITIVITY_FIT_X2
     xyz = val * np.sqrt(2.0 * np.pi * var) * np.exp(-1j * pos * phase) * np.exp(-(phase ** 2) * var)
-    extra = (9.7470e-14 * np.sqrt(2.0 * np.pi * 4.5282e09) * np.exp(-1j * 2.2399e06 * phase[..., 0])
-             * np.exp(-4.5282e09 * phase[..., 0] ** 2))
-    xyz = np.concatenate([(xyz[..., 0] + extra)[..., None], xyz[..., 1:]], axis=-1) / 1.0685e-7
+    extra = (a2 * np.sqrt(2.0 * np.pi * v2) * np.exp(-1j * p2 * phase[..., 0])
+             * np.exp(-v2 * phase[..., 0] ** 2))
+    xyz = np.concatenate([(xyz[..., 0] + extra)[..., None], xyz[..., 1:]], axis=-1) / SENSITIVITY_FIT_NORM
     return xyz @ XYZ_TO_REC709.T
 
 

@@ -27,13 +27,23 @@ import colour
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-__all__ = ["XYZ_TO_REC709", "gltf_sensitivity", "gaussian_sensitivity_xyz", "cmf_sensitivity", "rgb_to_Lab", "CYCLES_TABLE_SIZE"]
+__all__ = ["XYZ_TO_REC709", "gltf_sensitivity", "gaussian_sensitivity_xyz", "cmf_sensitivity", "rgb_to_Lab", "CYCLES_TABLE_SIZE",
+           "SENSITIVITY_FIT_VAL", "SENSITIVITY_FIT_POS", "SENSITIVITY_FIT_VAR", "SENSITIVITY_FIT_X2", "SENSITIVITY_FIT_NORM"]
 
 #: XYZ (D65) to linear Rec.709, as printed by the glTF extension and Cycles' init_xyz_transforms.
 XYZ_TO_REC709 = np.array([[3.2404542, -1.5371385, -0.4985314],
                           [-0.9692660, 1.8760108, 0.0415560],
                           [0.0556434, -0.2040259, 1.0572252]])
 CYCLES_TABLE_SIZE = 512
+#: Belcour & Barla's Gaussian fit of the CIE 1931 XYZ CMFs' Fourier transforms (their code's
+#: ``evalSensitivity``, printed by KHR_materials_iridescence and MaterialX): per component X, Y, Z the
+#: amplitude, position (per m of optical path, times 2π) and variance; X's second lobe (amplitude,
+#: position, variance); the normalisation. Defined once: glTF, MaterialX and OpenPBR use them.
+SENSITIVITY_FIT_VAL = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
+SENSITIVITY_FIT_POS = np.array([1.6810e06, 1.7953e06, 2.2084e06])
+SENSITIVITY_FIT_VAR = np.array([4.3278e09, 9.3046e09, 6.6121e09])
+SENSITIVITY_FIT_X2 = (9.7470e-14, 2.2399e06, 4.5282e09)
+SENSITIVITY_FIT_NORM = 1.0685e-7
 _CYCLES_TABLE_SPAN_NM = 60000.0
 
 
@@ -81,13 +91,12 @@ def gaussian_sensitivity_xyz(opd_nm, shift) -> np.ndarray:
     """
     phase = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64)[..., None] * 1.0e-9
     shift = np.asarray(shift, dtype=np.float64)
-    val = np.array([5.4856e-13, 4.4201e-13, 5.2481e-13])
-    pos = np.array([1.6810e06, 1.7953e06, 2.2084e06])
-    var = np.array([4.3278e09, 9.3046e09, 6.6121e09])
+    val, pos, var = SENSITIVITY_FIT_VAL, SENSITIVITY_FIT_POS, SENSITIVITY_FIT_VAR
+    a2, p2, v2 = SENSITIVITY_FIT_X2
     xyz = val * np.sqrt(2.0 * np.pi * var) * np.cos(pos * phase + shift) * np.exp(-(phase ** 2) * var)
-    extra = (9.7470e-14 * np.sqrt(2.0 * np.pi * 4.5282e09) * np.cos(2.2399e06 * phase[..., 0] + shift[..., 0])
-             * np.exp(-4.5282e09 * phase[..., 0] ** 2))
-    return np.concatenate([(xyz[..., 0] + extra)[..., None], xyz[..., 1:]], axis=-1) / 1.0685e-7
+    extra = (a2 * np.sqrt(2.0 * np.pi * v2) * np.cos(p2 * phase[..., 0] + shift[..., 0])
+             * np.exp(-v2 * phase[..., 0] ** 2))
+    return np.concatenate([(xyz[..., 0] + extra)[..., None], xyz[..., 1:]], axis=-1) / SENSITIVITY_FIT_NORM
 
 
 @functools.lru_cache(maxsize=1)
