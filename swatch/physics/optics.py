@@ -352,14 +352,16 @@ def _workers(samples: int, blocks: int) -> int:
 def _pole_form(a: np.ndarray | complex, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Write ``|a + b E|^2`` as ``K |E - z|^2`` (``z = -a / b``, ``K = |b|^2``).
 
-    Where ``|b|`` is negligible against ``|a|`` the pole is put far away (``|z| = 1e100``) with
+    Where ``|b|`` is negligible against ``|a|`` (or ``|b|^2`` underflows) the pole is put far away (``|z| = 1e100``) with
     ``K = |a|^2 / |z|^2``, which gives ``|a|^2`` to rounding for any ``|E| <= 1`` without
     dividing by zero.
     """
     a = np.broadcast_to(np.asarray(a, dtype=np.complex128), np.shape(b))
     abs2_a = a.real * a.real + a.imag * a.imag
     abs2_b = b.real * b.real + b.imag * b.imag
-    degenerate = abs2_b <= abs2_a / (_FAR * _FAR)
+    # |b|^2 below the smallest normal double (both coefficients vanishing, e.g. a film and a
+    # substrate of the ambient's index) would make 1 / |b|^2 overflow and z = 0 * inf = NaN.
+    degenerate = (abs2_b <= abs2_a / (_FAR * _FAR)) | (abs2_b < np.finfo(np.float64).tiny)
     inv = np.divide(1.0, abs2_b, out=np.zeros_like(abs2_b), where=~degenerate)
     z = -(a * np.conj(b)) * inv  # -a / b
     z[degenerate] = _FAR

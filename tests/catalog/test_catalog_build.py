@@ -5,6 +5,7 @@ import csv
 import hashlib
 import json
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -171,13 +172,20 @@ def test_noop_rebuild_is_fast_and_touches_nothing(built):
     before = {p: p.stat().st_mtime_ns for p in outputs(out)}
     res = build_catalog(spec, out)
     assert res.noop
+    # The 2 s budget is judged in the child's CPU seconds (user + system): on a loaded machine its
+    # wall time measures the load (8 s at load 16 with the same 0.8 s of CPU); a hung rebuild
+    # still fails the generous wall bound.
+    cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(spec), "--out", str(out)],
                           capture_output=True, text=True)
     wall = time.perf_counter() - t0
+    cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (cpu1.ru_utime - cpu0.ru_utime) + (cpu1.ru_stime - cpu0.ru_stime)
     assert proc.returncode == 0, proc.stderr
     assert "up to date" in proc.stdout
-    assert wall <= 2.0, wall
+    assert cpu <= 2.0, cpu
+    assert wall <= 30.0, wall
     assert {p: p.stat().st_mtime_ns for p in outputs(out)} == before
 
 

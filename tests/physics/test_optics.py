@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import tmm
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from swatch.core.errors import SwatchError
@@ -91,6 +91,9 @@ def test_sweep_equals_general_path(start, step, count, kf):
 
 @settings(max_examples=200, deadline=None)
 @given(nf=st.floats(1.0, 4.0), kf=index_im, ns=index_re, ks=index_im, d=thickness, th=angle, wl=wavelength)
+# Found by hypothesis (session 6): film and substrate of the ambient's index, the substrate's k
+# subnormal-small, gave 0 * inf = NaN in the pole form (issue 17's suite ran into it).
+@example(nf=1.0, kf=0.0, ns=1.0, ks=1.79e-161, d=0.0, th=0.0, wl=300.0)
 def test_reflectance_in_unit_interval(nf, kf, ns, ks, d, th, wl):
     res = optics.film_reflectance(d, th, [wl], complex(nf, kf), complex(ns, ks))
     for R in (res.R_s, res.R_p, res.R):
