@@ -113,6 +113,17 @@ def check_variant(variant: str) -> str:
     return key
 
 
+def _whole_number(value, what: str, low: int, high: int) -> int:
+    """``value`` as an int when it is a whole number from ``low`` to ``high``; else a SwatchError."""
+    try:
+        ok = float(value) == int(value)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not low <= int(value) <= high:
+        raise SwatchError(f"{what} must be a whole number from {low} to {high}, got {value!r}")
+    return int(value)
+
+
 def check_spp(spp) -> int:
     """Samples per pixel, checked: a whole number from 1 to ``MAX_SPP``.
 
@@ -129,13 +140,7 @@ def check_spp(spp) -> int:
     SwatchError
         Otherwise.
     """
-    try:
-        ok = float(spp) == int(spp)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not 1 <= int(spp) <= MAX_SPP:
-        raise SwatchError(f"samples per pixel must be a whole number from 1 to {MAX_SPP}, got {spp!r}")
-    return int(spp)
+    return _whole_number(spp, "samples per pixel", 1, MAX_SPP)
 
 
 def check_seed(seed) -> int:
@@ -154,13 +159,7 @@ def check_seed(seed) -> int:
     SwatchError
         Otherwise.
     """
-    try:
-        ok = float(seed) == int(seed)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not 0 <= int(seed) <= MAX_SEED:
-        raise SwatchError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
-    return int(seed)
+    return _whole_number(seed, "seed", 0, MAX_SEED)
 
 
 def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
