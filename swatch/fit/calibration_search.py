@@ -30,6 +30,7 @@ from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00
 from swatch.core.limits import MAX_COUPONS, plan_rows
 from swatch.fit.batch_lm import batch_lm
 from swatch.fit.calibration_table import TABLE_SCALES, TABLE_SPREADS, U_MAX_NM, U_STEP_NM, ComboTable
+from swatch.physics.growth import growth_law_nm
 
 __all__ = ["Problem", "ModelFit", "PARAMS", "MODELS", "fit_model",
            "leave_one_out", "initial_lines", "GAIN_TO_KEEP", "predict_Lab", "covariance", "u_max_nm",
@@ -97,8 +98,7 @@ def growth(X: np.ndarray, V: np.ndarray) -> np.ndarray:
     numpy.ndarray, shape (B, N)
         nm.
     """
-    o, r1, knee, r2 = X[:, 0:1], X[:, 1:2], X[:, 4:5], X[:, 5:6]
-    return o + r1 * np.minimum(V, knee) + r2 * np.maximum(V - knee, 0.0)
+    return growth_law_nm(V, X[:, 1:2], X[:, 0:1], X[:, 4:5], X[:, 5:6])
 
 
 def predict_Lab(table: ComboTable, prob: Problem, X: np.ndarray, spread: bool, row=None) -> np.ndarray:

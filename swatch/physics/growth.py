@@ -49,25 +49,25 @@ def check_growth_rate(nm_per_V: float) -> float:
     return float(nm_per_V)
 
 
-def growth_law_nm(voltage_V, nm_per_V: float, offset_nm: float = 0.0, knee_V: float | None = None,
-                  nm_per_V_above_knee: float | None = None) -> np.ndarray:
+def growth_law_nm(voltage_V, nm_per_V, offset_nm=0.0, knee_V=None, nm_per_V_above_knee=None) -> np.ndarray:
     """The growth law itself, unchecked (callers check their inputs and outputs their own way).
 
     Parameters
     ----------
     voltage_V : array_like
         Anodising voltage, V.
-    nm_per_V : float
+    nm_per_V : float or array_like
         Growth rate, nm/V (up to the knee, with one).
-    offset_nm : float, optional
+    offset_nm : float or array_like, optional
         Thickness at 0 V, nm.
-    knee_V, nm_per_V_above_knee : float or None, optional
+    knee_V, nm_per_V_above_knee : float, array_like or None, optional
         The knee (V) and the rate above it (nm/V); None: linear.
 
     Returns
     -------
     numpy.ndarray
-        Thickness, nm, float64, the shape of ``voltage_V``.
+        Thickness, nm, float64: ``voltage_V`` broadcast with the parameters (scalars: the shape of
+        ``voltage_V``; columns of parameter rows, as the calibration search passes them: rows × voltages).
 
     Examples
     --------
@@ -77,10 +77,11 @@ def growth_law_nm(voltage_V, nm_per_V: float, offset_nm: float = 0.0, knee_V: fl
     254.0
     """
     v = np.asarray(voltage_V, dtype=np.float64)
+    offset = np.asarray(offset_nm, dtype=np.float64)
     if knee_V is None or nm_per_V_above_knee is None:
-        return np.asarray(float(offset_nm) + v * nm_per_V, dtype=np.float64)
-    k = float(knee_V)
-    return np.asarray(float(offset_nm) + nm_per_V * np.minimum(v, k) + nm_per_V_above_knee * np.maximum(v - k, 0.0),
+        return np.asarray(offset + v * nm_per_V, dtype=np.float64)
+    k = np.asarray(knee_V, dtype=np.float64)
+    return np.asarray(offset + nm_per_V * np.minimum(v, k) + nm_per_V_above_knee * np.maximum(v - k, 0.0),
                       dtype=np.float64)
 
 
