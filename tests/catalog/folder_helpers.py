@@ -23,9 +23,9 @@ def digest(folder: Path) -> dict[str, str]:
 
 
 SPEC = """
-name = "Hardening"
+name = "{name}"
 [thickness]
-list_nm = [40, 90, 140]
+list_nm = [{list_nm}]
 [render]
 size_px = 64
 shapes = ["flat"]
@@ -38,8 +38,10 @@ rows = 1
 """
 
 
-def write_spec(path: Path, grade: str = "C") -> Path:
-    path.write_text(SPEC.format(grade=grade), encoding="utf-8")
+def write_spec(path: Path, grade: str = "C", name: str = "Hardening", list_nm=(40, 90, 140)) -> Path:
+    """A three-swatch flat catalog spec (64 px tiles, one 2 × 1 sheet) with tolerance ``grade``."""
+    text = SPEC.format(name=name, list_nm=", ".join(str(d) for d in list_nm), grade=grade)
+    path.write_text(text, encoding="utf-8")
     return path
 
 

@@ -19,29 +19,13 @@ from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
 from swatch.catalog.layout import SUBFOLDERS
 from swatch.cli import main
 from swatch.core.errors import SwatchError
+from tests.catalog import folder_helpers
 from tests.catalog.folder_helpers import digest
 
 pytestmark = pytest.mark.slow
 
-SPEC = """
-name = "Layout"
-[thickness]
-list_nm = [40, 120, 200]
-[render]
-size_px = 64
-shapes = ["flat"]
-angular_map = false
-[tolerance]
-grade = "{grade}"
-[sheet]
-columns = 2
-rows = 1
-"""
-
-
 def write_spec(path: Path, grade: str = "C") -> Path:
-    path.write_text(SPEC.format(grade=grade), encoding="utf-8")
-    return path
+    return folder_helpers.write_spec(path, grade, name="Layout", list_nm=(40, 120, 200))
 
 
 @pytest.fixture(scope="module")
