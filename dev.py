@@ -83,16 +83,29 @@ def test_workers(args: list[str]) -> list[str]:
     return ["-n", workers, "--dist", "loadfile", "--no-loadscope-reorder"]
 
 
+def test_env() -> dict[str, str]:
+    """The test run's environment: this one, but with bytecode caching on. With PYTHONDONTWRITEBYTECODE set
+    (some shells and CI images set it) every interpreter of the run — the two xdist workers and the ~50
+    processes the tests start — compiled swatch and re-rewrote the test modules' asserts from source:
+    collection took 10.4 s CPU a process instead of 5.4 s (measured 2026-12-02). The caches are the usual
+    ``__pycache__`` folders (ignored by git)."""
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    return env
+
+
 def main(argv: list[str]) -> int:
     if not argv or argv[0] in {"-h", "--help"}:
         print(__doc__)
         return 0 if argv else 2
     job, rest = argv[0], argv[1:]
     ensure_env()
+    env = None
     if job == "catalog":
         cmd = [str(BIN / "swatch"), "catalog", "build", "catalog/titanium.toml", "--out", "build/catalog", *rest]
     elif job == "test":
         cmd = [str(PY), "-m", "pytest", *test_workers(rest), *rest]
+        env = test_env()
     elif job == "lint":
         rc = subprocess.run([str(BIN / "ruff"), "check", ".", *rest], cwd=ROOT).returncode
         return rc or subprocess.run([str(BIN / "mypy")], cwd=ROOT).returncode
@@ -103,7 +116,7 @@ def main(argv: list[str]) -> int:
     else:
         print(f"dev.py: unknown job {job!r}; use catalog, test, lint, bench or swatch", file=sys.stderr)
         return 2
-    return subprocess.run(cmd, cwd=ROOT).returncode
+    return subprocess.run(cmd, cwd=ROOT, env=env).returncode
 
 
 if __name__ == "__main__":

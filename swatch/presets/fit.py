@@ -255,29 +255,41 @@ class _Problem:
 
 
 def _levenberg_marquardt(prob: _Problem, p0, rows, lo, hi, iterations: int = _LM_ITERATIONS):
-    """Bounded LM on many independent problems at once; returns (params, cost, residuals)."""
+    """Bounded LM on many independent problems at once; returns (params, cost, residuals).
+
+    Each iteration evaluates the trial point and its forward-difference Jacobian in ONE call of the
+    residuals (n (k + 1) rows): a rejected trial leaves the point, and so its Jacobian, as they were, so
+    nothing is recomputed for it. The same rows as evaluating the Jacobian at the start of each iteration and
+    the trial after, in half the calls (each a fixed overhead of colour-science's CIEDE2000 and the models'
+    array set-up, which dominated small catalogs' builds: 0.9 of 1.9 CPU-s for three swatches)."""
     n, k = p0.shape
-    p = np.clip(p0, lo, hi)
-    r = prob.residuals(p, rows)
-    cost = (r ** 2).sum(axis=1)
-    lam = np.full(n, 1e-2)
     step = np.array([0.5, 0.005, 0.002, 0.002, 0.002])
     eye = np.eye(k)
+    srows = np.repeat(rows, k + 1)
+
+    def point_and_jacobian(p):
+        pp = np.concatenate([p[:, None, :], p[:, None, :] + step[None, :, None] * eye[None]], axis=1)
+        both = prob.residuals(pp.reshape(n * (k + 1), k), srows).reshape(n, k + 1, -1)
+        r = both[:, 0]
+        return r, (both[:, 1:] - r[:, None, :]) / step[None, :, None]
+
+    p = np.clip(p0, lo, hi)
+    r, J = point_and_jacobian(p)
+    cost = (r ** 2).sum(axis=1)
+    lam = np.full(n, 1e-2)
     for _ in range(iterations):  # iterations of the solver, each vectorised over all swatches
-        pp = (p[:, None, :] + step[None, :, None] * eye[None]).reshape(n * k, k)
-        rj = prob.residuals(pp, np.repeat(rows, k)).reshape(n, k, -1)
-        J = (rj - r[:, None, :]) / step[None, :, None]
         JtJ = np.einsum("npm,nqm->npq", J, J)
         g = np.einsum("npm,nm->np", J, r)
         diag = np.einsum("npp->np", JtJ) + 1e-9
         A = JtJ + lam[:, None, None] * (diag[:, :, None] * eye[None])
         delta = -np.linalg.solve(A, g[..., None])[..., 0]
         pn = np.clip(p + delta, lo, hi)
-        rn = prob.residuals(pn, rows)
+        rn, Jn = point_and_jacobian(pn)
         cn = (rn ** 2).sum(axis=1)
         better = cn < cost
         p = np.where(better[:, None], pn, p)
         r = np.where(better[:, None], rn, r)
+        J = np.where(better[:, None, None], Jn, J)
         cost = np.where(better, cn, cost)
         lam = np.clip(np.where(better, lam * 0.3, lam * 8.0), 1e-7, 1e7)
     return p, cost, r
