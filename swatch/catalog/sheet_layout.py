@@ -105,9 +105,17 @@ def fit_text(text: str, size: int, max_w: int, font: str) -> str:
     """
     if text_width(text, size, font) <= max_w:
         return text
-    while text and text_width(text + "…", size, font) > max_w:
-        text = text[:-1]
-    return text + "…"
+    # the longest prefix that fits with the ellipsis, by bisection (a prefix is never wider than a longer
+    # one): ~log2(len) measurements instead of one per character cut (a 3-column sheet's header and
+    # footer lines cost 246 measurements, 0.24 CPU-s a build)
+    lo, hi = 0, len(text) - 1
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if text_width(text[:mid] + "…", size, font) <= max_w:
+            lo = mid
+        else:
+            hi = mid - 1
+    return text[:lo] + "…"
 
 
 def _num(x, width: int, nd: int) -> str:
