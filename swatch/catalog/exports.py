@@ -25,7 +25,7 @@ from xsdata.formats.dataclass.serializers.config import SerializerConfig
 from xsdata.models.datatype import XmlDateTime
 
 from swatch.catalog.spec import CatalogSpec
-from swatch.colorimetry.colorimeter import Lab_to_LCh, get_colorimeter
+from swatch.colorimetry.colorimeter import Lab_to_LCh
 
 __all__ = ["ase_bytes", "cxf_bytes", "ase_name", "metal_symbol", "FIXED_DATE", "ASE_MODELS"]
 
@@ -154,8 +154,14 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
     # data's wavelengths; 10 and 20 nm data by weights for bandpass-corrected data (Table 6).
     method = cxf3.EastmTableType.E308_1NM if inc in (1, 5) else cxf3.EastmTableType.E308_TABLE6
 
+    # the build's colorimeters (its context): the catalog's, the ICC PCS's (D50, 2°) and the display's (the
+    # catalog's illuminant, 2°: sRGB's definition) — the three specifications below
+    ctx = data.context
+    colorimeters = {(data.illuminant, data.observer): ctx.colorimeter, ("D50", "2"): ctx.colorimeter_icc,
+                    (data.illuminant, "2"): ctx.colorimeter.display_colorimeter}
+
     def tristimulus(illuminant_name: str, observer: str) -> cxf3.TristimulusSpec:
-        white = get_colorimeter(wl, illuminant_name, observer).white_XYZ  # Y = 100
+        white = colorimeters[(illuminant_name, observer)].white_XYZ  # Y = 100
         xyz = dict(x=round(float(white[0]), 4), y=round(float(white[1]), 4), z=round(float(white[2]), 4))
         ill_name = _CXF_ILLUMINANTS.get(illuminant_name)
         if ill_name is not None:
