@@ -61,10 +61,11 @@ rows = 1
 """
 
 
-def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900)):
-    """A new context and page on ``out/index.html``: (context, page, events) where events collects
-    page errors, console errors and warnings, and every request URL."""
-    ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]})
+def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900), scale: float = 1.0):
+    """A new context and page on ``out/index.html`` (``scale``: device pixels a CSS pixel): (context, page,
+    events) where events collects page errors, console errors and warnings, and every request URL."""
+    ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]},
+                              device_scale_factor=scale)
     pg = ctx.new_page()
     events: dict = {"errors": [], "requests": []}
     pg.on("pageerror", lambda e: events["errors"].append(str(e)))

@@ -34,10 +34,16 @@ def page(chromium, small_catalog):
     ctx.close()
 
 
+def _size(pg) -> tuple[int, int]:
+    """The canvas's drawing buffer (its displayed size in device pixels: 640 × 480 at 1280 px wide)."""
+    return tuple(pg.evaluate("() => { const c = document.getElementById('view'); return [c.width, c.height]; }"))
+
+
 def _centre(pg) -> np.ndarray:
     """Mean displayed sRGB (0–255) of the 2 × 2 pixels around the canvas centre."""
+    w, h = _size(pg)
     return np.mean([pg.evaluate("q => swatchCatalog.pixel(q).rgb", {"x": x, "y": y})
-                    for x in (399, 400) for y in (299, 300)], axis=0)
+                    for x in (w // 2 - 1, w // 2) for y in (h // 2 - 1, h // 2)], axis=0)
 
 
 def _display(linear) -> np.ndarray:
@@ -192,7 +198,8 @@ def test_every_shape_looks_like_the_finish(page, lighting):
 
 def test_switching_lighting_changes_the_canvas(page):
     pg, events, _ = page
-    grid = [{"x": x, "y": y} for x in (200, 400, 600) for y in (150, 300, 450)]
+    w, h = _size(pg)
+    grid = [{"x": w * i // 4, "y": h * j // 4} for i in (1, 2, 3) for j in (1, 2, 3)]
     seen = {}
     for lighting in ("point", "studio", "uniform", "point"):
         state = pg.evaluate("q => swatchCatalog.show(q)", {"lighting": lighting, "shape": "sphere", "thickness_nm": 80,
@@ -232,7 +239,8 @@ def test_dragging_under_an_environment_refines_when_let_go(page):
     pg, events, _ = page
     pg.evaluate("swatchCatalog.show({lighting: 'studio', shape: 'sphere', thickness_nm: 140, view_deg: 10, "
                 "view_azimuth_deg: 180})")
-    grid = [{"x": x, "y": y} for x in range(150, 651, 25) for y in (150, 300, 450)]
+    w, h = _size(pg)
+    grid = [{"x": x * w // 800, "y": y * h // 600} for x in range(150, 651, 25) for y in (150, 300, 450)]
     before = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
     box = pg.locator("#view").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2

@@ -327,6 +327,25 @@ window.addEventListener("afterprint", () => { for (const d of openedForPrint) d.
 for (const id of ["explorer", "find"]) $(id).hidden = false;
 document.documentElement.classList.add("js");
 update();
+// the drawing buffer is the canvas's displayed size in device pixels (sharp on a HiDPI screen, not resampled
+// by the browser; 640 x 480 beside the panel, about 310 x 233 on a phone at one device pixel a CSS pixel), at
+// most MAX_VIEW_PX pixels: the gather pass under an environment costs per pixel, and the 800 x 600 buffer the
+// page had before is the budget its frame times were measured at (benchmarks/bench_explorer.py)
+const MAX_VIEW_PX = 800 * 600;
+function fitCanvas() {
+  const r = canvas.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;
+  let w = r.width * dpr, h = r.height * dpr;
+  if (!(w >= 1 && h >= 1)) return false;  // not laid out (hidden, printed): keep the buffer
+  const s = Math.min(1, Math.sqrt(MAX_VIEW_PX / (w * h)));
+  w = Math.max(1, Math.round(w * s)); h = Math.max(1, Math.round(h * s));
+  if (w === canvas.width && h === canvas.height) return false;
+  canvas.width = w; canvas.height = h;
+  return true;
+}
+if (view) {
+  fitCanvas();  // before the first frame: the observer's first report then finds the size unchanged
+  if (typeof ResizeObserver === "function") new ResizeObserver(() => { if (fitCanvas()) draw(); }).observe(canvas);
+}
 show({});
 window.swatchCatalog = Object.freeze({
   colorAt: (q) => { const c = C.colorAt(q); return {Lab: c.Lab, hex: c.hex, in_srgb_gamut: c.in_srgb_gamut, theta_d_deg: c.theta_d_deg}; },
