@@ -15,7 +15,7 @@ import tmm
 from scipy.special import roots_legendre
 
 from swatch.physics.materials import load_material
-from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
+from tests.mitsuba_setup import irregular_spectrum, jit_float, jit_of, mitsuba_variant
 
 pytestmark = pytest.mark.slow
 
@@ -65,12 +65,12 @@ def test_zero_thickness_bsdf_is_mitsubas_roughconductor(mi):
     n = 4096
     wi, wo, u = _hemisphere(rng, n), _hemisphere(rng, n), rng.random((3, n))
     si = dr.zeros(mi.SurfaceInteraction3f, n)
-    si.wi = mi.Vector3f(*wi)
-    si.wavelengths = mi.Spectrum(*[mi.Float(w) for w in rng.uniform(380.0, 780.0, (4, n))])
+    si.wi = jit_of(mi.Vector3f, wi)
+    si.wavelengths = jit_of(mi.Spectrum, rng.uniform(380.0, 780.0, (4, n)))
     si.n = mi.Normal3f(0.0, 0.0, 1.0)
     si.sh_frame = mi.Frame3f(si.n)
     ctx = mi.BSDFContext()
-    w = mi.Vector3f(*wo)
+    w = jit_of(mi.Vector3f, wo)
 
     def close(a, b, what):
         a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
@@ -81,8 +81,8 @@ def test_zero_thickness_bsdf_is_mitsubas_roughconductor(mi):
     assert (v_rc > 1e-3).sum() > n  # the comparison is not of zeros
     close(film.eval(ctx, si, w), v_rc, "eval")
     close(film.pdf(ctx, si, w), rc.pdf(ctx, si, w), "pdf")
-    bs_f, w_f = film.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1], u[2]))
-    bs_r, w_r = rc.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1], u[2]))
+    bs_f, w_f = film.sample(ctx, si, jit_float(u[0]), jit_of(mi.Point2f, u[1:]))
+    bs_r, w_r = rc.sample(ctx, si, jit_float(u[0]), jit_of(mi.Point2f, u[1:]))
     close(bs_f.wo, bs_r.wo, "sampled direction")
     close(w_f, w_r, "sample weight")
     valid = np.asarray(w_r).max(axis=0) > 0  # roughconductor keeps a pdf on samples it weights 0 (below the horizon)

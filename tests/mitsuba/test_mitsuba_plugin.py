@@ -10,7 +10,7 @@ import pytest
 import tmm
 
 from swatch.physics.materials import load_material
-from tests.mitsuba_setup import mitsuba_variant
+from tests.mitsuba_setup import jit_float, jit_of, mitsuba_variant
 
 
 @pytest.fixture(scope="module")
@@ -35,8 +35,7 @@ def test_drjit_airy_matches_tmm(mi):
     c = rng.uniform(0.02, 1.0, 200)
     d = rng.uniform(0, 400, 200)
     nf, ns = f.nk(wl), s.nk(wl)
-    got = np.asarray(airy_reflectance(mi.Float(c), mi.Float(wl), mi.Float(nf.real), mi.Float(nf.imag),
-                                      mi.Float(ns.real), mi.Float(ns.imag), mi.Float(d)))
+    got = np.asarray(airy_reflectance(*(jit_float(a) for a in (c, wl, nf.real, nf.imag, ns.real, ns.imag, d))))
     ref = np.array([_tmm_R(d[i], math.acos(c[i]), wl[i], nf[i], ns[i]) for i in range(wl.size)])
     assert np.max(np.abs(got - ref)) < 2e-6
 
@@ -46,7 +45,7 @@ def _si(mi, wi, wavelengths):
 
     n = wi.shape[0]
     si = dr.zeros(mi.SurfaceInteraction3f, n)
-    si.wi = mi.Vector3f(wi[:, 0], wi[:, 1], wi[:, 2])
+    si.wi = jit_of(mi.Vector3f, wi.T)
     si.wavelengths = mi.Spectrum(*wavelengths)
     return si
 
@@ -64,8 +63,8 @@ def test_eval_equals_independent_microfacet_formula(mi):
     wi = _unit(rng.normal(size=(64, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
     wo = _unit(rng.normal(size=(64, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
     wls = (420.0, 510.0, 580.0, 690.0)
-    val = np.asarray(bsdf.eval(mi.BSDFContext(), _si(mi, wi, wls), mi.Vector3f(*wo.T)))
-    pdf = np.asarray(bsdf.pdf(mi.BSDFContext(), _si(mi, wi, wls), mi.Vector3f(*wo.T)))
+    val = np.asarray(bsdf.eval(mi.BSDFContext(), _si(mi, wi, wls), jit_of(mi.Vector3f, wo.T)))
+    pdf = np.asarray(bsdf.pdf(mi.BSDFContext(), _si(mi, wi, wls), jit_of(mi.Vector3f, wo.T)))
 
     h = _unit(wi + wo)
     D = 1.0 / (math.pi * ax * ay * ((h[:, 0] / ax) ** 2 + (h[:, 1] / ay) ** 2 + h[:, 2] ** 2) ** 2)
@@ -93,15 +92,15 @@ def test_below_horizon_gives_zero_not_nan(mi):
     wo = np.array([[0.6, 0, -0.8], [0, 0, 1.0], [0, 0, 1.0], [0, -1.0, 0], [0, 0, 1.0], [0, 0, 1.0]])
     si = _si(mi, _unit(wi), (400.0, 500.0, 600.0, 700.0))
     ctx = mi.BSDFContext()
-    val, pdf = bsdf.eval_pdf(ctx, si, mi.Vector3f(*_unit(wo).T))
+    val, pdf = bsdf.eval_pdf(ctx, si, jit_of(mi.Vector3f, _unit(wo).T))
     val, pdf = np.asarray(val), np.asarray(pdf)
     assert np.all(np.isfinite(val)) and np.all(np.isfinite(pdf))
     assert np.all(val[:, :5] == 0) and np.all(pdf[:5] == 0)
     rng = np.random.default_rng(1)
     n = 4096
     wi_r = _unit(rng.normal(size=(n, 3)))  # half of them below the horizon
-    bs, w = bsdf.sample(ctx, _si(mi, wi_r, (400.0, 500.0, 600.0, 700.0)), mi.Float(rng.random(n)),
-                        mi.Point2f(rng.random(n), rng.random(n)))
+    bs, w = bsdf.sample(ctx, _si(mi, wi_r, (400.0, 500.0, 600.0, 700.0)), jit_float(rng.random(n)),
+                        jit_of(mi.Point2f, rng.random((2, n))))
     w, p, wo_s = np.asarray(w), np.asarray(bs.pdf), np.asarray(bs.wo)
     assert np.all(np.isfinite(w)) and np.all(np.isfinite(p))
     below = wi_r[:, 2] <= 0
@@ -121,8 +120,8 @@ def test_alpha_u_equal_alpha_v_is_isotropic(mi):
         for extra in ({"alpha": 0.25}, {"alpha_u": 0.25, "alpha_v": 0.25}):
             b = mi.load_dict({"type": "anodic_film", "thickness_nm": 60.0, "distribution": dist, **extra})
             si = _si(mi, wi, (450.0, 520.0, 610.0, 700.0))
-            v, p = b.eval_pdf(mi.BSDFContext(), si, mi.Vector3f(*wo.T))
-            bs, w = b.sample(mi.BSDFContext(), si, mi.Float(u1), mi.Point2f(u2[:, 0], u2[:, 1]))
+            v, p = b.eval_pdf(mi.BSDFContext(), si, jit_of(mi.Vector3f, wo.T))
+            bs, w = b.sample(mi.BSDFContext(), si, jit_float(u1), jit_of(mi.Point2f, u2.T))
             out.append([np.asarray(v), np.asarray(p), np.asarray(bs.wo), np.asarray(w)])
         for a, b in zip(*out, strict=True):
             np.testing.assert_array_equal(a, b)
@@ -175,7 +174,7 @@ def test_spread_averages_the_film_as_the_builtin_model_and_tmm(mi):
     wi = _unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
     wo = _unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
     wls = (420.0, 510.0, 580.0, 690.0)
-    ctx, wo_m = mi.BSDFContext(), mi.Vector3f(*wo.T)
+    ctx, wo_m = mi.BSDFContext(), jit_of(mi.Vector3f, wo.T)
     val_u = np.asarray(uniform.eval(ctx, _si(mi, wi, wls), wo_m), dtype=np.float64)
     val_s = np.asarray(spread_bsdf.eval(ctx, _si(mi, wi, wls), wo_m), dtype=np.float64)
     assert np.array_equal(np.asarray(zero.eval(ctx, _si(mi, wi, wls), wo_m)), val_u)
@@ -215,12 +214,12 @@ def test_brush_axis_sets_the_anisotropic_lobe_whatever_the_surface_frame(mi):
     n[np.abs(n[:, 1]) > 0.95] = _unit(np.array([0.3, 0.5, 0.8]))
     wi_w = _unit(n * 1.3 + rng.normal(size=(48, 3)) * 0.5)
     wo_w = _unit(n * 1.3 + rng.normal(size=(48, 3)) * 0.5)
-    frame = mi.Frame3f(mi.Vector3f(*n.T))
+    frame = mi.Frame3f(jit_of(mi.Vector3f, n.T))
     wls = (430.0, 520.0, 600.0, 680.0)
     si = _si(mi, np.zeros((48, 3)), wls)
     si.sh_frame = frame
-    si.wi = frame.to_local(mi.Vector3f(*wi_w.T))
-    val = np.asarray(bsdf.eval(mi.BSDFContext(), si, frame.to_local(mi.Vector3f(*wo_w.T))))
+    si.wi = frame.to_local(jit_of(mi.Vector3f, wi_w.T))
+    val = np.asarray(bsdf.eval(mi.BSDFContext(), si, frame.to_local(jit_of(mi.Vector3f, wo_w.T))))
     t = brush_tangent("sphere", n).astype(np.float64)
     b = np.cross(n, t)
 
@@ -243,5 +242,5 @@ def test_brush_axis_sets_the_anisotropic_lobe_whatever_the_surface_frame(mi):
         np.testing.assert_allclose(val[j][keep], (F * D * G2 / (4 * wi[:, 2]))[keep], rtol=3e-4, atol=1e-7)
     assert keep.sum() > 20
     plain = mi.load_dict({"type": "anodic_film", "thickness_nm": d, "alpha_u": au, "alpha_v": av})
-    other = np.asarray(plain.eval(mi.BSDFContext(), si, frame.to_local(mi.Vector3f(*wo_w.T))))
+    other = np.asarray(plain.eval(mi.BSDFContext(), si, frame.to_local(jit_of(mi.Vector3f, wo_w.T))))
     assert np.max(np.abs(other - val)) > 0.1 * np.max(val)  # without the axis the lobe follows the frame's own s

@@ -15,7 +15,7 @@ import pytest
 
 from swatch.catalog.presets_mitsuba import mitsuba_presets, single_mitsuba_preset
 from swatch.colorimetry.colorimeter import delta_E_00
-from tests.mitsuba_setup import mitsuba_variant
+from tests.mitsuba_setup import jit_of, mitsuba_variant
 
 MIRROR_DEG = (0.0, 15.0, 30.0, 45.0, 60.0)
 #: ΔE2000 allowed between Mitsuba's BSDF (single precision) and the catalog's colour: "0 by construction".
@@ -93,9 +93,9 @@ def _fresnel(mi, bsdf, wi, wo, wl, alphas):
     L, G = wl4.shape[0], wi.shape[0]
     wi_l, wo_l = np.repeat(wi, L, axis=0), np.repeat(wo, L, axis=0)
     si = dr.zeros(mi.SurfaceInteraction3f, G * L)
-    si.wi = mi.Vector3f(*wi_l.T)
-    si.wavelengths = mi.Spectrum(*[mi.Float(np.tile(wl4[:, j], G)) for j in range(4)])
-    val = np.asarray(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*wo_l.T)), dtype=np.float64)  # (4, G·L)
+    si.wi = jit_of(mi.Vector3f, wi_l.T)
+    si.wavelengths = jit_of(mi.Spectrum, [np.tile(wl4[:, j], G) for j in range(4)])
+    val = np.asarray(bsdf.eval(mi.BSDFContext(), si, jit_of(mi.Vector3f, wo_l.T)), dtype=np.float64)  # (4, G·L)
     au, av = (alphas[0], alphas[0]) if len(alphas) == 1 else alphas
     F = val / _ggx_DG_over_4cos(wi_l, wo_l, au, av)[None, :]
     return F.T.reshape(G, L * 4)[:, :W]
