@@ -43,8 +43,10 @@ def page_url(tmp_path_factory):
     return out, (out / "index.html").resolve().as_uri()
 
 
-@pytest.fixture
-def page(chromium, page_url):
+@pytest.fixture(scope="module")
+def loaded(chromium, page_url):
+    """One page on the catalog for the file (issue 17: a page load is ~6 CPU-s of Chromium, most of it the
+    live view's first frame under the studio); ``page`` gives it to each test with the filters reset."""
     out, url = page_url
     pg = chromium.new_page(viewport={"width": 1280, "height": 900})
     events = {"dialogs": [], "errors": [], "requests": []}
@@ -56,6 +58,18 @@ def page(chromium, page_url):
     pg.wait_for_selector("article.card")
     yield pg, events, out
     pg.close()
+
+
+@pytest.fixture
+def page(loaded):
+    """The module's page with its filter form reset (every card shown, sorted by thickness, ascending), as it
+    opened: the tests do not depend on each other's order."""
+    pg, _, out = loaded
+    pg.click("button[type=reset]")
+    pg.evaluate("() => new Promise((done) => setTimeout(done, 0))")  # after the page's own update (a timeout too)
+    n = len(json.loads((out / "catalog.json").read_text(encoding="utf-8"))["swatches"])
+    wait_until(pg, f"() => document.querySelectorAll('article.card').length === {n}")
+    return loaded
 
 
 def shown(pg) -> list[str]:

@@ -137,6 +137,7 @@ def test_slider_moves_the_live_view_with_the_physics(page):
     # drag to turn: the view angle follows the pointer and the picture changes
     pg.evaluate("swatchCatalog.show({shape: 'sphere', model: 'microfacet', view_deg: 10})")
     before = _canvas_centre(pg)
+    pg.locator("#view").scroll_into_view_if_needed()  # a test before may have scrolled the shared page
     box = pg.locator("#view").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
     pg.mouse.move(x, y)
@@ -190,25 +191,27 @@ def test_cards_show_their_own_images(page):
     assert "light" in pg.locator(".card figure.map").first.text_content()
 
 
-def test_print_keeps_the_chips(chromium, small_catalog, tmp_path):
-    ctx, pg, events = _open(chromium, small_catalog)
+def test_print_keeps_the_chips(page, tmp_path):
+    pg, events, small_catalog = page
     pg.emulate_media(media="print")
-    assert pg.locator("#explorer").is_hidden() and pg.locator("article.card").first.is_visible()
-    style = pg.eval_on_selector(".card .chip", "e => [getComputedStyle(e).printColorAdjust, getComputedStyle(e).breakInside]")
-    assert style[0] == "exact"
-    assert pg.eval_on_selector(".card", "e => getComputedStyle(e).breakInside") == "avoid"
-    pdf = tmp_path / "catalog.pdf"
-    pg.evaluate("""window.__seen = []; addEventListener('beforeprint', () =>
-        __seen.push(document.querySelectorAll('details:not([open])').length))""")
-    pg.pdf(path=str(pdf), print_background=False)
-    assert pg.evaluate("__seen") == [0]  # printing opens the explanations and multi-angle tables
-    assert pg.locator("details[open]").count() == 0  # ... and closes them after
+    try:
+        assert pg.locator("#explorer").is_hidden() and pg.locator("article.card").first.is_visible()
+        style = pg.eval_on_selector(".card .chip", "e => [getComputedStyle(e).printColorAdjust, getComputedStyle(e).breakInside]")
+        assert style[0] == "exact"
+        assert pg.eval_on_selector(".card", "e => getComputedStyle(e).breakInside") == "avoid"
+        pdf = tmp_path / "catalog.pdf"
+        pg.evaluate("""() => { const seen = []; window.__seen = seen; addEventListener('beforeprint', () =>
+            seen.push(document.querySelectorAll('details:not([open])').length), {once: true}); }""")
+        pg.pdf(path=str(pdf), print_background=False)
+        assert pg.evaluate("__seen") == [0]  # printing opens the explanations and multi-angle tables
+        assert pg.locator("details[open]").count() == 0  # ... and closes them after
+    finally:
+        pg.emulate_media(media="screen")  # the module's page, as the other tests read it
     data = pdf.read_bytes()
     assert data.startswith(b"%PDF") and len(data) > 20_000
     # the chips survive printing without "background graphics" (print-color-adjust: exact):
     # the PDF paints the swatches' colours
     doc = json.loads((small_catalog / "catalog.json").read_text(encoding="utf-8"))
-    ctx.close()
     found = _colours_present(_pdf_fill_colours(pdf), [r["srgb_hex"] for r in doc["swatches"]])
     assert found >= 3, found
     assert events["errors"] == []

@@ -242,6 +242,7 @@ def test_dragging_under_an_environment_refines_when_let_go(page):
     w, h = _size(pg)
     grid = [{"x": x * w // 800, "y": y * h // 600} for x in range(150, 651, 25) for y in (150, 300, 450)]
     before = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    pg.locator("#view").scroll_into_view_if_needed()  # a test before may have scrolled the shared page
     box = pg.locator("#view").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
     pg.mouse.move(x, y)
