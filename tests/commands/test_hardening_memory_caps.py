@@ -1,13 +1,15 @@
 """Issue #22 group 3, every command at its caps: each runs (or is refused in one line) under a 2 GB
 address-space limit plus the interpreter's baseline (see tests/commands/memory_helpers.py). In a file of its
 own (issue 17 item 7): the seven runs at the caps are the longest file of the suite, and ``--dist loadfile``
-keeps a file on one worker."""
+keeps a file on one worker. The seven run one after the other in ONE capped subprocess (issue 17: one
+interpreter start-up, ~1.4 CPU-s, instead of seven); each must still fit under the cap with what the
+earlier ones left mapped, a stricter test than a fresh process each."""
 from __future__ import annotations
 
 import pytest
 
-from tests.cli_helpers import assert_one_line_error
-from tests.commands.memory_helpers import run_capped
+from tests.cli_helpers import assert_one_line_error, run_capped_batch
+from tests.commands.memory_helpers import CAP_BYTES
 
 
 def parts_file(path, n: int):
@@ -50,17 +52,27 @@ def cap_case(case: str, tmp_path) -> list[str]:
     raise AssertionError(case)
 
 
+CASES = ["render-flat", "render-studio", "match-step", "spec-angles", "preset", "check-parts", "catalog-sheet"]
+
+
+@pytest.fixture(scope="module")
+def capped_runs(tmp_path_factory):
+    """Every case at its caps, all in one subprocess under the address-space cap: case → (folder, result)."""
+    folders = {case: tmp_path_factory.mktemp(case) for case in CASES}
+    results = run_capped_batch([cap_case(case, folders[case]) for case in CASES], CAP_BYTES, timeout=900)
+    return {case: (folders[case], proc) for case, proc in zip(CASES, results, strict=True)}
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("case", ["render-flat", "render-studio", "match-step", "spec-angles", "preset", "check-parts",
-                                  "catalog-sheet"])
-def test_issue22_every_command_at_its_caps_runs_or_refuses_under_the_memory_limit(tmp_path, case):
+@pytest.mark.parametrize("case", CASES)
+def test_issue22_every_command_at_its_caps_runs_or_refuses_under_the_memory_limit(capped_runs, case):
     """Issue #22 group 3: every command at its largest allowed input, under the 2 GB (+ baseline) address-space
     limit: it runs, or is refused in one line (exit 2); never a MemoryError, an OOM kill or a traceback. The
     catalog's largest sheet (512 px tiles, 8 × 8, two shapes and angular maps; the explorer page with it)
     is composed in the building process (-j 1). Peaks: the README's memory table (with the cases too slow
     for the suite: the angular map at MAX_ANGULAR_SAMPLES, `color` at 100,000 × 471 wavelengths, `calibrate`
     of 1,000 coupons)."""
-    proc = run_capped(*cap_case(case, tmp_path))
+    tmp_path, proc = capped_runs[case]
     if case == "check-parts":  # exit 1: the documented verdict (a part fails), the report written
         assert proc.returncode == 1 and (tmp_path / "out").is_dir(), proc.stderr[-2000:]
     elif proc.returncode != 0:
