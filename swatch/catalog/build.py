@@ -321,20 +321,22 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     try:
         make_subfolders(staging)
         cache = cache_folder(meta)
-        from swatch.catalog.presets import catalog_presets
-
-        preset_files, preset_entries = catalog_presets(spec, data.records, cache)  # fits cached
         from swatch.catalog.hero import catalog_heroes, prune_heroes
 
         hero_out, hero_used, hero_entries = catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
-        records = _final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
-        # 1. tiles (renders), from the cache or rendered in parallel
+        # 1. tiles (renders), from the cache or rendered in parallel: the pool starts on them (its workers
+        # save them into the cache) before the presets are fitted here, so the fits overlap the renders
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
         tiles = tilemod.tile_render(data.context)  # the context's coating and colorimeter, sent to the workers
         pool = tilemod.make_pool(sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
-        rendered = tilemod.render_missing(tiles, data.thickness_nm, missing, tile_keys, cache, pool,
-                                           lambda total: _progress("rendering swatches", total, progress))
+        renders = tilemod.start_renders(tiles, data.thickness_nm, missing, tile_keys, cache, pool)
+        from swatch.catalog.presets import catalog_presets
+
+        preset_files, preset_entries = catalog_presets(spec, data.records, cache)  # fits cached
+        records = _final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
+        rendered = tilemod.finish_renders(renders, len(missing),
+                                          lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)
         sheet_list = []
         old_sheet_keys = old.get("sheet_keys", {})

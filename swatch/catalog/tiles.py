@@ -15,6 +15,7 @@ import json
 import multiprocessing as mp
 import os
 import zipfile
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,7 +40,8 @@ if TYPE_CHECKING:
     from multiprocessing.context import BaseContext
 
 __all__ = ["TileRender", "tile_render", "render_tile", "tile_key", "tile_shapes", "npz_fits", "load_tile",
-           "render_missing", "make_pool", "tile_environment", "lighting_caption", "AMAP_ANGLES_DEG", "AMAP_CELL_PX", "LIGHT_DEG", "ENVIRONMENT"]
+           "render_into", "start_renders", "finish_renders",
+           "make_pool", "tile_environment", "lighting_caption", "AMAP_ANGLES_DEG", "AMAP_CELL_PX", "LIGHT_DEG", "ENVIRONMENT"]
 
 TILE_VERSION = 1
 #: Angular-map grid (light × view polar angles, degrees); 60 × 60 cells drawn at 2 px each.
@@ -324,9 +326,30 @@ def load_tile(job: TileRender, cache: Path, key: str, thickness_nm: float) -> di
     return arrays
 
 
-def render_missing(job: TileRender, thickness_nm, missing: list[int], keys: list[str], cache: Path,
-                   pool, progress_factory) -> int:
-    """Render the swatches ``missing`` into the cache (``<key>.npz``), in a pool or in this process.
+def render_into(job: TileRender, thickness_nm: float, path: Path) -> None:
+    """Render one swatch's tile (:func:`render_tile`) and save it as ``path`` (``<key>.npz``, atomic): in a
+    worker, so the arrays are not sent back to the building process to be written there one by one.
+
+    Parameters
+    ----------
+    job : TileRender
+    thickness_nm : float
+        The swatch's film thickness, nm.
+    path : pathlib.Path
+        The cache entry.
+
+    Returns
+    -------
+    None
+    """
+    _save_npz(path, render_tile(job, thickness_nm))
+
+
+def start_renders(job: TileRender, thickness_nm, missing: list[int], keys: list[str], cache: Path,
+                  pool) -> Iterator[None]:
+    """The renders of the swatches ``missing`` into the cache (``<key>.npz``), submitted to the pool at once
+    (the workers save them; the building process fits the presets meanwhile), or, without a pool, rendered
+    here one by one as they are collected.
 
     Parameters
     ----------
@@ -341,6 +364,27 @@ def render_missing(job: TileRender, thickness_nm, missing: list[int], keys: list
     cache : pathlib.Path
     pool : concurrent.futures.ProcessPoolExecutor or None
         :func:`make_pool`; None renders here.
+
+    Returns
+    -------
+    iterator of None
+        One item per swatch rendered and saved, in the order of ``missing`` (:func:`finish_renders`).
+    """
+    ds = [float(thickness_nm[i]) for i in missing]
+    jobs = [job] * len(ds)
+    paths = [cache / f"{keys[i]}.npz" for i in missing]
+    return map(render_into, jobs, ds, paths) if pool is None else pool.map(render_into, jobs, ds, paths, chunksize=1)
+
+
+def finish_renders(renders: Iterator[None], count: int, progress_factory) -> int:
+    """Wait for :func:`start_renders`' tiles (a worker's error is raised here).
+
+    Parameters
+    ----------
+    renders : iterator of None
+        :func:`start_renders`.
+    count : int
+        How many it renders.
     progress_factory : callable
         ``total`` → a context manager with ``update(n)``.
 
@@ -349,16 +393,12 @@ def render_missing(job: TileRender, thickness_nm, missing: list[int], keys: list
     int
         How many were rendered.
     """
-    if not missing:
+    if not count:
         return 0
-    ds = [float(thickness_nm[i]) for i in missing]
-    jobs = [job] * len(ds)
-    with progress_factory(len(missing)) as bar:
-        results = map(render_tile, jobs, ds) if pool is None else pool.map(render_tile, jobs, ds, chunksize=1)
-        for i, arrays in zip(missing, results, strict=True):
-            _save_npz(cache / f"{keys[i]}.npz", arrays)
+    with progress_factory(count) as bar:
+        for _ in renders:
             bar.update(1)
-    return len(missing)
+    return count
 
 
 def make_pool(jobs: int):

@@ -18,14 +18,21 @@ from tests.cli_helpers import assert_one_line_error, run_swatch
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
 
+#: What is killed: a build with a pool of 2 workers. Process handling is the point, not the renders: the
+#: paper model (no studio environment to prepare in each worker: ~1.4 CPU-s a worker), 64 px flat tiles,
+#: no angular map (issue 17). When the first tile lands the build is surely still running: 28 tiles,
+#: the presets' fits of 29 swatches (in the building process, beside the pool), 3 sheets and the page to go.
 KILL_SPEC = """
 name = "Kill"
 [thickness]
 start_nm = 20
 stop_nm = 300
-step_nm = 20
+step_nm = 10
 [render]
-size_px = 128
+size_px = 64
+model = "paper"
+shapes = ["flat"]
+angular_map = false
 """
 
 
@@ -83,7 +90,7 @@ def test_issue12_killed_build_leaves_no_process(tmp_path, how):
     try:
         deadline = time.monotonic() + 120
         # build process + resource tracker + fork server + 2 workers, and a first tile in the cache: the
-        # pool is rendering (14 tiles and the sheets to go)
+        # pool is rendering (28 tiles, the presets' fits and the sheets to go)
         cache = out / META_DIR / "cache"
         while ((len(group_members(proc.pid)) < 5 or not any(cache.glob("*.npz"))) and proc.poll() is None
                and time.monotonic() < deadline):
