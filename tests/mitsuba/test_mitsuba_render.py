@@ -223,3 +223,15 @@ def test_the_sun_scale_is_the_reference_suns_irradiance(mi):
     y = reference_sun_y_up()
     assert abs(y - SUN_Y_UP) <= 1e-5 * SUN_Y_UP and SUN_SCALE == 1.0 / SUN_Y_UP
     assert abs(reference_sun_y_up(192) - y) <= 1e-3 * y
+
+
+def test_a_window_outside_the_image_is_refused(mi):
+    """#17/#23: ``window_px`` (render only that window) must be four whole numbers inside the image: anything
+    else is one SwatchError line, before a scene is built."""
+    from swatch.core.errors import SwatchError
+    from swatch.render.mitsuba.engine import render_swatch_mitsuba
+
+    for bad in ((0, 0, 0, 4), (14, 0, 4, 4), (0, -1, 4, 4), (0, 0, 2.5, 4), (0, 0, 4), "0,0,4,4", (0, 0, "x", 4)):
+        with pytest.raises(SwatchError, match="window_px") as exc:
+            render_swatch_mitsuba(50.0, "flat", 16, 1, window_px=bad)
+        assert "\n" not in str(exc.value)

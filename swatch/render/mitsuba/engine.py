@@ -237,6 +237,21 @@ def _floor_y(shape: str, mesh) -> float:
     return float(mesh.points()[:, 1].min())
 
 
+def _check_window(window_px, size: int) -> tuple[int, int, int, int] | None:
+    """``window_px`` as four whole numbers inside the ``size``² image, or None."""
+    if window_px is None:
+        return None
+    try:
+        x, y, w, h = (int(v) for v in window_px)
+        ok = [float(v) for v in window_px] == [x, y, w, h] and x >= 0 and y >= 0 and w >= 1 and h >= 1
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or x + w > size or y + h > size:
+        raise SwatchError(f"window_px must be (x, y, width, height) in whole pixels inside the {size}x{size} "
+                          f"image, got {window_px!r}")
+    return x, y, w, h
+
+
 def _pass_seeds(seed: int, passes: int) -> list[int]:
     return [int((seed * 2654435761 + 97 * i + 1) % (2**32)) for i in range(passes)]
 
@@ -250,7 +265,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           view_azimuth_deg: float = 0.0, mesh=None, variant: str = DEFAULT_VARIANT,
                           progress: Callable[[int, int], None] | bool | None = None,
                           bsdf_override: dict | None = None, exposure: float = 1.0,
-                          spread: ThicknessSpread | None = None) -> SwatchImage:
+                          spread: ThicknessSpread | None = None,
+                          window_px: tuple[int, int, int, int] | None = None) -> SwatchImage:
     """Render one swatch with Mitsuba (module documentation): the public function of the engine.
 
     Parameters
@@ -297,6 +313,10 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         Display exposure of the PNG (the EXR keeps the scene values), 1/64 to 64; default 1 (the white
         diffuser is display white). The sun is far brighter than a studio: about 0.3 keeps sunlit metal
         out of the shoulder.
+    window_px : (int, int, int, int), optional
+        ``(x, y, width, height)`` in pixels from the top-left corner: render only that window of the
+        ``size_px``² image (Mitsuba's film crop: the same camera and pixels, the cost of the window alone),
+        e.g. a patch's centre at many samples. The image returned is the window.
 
     Returns
     -------
@@ -307,6 +327,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = "mesh" if mesh is not None else check_shape(shape)
     size, spp, seed = check_mitsuba_request(size_px, spp, seed)
+    window = _check_window(window_px, size)
     if distribution not in DISTRIBUTIONS:
         raise SwatchError(f"unknown distribution {distribution!r}; use one of {', '.join(DISTRIBUTIONS)}")
     alphas = tuple(roughness_alpha) if isinstance(roughness_alpha, tuple | list) else (roughness_alpha,)
@@ -359,11 +380,12 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     # Samples per pass: a power of two dividing spp (so a pixel's samples, laid out together, never straddle
     # two of Dr.Jit's power-of-two thread blocks: the film's box-filter sums then run in one order, and the
     # image is byte-identical from run to run), and at most MAX_PASS_LANES samples a pass.
+    width, height = (size, size) if window is None else window[2:]
     per = spp & -spp
-    while per > 1 and size * size * per > MAX_PASS_LANES:
+    while per > 1 and width * height * per > MAX_PASS_LANES:
         per //= 2
     passes = spp // per
-    sensor = camera_dict(scene_geo.camera, size, per)
+    sensor = camera_dict(scene_geo.camera, size, per, window)
     scene = load_scene({"type": "scene",
                           "integrator": {"type": "path", "max_depth": PATH_BOUNCES,
                                          "hide_emitters": background != "environment"},
@@ -373,7 +395,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     if progress is True and sys.stderr.isatty() and passes > 1:
 
         bar = click.progressbar(length=passes, label=f"mitsuba {shape}", file=sys.stderr)
-    acc = np.zeros((size, size, 4), dtype=np.float64)
+    acc = np.zeros((height, width, 4), dtype=np.float64)
     try:
         for i, s in enumerate(_pass_seeds(seed, passes)):
             acc += np.asarray(mi.render(scene, seed=s, spp=per), dtype=np.float64)  # type: ignore[arg-type]
@@ -390,7 +412,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     rgb = (acc[..., :3] * scale).astype(np.float32)
     alpha = np.clip(acc[..., 3], 0.0, 1.0).astype(np.float32)
     if background == "environment":
-        coverage = np.ones((size, size), dtype=np.float32)
+        coverage = np.ones((height, width), dtype=np.float32)
         display = display_encode(rgb, exposure)
     else:
         coverage = alpha
@@ -436,4 +458,6 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     })
     if alphas and len(alphas) == 2:
         meta["roughness_alpha_uv"] = [alphas[0], alphas[1]]
+    if window is not None:
+        meta["window_px"] = list(window)
     return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh), exposure)

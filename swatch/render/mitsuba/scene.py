@@ -61,7 +61,7 @@ def _transform(matrix) -> mi.ScalarTransform4f:
     return mi.ScalarTransform4f(np.asarray(matrix, dtype=np.float64).tolist())
 
 
-def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
+def camera_dict(cam: Camera, size_px: int, spp: int, window_px: tuple[int, int, int, int] | None = None) -> dict:
     """Mitsuba's perspective sensor for a :class:`swatch.render.scene.Camera` (same rays through pixel centres).
 
     Parameters
@@ -71,6 +71,9 @@ def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
         Pixels per side of the film.
     spp : int
         Samples per pixel.
+    window_px : (int, int, int, int), optional
+        ``(x, y, width, height)``: only that window of the film is rendered (Mitsuba's film crop), in
+        pixels from the top-left corner; checked by the caller.
 
     Returns
     -------
@@ -80,6 +83,11 @@ def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
     m = np.eye(4)
     # Mitsuba's camera looks along +z with +x to the image's left and +y up.
     m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = -cam.right, cam.up, cam.forward, cam.position
+    film = {"type": "hdrfilm", "width": int(size_px), "height": int(size_px), "pixel_format": "rgba",
+            "component_format": "float32", "rfilter": {"type": "box"}}
+    if window_px is not None:
+        x, y, w, h = (int(v) for v in window_px)
+        film.update(crop_offset_x=x, crop_offset_y=y, crop_width=w, crop_height=h)
     return {
         "type": "perspective",
         "fov": math.degrees(2.0 * math.atan(cam.half)),
@@ -89,8 +97,7 @@ def camera_dict(cam: Camera, size_px: int, spp: int) -> dict:
         "near_clip": 0.01,
         "far_clip": 1000.0,
         "to_world": _transform(m),
-        "film": {"type": "hdrfilm", "width": int(size_px), "height": int(size_px), "pixel_format": "rgba",
-                 "component_format": "float32", "rfilter": {"type": "box"}},
+        "film": film,
         "sampler": {"type": "independent", "sample_count": int(spp)},
     }
 
