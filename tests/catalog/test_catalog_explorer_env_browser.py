@@ -17,7 +17,7 @@ import pytest
 
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.render.display import KNEE, tone
-from tests.browser import CHROMIUM, WEBGL_ARGS, open_catalog_page, wait_until
+from tests.browser import CHROMIUM, WEBGL_ARGS, open_catalog_page, save_canvas, wait_until
 from tests.cli_helpers import run_swatch
 from tests.render.env_reference import albedo_normal_view, lab_2deg, lab_of_spectrum, xyz_of_srgb
 
@@ -39,11 +39,15 @@ def _size(pg) -> tuple[int, int]:
     return tuple(pg.evaluate("() => { const c = document.getElementById('view'); return [c.width, c.height]; }"))
 
 
+def _pixels(pg, grid: list[dict]) -> list[list[int]]:
+    """``swatchCatalog.pixel(q).rgb`` of every point of ``grid``, in one round trip to the page."""
+    return pg.evaluate("g => g.map((q) => swatchCatalog.pixel(q).rgb)", grid)
+
+
 def _centre(pg) -> np.ndarray:
     """Mean displayed sRGB (0–255) of the 2 × 2 pixels around the canvas centre."""
     w, h = _size(pg)
-    return np.mean([pg.evaluate("q => swatchCatalog.pixel(q).rgb", {"x": x, "y": y})
-                    for x in (w // 2 - 1, w // 2) for y in (h // 2 - 1, h // 2)], axis=0)
+    return np.mean(_pixels(pg, [{"x": x, "y": y} for x in (w // 2 - 1, w // 2) for y in (h // 2 - 1, h // 2)]), axis=0)
 
 
 def _display(linear) -> np.ndarray:
@@ -192,7 +196,7 @@ def test_every_shape_looks_like_the_finish(page, lighting):
                 assert b > r + 60 and b > g, (lighting, shape, d, s["mean"])
             else:
                 assert r > g + 40 and b > g + 20, (lighting, shape, d, s["mean"])
-            pg.locator("#view").screenshot(path=str(out.parent / f"env_{lighting}_{shape.replace(' ', '_')}_{d:g}.png"))
+            save_canvas(pg, out.parent / f"env_{lighting}_{shape.replace(' ', '_')}_{d:g}.png")
     assert events["errors"] == []
 
 
@@ -207,7 +211,7 @@ def test_switching_lighting_changes_the_canvas(page):
         assert state["lighting"] == lighting
         assert pg.locator("#lighting").input_value() == lighting
         assert pg.locator("#light").is_disabled() == (lighting != "point")
-        px = tuple(tuple(pg.evaluate("q => swatchCatalog.pixel(q).rgb", q)) for q in grid)
+        px = tuple(tuple(p) for p in _pixels(pg, grid))
         if lighting in seen:
             assert px == seen[lighting]  # back to the point light: the same picture
         seen[lighting] = px
@@ -241,22 +245,22 @@ def test_dragging_under_an_environment_refines_when_let_go(page):
                 "view_azimuth_deg: 180})")
     w, h = _size(pg)
     grid = [{"x": x * w // 800, "y": y * h // 600} for x in range(150, 651, 25) for y in (150, 300, 450)]
-    before = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    before = _pixels(pg, grid)
     pg.locator("#view").scroll_into_view_if_needed()  # a test before may have scrolled the shared page
     box = pg.locator("#view").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
     pg.mouse.move(x, y)
     pg.mouse.down()
     pg.mouse.move(x + 30, y + 60, steps=3)
-    during = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    during = _pixels(pg, grid)
     pg.mouse.up()
-    after = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    after = _pixels(pg, grid)
     assert during != after  # the coarse picture, then the refined one
     st = pg.evaluate("swatchCatalog.show({})")
     assert st["view_deg"] > 20 and after != before
     pg.evaluate("swatchCatalog.show({view_deg: 0})")
     pg.evaluate("q => swatchCatalog.show(q)", {"view_deg": st["view_deg"], "view_azimuth_deg": st["view_azimuth_deg"]})
-    fresh = [pg.evaluate("q => swatchCatalog.pixel(q).rgb", q) for q in grid]
+    fresh = _pixels(pg, grid)
     assert after == fresh
     assert events["errors"] == []
 
