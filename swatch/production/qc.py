@@ -41,6 +41,10 @@ FIT_SPAN_NM = 40.0
 #: The thickness fit's grids (nm): the table's step and the step of the first search over it.
 FINE_STEP_NM = 0.01
 COARSE_STEP_NM = 0.25
+#: ΔE2000 evaluations per chunk of the thickness fit (parts × table rows × geometries): colour-science's
+#: CIEDE2000 makes a few dozen temporaries of that size; ~100k keeps them in the CPU cache and out of fresh
+#: pages (10,000 parts at one geometry: 4.7 CPU-s in one piece, 1.3 in chunks, the same result bit for bit).
+_CHUNK_ELEMENTS = 1 << 17
 #: A measured geometry is the spec's when light and view agree within this (degrees).
 GEOMETRY_MATCH_DEG = 0.5
 
@@ -165,12 +169,20 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
     every = round(COARSE_STEP_NM / FINE_STEP_NM)
     coarse = table[::every]  # (Kc, G, 3)
     P = Lab_meas.shape[0]
-    cost = np.sum(delta_E_00(coarse[None], np.broadcast_to(Lab_meas[:, None], (P, *coarse.shape))) ** 2, axis=-1)
-    k0 = np.argmin(cost, axis=1) * every  # (P,) index into the fine table
+    k0 = np.empty(P, dtype=np.intp)
+    step = max(1, _CHUNK_ELEMENTS // coarse[..., 0].size)  # parts a chunk: its ΔE temporaries stay in cache
+    for a in range(0, P, step):
+        m = Lab_meas[a:a + step, None]
+        cost = np.sum(delta_E_00(coarse[None], np.broadcast_to(m, (m.shape[0], *coarse.shape))) ** 2, axis=-1)
+        k0[a:a + step] = np.argmin(cost, axis=1) * every  # index into the fine table
     idx = np.clip(k0[:, None] + np.arange(-every, every + 1)[None, :], 0, count - 1)  # (P, F)
-    near = table[idx]  # (P, F, G, 3)
-    cost_f = np.sum(delta_E_00(near, np.broadcast_to(Lab_meas[:, None], near.shape)) ** 2, axis=-1)
-    return lo + FINE_STEP_NM * idx[np.arange(P), np.argmin(cost_f, axis=1)]
+    best = np.empty(P, dtype=np.intp)
+    step = max(1, _CHUNK_ELEMENTS // (idx.shape[1] * table.shape[1]))
+    for a in range(0, P, step):
+        near = table[idx[a:a + step]]  # (p, F, G, 3)
+        cost_f = np.sum(delta_E_00(near, np.broadcast_to(Lab_meas[a:a + step, None], near.shape)) ** 2, axis=-1)
+        best[a:a + step] = np.argmin(cost_f, axis=1)
+    return lo + FINE_STEP_NM * idx[np.arange(P), best]
 
 
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
