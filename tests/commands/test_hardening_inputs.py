@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import io
-import resource
 import subprocess
-import sys
 
 import pytest
 
@@ -15,15 +13,6 @@ from swatch.core.limits import MAX_RUN_BYTES
 from tests.cli_helpers import assert_one_line_error, run_capped_batch
 
 MEMORY_CAP_BYTES = 1024 ** 3  # well under MAX_RUN_BYTES: a refusal must come before any big allocation
-
-
-def run_capped(*args, cap: int = MEMORY_CAP_BYTES, timeout: float = 60) -> subprocess.CompletedProcess:
-    """The CLI in a subprocess whose address space is capped (RLIMIT_AS): a regression fails fast."""
-    def limit():
-        resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
-
-    return subprocess.run([sys.executable, "-m", "swatch.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, preexec_fn=limit)
 
 
 def run_here(*args) -> subprocess.CompletedProcess:
@@ -53,16 +42,40 @@ HUGE_INPUTS = [
 ]
 
 
+#: The cases below that read a file or write a result: (name, argv with {tmp} for their folder).
+FILE_CASES = [
+    ("angular-blocks", ["angular", "--thickness", "50", "--out", "{tmp}", "--light-range", "0:85:0.35",
+                        "--view-range", "0:85:0.35"]),
+    ("giant-csv-field", ["fit", "{tmp}/big.csv"]),
+    ("deep-toml-validate", ["catalog", "validate", "{tmp}/deep.toml"]),
+    ("deep-toml-build", ["catalog", "build", "{tmp}/deep.toml", "--out", "{tmp}/o"]),
+]
+
+
 @pytest.fixture(scope="module")
-def huge_input_runs(tmp_path_factory):
-    """Every HUGE_INPUTS case run under MEMORY_CAP_BYTES, all in one capped subprocess (issue 17 item 7: one
-    interpreter start-up instead of ten), each case writing under its own empty folder: (folder, result)s."""
+def capped_runs(tmp_path_factory):
+    """Every HUGE_INPUTS case and every FILE_CASES case run under MEMORY_CAP_BYTES, all in one capped
+    subprocess (issue 17 item 7: one interpreter start-up, ~1.4 CPU-s, instead of fourteen), each case
+    writing under its own empty folder: (HUGE_INPUTS' (folder, result)s, FILE_CASES' name → (folder, result))."""
     root = tmp_path_factory.mktemp("huge")
-    folders = [root / str(i) for i in range(len(HUGE_INPUTS))]
+    folders = [root / str(i) for i in range(len(HUGE_INPUTS) + len(FILE_CASES))]
     for f in folders:
         f.mkdir()
-    argvs = [[a.replace("{tmp}", str(f)) for a in args] for (args, _), f in zip(HUGE_INPUTS, folders, strict=True)]
-    return list(zip(folders, run_capped_batch(argvs, MEMORY_CAP_BYTES, timeout=120), strict=True))
+    files = dict(zip((name for name, _ in FILE_CASES), folders[len(HUGE_INPUTS):], strict=True))
+    (files["giant-csv-field"] / "big.csv").write_text("wavelength_nm,reflectance\n380," + "1" * 200_000 + "\n",
+                                                      encoding="utf-8")
+    for name in ("deep-toml-validate", "deep-toml-build"):
+        (files[name] / "deep.toml").write_text('name = "x"\na = ' + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+    argvs = [[a.replace("{tmp}", str(f)) for a in args]
+             for args, f in zip([a for a, _ in HUGE_INPUTS] + [a for _, a in FILE_CASES], folders, strict=True)]
+    results = run_capped_batch(argvs, MEMORY_CAP_BYTES, timeout=300)
+    runs = list(zip(folders, results, strict=True))
+    return runs[:len(HUGE_INPUTS)], dict(zip(files, runs[len(HUGE_INPUTS):], strict=True))
+
+
+@pytest.fixture(scope="module")
+def huge_input_runs(capped_runs):
+    return capped_runs[0]
 
 
 @pytest.mark.parametrize("case", range(len(HUGE_INPUTS)), ids=[f"{a[0]}-{i}" for i, (a, _) in enumerate(HUGE_INPUTS)])
@@ -73,28 +86,22 @@ def test_issue12_huge_inputs_are_refused_under_a_memory_cap(huge_input_runs, cas
     assert list(folder.iterdir()) == []  # nothing written
 
 
-def test_issue12_angular_map_is_computed_in_blocks(tmp_path):
+def test_issue12_angular_map_is_computed_in_blocks(capped_runs):
     """243 × 243 cells needed ~1.4 GB before the optics ran in blocks of light rows; now ~0.4 GB."""
-    proc = run_capped("angular", "--thickness", "50", "--out", tmp_path, "--light-range", "0:85:0.35",
-                      "--view-range", "0:85:0.35", timeout=300)
+    tmp_path, proc = capped_runs[1]["angular-blocks"]
     assert proc.returncode == 0, proc.stderr
     assert (tmp_path / "angular_050.0nm_spectral.exr").is_file()
 
 
-def test_issue12_giant_csv_field(tmp_path):
-    p = tmp_path / "big.csv"
-    p.write_text("wavelength_nm,reflectance\n380," + "1" * 200_000 + "\n", encoding="utf-8")
-    proc = run_capped("fit", p)
+def test_issue12_giant_csv_field(capped_runs):
+    _, proc = capped_runs[1]["giant-csv-field"]
     assert_one_line_error(proc, "line 2", "131072 characters")
     assert proc.returncode == 2
 
 
-def test_issue12_deeply_nested_toml(tmp_path):
-    p = tmp_path / "deep.toml"
-    p.write_text('name = "x"\na = ' + "[" * 5000 + "]" * 5000 + "\n", encoding="utf-8")
+def test_issue12_deeply_nested_toml(capped_runs):
     for cmd in ("validate", "build"):
-        extra = ["--out", tmp_path / "o"] if cmd == "build" else []
-        proc = run_capped("catalog", cmd, p, *extra)
+        tmp_path, proc = capped_runs[1][f"deep-toml-{cmd}"]
         assert_one_line_error(proc, "nested too deeply")
         assert proc.returncode == 2
     assert not (tmp_path / "o").exists()
