@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 
-import numpy as np
 import pytest
 
 from swatch.render.mitsuba.setup import configure_llvm
@@ -32,22 +31,13 @@ def irregular_spectrum(wl, values) -> dict:
 
 
 def jit_float(values):
-    """``values`` as a Dr.Jit ``Float`` of the current variant, read from a 64-byte-aligned float32 copy.
+    """``values`` as a Dr.Jit ``Float`` in aligned memory: :func:`swatch.render.mitsuba.scene.jit_float` (NumPy's
+    16-byte-aligned buffers made the kernels reading them one of two programs at random, so the BSDF tests
+    missed Dr.Jit's kernel cache about half the time, #17). Imported here, once a test runs, so that collecting
+    the tests does not load Mitsuba."""
+    from swatch.render.mitsuba.scene import jit_float as upload
 
-    Dr.Jit maps a NumPy buffer without copying it and compiles the kernels that read it for its address
-    (``unaligned`` unless it is a multiple of 32 bytes: drjit-core ``jitc_var_mem_map``). NumPy's buffers are
-    16-byte aligned, so a test's kernels came out as one of two programs at random and missed Dr.Jit's kernel
-    cache (~/.drjit) about half the time: compiled again, about a second for each BSDF kernel (#17). The
-    values are those of ``np.float32(values)``; the copy stays alive as long as the array (Dr.Jit holds it).
-    """
-    import mitsuba as mi
-
-    a = np.ascontiguousarray(values, dtype=np.float32).reshape(-1)
-    buf = np.empty(a.size + 16, dtype=np.float32)
-    start = (-buf.ctypes.data % 64) // 4
-    out = buf[start:start + a.size]
-    out[:] = a
-    return mi.Float(out)
+    return upload(values)
 
 
 def jit_of(cls, rows):

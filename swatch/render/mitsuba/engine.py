@@ -44,7 +44,7 @@ from swatch.render.image import SwatchImage, mesh_metadata
 from swatch.render.lighting import Lighting, Sun, resolve_lighting
 from swatch.render.metadata import coating_and_colorimeter, common_metadata
 from swatch.render.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
-from swatch.render.mitsuba.scene import camera_dict, lighting, load_scene, object_shapes
+from swatch.render.mitsuba.scene import camera_dict, jit_float, lighting, load_scene, object_shapes
 from swatch.render.mitsuba.setup import (
     DEFAULT_VARIANT,
     ENV_VAR,
@@ -159,13 +159,17 @@ def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
     """π / E_up at the origin: a white diffuser facing up there, lit directly by the emitters (no occlusion,
     no bounce), reflects 1. Each emitter's own direction sampling on a fixed stratified grid of
     ``grid``² points, at 5 nm steps weighted by CIE 1931 ȳ, relative to a D65 radiance 1 (whose white
-    diffuser reflects 1); averaged in numpy, so the same scene always gives the same scale."""
+    diffuser reflects 1); averaged in numpy, so the same scene always gives the same scale. The wavelengths
+    are opaque to Dr.Jit and the grid is uploaded once, aligned (:func:`jit_float`): one kernel per emitter
+    for all 21 groups of wavelengths, the same from process to process (with the wavelengths as constants,
+    each group compiled its own: ~100 kernels, ~5 s with an empty kernel cache)."""
     scene = load_scene({"type": "scene", **light_entries})
     wl = np.arange(380.0, 781.0, 5.0)
     ybar = np.asarray(colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"][wl])[:, 1]
     u = (np.arange(grid) + 0.5) / grid
     su, sv = (a.ravel() for a in np.meshgrid(u, u, indexing="ij"))
     n = su.size
+    sample = mi.Point2f(jit_float(su), jit_float(sv))
     reference = mi.load_dict({"type": "constant", "radiance": 1.0})
     E = np.zeros(wl.size)
     L1 = np.zeros(wl.size)
@@ -173,9 +177,9 @@ def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
         lam = np.resize(wl[k:k + 4], 4)
         it = dr.zeros(mi.SurfaceInteraction3f, n)
         it.p = mi.Point3f(0.0, 1e-3, 0.0)
-        it.wavelengths = mi.Spectrum(*(float(x) for x in lam))  # type: ignore[assignment]
+        it.wavelengths = mi.Spectrum(*(dr.opaque(mi.Float, float(x)) for x in lam))  # type: ignore[assignment]
         for em in scene.emitters():
-            ds, w = em.sample_direction(it, mi.Point2f(su, sv), True)
+            ds, w = em.sample_direction(it, sample, True)
             cos = np.maximum(np.asarray(ds.d)[1], 0.0)
             E[k:k + 4] += (np.nan_to_num(np.asarray(w, dtype=np.float64)) * cos).mean(axis=1)[:len(wl[k:k + 4])]
         it.wi = mi.Vector3f(0.0, -1.0, 0.0)

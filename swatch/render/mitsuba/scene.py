@@ -29,7 +29,7 @@ import numpy as np
 from swatch.render.lighting import Sun
 from swatch.render.scene import Camera
 
-__all__ = ["Sun", "load_scene", "camera_dict", "object_shapes", "lighting", "triangle_mesh", "half_cylinder_arrays",
+__all__ = ["Sun", "jit_float", "load_scene", "camera_dict", "object_shapes", "lighting", "triangle_mesh", "half_cylinder_arrays",
            "SUNSKY_TO_WORLD"]
 
 #: sunsky's frame (z up, x south, y west) into the world (y up, +z south, +x west, −z north).
@@ -55,6 +55,32 @@ def load_scene(scene: dict):
     mitsuba.Scene
     """
     return mi.load_dict(scene, optimize=False)
+
+
+def jit_float(values) -> mi.Float:
+    """``values`` as a Dr.Jit ``Float`` of the current variant, read from a 64-byte-aligned float32 copy.
+
+    Dr.Jit maps a NumPy buffer without copying it and compiles the kernels that read it for its address
+    (``unaligned`` unless a multiple of 32 bytes: drjit-core's ``jitc_var_mem_map``); NumPy's buffers are
+    16-byte aligned, so kernels fed NumPy arrays came out as one of two programs at random and missed
+    Dr.Jit's kernel cache (~/.drjit) about half the time, compiled again (#17). The values are those of
+    ``np.float32(values)``; Dr.Jit keeps the copy alive with the array.
+
+    Parameters
+    ----------
+    values : array_like
+        Numbers (any shape: flattened).
+
+    Returns
+    -------
+    mitsuba.Float
+    """
+    a = np.ascontiguousarray(values, dtype=np.float32).reshape(-1)
+    buf = np.empty(a.size + 16, dtype=np.float32)
+    start = (-buf.ctypes.data % 64) // 4
+    out = buf[start:start + a.size]
+    out[:] = a
+    return mi.Float(out)
 
 
 def _transform(matrix) -> mi.ScalarTransform4f:
