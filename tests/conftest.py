@@ -85,12 +85,26 @@ def chromium(playwright_session):
 @pytest.fixture(scope="session")
 def small_catalog(tmp_path_factory):
     """The small page-test catalog (20–300 nm every 70 nm, 64 px, one sheet of 4), built once per
-    session; its output folder. Tests read it and never write into it (screenshots go to its parent)."""
+    session; its output folder. Tests read it and never write into it (screenshots go to its parent).
+
+    Under xdist the workers share one: the first to need it builds it in the run's common temporary
+    folder under an exclusive lock (``fcntl.flock``), the others wait and read it (issue 17: each worker
+    built its own, ~3 CPU-s)."""
+    import fcntl
+
     from swatch.catalog.build import build_catalog
 
     require_chromium()
-    root = tmp_path_factory.mktemp("small-catalog")
-    spec = root / "spec.toml"
-    spec.write_text(SMALL_CATALOG_SPEC.format(name="page test"), encoding="utf-8")
-    build_catalog(spec, root / "out", jobs=1)
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = tmp_path_factory.getbasetemp().parent / "small-catalog"  # the workers' basetemps' parent
+        root.mkdir(exist_ok=True)
+    else:
+        root = tmp_path_factory.mktemp("small-catalog")
+    with open(root / "build.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (root / "built").is_file():  # written after a build that finished
+            spec = root / "spec.toml"
+            spec.write_text(SMALL_CATALOG_SPEC.format(name="page test"), encoding="utf-8")
+            build_catalog(spec, root / "out", jobs=1)
+            (root / "built").touch()
     return root / "out"
