@@ -28,26 +28,26 @@ from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chro
 #: harmless; a new long file belongs here.
 LONGEST_FIRST = (
     "tests/commands/test_hardening_memory_caps.py",  # 180 s
-    "tests/catalog/test_catalog_layout_browser.py",  # 122
     "tests/core/test_hardening_runs.py",  # 108
-    "tests/catalog/test_catalog_explorer_env_browser.py",  # 78
     "tests/presets/test_presets.py",  # 71
     "tests/mitsuba/test_mitsuba_checks.py",  # 68
     "tests/mitsuba/test_mitsuba_determinism.py",  # 60
     "tests/catalog/test_catalog_hero.py",  # 58
+    "tests/catalog/test_catalog_layout_browser.py",  # 57 (page, 05:55: -n 2, load ~9)
+    "tests/catalog/test_catalog_explorer_env_browser.py",  # 53 (page, 05:55: -n 2, load ~9)
     "tests/physics/test_spread.py",  # 44
     "tests/catalog/test_hardening_escape.py",  # 41
-    "tests/catalog/test_catalog_browser.py",  # 34
     "tests/fit/test_fit.py",  # 34
     "tests/presets/test_presets_mitsuba.py",  # 34
     "tests/catalog/test_catalog_layout.py",  # 34
     "tests/catalog/test_hardening.py",  # 33
     "tests/commands/test_hardening_inputs.py",  # 33
     "tests/catalog/test_catalog_build.py",  # 27
-    "tests/catalog/test_catalog_explorer_browser.py",  # 25
+    "tests/catalog/test_catalog_browser.py",  # 23 (page, 05:55: -n 2, load ~9)
     "tests/colorimetry/test_colorimetry.py",  # 23
     "tests/mitsuba/test_mitsuba_render.py",  # 22
     "tests/commands/test_hardening_memory.py",  # 21
+    "tests/catalog/test_catalog_explorer_browser.py",  # 20 (page, 05:55: -n 2, load ~9)
     "tests/catalog/test_page_js.py",  # 20
 )
 
