@@ -72,15 +72,6 @@ def test_issue22_sheet_workers_are_chosen_from_the_budget():
     assert 1 <= jobs < 64 and PARENT_BYTES + jobs * sheet_bytes(spec) <= MAX_RUN_BYTES
 
 
-@pytest.mark.slow
-def test_issue22_fit_at_its_step_cap_runs_under_the_memory_limit():
-    """Issue #22 group 3: `fit --step 0.0021` (190,000 search points) needed 8.7 GiB; it now runs under a 2 GB
-    (+ baseline) address-space limit. (The fit of 20,000 geometries and the calibration of 1,000 coupons take
-    minutes here: their peaks are measured in the README's memory table instead.)"""
-    proc = run_capped("fit", "examples/blue_sbrdf_percent.csv", "--step", "0.0021", "--json")
-    assert proc.returncode == 0, proc.stderr[-2000:]
-
-
 def test_issue22_the_budget_can_be_lowered_for_a_run_never_raised():
     """Issue 17 item 7: ``SWATCH_MAX_RUN_BYTES`` lowers the budget a run plans for (the chunked commands'
     memory test below runs under it); a larger, a tiny or an unreadable value does not widen it."""
