@@ -242,14 +242,14 @@ def test_live_view_opens_under_the_studio_light_with_no_black_on_the_sphere(page
 
 
 _EDGE_ERROR_JS = """q => {
-  // the view q with the canvas at 200 x 150 against the same view drawn at 4 x 4 times the pixels and
+  // the view q with the canvas at 160 x 120 against the same view drawn at 4 x 4 times the pixels and
   // box-filtered in linear light (brute-force supersampling): the mean error on the outline pixels, of the
   // antialiased frame and of one sample a pixel (the centre sample of each 4 x 4 block: what a renderer
   // without antialiasing shows). The buffer gets its size back after, undrawn: every test shows what it reads.
   const c = document.getElementById('view'), gl = c.getContext('webgl2');
   const read = () => { const p = new Uint8Array(c.width * c.height * 4);
     gl.readPixels(0, 0, c.width, c.height, gl.RGBA, gl.UNSIGNED_BYTE, p); return p; };
-  const W = 200, H = 150, W0 = c.width, H0 = c.height;
+  const W = 160, H = 120, W0 = c.width, H0 = c.height;
   c.width = W; c.height = H; swatchCatalog.show(q); const low = read();
   c.width = 4 * W; c.height = 4 * H; swatchCatalog.show({}); const high = read();
   c.width = W0; c.height = H0;
@@ -280,10 +280,10 @@ _EDGE_ERROR_JS = """q => {
 def test_live_view_outlines_are_antialiased(page, lighting):
     """Issue 21: live-view silhouettes were stair-stepped. The outline pixels of every shape are within half
     the error of one sample a pixel, against brute-force 16x supersampling of the same view. Drawn at
-    200 x 150 against 800 x 600 (issue 17: 400 x 300 against 1600 x 1200 was a third of the browser tests'
-    time under the studio): the smallest shape still has well over 100 outline pixels there, and with the
-    page's antialiasing off (coverage 0 or 1 in view.js's pixelSurface) it fails at once: the sphere's outline
-    error is then 18.1 against 17.1 for one sample a pixel under the point light, 8.7 against 9.1 under the studio."""
+    160 x 120 against 640 x 480 (issue 17: 400 x 300 against 1600 x 1200 was a third of the browser tests'
+    time under the studio): each shape still has 299–358 outline pixels there, and with the page's
+    antialiasing off (coverage 0 or 1 in view.js's pixelSurface) it fails at once: the sphere's outline
+    error is then 16.8 against 15.9 for one sample a pixel under the point light, 8.1 against 8.3 under the studio."""
     pg, events, opened = page
     light = {k: opened[k] for k in ("light_deg", "light_azimuth_deg", "fill", "model")}  # as the page opened
     for shape in ("sphere", "plate", "bent sheet"):
