@@ -117,8 +117,9 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     meta = common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha)
     if light.environment is not None:
         return env_render.render_swatch_environment(
-            d, shape, scene, size, light.environment, background, roughness_alpha, model, distribution, coating,
-            colorimeter, space, meta | finish_meta(finish), (light_deg, view_deg, view_azimuth_deg), finish)
+            d, scene, light.environment, shape=shape, size=size, background=background,
+            roughness_alpha=roughness_alpha, coating=coating, colorimeter=colorimeter, space=space,
+            meta=meta | finish_meta(finish), camera=(light_deg, view_deg, view_azimuth_deg), finish=finish)
     img = render_pointlight(d, shape, scene, size, background, roughness_alpha, model, distribution, coating,
                             colorimeter, space, meta, light_deg, workers, mesh)
     img.metadata |= finish_meta(finish)

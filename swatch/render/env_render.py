@@ -38,7 +38,7 @@ from swatch.render import env_shading, shading
 from swatch.render import environment as envmod
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
 from swatch.render.env_aniso import AnisoSampleSet, aniso_sample_set, combine_aniso, gather_aniso
-from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, check_background, edge_pixels, mesh_metadata
+from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, edge_pixels, mesh_metadata
 
 __all__ = ["check_env_size_px", "render_swatch_environment", "Prepared", "prepared", "render_environment"]
 
@@ -319,29 +319,30 @@ def render_environment(prep: Prepared, f_table_srgb: np.ndarray, background: str
 F_TABLE_NODES = 257
 
 
-def render_swatch_environment(d: float, shape: str, scene, size: int, environment, background: str,
-                              roughness_alpha: float,
-                              model: str, distribution: str, coating, colorimeter, space: str, meta: dict,
-                              camera: tuple, finish=None):
+def render_swatch_environment(d: float, scene, env: envmod.Environment, *, shape: str, size: int, background: str,
+                              roughness_alpha: float, coating, colorimeter, space: str, meta: dict, camera: tuple,
+                              finish=None) -> SwatchImage:
     """The environment engine of :func:`swatch.render.dispatch.render_swatch`.
+
+    The lighting comes resolved and checked by the caller
+    (:func:`swatch.render.lighting.resolve_lighting`: GGX microfacet, the environment renderer's size
+    range), and the background checked; nothing is loaded here.
 
     Parameters
     ----------
     d : float
         Film thickness, nm (checked by the dispatcher).
+    scene : swatch.render.scene.Scene
+    env : swatch.render.environment.Environment
+        The lighting (the resolved :attr:`swatch.render.lighting.Lighting.environment`).
     shape : str
         The shape's name (``mesh`` for a mesh).
-    scene : swatch.render.scene.Scene
     size : int
         Pixels per side.
-    environment : swatch.render.environment.Environment or str
-        The lighting (the dispatcher passes its resolved :class:`~swatch.render.environment.Environment`).
     background : str
         ``grey``, ``white`` or ``environment``.
     roughness_alpha : float
         GGX α.
-    model, distribution : str
-        Must be ``microfacet`` and ``ggx``.
     coating, colorimeter
         The film and the colorimetry.
     space : str
@@ -356,20 +357,7 @@ def render_swatch_environment(d: float, shape: str, scene, size: int, environmen
     -------
     swatch.render.image.SwatchImage
         Exposure 1 (the white diffuser under the same environment is display white).
-
-    Raises
-    ------
-    SwatchError
-        For a size, background, model or distribution the environment engine does not take.
     """
-    background = check_background(background)
-    check_env_size_px(size)
-    if model != "microfacet" or distribution != "ggx":
-        raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
-                          "`distribution='ggx'`, or `environment=None` for the point light")
-    env = environment if isinstance(environment, envmod.Environment) else envmod.get_environment(environment)
-    if env is None:
-        raise SwatchError("environment 'none' is the point light; call without an environment")
     light_deg, view_deg, view_azimuth_deg = camera
     scene_key = (getattr(scene.shape, "key", shape), float(light_deg), None if view_deg is None else float(view_deg), float(view_azimuth_deg))
     prep = prepared(scene, scene_key, size, env, roughness_alpha, background, finish)
