@@ -3,6 +3,7 @@ Mitsuba's chi² test of the plugin's sampling, the white furnace against tmm + s
 built-in engine at the plate and sphere centres. Small images and few samples keep them to seconds each."""
 from __future__ import annotations
 
+import functools
 import math
 import subprocess
 import sys
@@ -285,11 +286,27 @@ def test_engine_matches_builtin_under_uniform(mi, shape):
         assert de <= 1.0, d
 
 
+_STUDIO_TDS = np.linspace(0.0, math.pi / 2 * 0.9999, 46)
+
+
+@functools.lru_cache(maxsize=4)
+def _studio_rgb_table(d_nm):
+    """tmm's F over θd (:data:`_STUDIO_TDS`) as linear sRGB (D65, CIE 1931 2°), shape (46, 3); kept for the
+    module: both shapes' checks use the same thicknesses (#17: 7544 tmm calls a thickness)."""
+    f, s = load_material("TiO2-Siefke"), load_material("Ti-Johnson")
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    Ftab = np.array([_tmm_F(d_nm, t, f.nk(_WL), s.nk(_WL)) for t in _STUDIO_TDS])
+    return np.array([colour.XYZ_to_RGB(colour.sd_to_XYZ(colour.SpectralDistribution(dict(zip(_WL, F, strict=True))),
+                                                        cmfs, colour.SDS_ILLUMINANTS["D65"],
+                                                        shape=colour.SpectralShape(380, 780, 10)) / 100,
+                                      "sRGB", apply_cctf_encoding=False) for F in Ftab])
+
+
 def _studio_reference(path, shape, thicknesses_nm, size, pixels, alpha=0.3):
     """Independent quadrature of a pixel's radiance under an equirectangular map: Σ over the map's texels
     (4 × 4 sub-texels) of L f cos dω, F from tmm as linear sRGB (exact for a neutral map), GGX, correlated Smith;
     the mean over ``pixels`` (row, column) of a ``size``² render of ``shape``, one Lab per thickness (the
-    geometry's weights are computed once for all of them)."""
+    geometry's weights are computed once for all of them, over the texels above each pixel's horizon)."""
     from swatch.render.hdri import read_equirect
     from swatch.render.scene import make_scene, scene_geometry
 
@@ -301,18 +318,8 @@ def _studio_reference(path, shape, thicknesses_nm, size, pixels, alpha=0.3):
     L = np.stack([np.sin(T) * np.sin(P), np.cos(T), -np.sin(T) * np.cos(P)], -1)
     dw = np.sin(T) * (math.pi / (h * sub)) * (2 * math.pi / (w * sub))
     rad = np.repeat(np.repeat(img, sub, 0), sub, 1)[..., 1]  # neutral: R = G = B
-    f, s = load_material("TiO2-Siefke"), load_material("Ti-Johnson")
-    tds = np.linspace(0.0, math.pi / 2 * 0.9999, 46)
-    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
-
-    def rgb_table(d_nm):
-        Ftab = np.array([_tmm_F(d_nm, t, f.nk(_WL), s.nk(_WL)) for t in tds])
-        return np.array([colour.XYZ_to_RGB(colour.sd_to_XYZ(colour.SpectralDistribution(dict(zip(_WL, F, strict=True))),
-                                                            cmfs, colour.SDS_ILLUMINANTS["D65"],
-                                                            shape=colour.SpectralShape(380, 780, 10)) / 100,
-                                          "sRGB", apply_cctf_encoding=False) for F in Ftab])
-
-    tables = [rgb_table(d) for d in thicknesses_nm]
+    tds = _STUDIO_TDS
+    tables = [_studio_rgb_table(float(d)) for d in thicknesses_nm]
     normals, _, views, _ = scene_geometry(make_scene(shape, 45.0), size)
 
     def lam(c):
@@ -320,15 +327,19 @@ def _studio_reference(path, shape, thicknesses_nm, size, pixels, alpha=0.3):
         return 0.5 * (np.sqrt(1 + alpha**2 * (1 - c * c) / (c * c)) - 1)
 
     out: list[list] = [[] for _ in tables]
+    L, dw_rad = L.reshape(-1, 3), (dw * rad).ravel()
     for r, c in pixels:
         n = normals[r, c] / np.linalg.norm(normals[r, c])
         v = views[r, c] / np.linalg.norm(views[r, c])
-        H = L + v
+        cl_all = L @ n
+        lit = cl_all > 0  # the texels above the pixel's horizon (the others weigh 0)
+        Ll, cl = L[lit], cl_all[lit]
+        H = Ll + v
         H /= np.linalg.norm(H, axis=-1, keepdims=True)
-        cl, cv, ch = L @ n, float(v @ n), H @ n
+        cv, ch = float(v @ n), H @ n
         D = alpha**2 / (math.pi * ((alpha**2 - 1) * ch * ch + 1) ** 2)
-        wgt = np.where((cl > 0) & (ch > 0), D / (1 + lam(cl) + lam(cv)) / (4 * cv) * dw * rad, 0.0).ravel()
-        td = np.arccos(np.clip((L * H).sum(-1), -1, 1)).ravel()
+        wgt = np.where(ch > 0, D / (1 + lam(cl) + lam(cv)) / (4 * cv), 0.0) * dw_rad[lit]
+        td = np.arccos(np.clip((Ll * H).sum(-1), -1, 1))
         for acc, Frgb in zip(out, tables, strict=True):
             acc.append([wgt @ np.interp(td, tds, Frgb[:, k]) for k in range(3)])
     return [_lab_of_srgb(np.mean(acc, axis=0)) for acc in out]
