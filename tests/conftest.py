@@ -23,32 +23,34 @@ import pytest
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chromium
 
 #: The suite's longest files, longest first: seconds per file (sum of its tests' durations) in the run
-#: ``python -m pytest -n 2 --dist loadfile --durations=0`` of 2026-12-02 (2 workers, VM load 6–8; 789 s
-#: wall in all). Files not named run after these, in collection order. A name that no longer exists is
-#: harmless; a new long file belongs here.
+#: ``python3 dev.py test`` of f70d8bd on 2026-12-02 (2 workers, quiet VM; 218 s wall in all, both workers
+#: busy to within 1 s of each other). Files not named run after these, in collection order. A name that no
+#: longer exists is harmless; a new long file belongs here.
 LONGEST_FIRST = (
-    "tests/commands/test_hardening_memory_caps.py",  # 180 s
-    "tests/core/test_hardening_runs.py",  # 108
-    "tests/presets/test_presets.py",  # 71
-    "tests/mitsuba/test_mitsuba_checks.py",  # 68
-    "tests/mitsuba/test_mitsuba_determinism.py",  # 60
-    "tests/catalog/test_catalog_hero.py",  # 58
-    "tests/catalog/test_catalog_layout_browser.py",  # 57 (page, 05:55: -n 2, load ~9)
-    "tests/catalog/test_catalog_explorer_env_browser.py",  # 53 (page, 05:55: -n 2, load ~9)
-    "tests/physics/test_spread.py",  # 44
-    "tests/catalog/test_hardening_escape.py",  # 41
-    "tests/fit/test_fit.py",  # 34
-    "tests/presets/test_presets_mitsuba.py",  # 34
-    "tests/catalog/test_catalog_layout.py",  # 34
-    "tests/catalog/test_hardening.py",  # 33
-    "tests/commands/test_hardening_inputs.py",  # 33
-    "tests/catalog/test_catalog_build.py",  # 27
-    "tests/catalog/test_catalog_browser.py",  # 23 (page, 05:55: -n 2, load ~9)
-    "tests/colorimetry/test_colorimetry.py",  # 23
-    "tests/mitsuba/test_mitsuba_render.py",  # 22
-    "tests/commands/test_hardening_memory.py",  # 21
-    "tests/catalog/test_catalog_explorer_browser.py",  # 20 (page, 05:55: -n 2, load ~9)
-    "tests/catalog/test_page_js.py",  # 20
+    "tests/presets/test_presets.py",  # 38 s
+    "tests/commands/test_hardening_memory_caps.py",  # 37
+    "tests/catalog/test_catalog_layout_browser.py",  # 35
+    "tests/catalog/test_catalog_explorer_env_browser.py",  # 30
+    "tests/core/test_hardening_runs.py",  # 29
+    "tests/catalog/test_catalog_build.py",  # 21
+    "tests/physics/test_spread.py",  # 15
+    "tests/fit/test_fit.py",  # 15
+    "tests/mitsuba/test_mitsuba_checks.py",  # 14
+    "tests/catalog/test_catalog_hero.py",  # 12
+    "tests/catalog/test_catalog_explorer_browser.py",  # 10
+    "tests/mitsuba/test_mitsuba_determinism.py",  # 10
+    "tests/catalog/test_hardening_escape.py",  # 9
+    "tests/commands/test_hardening_inputs.py",  # 9
+    "tests/commands/test_hardening_memory.py",  # 9
+    "tests/catalog/test_hardening.py",  # 8
+    "tests/catalog/test_catalog_browser.py",  # 8
+    "tests/catalog/test_catalog_layout.py",  # 8
+    "tests/catalog/test_knee_explorer_browser.py",  # 7
+    "tests/mitsuba/test_mitsuba_render.py",  # 7
+    "tests/fit/test_calibration.py",  # 7
+    "tests/render/test_environment.py",  # 6
+    "tests/colorimetry/test_colorimetry.py",  # 5
+    "tests/fit/test_calibration_search.py",  # 5
 )
 
 
