@@ -169,20 +169,26 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
     every = round(COARSE_STEP_NM / FINE_STEP_NM)
     coarse = table[::every]  # (Kc, G, 3)
     P = Lab_meas.shape[0]
-    k0 = np.empty(P, dtype=np.intp)
-    step = max(1, _CHUNK_ELEMENTS // coarse[..., 0].size)  # parts a chunk: its ΔE temporaries stay in cache
-    for a in range(0, P, step):
-        m = Lab_meas[a:a + step, None]
-        cost = np.sum(delta_E_00(coarse[None], np.broadcast_to(m, (m.shape[0], *coarse.shape))) ** 2, axis=-1)
-        k0[a:a + step] = np.argmin(cost, axis=1) * every  # index into the fine table
+    k0 = _argmin_delta_E_by_chunks(Lab_meas, lambda a, b: np.broadcast_to(coarse, (b - a, *coarse.shape)),
+                                   coarse.shape[0]) * every  # index into the fine table
     idx = np.clip(k0[:, None] + np.arange(-every, every + 1)[None, :], 0, count - 1)  # (P, F)
-    best = np.empty(P, dtype=np.intp)
-    step = max(1, _CHUNK_ELEMENTS // (idx.shape[1] * table.shape[1]))
-    for a in range(0, P, step):
-        near = table[idx[a:a + step]]  # (p, F, G, 3)
-        cost_f = np.sum(delta_E_00(near, np.broadcast_to(Lab_meas[a:a + step, None], near.shape)) ** 2, axis=-1)
-        best[a:a + step] = np.argmin(cost_f, axis=1)
+    best = _argmin_delta_E_by_chunks(Lab_meas, lambda a, b: table[idx[a:b]], idx.shape[1])
     return lo + FINE_STEP_NM * idx[np.arange(P), best]
+
+
+def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -> np.ndarray:
+    """Each part's candidate of least summed squared ΔE2000 over the geometries, over chunks of parts of
+    about :data:`_CHUNK_ELEMENTS` evaluations: ``candidates(a, b)`` gives parts a..b's (b - a, per_part, G, 3)
+    CIELAB candidates. Returns the (P,) indices along ``per_part``."""
+    P, G = Lab_meas.shape[:2]
+    out = np.empty(P, dtype=np.intp)
+    step = max(1, _CHUNK_ELEMENTS // (per_part * G))
+    for a in range(0, P, step):
+        b = min(P, a + step)
+        cand = candidates(a, b)
+        cost = np.sum(delta_E_00(cand, np.broadcast_to(Lab_meas[a:b, None], cand.shape)) ** 2, axis=-1)
+        out[a:b] = np.argmin(cost, axis=1)
+    return out
 
 
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
