@@ -217,11 +217,17 @@ def test_a_thickness_spread_renders_as_the_builtin_spread_average(mi, tmp_path):
 def test_the_sun_scale_is_the_reference_suns_irradiance(mi):
     """#23: every sun render's scale is π / E_up of the reference sun (45°, turbidity 3) by the engine's
     deterministic quadrature of the emitter's own sampling (stored, since it takes seconds): the stored Y
-    equals the recomputed one to 1e-5, and the quadrature has converged (a 2× finer grid: 1e-3)."""
+    equals the recomputed one to 1e-4, and the quadrature has converged (a 2× finer grid: 1e-3).
+
+    1e-4, not 1e-5 (issue 17): Mitsuba's sunsky emitter does not sample bit-identically from process to
+    process. With an empty Dr.Jit kernel cache, about 1 run in 6 gave Y = 0.3364707 against 0.3364837
+    (−4.0e-5 relative; the 192² grid moved by the same amount), and a cold run of the suite on 42a54e1 failed on that.
+    Renders are unaffected: they use the stored constant, and sun renders were byte-identical over 6 cold
+    processes."""
     from swatch.render.mitsuba.engine import SUN_SCALE, SUN_Y_UP, reference_sun_y_up
 
     y = reference_sun_y_up()
-    assert abs(y - SUN_Y_UP) <= 1e-5 * SUN_Y_UP and SUN_SCALE == 1.0 / SUN_Y_UP
+    assert abs(y - SUN_Y_UP) <= 1e-4 * SUN_Y_UP and SUN_SCALE == 1.0 / SUN_Y_UP
     assert abs(reference_sun_y_up(192) - y) <= 1e-3 * y
 
 
