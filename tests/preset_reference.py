@@ -254,7 +254,16 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
     (+Z normal) under one directional light, orthographic camera 200 units away (a practically
     constant view direction), no environment, float read-back of the centre. Needs an OpenGL
     context (``DISPLAY``: the test starts Xvfb). For each document, per geometry: the mean linear
-    RGB of the preset and of the same surface with a white metal (base_color 1, no thin film)."""
+    RGB of the preset and of the same surface with a white metal (base_color 1, no thin film).
+
+    One program for all documents (#17: each GLSL program costs Mesa's llvmpipe ~2.6 s to compile
+    and ~1 s of draw variants on an empty shader cache, and the documents' sources differ only in
+    their uniforms' default values): generated from the first document, then, per document, every
+    input of its surface node as MaterialX reads it from the file (the node's own value, else its
+    nodedef's default) is bound to the program's uniform for that input before it is drawn, so each
+    picture is that of its file. Checked: a binding that did not take would draw every document
+    like the first, and a document whose surface differs from the program's in anything but
+    uniform values (another node, a connection) is refused."""
     import math
 
     import MaterialX as mx
@@ -289,22 +298,45 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
         node.setInputValue("intensity", 1.0, "float")
         return doc, [n for n in doc.getNodes() if n.getType() == "lightshader"]
 
+    def surface(doc):
+        return next(n for n in doc.getNodes() if n.getCategory() == "open_pbr_surface")
+
+    def inputs(doc):
+        """The surface's inputs as the document gives them: (nodedef name, {input: Value})."""
+        node = surface(doc)
+        nodedef = node.getNodeDef()
+        assert not any(i.getConnectedNode() or i.hasInterfaceName() for i in node.getInputs()), node.getName()
+        values = {}
+        for i in nodedef.getActiveInputs():
+            own = node.getInput(i.getName())
+            given = own if own is not None and own.hasValueString() else i
+            if given.hasValueString():
+                values[i.getName()] = mx.Value.createValueFromStrings(given.getValueString(), given.getType())
+        return nodedef.getName(), values
+
     def program(doc):
         """Generate and compile the document's shader once (the light's type registered; its
-        direction is a uniform, bound at each render from the light handler)."""
+        direction is a uniform, bound at each render from the light handler); the uniform of each
+        surface input by input name."""
         gen = mx_glsl.GlslShaderGenerator.create()
         ctx = mx_gen.GenContext(gen)
         ctx.registerSourceCodeSearchPath(search)
         opts = ctx.getOptions()
-        opts.hwSpecularEnvironmentMethod = mx_gen.HwSpecularEnvironmentMethod.SPECULAR_ENVIRONMENT_FIS
+        opts.shaderInterfaceType = mx_gen.ShaderInterfaceType.SHADER_INTERFACE_COMPLETE  # inputs are uniforms
+        opts.hwSpecularEnvironmentMethod = mx_gen.HwSpecularEnvironmentMethod.SPECULAR_ENVIRONMENT_PREFILTER
         opts.hwMaxActiveLightSources = 1
         opts.hwShadowMap = False
         opts.targetColorSpaceOverride = "lin_rec709"
         ldoc, sources = lights(45.0)
         handler = mx_render.LightHandler.create()
         handler.registerLights(ldoc, sources, ctx)
-        renderer.createProgram(gen.generate("preset", mx_gen.findRenderableElements(doc)[0], ctx))
-        return handler
+        shader = gen.generate("preset", mx_gen.findRenderableElements(doc)[0], ctx)
+        renderer.createProgram(shader)
+        prefix = surface(doc).getNamePath() + "/"
+        block = shader.getStage(mx_gen.PIXEL_STAGE).getUniformBlock(mx_gen.HW_PUBLIC_UNIFORMS)
+        ports = [block[i] for i in range(block.size())]
+        uniforms = {p.getPath()[len(prefix):]: p.getVariable() for p in ports if p.getPath().startswith(prefix)}
+        return handler, uniforms
 
     def draw(handler, view_deg, light_deg):
         _, sources = lights(light_deg)
@@ -331,16 +363,33 @@ def render_in_materialx(mtlx_paths, tmp_path, geometries=MATERIALX_GEOMETRIES) -
         mx.readFromXmlFile(doc, str(path))
         doc.importLibrary(lib)
         if white:
-            node = next(n for n in doc.getNodes() if n.getCategory() == "open_pbr_surface")
+            node = surface(doc)
             node.setInputValue("base_color", mx.Color3(1.0, 1.0, 1.0), "color3")
             node.setInputValue("thin_film_weight", 0.0, "float")
         return doc
 
-    out = []
-    handler = program(load(mtlx_paths[0], white=True))  # the white metal: the same for every preset
+    first = load(mtlx_paths[0])
+    handler, uniforms = program(first)
+    nodedef, _ = inputs(first)
+    assert {"base_color", "thin_film_thickness", "thin_film_ior", "thin_film_weight"} <= uniforms.keys(), uniforms
+
+    def bind(doc):
+        """The document's surface values into the program's uniforms (the render binds only the
+        view, the lights and the textures, so they hold until the next bind)."""
+        name, values = inputs(doc)
+        assert name == nodedef, (name, nodedef)  # the same surface: only values differ
+        gl = renderer.getProgram()
+        assert gl.bind()  # glUniform sets the program in use
+        for key, value in values.items():
+            if key in uniforms:
+                gl.bindUniform(uniforms[key], value, True)
+        gl.unbind()
+
+    bind(load(mtlx_paths[0], white=True))  # the white metal: the same for every preset
     reference = [draw(handler, v, li) for v, li in geometries]
+    out = []
     for path in mtlx_paths:
-        handler = program(load(path))
+        bind(load(path))
         rows = [{"view": v, "light": li, "preset": draw(handler, v, li), "reference": ref}
                 for (v, li), ref in zip(geometries, reference, strict=True)]
         out.append({"file": str(path), "rows": rows})
