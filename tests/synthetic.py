@@ -13,9 +13,9 @@ import functools
 from pathlib import Path
 
 import numpy as np
-import tmm
 
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
+from tests.tmm_reference import unpolarised_R
 
 #: The paper's estimated thicknesses (Table 2), nm.
 PAPER_THICKNESSES_NM = (15.9, 50.8, 60.6, 87.5, 121.4, 138.4, 160.6, 173.9, 226.6, 264.4)
@@ -63,14 +63,7 @@ def _tmm_R(thickness_nm: float, theta_rad: float, wavelengths: tuple, film: str,
     wl = np.array(wavelengths)
     nf = load_material(film).nk(wl)
     ns = load_material(substrate).nk(wl)
-    out = np.empty(wl.size)
-    for i, lam in enumerate(wl):  # tmm is scalar per wavelength (reference code, not ours)
-        n_list = [1.0, nf[i], ns[i]]
-        d_list = [np.inf, thickness_nm, np.inf]
-        rs = tmm.coh_tmm("s", n_list, d_list, theta_rad, lam)["R"]
-        rp = tmm.coh_tmm("p", n_list, d_list, theta_rad, lam)["R"]
-        out[i] = 0.5 * (rs + rp)
-    return out
+    return unpolarised_R([1.0, nf, ns], [np.inf, thickness_nm, np.inf], theta_rad, wl)
 
 
 def tmm_half_vector_reflectance(thickness_nm, light_deg, view_deg, wavelength_nm=WAVELENGTHS_NM,

@@ -8,7 +8,6 @@ import itertools
 import colour
 import numpy as np
 import pytest
-import tmm
 
 import swatch  # noqa: F401  (before colour: silences colour-science's plotting notice)
 from swatch.catalog.context import catalog_context
@@ -16,6 +15,7 @@ from swatch.catalog.records import compute, hue_family
 from swatch.catalog.spec import parse_spec
 from swatch.colorimetry.tolerance import grade_bound
 from swatch.physics.materials import load_material
+from tests.tmm_reference import unpolarised_R
 
 # colour.sd_to_XYZ notes that it aligns 380–780 nm spectra to its tables' shape: expected here.
 pytestmark = pytest.mark.filterwarnings("ignore::colour.utilities.ColourRuntimeWarning")
@@ -33,15 +33,7 @@ def _indices():
 def ref_spectrum(d_nm: float, theta_d_deg: float) -> np.ndarray:
     """Unpolarised reflectance of air / film / Ti at theta_d from tmm.coh_tmm."""
     nf, ns = _indices()
-    th = np.radians(theta_d_deg)
-    out = []
-    for i, wl in enumerate(WL):
-        n_list = [1.0, nf[i], ns[i]]
-        d_list = [np.inf, d_nm, np.inf]
-        rs = tmm.coh_tmm("s", n_list, d_list, th, wl)["R"]
-        rp = tmm.coh_tmm("p", n_list, d_list, th, wl)["R"]
-        out.append(0.5 * (rs + rp))
-    return np.array(out)
+    return unpolarised_R([1.0, nf, ns], [np.inf, d_nm, np.inf], np.radians(theta_d_deg), WL)
 
 
 @functools.lru_cache(maxsize=1)

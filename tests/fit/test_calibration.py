@@ -9,7 +9,6 @@ import json
 import colour
 import numpy as np
 import pytest
-import tmm
 
 import swatch
 from swatch.fit.calibration import calibrate
@@ -17,6 +16,7 @@ from swatch.io.coupons import read_coupons
 from swatch.physics.materials import load_material
 from swatch.physics.process import load_process
 from tests.cli_helpers import assert_one_line_error, run_swatch
+from tests.tmm_reference import unpolarised_R
 
 pytestmark = pytest.mark.filterwarnings("ignore::colour.utilities.ColourRuntimeWarning")
 
@@ -36,12 +36,7 @@ def _indices(film: str):
 
 def tmm_spectrum(d_nm: float, film: str = LINE_FILM) -> np.ndarray:
     nf, ns = _indices(film)
-    th = np.radians(THETA_D)
-    out = []
-    for i, wl in enumerate(WL):
-        n_list, d_list = [1.0, nf[i], ns[i]], [np.inf, d_nm, np.inf]
-        out.append(0.5 * (tmm.coh_tmm("s", n_list, d_list, th, wl)["R"] + tmm.coh_tmm("p", n_list, d_list, th, wl)["R"]))
-    return np.array(out)
+    return unpolarised_R([1.0, nf, ns], [np.inf, d_nm, np.inf], np.radians(THETA_D), WL)
 
 
 def ref_Lab(R: np.ndarray) -> np.ndarray:

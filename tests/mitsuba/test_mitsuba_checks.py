@@ -12,11 +12,11 @@ from pathlib import Path
 import colour
 import numpy as np
 import pytest
-import tmm
 from scipy.special import roots_legendre
 
 from swatch.physics.materials import load_material
 from tests.mitsuba_setup import irregular_spectrum, jit_float, jit_of, mitsuba_variant
+from tests.tmm_reference import unpolarised_R
 
 pytestmark = pytest.mark.slow
 
@@ -171,11 +171,7 @@ _WL = np.arange(380.0, 781.0, 10.0)
 
 def _tmm_F(d_nm, theta_d, n_film, n_sub):
     """Unpolarised Airy reflectance (W,) by tmm.coh_tmm at facet angle theta_d."""
-    out = np.empty(_WL.size)
-    for j, wl in enumerate(_WL):
-        st, ds = [1.0, n_film[j], n_sub[j]], [np.inf, d_nm, np.inf]
-        out[j] = 0.5 * (tmm.coh_tmm("s", st, ds, theta_d, wl)["R"] + tmm.coh_tmm("p", st, ds, theta_d, wl)["R"])
-    return out
+    return unpolarised_R([1.0, n_film, n_sub], [np.inf, d_nm, np.inf], theta_d, _WL)
 
 
 def _albedo(cos_v, d_nm, alpha, n_film, n_sub, n_q=96):

@@ -14,12 +14,12 @@ from pathlib import Path
 import colour
 import numpy as np
 import pytest
-import tmm
 
 from swatch.catalog.presets import catalog_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.fit import FIT_ANGLES_DEG, exact_Lab, model_Lab
+from tests.tmm_reference import unpolarised_R
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
 
@@ -40,9 +40,7 @@ def _rgb_cmfs():
 def _tmm_rgb(n_film, n_base, d_nm, theta_deg):
     """Unpolarised film reflectance from coh_tmm, integrated against the CIE 1931 CMFs in Rec.709
     (equal energy, each channel normalised: the spectral weighting the Fourier tables encode)."""
-    stack = [1.0, n_film, n_base]
-    R = np.array([0.5 * sum(tmm.coh_tmm(pol, stack, [np.inf, d_nm, np.inf], np.radians(theta_deg), w)["R"]
-                            for pol in "sp") for w in WL])
+    R = unpolarised_R([1.0, n_film, n_base], [np.inf, d_nm, np.inf], np.radians(theta_deg), WL)
     w = _rgb_cmfs()
     return (R @ w) / w.sum(axis=0)
 
@@ -163,9 +161,8 @@ def _tmm_exact_Lab(d_nm: float) -> np.ndarray:
     cmfs, d65 = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"]
     white = colour.sd_to_XYZ(colour.sd_ones(colour.SpectralShape(380, 780, 5)), cmfs, d65)
     out = []
-    for th in FIT_ANGLES_DEG:  # 13 angles x 81 wavelengths: tmm takes one ray at a time
-        R = [0.5 * sum(tmm.coh_tmm(p, [1.0, f, s], [np.inf, d_nm, np.inf], np.radians(th), w)["R"] for p in "sp")
-             for f, s, w in zip(nf, ns, wl, strict=True)]
+    for th in FIT_ANGLES_DEG:  # 13 angles x 81 wavelengths
+        R = unpolarised_R([1.0, nf, ns], [np.inf, d_nm, np.inf], np.radians(th), wl)
         XYZ = colour.sd_to_XYZ(colour.SpectralDistribution(dict(zip(wl, R, strict=True))), cmfs, d65)
         out.append(colour.XYZ_to_Lab(XYZ / white[1], colour.XYZ_to_xy(white)))
     return np.array(out)
@@ -203,8 +200,7 @@ def test_exact_colour_is_colour_science_of_the_tmm_spectrum():
     d, th = 140.0, 30.0
     wl = np.arange(380.0, 781.0, 5.0)
     nf, ns = load_material("TiO2-Siefke").nk(wl), load_material("Ti-Johnson").nk(wl)
-    R = [0.5 * sum(tmm.coh_tmm(p, [1.0, f, s], [np.inf, d, np.inf], np.radians(th), w)["R"] for p in "sp")
-         for f, s, w in zip(nf, ns, wl, strict=True)]
+    R = unpolarised_R([1.0, nf, ns], [np.inf, d, np.inf], np.radians(th), wl)
     sd = colour.SpectralDistribution(dict(zip(wl, R, strict=True)))
     XYZ = colour.sd_to_XYZ(sd, colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"])
     white = colour.sd_to_XYZ(colour.sd_ones(colour.SpectralShape(380, 780, 5)),

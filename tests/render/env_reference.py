@@ -10,13 +10,13 @@ import functools
 import colour
 import numpy as np
 import OpenImageIO as oiio
-import tmm
 from scipy import integrate
 from scipy.interpolate import CubicSpline
 
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.physics.materials import load_material
 from swatch.physics.model import get_coating
+from tests.tmm_reference import unpolarised_R
 
 ALPHA = 0.3
 COATING = get_coating()
@@ -32,12 +32,7 @@ def indices():
 
 def tmm_R(d_nm: float, theta_rad: float) -> np.ndarray:
     nf, ns = indices()
-    out = []
-    for i, wl in enumerate(WL):
-        n_list, d_list = [1.0, nf[i], ns[i]], [np.inf, d_nm, np.inf]
-        out.append(0.5 * (tmm.coh_tmm("s", n_list, d_list, theta_rad, wl)["R"]
-                          + tmm.coh_tmm("p", n_list, d_list, theta_rad, wl)["R"]))
-    return np.array(out)
+    return unpolarised_R([1.0, nf, ns], [np.inf, d_nm, np.inf], theta_rad, WL)
 
 
 def ggx_lambda(c, a):
