@@ -95,7 +95,16 @@ def _imports(module: str) -> list[tuple[str, str | None, bool]]:
     return [(t, n, f) for t, n, f in out if t and t != module]
 
 
-GRAPH = {m: _imports(m) for m in MODULES}
+class _Graph(dict):
+    """module → its imports, parsed when a test first asks (parsing every module at import cost each pytest
+    worker ~1 s of collection, issue 17)."""
+
+    def __missing__(self, module: str) -> list[tuple[str, str | None, bool]]:
+        self[module] = found = _imports(module)
+        return found
+
+
+GRAPH = _Graph()
 
 
 def _layer(module: str) -> int | None:
