@@ -73,8 +73,16 @@ rows = 1
 """
 
 
-def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900), scale: float = 1.0):
-    """A new context and page on ``out/index.html`` (``scale``: device pixels a CSS pixel): (context, page,
+#: The page's address fragment for tests that do not look at the environment lighting: the live view opens
+#: under the point light (the page's own link syntax, swatch/catalog/web/link.js), not the studio, whose first
+#: frame is a gather pass of 128 samples a pixel (~1.2 CPU-s in SwiftShader, on both cores, at every page load).
+POINT_LIGHT = "lighting=point"
+
+
+def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900), scale: float = 1.0,
+                      fragment: str = ""):
+    """A new context and page on ``out/index.html`` (``scale``: device pixels a CSS pixel; ``fragment``: the
+    address's fragment without its ``#``, the view the page opens in, e.g. :data:`POINT_LIGHT`): (context, page,
     events) where events collects page errors, console errors and warnings, and every request URL."""
     ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]},
                               device_scale_factor=scale)
@@ -83,7 +91,7 @@ def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900),
     pg.on("pageerror", lambda e: events["errors"].append(str(e)))
     pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
     pg.on("request", lambda r: events["requests"].append(r.url))
-    pg.goto((out / "index.html").resolve().as_uri())
+    pg.goto((out / "index.html").resolve().as_uri() + (f"#{fragment}" if fragment else ""))
     if js:
         wait_until(pg, "() => window.swatchCatalog !== undefined")
     return ctx, pg, events

@@ -24,7 +24,7 @@ from swatch.core.choices import LIGHTINGS
 __all__ = ["index_html", "embed_json", "page_script", "page_style", "print_page_style", "css_string"]
 
 #: The page's script files, concatenated in this order inside one strict-mode function.
-SCRIPTS = ("colour.js", "microfacet.js", "envlight.js", "view.js", "page.js")
+SCRIPTS = ("colour.js", "microfacet.js", "envlight.js", "view.js", "link.js", "page.js")
 #: Labels of the live view's lighting choices (swatch.core.choices.LIGHTINGS).
 LIGHTING_LABELS = {"point": "point light (light angle)", "uniform": "uniform (radiance 1 everywhere)",
                    "studio": "studio: soft boxes, dark walls, floor and horizon (as the sheets' renders)"}

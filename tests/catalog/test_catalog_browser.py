@@ -12,7 +12,7 @@ import pytest
 
 import swatch  # noqa: F401
 from swatch.catalog.build import build_catalog
-from tests.browser import require_chromium, wait_until
+from tests.browser import POINT_LIGHT, require_chromium, wait_until
 
 EVIL = 'Ti <script>alert(1)</script> & "co" </script><img src=x onerror=alert(2)>'
 
@@ -45,8 +45,9 @@ def page_url(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def loaded(chromium, page_url):
-    """One page on the catalog for the file (issue 17: a page load is ~6 CPU-s of Chromium, most of it the
-    live view's first frame under the studio); ``page`` gives it to each test with the filters reset."""
+    """One page on the catalog for the file (issue 17: a page load was ~6 CPU-s of Chromium, most of it the
+    live view's first frame under the studio: it opens under the point light, tests.browser.POINT_LIGHT);
+    ``page`` gives it to each test with the filters reset."""
     out, url = page_url
     pg = chromium.new_page(viewport={"width": 1280, "height": 900})
     events = {"dialogs": [], "errors": [], "requests": []}
@@ -54,7 +55,7 @@ def loaded(chromium, page_url):
     pg.on("pageerror", lambda e: events["errors"].append(str(e)))
     pg.on("console", lambda m: events["errors"].append(m.text) if m.type == "error" else None)
     pg.on("request", lambda r: events["requests"].append(r.url))
-    pg.goto(url)
+    pg.goto(f"{url}#{POINT_LIGHT}")  # no test here reads the live view
     pg.wait_for_selector("article.card")
     yield pg, events, out
     pg.close()

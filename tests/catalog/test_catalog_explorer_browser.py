@@ -17,7 +17,7 @@ import swatch  # noqa: F401
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
 from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import get_coating
-from tests.browser import open_catalog_page
+from tests.browser import POINT_LIGHT, open_catalog_page, wait_until
 from tests.cli_helpers import run_json
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -30,7 +30,8 @@ _open = open_catalog_page
 
 @pytest.fixture(scope="module")
 def page(chromium, small_catalog):
-    ctx, pg, events = _open(chromium, small_catalog)
+    """One page for the file, opened under the point light (no test here reads the environment lighting)."""
+    ctx, pg, events = _open(chromium, small_catalog, fragment=POINT_LIGHT)
     yield pg, events, small_catalog
     ctx.close()
 
@@ -175,7 +176,6 @@ def test_compare_and_find(page):
     assert first.startswith(f"{best['thickness_nm']:.2f} nm · {best['voltage_V']:.1f} V")
     assert "2°" in pg.locator("#find-target").text_content()  # a hex is matched in sRGB's 2° colorimetry
     assert pg.locator("#find-results li").count() >= 3
-    pg.screenshot(path=str(out.parent / "explorer.png"), full_page=False)
     assert events["errors"] == []
     assert all(u.startswith("file://") for u in events["requests"])
 
@@ -243,6 +243,63 @@ def _colours_present(cols: np.ndarray, hexes: list[str]) -> int:
         if np.any(np.abs(cols - rgb).max(axis=1) <= 1.5 / 255):
             found += 1
     return found
+
+
+#: The live view's state (less the exposure, which follows from it), the link, the note and the controls.
+_STATE_JS = """() => ({state: (({exposure, ...st}) => st)(swatchCatalog.show({})), link: document.getElementById('view-link').getAttribute('href'),
+  note: document.getElementById('link-note').textContent, thickness: document.getElementById('thickness').value,
+  inputs: ['shape', 'model', 'lighting', 'light', 'view-deg', 'fill'].map((id) => document.getElementById(id).value)})"""
+
+
+def test_the_address_opens_the_live_view_in_a_given_state(chromium, small_catalog):
+    """The page's address fragment (swatch/catalog/web/link.js; docs/catalog.md): ``#thickness=140&shape=…``
+    opens the live view in that state, the controls showing it, and "link to this view" writes the address of the
+    view shown; bad values (not a number, a shape or lighting the page lacks, a name given twice, a malformed
+    escape) are left out and said so on the page, with no page error, and the rest still applies; a changed
+    fragment applies at once (the unit tests of the parser: tests/js/link.test.mjs)."""
+    ctx, pg, events = _open(chromium, small_catalog, fragment="thickness=140&shape=bent+sheet&lighting=point&view=30"
+                                                             "&view_azimuth=170&fill=0.25&light=50&light_azimuth=1e999"
+                                                             "&model=phong&voltage=&x=1&%zz=1")
+    try:
+        got = pg.evaluate(_STATE_JS)
+        st = got["state"]
+        assert (st["thickness_nm"], st["shape"], st["lighting"], st["model"]) == (140, "bent sheet", "point", "microfacet")
+        assert (st["view_deg"], st["view_azimuth_deg"], st["fill"], st["light_deg"]) == (30, 170, 0.25, 50)
+        assert st["light_azimuth_deg"] == 0  # as the page opens without it
+        assert float(got["thickness"]) == 140 and got["inputs"] == ["bent sheet", "microfacet", "point", "50", "30", "0.25"]
+        assert got["note"] == "(left out of the page's address: light_azimuth=1e999, model=phong, voltage=, x=1, %zz=1)"
+        assert got["link"] == ("#thickness=140&light=50&light_azimuth=0&view=30&view_azimuth=170&fill=0.25"
+                               "&shape=bent+sheet&model=microfacet&lighting=point")
+        # a fragment that is no view state (a link to a section) changes nothing; a changed one applies at once,
+        # what is wrong in it left out (the thickness stays), the rest (the light angle) applied
+        pg.evaluate("() => { location.hash = '#find'; }")
+        pg.evaluate("() => new Promise((done) => setTimeout(done, 0))")  # after the hashchange event
+        assert pg.evaluate(_STATE_JS)["state"] == st
+        pg.evaluate("() => { location.hash = '#light=20&thickness=abc&shape=cube&lighting=sunset&view=1&view=2&fill=%zz'; }")
+        wait_until(pg, "() => swatchCatalog.show({}).light_deg === 20")
+        after = pg.evaluate(_STATE_JS)
+        assert after["state"] == {**st, "light_deg": 20}
+        assert after["note"] == ("(left out of the page's address: thickness=abc, shape=cube, lighting=sunset, view=1, "
+                                 "view=2, fill=%zz)")
+        # a shape without a view: the shape's own camera, as the shape menu
+        pg.evaluate("() => { location.hash = '#shape=sphere&model=paper&zoom=2'; }")
+        wait_until(pg, "() => swatchCatalog.show({}).shape === 'sphere'")
+        scene = pg.evaluate("JSON.parse(document.getElementById('explorer-table').textContent).scene.sphere")
+        got = pg.evaluate(_STATE_JS)
+        st = got["state"]
+        assert got["note"] == "(left out of the page's address: zoom=2)"
+        assert (st["model"], st["lighting"], st["view_deg"], st["view_azimuth_deg"]) == ("paper", "point",
+                                                                                         scene["default_view_deg"], 180)
+        # following "link to this view" comes back to the same view
+        pg.evaluate("swatchCatalog.show({thickness_nm: 87.25, model: 'microfacet', view_deg: 12.5})")
+        before = pg.evaluate(_STATE_JS)
+        pg.click("#view-link")
+        wait_until(pg, "() => document.getElementById('link-note').textContent === ''")  # the hashchange applied it
+        back = pg.evaluate(_STATE_JS)
+        assert back["state"] == before["state"] and pg.evaluate("location.hash") == before["link"]
+        assert events["errors"] == []
+    finally:
+        ctx.close()
 
 
 def test_javascript_off_is_still_the_grid(chromium, small_catalog):

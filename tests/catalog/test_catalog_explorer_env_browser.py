@@ -17,7 +17,7 @@ import pytest
 
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.render.display import KNEE, tone
-from tests.browser import CHROMIUM, WEBGL_ARGS, open_catalog_page, save_canvas, wait_until
+from tests.browser import CHROMIUM, POINT_LIGHT, WEBGL_ARGS, open_catalog_page, save_canvas, wait_until
 from tests.cli_helpers import run_swatch
 from tests.render.env_reference import albedo_normal_view, lab_2deg, lab_of_spectrum, xyz_of_srgb
 
@@ -38,7 +38,9 @@ BUFFER = (256, 192)
 
 @pytest.fixture(scope="module")
 def page(chromium, small_catalog):
-    ctx, pg, events = open_catalog_page(chromium, small_catalog)
+    """One page for the file at :data:`BUFFER`, opened under the point light (every test sets the lighting it
+    reads: the studio's first frame at the page's own 640 × 480 would be a gather pass drawn for nothing)."""
+    ctx, pg, events = open_catalog_page(chromium, small_catalog, fragment=POINT_LIGHT)
     pg.evaluate("b => { const c = document.getElementById('view'); [c.width, c.height] = b; swatchCatalog.show({}); }",
                 list(BUFFER))
     yield pg, events, small_catalog
@@ -282,9 +284,12 @@ def test_without_webgl_only_the_point_light_is_offered(playwright_session, small
     pg = browser.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.goto((small_catalog / "index.html").resolve().as_uri())
+    # a link to the studio view: here the studio is left out of it, the thickness still applies (link.js)
+    pg.goto((small_catalog / "index.html").resolve().as_uri() + "#lighting=studio&thickness=80")
     wait_until(pg, "() => window.swatchCatalog !== undefined")
     assert pg.evaluate("swatchCatalog.lightings") == ["point"]
+    assert pg.evaluate("swatchCatalog.show({})")["thickness_nm"] == 80
+    assert pg.locator("#link-note").text_content() == "(left out of the page's address: lighting=studio)"
     assert pg.locator("#lighting").is_disabled()
     assert pg.locator("#lighting option").count() == 1
     assert pg.evaluate("swatchCatalog.show({lighting: 'point', thickness_nm: 80}).lighting") == "point"

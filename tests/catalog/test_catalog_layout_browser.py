@@ -15,7 +15,7 @@ import colour  # noqa: F401  (after swatch: its plotting notice stays silenced)
 import pytest
 
 import swatch  # noqa: F401
-from tests.browser import open_catalog_page, require_chromium, wait_until
+from tests.browser import POINT_LIGHT, open_catalog_page, require_chromium, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
@@ -28,37 +28,53 @@ _BUFFER_JS = """() => { const c = document.getElementById('view'), r = c.getBoun
   return [c.width, c.height, r.width, r.height, p[3]]; }"""
 
 
+@pytest.fixture(scope="module")
+def phone(chromium, small_catalog):
+    """One page for the phone widths, opened at 360 × 800 under the point light (the tests read the layout and
+    the buffer's size, not the lighting): each test sets its width, the page follows as it does when a window
+    is resized (issue 17: a page load per width)."""
+    ctx, pg, events = open_catalog_page(chromium, small_catalog, viewport=(360, 800), fragment=POINT_LIGHT)
+    yield ctx, pg, events
+    ctx.close()
+
+
 @pytest.mark.parametrize("width", [360, 390, 430])
-def test_phone_widths_have_no_horizontal_scroll(chromium, small_catalog, width):
+def test_phone_widths_have_no_horizontal_scroll(phone, width):
     """Issue 21: at 390 px the live-view panel was 429 px wide (scrollWidth 455); every control cut off.
     The live view's drawing buffer is its displayed size in device pixels (issue 17: it was a fixed
     800 × 600, resampled by the browser: ~6 times the pixels shown on a phone), and follows the page when it
     is resized, at most 800 × 600's worth (at 1280 px wide and 2 device pixels a CSS pixel)."""
-    ctx, pg, events = open_catalog_page(chromium, small_catalog, viewport=(width, 800))
-    try:
-        bw, bh, cw, ch, alpha = pg.evaluate(_BUFFER_JS)
-        assert abs(bw - cw) <= 0.5 and abs(bh - ch) <= 0.5 and bw < 0.7 * 800, (bw, bh, cw, ch)
-        assert alpha == 255  # drawn
-        assert pg.evaluate("() => document.documentElement.scrollWidth") <= width
-        # nothing sticks out of the screen on its own either (a child of an overflow: hidden box would not
-        # widen the page, but would still be cut)
-        wide = pg.evaluate("""w => [...document.querySelectorAll('body *')].filter(e => {
-            const r = e.getBoundingClientRect(); return r.width > 0 && e.offsetParent !== null && (r.right > w + 0.5 || r.left < -0.5);
-          }).map(e => e.id || e.className || e.tagName)""", width)
-        assert wide == []
-        # the controls stack: the filter form is one column, the live view's panel below the picture
-        stage, panel = (pg.locator(s).bounding_box() for s in (".stage", ".panel"))
-        assert panel["y"] >= stage["y"] + stage["height"] - 1
-        if width == 360:  # a HiDPI desktop: the buffer follows (a ResizeObserver), capped, and is drawn again
-            cdp = ctx.new_cdp_session(pg)
+    ctx, pg, events = phone
+    pg.set_viewport_size({"width": width, "height": 800})
+    # the buffer follows the displayed size (a ResizeObserver: after the next layout)
+    wait_until(pg, """() => { const c = document.getElementById('view'), r = c.getBoundingClientRect();
+        return Math.abs(c.width - r.width) <= 0.5 && Math.abs(c.height - r.height) <= 0.5; }""")
+    bw, bh, cw, ch, alpha = pg.evaluate(_BUFFER_JS)
+    assert abs(bw - cw) <= 0.5 and abs(bh - ch) <= 0.5 and bw < 0.7 * 800, (bw, bh, cw, ch)
+    assert alpha == 255  # drawn
+    assert pg.evaluate("() => document.documentElement.scrollWidth") <= width
+    # nothing sticks out of the screen on its own either (a child of an overflow: hidden box would not
+    # widen the page, but would still be cut)
+    wide = pg.evaluate("""w => [...document.querySelectorAll('body *')].filter(e => {
+        const r = e.getBoundingClientRect(); return r.width > 0 && e.offsetParent !== null && (r.right > w + 0.5 || r.left < -0.5);
+      }).map(e => e.id || e.className || e.tagName)""", width)
+    assert wide == []
+    # the controls stack: the filter form is one column, the live view's panel below the picture
+    stage, panel = (pg.locator(s).bounding_box() for s in (".stage", ".panel"))
+    assert panel["y"] >= stage["y"] + stage["height"] - 1
+    if width == 360:  # a HiDPI desktop: the buffer follows (a ResizeObserver), capped, and is drawn again
+        cdp = ctx.new_cdp_session(pg)
+        try:
             cdp.send("Emulation.setDeviceMetricsOverride",
                      {"width": 1280, "height": 900, "deviceScaleFactor": 2, "mobile": False})
             wait_until(pg, "() => document.getElementById('view').width > 400")
             bw, bh, cw, ch, alpha = pg.evaluate(_BUFFER_JS)
             assert (cw, ch) == (640, 480) and (bw, bh, alpha) == (800, 600, 255)  # not 1280 x 960
-        assert events["errors"] == []
-    finally:
-        ctx.close()
+        finally:  # the phone again, one device pixel a CSS pixel, for the other widths
+            cdp.send("Emulation.setDeviceMetricsOverride", {"width": width, "height": 800, "deviceScaleFactor": 1,
+                                                            "mobile": False})
+            cdp.detach()
+    assert events["errors"] == []
 
 
 @pytest.fixture(scope="module")
@@ -187,7 +203,7 @@ def test_default_catalog_prints_on_at_most_14_a4_pages_with_header_and_page_numb
     every page and ``page i of n`` at the bottom (pdftotext reads the PDF back)."""
     exe = _require_pdftotext()
     out, doc = default_page
-    ctx, pg, events = open_catalog_page(chromium, out)
+    ctx, pg, events = open_catalog_page(chromium, out, fragment=POINT_LIGHT)  # the live view is not printed
     try:
         pdf = tmp_path / "catalog.pdf"
         pg.pdf(path=str(pdf), format="A4")

@@ -2,7 +2,8 @@
 item 6): CIEDE2000 on the published pairs of Sharma, Wu & Dalal 2005 and on a fixture of colour-science values
 written here, the chip-label ink, and find by colour (match) and the process window of colour.js against what
 the Python side computes for the same catalog (swatch.fit.matching.match_colour, judge_candidates and
-swatch.catalog.records.process_window, written into the fixture here)."""
+swatch.catalog.records.process_window, written into the fixture here); the page's address (link.js: the view a
+fragment such as ``#thickness=140&lighting=point`` opens, what it leaves out)."""
 from __future__ import annotations
 
 import json
@@ -103,7 +104,7 @@ def test_page_colorimetry_passes_node_test(tmp_path):
     run = subprocess.run([node, "--test", *tests], capture_output=True,
                          text=True, timeout=120, env={**os.environ, "SWATCH_JS_FIXTURE": str(fixture)})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
-    assert "# pass 11" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
+    assert "# pass 15" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
 
 
 def test_page_script_comments_name_code_that_exists():

@@ -111,7 +111,12 @@ function readout() {
   $("la-out").textContent = fmt(state.light_azimuth_deg, 0) + "°";
   $("f-out").textContent = fmt(state.fill, 2);
   $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
+  viewLinkA.href = viewLink(state);
 }
+// "link to this view": the page's address with the live view's state (link.js), to share or bookmark
+const viewLinkA = el("a", "", "link to this view"), linkNote = el("span", "link-note");
+viewLinkA.id = "view-link"; linkNote.id = "link-note";
+{ const p = el("p", "hint"); p.append(viewLinkA, " ", linkNote); $("pin").parentElement.after(p); }
 let drag = null;
 function draw() {
   if (view) state.exposure = view.draw(drag ? Object.assign({coarse: true}, state) : state); // coarse while dragged
@@ -127,8 +132,11 @@ function syncInputs() {
   $("light-azimuth").disabled = state.lighting !== "point";
   $("fill").value = state.fill; $("fill").disabled = state.lighting !== "point" || state.model === "paper";
 }
-function show(q) {
-  q = q || {};
+// the checks of show(), in its order: each key of q as given (numbers clamped to their range), or an Error
+// before it changes anything (one key at a time: the page's address applies what is good, link.js)
+const SHOW_KEYS = ["thickness_nm", "voltage_V", "light_deg", "view_deg", "light_azimuth_deg", "view_azimuth_deg", "fill",
+  "shape", "model", "lighting"];
+function setState(q) {
   const n = (v, lo, hi) => { const x = Number(v); if (!Number.isFinite(x)) throw new Error("show: numbers expected"); return Math.min(Math.max(x, lo), hi); };
   if (q.thickness_nm !== undefined) state.thickness_nm = clampT(n(q.thickness_nm, -1e9, 1e9));
   if (q.voltage_V !== undefined) {
@@ -151,9 +159,17 @@ function show(q) {
     state.lighting = q.lighting;
     if (q.lighting !== "point") state.model = "microfacet";
   }
+}
+function show(q) {
+  setState(q || {});
   syncInputs();
   draw();
   return Object.assign({}, state);
+}
+// a shape's own camera, as swatch render --shape (swatch.render.scene.DEFAULT_VIEW_DEG), seen from the front
+function shapeCamera(shape) {
+  const py = T.scene[{"plate": "flat", "bent sheet": "cylinder", "sphere": "sphere"}[shape]];
+  return {view_deg: py ? py.default_view_deg : state.view_deg, view_azimuth_deg: 180};
 }
 $("thickness").min = C.range[0]; $("thickness").max = C.range[1];
 // finishers set a voltage: a second slider over the same range through the growth law
@@ -168,10 +184,7 @@ $("live-form").addEventListener("input", (e) => {
   else if (id === "light-azimuth") show({light_azimuth_deg: e.target.value});
   else if (id === "view-deg") show({view_deg: e.target.value});
   else if (id === "fill") show({fill: e.target.value});
-  else if (id === "shape") { // as swatch render --shape: the shape's default camera (swatch.render.scene.DEFAULT_VIEW_DEG)
-    const py = T.scene[{"plate": "flat", "bent sheet": "cylinder", "sphere": "sphere"}[e.target.value]];
-    show({shape: e.target.value, view_deg: py ? py.default_view_deg : state.view_deg, view_azimuth_deg: 180});
-  }
+  else if (id === "shape") show(Object.assign({shape: e.target.value}, shapeCamera(e.target.value)));
   else if (id === "model") show({model: e.target.value});
   else if (id === "lighting") show({lighting: e.target.value});
 });
@@ -346,7 +359,27 @@ if (view) {
   fitCanvas();  // before the first frame: the observer's first report then finds the size unchanged
   if (typeof ResizeObserver === "function") new ResizeObserver(() => { if (fitCanvas()) draw(); }).observe(canvas);
 }
-show({});
+// the page's address: #thickness=140&shape=sphere&lighting=point opens it in that view (link.js; what is not a
+// view state is left out, and said so below the link); a fragment that names no view state (#find) changes nothing
+function applyLink(hash) {
+  const {query, ignored} = parseViewLink(hash);
+  if (!Object.keys(query).length && !ignored.length) return false;
+  if (query.shape !== undefined && query.view_deg === undefined && query.view_azimuth_deg === undefined) {
+    Object.assign(query, shapeCamera(query.shape));  // as the shape menu: the shape's own camera
+  }
+  for (const k of SHOW_KEYS) {
+    if (query[k] === undefined) continue;
+    try { setState({[k]: query[k]}); } catch (e) {  // not on this page (a lighting it lacks, a voltage without a growth law)
+      ignored.push((Object.keys(LINK_NUMBERS).find((m) => LINK_NUMBERS[m] === k) || k) + "=" + query[k]);
+    }
+  }
+  linkNote.textContent = ignored.length ? "(left out of the page's address: " + ignored.join(", ") + ")" : "";
+  syncInputs();
+  draw();
+  return true;
+}
+if (!applyLink(location.hash)) show({});
+window.addEventListener("hashchange", () => applyLink(location.hash));
 window.swatchCatalog = Object.freeze({
   colorAt: (q) => { const c = C.colorAt(q); return {Lab: c.Lab, hex: c.hex, in_srgb_gamut: c.in_srgb_gamut, theta_d_deg: c.theta_d_deg}; },
   // CIEDE2000 of two L*a*b* (arrays of three numbers)
