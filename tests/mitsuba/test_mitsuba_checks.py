@@ -35,6 +35,7 @@ from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
 
 mitsuba_variant()
 s = load_material("Ti-Johnson")
+# (test_mitsuba_determinism.py renders the same roughconductor at 32 px in the studio: the same kernel)
 imgs = [render_swatch_mitsuba(0.0, "sphere", 32, 8, seed=4, lighting_name="studio", bsdf_override=bsdf).linear_rgb
         for bsdf in ({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"},
                      {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,

@@ -41,12 +41,14 @@ def test_drjit_airy_matches_tmm(mi):
 
 
 def _si(mi, wi, wavelengths):
+    """A SurfaceInteraction3f at ``wi`` (rows) and the four ``wavelengths`` (nm), opaque to Dr.Jit: the tests'
+    kernels do not bake their wavelengths in, so tests differing only in them share compiled kernels (#17)."""
     import drjit as dr
 
     n = wi.shape[0]
     si = dr.zeros(mi.SurfaceInteraction3f, n)
     si.wi = jit_of(mi.Vector3f, wi.T)
-    si.wavelengths = mi.Spectrum(*wavelengths)
+    si.wavelengths = mi.Spectrum(*(dr.opaque(mi.Float, float(w)) for w in wavelengths))
     return si
 
 

@@ -139,7 +139,9 @@ def test_sigterm_ends_the_render_and_leaves_nothing(mi, tmp_path):
     process left behind. The signal is sent once the render runs: stderr is a terminal (a pty), where the
     engine draws its progress bar after each pass, and the test waits for the bar's first drawing (it slept
     a fixed 12 s before, rendering all the while; once, at load 16, the signal still landed during start-up
-    and Mitsuba died in a C++ terminate). #17: ~3 s instead of 12."""
+    and Mitsuba died in a C++ terminate). #17: ~3 s instead of 12; and a 48 px sphere at 16384 spp (64 passes)
+    under uniform light, the scene of test_mitsuba_checks.py's white furnace, whose compiled kernel it reuses
+    (it was a 256 px plate: a kernel of its own, ~3 s to compile with an empty cache)."""
     import os
     import pty
     import select
@@ -151,13 +153,14 @@ def test_sigterm_ends_the_render_and_leaves_nothing(mi, tmp_path):
     out = tmp_path / "out"
     master, slave = pty.openpty()
     proc = subprocess.Popen([sys.executable, "-m", "swatch.cli", "render", "--engine", "mitsuba", "--thickness", "50",
-                             "--size", "256", "--spp", "4096", "--environment", "uniform", "--out", str(out)],
+                             "--shape", "sphere", "--size", "48", "--spp", "16384", "--environment", "uniform",
+                             "--out", str(out)],
                             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=slave)
     os.close(slave)
     err = b""
     deadline = time.monotonic() + 120
     try:
-        while b"mitsuba " not in err:  # the bar's label ("mitsuba flat"): the first pass is rendered
+        while b"mitsuba " not in err:  # the bar's label ("mitsuba sphere"): the first pass is rendered
             assert proc.poll() is None, err.decode(errors="replace")
             assert time.monotonic() < deadline, "no progress bar in 120 s"
             if select.select([master], [], [], 0.5)[0]:
