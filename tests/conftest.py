@@ -22,35 +22,35 @@ import pytest
 
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chromium
 
-#: The suite's longest files, longest first: seconds per file (sum of its tests' durations) in the run
-#: ``python3 dev.py test`` of f70d8bd on 2026-12-02 (2 workers, quiet VM; 218 s wall in all, both workers
-#: busy to within 1 s of each other). Files not named run after these, in collection order. A name that no
-#: longer exists is harmless; a new long file belongs here.
+#: The suite's longest files, longest first: seconds per file (sum of its tests' durations) in a cold run
+#: (empty Dr.Jit and Mesa caches, as on CI's fresh machine) of ``python3 dev.py test`` of 09b5849 on
+#: 2026-12-02 (2 workers, quiet VM; 187 s wall). Files not named run after these, in collection order. A name
+#: that no longer exists is harmless; a new long file belongs here.
 LONGEST_FIRST = (
-    "tests/presets/test_presets.py",  # 38 s
-    "tests/commands/test_hardening_memory_caps.py",  # 37
-    "tests/catalog/test_catalog_layout_browser.py",  # 35
-    "tests/catalog/test_catalog_explorer_env_browser.py",  # 30
-    "tests/core/test_hardening_runs.py",  # 29
-    "tests/catalog/test_catalog_build.py",  # 21
-    "tests/physics/test_spread.py",  # 15
-    "tests/fit/test_fit.py",  # 15
-    "tests/mitsuba/test_mitsuba_checks.py",  # 14
-    "tests/catalog/test_catalog_hero.py",  # 12
+    "tests/mitsuba/test_mitsuba_checks.py",  # 38 s
+    "tests/commands/test_hardening_memory_caps.py",  # 32
+    "tests/presets/test_presets.py",  # 28
+    "tests/core/test_hardening_runs.py",  # 27
+    "tests/catalog/test_catalog_explorer_env_browser.py",  # 26
+    "tests/catalog/test_catalog_layout_browser.py",  # 26
+    "tests/catalog/test_catalog_build.py",  # 17
+    "tests/catalog/test_catalog_hero.py",  # 14
+    "tests/mitsuba/test_mitsuba_render.py",  # 11
     "tests/catalog/test_catalog_explorer_browser.py",  # 10
-    "tests/mitsuba/test_mitsuba_determinism.py",  # 10
-    "tests/catalog/test_hardening_escape.py",  # 9
-    "tests/commands/test_hardening_inputs.py",  # 9
-    "tests/commands/test_hardening_memory.py",  # 9
-    "tests/catalog/test_hardening.py",  # 8
-    "tests/catalog/test_catalog_browser.py",  # 8
-    "tests/catalog/test_catalog_layout.py",  # 8
-    "tests/catalog/test_knee_explorer_browser.py",  # 7
-    "tests/mitsuba/test_mitsuba_render.py",  # 7
-    "tests/fit/test_calibration.py",  # 7
-    "tests/render/test_environment.py",  # 6
-    "tests/colorimetry/test_colorimetry.py",  # 5
-    "tests/fit/test_calibration_search.py",  # 5
+    "tests/mitsuba/test_mitsuba_plugin.py",  # 9
+    "tests/mitsuba/test_mitsuba_determinism.py",  # 9
+    "tests/catalog/test_hardening_escape.py",  # 7
+    "tests/fit/test_fit.py",  # 7
+    "tests/commands/test_hardening_inputs.py",  # 6
+    "tests/catalog/test_hardening.py",  # 6
+    "tests/catalog/test_catalog_browser.py",  # 5
+    "tests/catalog/test_catalog_layout.py",  # 5
+    "tests/commands/test_hardening_memory.py",  # 5
+    "tests/presets/test_presets_mitsuba.py",  # 4
+    "tests/physics/test_spread.py",  # 4
+    "tests/fit/test_calibration.py",  # 4
+    "tests/fit/test_calibration_search.py",  # 4
+    "tests/physics/test_process.py",  # 4
 )
 
 
