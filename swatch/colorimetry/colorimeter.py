@@ -376,6 +376,9 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
 def delta_E_ab(Lab1, Lab2) -> np.ndarray:
     """CIE 1976 colour difference ΔE*ab (the paper's eq. 6), by colour-science.
 
+    Calls ``colour.difference.delta_E_CIE1976``, the function ``colour.delta_E(method="CIE 1976")``
+    dispatches to, without the dispatch (the fits call this in their inner loop).
+
     Parameters
     ----------
     Lab1, Lab2 : array_like, shape (..., 3)
@@ -386,11 +389,11 @@ def delta_E_ab(Lab1, Lab2) -> np.ndarray:
     numpy.ndarray, shape (...)
         Euclidean distance in L*a*b*.
     """
-    return colour.delta_E(np.asarray(Lab1), np.asarray(Lab2), method="CIE 1976")
+    return colour.difference.delta_E_CIE1976(np.asarray(Lab1), np.asarray(Lab2))
 
 
 def delta_E_00(Lab1, Lab2) -> np.ndarray:
-    """CIEDE2000 colour difference ΔE00, by colour-science.
+    """CIEDE2000 colour difference ΔE00, by colour-science (``colour.difference.delta_E_CIE2000``).
 
     Parameters
     ----------
@@ -401,7 +404,7 @@ def delta_E_00(Lab1, Lab2) -> np.ndarray:
     -------
     numpy.ndarray, shape (...)
     """
-    return colour.delta_E(np.asarray(Lab1), np.asarray(Lab2), method="CIE 2000")
+    return colour.difference.delta_E_CIE2000(np.asarray(Lab1), np.asarray(Lab2))
 
 
 def Lab_to_LCh(Lab) -> np.ndarray:
