@@ -34,6 +34,7 @@ import os
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -331,9 +332,12 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         tiles = tilemod.tile_render(data.context)  # the context's coating and colorimeter, sent to the workers
         pool = tilemod.make_pool(sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
         renders = tilemod.start_renders(tiles, data.thickness_nm, missing, tile_keys, cache, pool)
-        from swatch.catalog.presets import catalog_presets
+        preset_files: dict[str, bytes] = {}
+        preset_entries: Sequence[dict | None] = [None] * n  # `[presets] enabled = false`: no fits, files, entries
+        if spec.presets:
+            from swatch.catalog.presets import catalog_presets
 
-        preset_files, preset_entries = catalog_presets(spec, data.records, cache)  # fits cached
+            preset_files, preset_entries = catalog_presets(spec, data.records, cache)  # fits cached
         records = _final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
         rendered = tilemod.finish_renders(renders, len(missing),
                                           lambda total: _progress("rendering swatches", total, progress))
@@ -440,7 +444,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                        seconds=time.perf_counter() - t0, files=sorted(files))
 
 
-def _final_records(spec, data, preset_entries: list[dict], hero_entries: list) -> list[dict]:
+def _final_records(spec, data, preset_entries: Sequence[dict | None], hero_entries: list) -> list[dict]:
     """The typed records with the stages' entries (print chip, presets, hero), serialised once."""
     from swatch.catalog.chips import chip_names
     from swatch.catalog.record import PrintChip

@@ -189,22 +189,22 @@ def drop_empty_subfolders(out: Path, files) -> None:
 PRESET_FILES_PER_SWATCH = len(PRESET_FORMATS) + 2 * len(EXACT_FORMATS)
 
 
-def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool) -> str:
+def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, presets: bool = True) -> str:
     """One line: what a build of ``swatches`` swatches on ``sheets`` sheets writes where (``catalog validate``).
 
     Parameters
     ----------
     swatches, sheets : int
         Swatches and sheets of the catalog.
-    chips, heroes : bool
-        Whether the spec asks for print chips and hero renders.
+    chips, heroes, presets : bool
+        Whether the spec asks for print chips, hero renders and 3-D presets.
 
     Returns
     -------
     str
         E.g. ``"index.html, catalog.json/.csv, CxF and ASE at the top; sheets/ 10 files, chips/ 114, presets/ 285"``.
     """
-    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, PRESET_FILES_PER_SWATCH * swatches),
+    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, PRESET_FILES_PER_SWATCH * swatches if presets else 0),
               (HEROES, swatches if heroes else 0)]
     subs = [f"{sub}/ {n}" for sub, n in counts if n]
     if subs:

@@ -77,6 +77,8 @@ class CatalogSpec:
         The thickness spread: 1σ = spread_nm + spread_fraction × d.
     chips, chip_size_mm, chip_dpi
         Print chips: on/off, side (mm), resolution (dpi).
+    presets : bool
+        Whether the build fits and writes the 3-D material presets (``[presets] enabled``).
     extra : dict
     """
     source: str  # file name, for messages
@@ -118,6 +120,7 @@ class CatalogSpec:
     chip_dpi: int = 300
     finish: str | None = None  # a named finish (swatch.physics.finishes); it sets ``roughness``
     hero: bool = False  # per-swatch hero renders through Mitsuba (swatch.catalog.hero)
+    presets: bool = True  # per-swatch 3-D material presets (swatch.catalog.presets)
 
     @property
     def finish_spec(self):
@@ -213,6 +216,8 @@ class CatalogSpec:
         if d["knee_V"] is None:  # a linear law: the hashes of before
             d.pop("knee_V")
             d.pop("nm_per_V_above_knee")
+        if d["presets"]:  # presets written (the default): the hashes of before
+            d.pop("presets")
         return d
 
 
@@ -247,7 +252,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
 
     c = SpecChecker(source)
     top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
-           "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips")
+           "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips", "presets")
     c.table(data, "", top)
     if "name" not in data:
         raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
@@ -364,6 +369,9 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("chips", f"size_mm × dpi must give at most {MAX_CHIP_PX} pixels per side "
                f"({chip_size:g} mm at {chip_dpi} dpi is {chip_px(chip_size, chip_dpi)})", show_got=False)
 
+    pr = c.table(data.get("presets", {}), "presets", ("enabled",))
+    presets = c.boolean(pr.get("enabled", True), "presets.enabled")
+
     return CatalogSpec(
         source=source, name=name, description=description, film=proc.film, substrate=proc.substrate,
         nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
@@ -375,7 +383,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
-        finish=finish, hero=hero,
+        finish=finish, hero=hero, presets=presets,
     )
 
 

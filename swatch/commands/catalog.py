@@ -53,4 +53,4 @@ def validate(spec):
     check_buildable(s)  # validate refuses what build refuses, by the same checks
     click.echo(f"{spec}: ok — {spec_summary(s)}")
     n = len(s.thickness_nm)
-    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero)}")
+    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero, s.presets)}")
