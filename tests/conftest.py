@@ -25,13 +25,15 @@ from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chro
 #: The suite's longest files, longest first: seconds per file (sum of its tests' durations) in a cold run
 #: (empty Dr.Jit and Mesa caches, as on CI's fresh machine) of ``python3 dev.py test`` of 09b5849 on
 #: 2026-12-02 (2 workers, quiet VM; 187 s wall). Files not named run after these, in collection order. A name
-#: that no longer exists is harmless; a new long file belongs here.
+#: that no longer exists is harmless; a new long file belongs here. The two long browser files are not side by
+#: side: started together, both build tests.browser's small catalog at once and one worker waits ~4 s for the
+#: other's (its lock).
 LONGEST_FIRST = (
     "tests/mitsuba/test_mitsuba_checks.py",  # 38 s
     "tests/commands/test_hardening_memory_caps.py",  # 32
+    "tests/catalog/test_catalog_explorer_env_browser.py",  # 26 (the two browser files apart: see above)
     "tests/presets/test_presets.py",  # 28
     "tests/core/test_hardening_runs.py",  # 27
-    "tests/catalog/test_catalog_explorer_env_browser.py",  # 26
     "tests/catalog/test_catalog_layout_browser.py",  # 26
     "tests/catalog/test_catalog_build.py",  # 17
     "tests/catalog/test_catalog_hero.py",  # 14

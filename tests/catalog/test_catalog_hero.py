@@ -26,6 +26,8 @@ size_px = 64
 angular_map = false
 [chips]
 enabled = false
+[presets]
+enabled = false
 """
 
 

@@ -228,6 +228,8 @@ size_px = 64
 [sheet]
 columns = 2
 rows = 2
+[presets]
+enabled = false
 """
 
 
@@ -473,3 +475,44 @@ def test_cards_link_their_print_chips(tiny_catalog):
         for key in ("png", "tiff"):
             name = rec["print_chip"][key]
             assert name in parser.hrefs and (tiny_catalog / name).is_file()
+
+
+def test_presets_left_out_are_neither_fitted_nor_written_nor_named(tiny_catalog):
+    """``[presets] enabled = false`` (TINY_SPEC): the build fits nothing (no cached fits), writes no
+    ``presets/`` file, and neither the records nor the page name a preset; the CSV keeps its columns,
+    empty (a reader's column layout does not depend on the spec). Issue 17."""
+    import csv
+
+    assert not (tiny_catalog / "presets").exists()
+    manifest = json.loads((tiny_catalog / ".swatch-catalog" / "manifest.json").read_text(encoding="utf-8"))
+    assert not [f for f in manifest["files"] if f.startswith("presets/")]
+    assert not list((tiny_catalog / ".swatch-catalog" / "cache").glob("presets-*.json"))
+    doc = json.loads((tiny_catalog / "catalog.json").read_text(encoding="utf-8"))
+    assert len(doc["swatches"]) == 3 and all("presets" not in r for r in doc["swatches"])
+    assert "3-D material presets" not in (tiny_catalog / "index.html").read_text(encoding="utf-8")
+    (csv_name,) = [f for f in manifest["files"] if f.endswith(".csv")]
+    with open(tiny_catalog / csv_name, newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 3
+    for col in ("preset_gltf", "preset_blender", "preset_materialx", "preset_mitsuba", "preset_mitsuba_json"):
+        assert [r[col] for r in rows] == ["", "", ""], col
+
+
+def test_presets_spec_option():
+    """``[presets] enabled``: on by default and then left out of the build's hashes (the hashes of
+    before stay); a non-boolean or an unknown key is refused naming the key; ``catalog validate``'s
+    summary counts no ``presets/`` files without them. Issue 17."""
+    from swatch.catalog.layout import layout_summary
+    from swatch.core.errors import SwatchError
+
+    base = {"name": "p", "thickness": {"list_nm": [50]}}
+    on, off = parse_spec(base), parse_spec(base | {"presets": {"enabled": False}})
+    assert on.presets is True and off.presets is False
+    assert "presets" not in on.canonical() and off.canonical()["presets"] is False
+    assert parse_spec(base | {"presets": {"enabled": True}}).canonical() == on.canonical()
+    with pytest.raises(SwatchError, match=r"presets\.enabled"):
+        parse_spec(base | {"presets": {"enabled": "no"}})
+    with pytest.raises(SwatchError, match="presets"):
+        parse_spec(base | {"presets": {"formats": ["gltf"]}})
+    assert "presets/" in layout_summary(3, 1, True, False)
+    assert "presets/" not in layout_summary(3, 1, True, False, presets=False)

@@ -19,9 +19,10 @@ def test_voltage_slider_and_matches_follow_a_knee_law(chromium, tmp_path):
     base = process_toml(load_process("titanium-fujii2019"))
     (tmp_path / "line.toml").write_text(
         base.replace("offset_nm =", "knee_V = 40.0\nnm_per_V_above_knee = 3.0\noffset_nm =", 1), encoding="utf-8")
-    # the records and the page are what this reads: one render shape, no angular maps (~0.5 CPU-s less)
+    # the records and the page are what this reads: one render shape, no angular maps (~0.5 CPU-s less),
+    # no presets (their fits, ~1 CPU-s)
     spec = 'process = "line.toml"\n' + SMALL_CATALOG_SPEC.format(name="knee").replace(
-        "size_px = 64", 'size_px = 64\nshapes = ["flat"]\nangular_map = false')
+        "size_px = 64", 'size_px = 64\nshapes = ["flat"]\nangular_map = false') + "\n[presets]\nenabled = false\n"
     (tmp_path / "spec.toml").write_text(spec, encoding="utf-8")
     build_catalog(tmp_path / "spec.toml", tmp_path / "out", jobs=1)
     records = json.loads((tmp_path / "out" / "catalog.json").read_text(encoding="utf-8"))

@@ -129,6 +129,7 @@ list_nm = [40, 90, 140]
 [render]
 size_px = 64
 shapes = ["flat"]
+angular_map = false
 [tolerance]
 grade = "{grade}"
 [sheet]

@@ -146,7 +146,8 @@ def test_thickness_only_catalog_builds(tmp_path):
     """A profile without a growth rate (niobium) gives a whole catalog labelled by thickness."""
     spec = tmp_path / "nb.toml"
     spec.write_text('name = "Nb"\nprocess = "niobium"\n[thickness]\nlist_nm = [60, 120]\n'
-                    '[render]\nshapes = ["flat"]\nsize_px = 64\nangular_map = false\n', encoding="utf-8")
+                    '[render]\nshapes = ["flat"]\nsize_px = 64\nangular_map = false\n[presets]\nenabled = false\n',
+                    encoding="utf-8")
     proc = run_swatch("catalog", "build", spec, "--out", tmp_path / "out")
     assert proc.returncode == 0, proc.stderr
     import json
