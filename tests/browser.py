@@ -6,6 +6,7 @@ fails them instead.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -52,9 +53,28 @@ def save_canvas(page, path: Path) -> None:
     path.write_bytes(base64.b64decode(url.split(",", 1)[1]))
 
 
-#: Chromium flags for the WebGL pages: headless, SwiftShader WebGL2, nothing fetched in the background.
+#: Chromium flags for the WebGL pages: headless, SwiftShader WebGL2, nothing fetched in the background; the
+#: page itself composited and rasterised in software (WebGL still draws in SwiftShader). Issue 17: on this
+#: 2-core VM the GPU process spent 30 CPU-s of the browser files (one process, 2026-12-02) compositing
+#: pages through SwiftShader GL; with both flags 17 CPU-s, the same tests passing. The one thing it changes
+#: is a console note, :data:`GPU_PERFORMANCE_NOTE`, which :func:`open_catalog_page` does not count as an error.
 WEBGL_ARGS = ["--headless", "--no-sandbox", "--no-first-run", "--disable-background-networking",
-              "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+              "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-compositing",
+              "--disable-gpu-rasterization"]
+
+#: Chromium's GL driver notes of category Performance ("[.WebGL-0x…]GL Driver Message (OpenGL, Performance,
+#: …): GPU stall due to ReadPixels"): with software compositing the compositor reads each WebGL frame back
+#: from SwiftShader and Chromium says so on the page's console. A note about the test browser's set-up,
+#: not a page error; any other message (and any other GL driver message) still fails the test.
+GPU_PERFORMANCE_NOTE = re.compile(r"\[\.WebGL-0x[0-9a-f]+\]GL Driver Message \(OpenGL, Performance, ")
+
+
+def page_error(message) -> str | None:
+    """The text of a console message the browser tests count as an error (type error or warning), or None
+    for other messages and for :data:`GPU_PERFORMANCE_NOTE`."""
+    if message.type not in ("error", "warning") or GPU_PERFORMANCE_NOTE.match(message.text):
+        return None
+    return message.text
 
 
 #: A small catalog for the page tests (20–300 nm every 70 nm, 64 px renders, one sheet of 4); ``{name}``.
@@ -89,7 +109,7 @@ def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900),
     pg = ctx.new_page()
     events: dict = {"errors": [], "requests": []}
     pg.on("pageerror", lambda e: events["errors"].append(str(e)))
-    pg.on("console", lambda m: events["errors"].append(m.text) if m.type in ("error", "warning") else None)
+    pg.on("console", lambda m: events["errors"].append(text) if (text := page_error(m)) is not None else None)
     pg.on("request", lambda r: events["requests"].append(r.url))
     pg.goto((out / "index.html").resolve().as_uri() + (f"#{fragment}" if fragment else ""))
     if js:
