@@ -25,7 +25,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-__all__ = ["BUCKETS", "MIN_STEPS", "shared_grid", "bucket_starts", "SpectralTables"]
+__all__ = ["BUCKETS", "LOOKUP_STEPS", "shared_grid", "bucket_starts", "SpectralTables"]
 
 #: Buckets of the uniform partition of the grid's span (600 nm: ~0.6 nm each, below the default film
 #: table's 1.7 nm node spacing, so a bucket holds at most a node or two).
@@ -33,7 +33,7 @@ BUCKETS = 1024
 #: Forward steps every lookup takes at least (the shipped tables need at most 2): with the span and
 #: the counts passed to the kernel as data, not as constants, every pair of tables that needs no more
 #: compiles to the same kernel (another film or substrate is not another compile).
-MIN_STEPS = 2
+LOOKUP_STEPS = 2
 
 
 def shared_grid(tables, lo_nm: float, hi_nm: float) -> tuple[np.ndarray, np.ndarray]:
@@ -121,7 +121,7 @@ class SpectralTables:
         if not dr.is_jit_v(mi.Float):  # scalar variants: np.interp on the four wavelengths of a path
             return
         starts, steps = bucket_starts(grid)
-        self._steps = max(steps, MIN_STEPS)
+        self._steps = max(steps, LOOKUP_STEPS)
         slopes = np.diff(values.astype(np.float64), axis=1) / np.diff(grid.astype(np.float64))
         slopes = np.concatenate([slopes, np.zeros((self.count, 1))], axis=1)  # (the last node starts no segment)
         packet = dr.size_v(mi.UnpolarizedSpectrum)
