@@ -20,13 +20,24 @@ def mi():
     return mitsuba_variant()
 
 
-def _lookup(mi, tables, lo, hi, wavelengths_nm):
-    """SpectralTables.eval at ``wavelengths_nm`` (each spectral lane a shifted copy): (tables, lanes, n)."""
+#: Wavelengths a lookup is probed at: one array size for every call, and every table evaluated in one
+#: ``dr.eval``, so that every pair of tables needing the same steps runs one compiled kernel (#17).
+PROBES = 4096
+
+
+def _lookup(mi, tables, lo, hi, wavelengths_nm, rng):
+    """SpectralTables.eval at ``wavelengths_nm`` (topped up with random ones to :data:`PROBES`; each spectral
+    lane a shifted copy): (tables, lanes, PROBES)."""
+    import drjit as dr
+
     from swatch.render.mitsuba.tables import SpectralTables
 
     wl = np.asarray(wavelengths_nm, dtype=np.float32)
+    assert wl.size <= PROBES
+    wl = np.concatenate([wl, rng.uniform(lo, hi, PROBES - wl.size).astype(np.float32)])
     lanes = [np.roll(wl, 7 * k) for k in range(4)]
     got = SpectralTables(tables, lo, hi).eval(mi.UnpolarizedSpectrum(*(jit_float(x) for x in lanes)))
+    dr.eval(got)
     return np.stack([np.asarray(g) for g in got]), np.stack(lanes)
 
 
@@ -53,7 +64,7 @@ def test_lookup_is_np_interp_of_every_shipped_table(mi):
         hi = min(f.wavelength_range_nm[1], s.wavelength_range_nm[1], 900.0)
         tables = [(f.wavelength_nm, f.n), (f.wavelength_nm, f.k), (s.wavelength_nm, s.n), (s.wavelength_nm, s.k)]
         probe = _probe_points(np.concatenate([f.wavelength_nm, s.wavelength_nm]), lo, hi, rng)
-        got, lanes = _lookup(mi, tables, lo, hi, probe)
+        got, lanes = _lookup(mi, tables, lo, hi, probe, rng)
         at = np.clip(lanes.astype(np.float64), lo, hi)
         for t, (wl, v) in enumerate(tables):
             want = np.interp(at, wl, v)
@@ -76,7 +87,7 @@ def test_lookup_finds_the_segment_however_the_nodes_cluster(mi, spread_out, clus
     tables = [(a, rng.normal(size=a.size)), (b, rng.normal(size=b.size))]
     lo, hi = 380.0, 720.0
     probe = _probe_points(np.concatenate([a, b]), lo, hi, rng, n=300)
-    got, lanes = _lookup(mi, tables, lo, hi, probe)
+    got, lanes = _lookup(mi, tables, lo, hi, probe, rng)
     at = np.clip(lanes.astype(np.float64), lo, hi)
     for t, (wl, v) in enumerate(tables):
         steepest = np.max(np.abs(np.diff(v) / np.diff(wl)))
