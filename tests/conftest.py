@@ -79,7 +79,7 @@ def playwright_session():
 
 @pytest.fixture(scope="session")
 def chromium(playwright_session):
-    """The one headless Chromium of the suite (Debian's /usr/bin/chromium, SwiftShader WebGL2).
+    """The one headless Chromium of the suite (Debian's, :data:`tests.browser.CHROMIUM`; SwiftShader WebGL2).
     Tests open their own context or page on it and close it."""
     browser = playwright_session.chromium.launch(executable_path=CHROMIUM, args=WEBGL_ARGS)
     yield browser

@@ -1,4 +1,4 @@
-"""index.html in a real headless browser (Debian's /usr/bin/chromium through Playwright).
+"""index.html in a real headless browser (Debian's Chromium through Playwright: tests/browser.py).
 
 Skipped when Chromium is absent, unless SWATCH_REQUIRE_BROWSER=1 (then it fails): CI sets it.
 """
