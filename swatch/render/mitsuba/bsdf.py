@@ -44,8 +44,8 @@ Parameters (scene-dictionary keys)
 
 The tables are looked up at the sampled wavelengths in one shared grid (:mod:`swatch.render.mitsuba.tables`:
 ``np.interp`` of each table, in constant time); wavelengths outside a table's range are clamped to its end
-(the tables cover the visible range that matters; Mitsuba samples 360–830 nm). Directions below the horizon (either side, of the
-surface or of the facet) give 0, never NaN.
+(the tables cover the visible range that matters; Mitsuba samples 360–830 nm). Directions below the
+horizon (either side, of the surface or of the facet) give 0, never NaN.
 """
 from __future__ import annotations
 
@@ -109,7 +109,7 @@ def index_tables(film: str, substrate: str, film_index_scale: float = 1.0) -> Sp
 
 def _flag(props, name: str) -> bool:
     """A boolean scene-dictionary entry (default False)."""
-    value = props.get(name, False) if name in props else False
+    value = props.get(name, False)
     if not isinstance(value, bool):
         raise SwatchError(f"anodic_film: {name} must be true or false, got {value!r}")
     return value
