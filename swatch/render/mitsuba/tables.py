@@ -34,6 +34,8 @@ BUCKETS = 1024
 #: the counts passed to the kernel as data, not as constants, every pair of tables that needs no more
 #: compiles to the same kernel (another film or substrate is not another compile).
 LOOKUP_STEPS = 2
+#: Floats a gather loads at once (``mi.Vector4f``): the tables' values and slopes are stored in packets of 4.
+_PACKET = 4
 
 
 def shared_grid(tables, lo_nm: float, hi_nm: float) -> tuple[np.ndarray, np.ndarray]:
@@ -124,9 +126,8 @@ class SpectralTables:
         self._steps = max(steps, LOOKUP_STEPS)
         slopes = np.diff(values.astype(np.float64), axis=1) / np.diff(grid.astype(np.float64))
         slopes = np.concatenate([slopes, np.zeros((self.count, 1))], axis=1)  # (the last node starts no segment)
-        packet = dr.size_v(mi.UnpolarizedSpectrum)
-        self._rows = -(-self.count // packet)  # packets of tables per node: values then slopes, node-major
-        width = self._rows * packet
+        self._rows = -(-self.count // _PACKET)  # packets of tables per node: values then slopes, node-major
+        width = self._rows * _PACKET
         rows = np.zeros((grid.size, 2, width), dtype=np.float32)
         rows[:, 0, :self.count], rows[:, 1, :self.count] = values.T, slopes.T
         self._packets = mi.Float(rows.reshape(-1).tolist())
@@ -158,8 +159,6 @@ class SpectralTables:
             return [spectrum(*np.interp(at, grid, v).tolist()) for v in values]
         wl: Any = dr.clip(spectrum(wavelength_nm), self._lo, self._hi)
         out: list[list] = [[] for _ in range(self.count)]
-        packet_type = _packet_type()
-        packet = dr.size_v(packet_type)
         for lane in range(dr.size_v(spectrum)):  # the (four) wavelengths of a path: traced, not a data loop
             x = wl[lane]
             bucket = dr.minimum(mi.UInt32((x - self._lo) * self._inv_width), BUCKETS - 1)
@@ -169,15 +168,10 @@ class SpectralTables:
                 i = dr.select(ahead & (i < self._last), i + 1, i)
             dx = x - dr.gather(mi.Float, self._grid, i, active)
             for row in range(self._rows):
-                v = dr.gather(packet_type, self._packets, (i * 2) * self._rows + row, active)
-                sl = dr.gather(packet_type, self._packets, (i * 2 + 1) * self._rows + row, active)
-                for c in range(packet):
-                    table = row * packet + c
+                v = dr.gather(mi.Vector4f, self._packets, (i * 2) * self._rows + row, active)
+                sl = dr.gather(mi.Vector4f, self._packets, (i * 2 + 1) * self._rows + row, active)
+                for c in range(_PACKET):
+                    table = row * _PACKET + c
                     if table < self.count:
                         out[table].append(dr.fma(dx, sl[c], v[c]))
         return [spectrum(*lanes) for lanes in out]
-
-
-def _packet_type():
-    """The variant's 4-float array (a gather of one is a single packet load)."""
-    return mi.Vector4f if hasattr(mi, "Vector4f") else dr.llvm.ad.Array4f
