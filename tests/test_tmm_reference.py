@@ -1,5 +1,7 @@
 """The stored tmm answers (tests/tmm_reference.py, issue 17) are tmm's: a sample of the store is asked of
-``tmm.coh_tmm`` again and must agree bit for bit, and a question not in the store goes to tmm."""
+``tmm.coh_tmm`` again and must agree to rounding (1e-13 relative: numpy's complex arithmetic takes
+other SIMD paths on other CPUs, and the store recorded on one machine differed from tmm on an AVX-512
+machine by one unit in the last place), and a question not in the store goes to tmm."""
 from __future__ import annotations
 
 import numpy as np
@@ -12,7 +14,7 @@ def test_stored_spectra_are_what_tmm_answers_now():
     entries = tmm_reference.stored_entries()
     assert len(entries) > 100, "tests/data/tmm_reference.npz is missing or nearly empty: record it (see its module)"
     for n, d, theta, wl, R in entries[:: max(1, len(entries) // 12)]:
-        np.testing.assert_array_equal(tmm_reference.live_R(n, d, theta, wl), R)
+        np.testing.assert_allclose(tmm_reference.live_R(n, d, theta, wl), R, rtol=1e-13, atol=0)
 
 
 def test_a_question_not_in_the_store_is_asked_of_tmm(monkeypatch):

@@ -4,8 +4,9 @@
 tmm takes one wavelength and one polarisation a call (~0.1 ms): the suite asked it ~185,000 times, about
 20 CPU-s of a ~400 CPU-s run. :func:`unpolarised_R` looks each spectrum up by a digest of its exact inputs
 (every layer's complex index at every wavelength, the thicknesses, the angle and the wavelengths, as
-complex128 / float64 bytes), so a stored spectrum is tmm's answer to exactly that question, bit for bit:
-a changed optical table, angle or thickness is a miss and is computed by tmm there and then. The store
+complex128 / float64 bytes), so a stored spectrum is tmm's answer to exactly that question (bit for bit
+on the machine that recorded it; numpy's SIMD paths on another CPU may round the last bit otherwise): a
+changed optical table, angle or thickness is a miss and is computed by tmm there and then. The store
 holds the inputs too, and ``tests/test_tmm_reference.py`` asks tmm again for a sample of its entries.
 
 To record the store again (after a change of the tables or of the tests' cases; a miss is only slower)::
