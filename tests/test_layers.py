@@ -279,6 +279,21 @@ def test_the_builtin_render_path_never_loads_mitsuba():
     assert ast.literal_eval(out) == []
 
 
+def test_only_the_commands_import_click():
+    """Issue #17 item 4: the library speaks parameters and reports progress through callbacks; click (flags,
+    prompts, progress bars) is the CLI's: no module outside ``commands/`` and the CLI imports it (the
+    catalog build and the Mitsuba engine drew their own click bars before)."""
+    found = []
+    for m, path in MODULES.items():
+        if m.startswith("swatch.commands") or m == "swatch.cli":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = ([node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level
+                     else [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            found += [f"{m} -> {n}" for n in names if n.split(".")[0] == "click"]
+    assert found == []
+
+
 def test_no_test_module_imports_another_test_module():
     """Issue #17 item 7: tests share helpers through helper modules and conftest.py fixtures
     (tests/catalog/folder_helpers.py, tests/render/env_reference.py, ...), never by importing another

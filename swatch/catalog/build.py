@@ -31,16 +31,13 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 import tempfile
 import time
-from collections.abc import Sequence
-from contextlib import contextmanager, suppress
+from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager, suppress
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
-
-import click
 
 from swatch.catalog.fingerprint import FORMAT_VERSION, code_fingerprint, hash_json, slug
 from swatch.catalog.folder import (
@@ -69,7 +66,12 @@ from swatch.core.version import __version__
 if TYPE_CHECKING:
     from swatch.catalog.context import CatalogContext
 
-__all__ = ["build_catalog", "check_buildable", "BuildResult", "FORMAT_VERSION", "META_DIR"]
+__all__ = ["build_catalog", "check_buildable", "BuildResult", "ProgressBarFactory", "FORMAT_VERSION", "META_DIR"]
+
+#: A progress-bar factory: ``factory(label, total)`` returns a context manager whose value has ``update(n)``
+#: (``click.progressbar``'s shape; the CLI passes one, the library draws nothing itself).
+ProgressBarFactory = Callable[[str, int], AbstractContextManager[Any]]
+
 
 @dataclass
 class BuildResult:
@@ -180,19 +182,27 @@ def _swatch_version() -> str:
     return __version__
 
 
-def _progress(label: str, total: int, enabled: bool):
-    if not enabled or total == 0:
-        @contextmanager
-        def dummy():
-            class P:
-                def update(self, n):
-                    pass
-            yield P()
-        return dummy()
-    return click.progressbar(length=total, label=label, file=sys.stderr, show_pos=True)
+class _NoBar:
+    """The bar of a build without progress reporting."""
+
+    def __enter__(self) -> _NoBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        return None
+
+    def update(self, n: int) -> None:
+        return None
 
 
-def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = False,
+def _progress(label: str, total: int, bar_factory: ProgressBarFactory | None):
+    """``bar_factory(label, total)``, or a bar that draws nothing (no factory, or nothing to do)."""
+    if bar_factory is None or total == 0:
+        return _NoBar()
+    return bar_factory(label, total)
+
+
+def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: ProgressBarFactory | None = None,
                   log=None) -> BuildResult:
     """Build (or bring up to date) the catalog of ``spec_path`` in ``out_dir``.
 
@@ -207,8 +217,10 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: bool = 
         The catalog folder (the build's own: it writes and deletes only inside it).
     jobs : int or None
         Worker processes for the sheets (None: one per core, at most 8).
-    progress : bool
-        Report progress on stderr.
+    progress : callable(label, total) or None
+        Progress reporting: called with a step's label (``str``) and its number of items (``int``), it
+        returns a context manager whose value's ``update(n)`` is called as items finish (the signature of
+        ``click.progressbar(length=total, label=label)``, which the CLI passes). None: no reporting.
     log : callable or None
         Receives one line per step.
 

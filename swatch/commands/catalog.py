@@ -5,8 +5,6 @@ a rebuild with nothing changed finishes in well under a second.
 """
 from __future__ import annotations
 
-import sys
-
 import click
 
 
@@ -29,8 +27,9 @@ def build(spec, out, jobs, quiet):
     rebuilt) and atomic (a failed or interrupted build leaves the previous catalog intact).
     """
     from swatch.catalog.build import build_catalog
+    from swatch.commands.progress import terminal_bar_factory
 
-    res = build_catalog(spec, out, jobs=jobs, progress=not quiet and sys.stderr.isatty())
+    res = build_catalog(spec, out, jobs=jobs, progress=None if quiet else terminal_bar_factory())
     if quiet:
         return
     if res.noop:

@@ -9,6 +9,7 @@ import click
 import numpy as np
 
 from swatch.commands import common
+from swatch.commands.progress import PassBar
 from swatch.core.choices import (
     BACKGROUNDS,
     DISTRIBUTIONS,
@@ -254,13 +255,14 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     # builtin: every input is checked; mitsuba: the first render checks the rest (the scene) before anything is written
     out = None if mitsuba else check_writable_dir(out_dir)
     written = []
-    items = list(range(d.size))  # mitsuba draws its own bar per render
+    items = list(range(d.size))  # mitsuba: a bar of passes per render instead
     with nullcontext(items) if mitsuba else _iterate(items, f"{shape} swatches") as it:
         for i in it:
-            img = render_swatch(d[i], shape, size_px, light_deg, roughness, model, coating, cm, space, distribution,
-                                environment=light, background=background, view_deg=view_deg,
-                                view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine, spp=spp,
-                                seed=seed, progress=True if mitsuba else None)
+            with PassBar(f"mitsuba {shape}") if mitsuba else nullcontext() as passes:
+                img = render_swatch(d[i], shape, size_px, light_deg, roughness, model, coating, cm, space,
+                                    distribution, environment=light, background=background, view_deg=view_deg,
+                                    view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine,
+                                    spp=spp, seed=seed, progress=passes)
             out = out or check_writable_dir(out_dir)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")

@@ -84,8 +84,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         mitsuba: samples per pixel and the seed (the same values give byte-identical images).
     sun : swatch.render.lighting.Sun, optional
         mitsuba: the sun of ``environment="sun"``.
-    progress : callable(done, total) or bool, optional
-        mitsuba: called after each pass; True draws a bar on stderr when it is a terminal.
+    progress : callable(done, total), optional
+        mitsuba: called after each pass with the passes done and their number.
 
     Returns
     -------

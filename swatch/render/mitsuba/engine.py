@@ -5,7 +5,7 @@ The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the
 (:mod:`swatch.render.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
 Mitsuba's ``path`` integrator (up to :data:`PATH_BOUNCES` bounces: meshes shadow and reflect
 themselves). Rendering is split into passes of at most :data:`swatch.core.limits.MAX_PASS_LANES`
-samples (bounded memory, a progress bar, Ctrl-C/SIGTERM between passes), each with its own seed
+samples (bounded memory, progress reported after each pass, Ctrl-C/SIGTERM between passes), each with its own seed
 derived from ``seed``: the same seed and spp give byte-identical images.
 
 Units: linear Rec.709/sRGB (Mitsuba's film: CIE 1931 2° XYZ to sRGB), scaled so that **1.0 = a
@@ -20,10 +20,8 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 from collections.abc import Callable
 
-import click
 import colour
 import drjit as dr
 import mitsuba as mi
@@ -267,7 +265,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           film_index_scale: float = 1.0, coating=None, colorimeter=None, space: str = "srgb",
                           background: str | None = None, view_deg: float | None = None,
                           view_azimuth_deg: float = 0.0, mesh=None, variant: str = DEFAULT_VARIANT,
-                          progress: Callable[[int, int], None] | bool | None = None,
+                          progress: Callable[[int, int], None] | None = None,
                           bsdf_override: dict | None = None, exposure: float = 1.0,
                           spread: ThicknessSpread | None = None,
                           window_px: tuple[int, int, int, int] | None = None) -> SwatchImage:
@@ -305,8 +303,9 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     mesh : swatch.render.mesh.MeshShape, optional
     variant : str
         Mitsuba variant (spectral), default ``llvm_ad_spectral``.
-    progress : callable(done, total) or bool, optional
-        Called after each pass; True draws a bar on stderr when it is a terminal.
+    progress : callable(done, total), optional
+        Called after each pass with the passes done and their number (the CLI draws its bar from it:
+        :class:`swatch.commands.progress.PassBar`).
     bsdf_override : dict, optional
         Another BSDF for the object (tests and benchmarks: Mitsuba's own ``roughconductor``).
     spread : swatch.physics.spread.ThicknessSpread, optional
@@ -395,23 +394,13 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                                          "hide_emitters": background != "environment"},
                           "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
     raise_if_signalled()  # (a stop raised in the plugin while Mitsuba loaded the scene was swallowed there)
-    bar = None
-    if progress is True and sys.stderr.isatty() and passes > 1:
-
-        bar = click.progressbar(length=passes, label=f"mitsuba {shape}", file=sys.stderr)
     acc = np.zeros((height, width, 4), dtype=np.float64)
-    try:
-        for i, s in enumerate(_pass_seeds(seed, passes)):
-            acc += np.asarray(mi.render(scene, seed=s, spp=per), dtype=np.float64)  # type: ignore[arg-type]
-            dr.sync_thread()
-            raise_if_signalled()  # (... or while it traced the kernels)
-            if bar is not None:
-                bar.update(1)
-            elif callable(progress):
-                progress(i + 1, passes)
-    finally:
-        if bar is not None:
-            bar.render_finish()
+    for i, s in enumerate(_pass_seeds(seed, passes)):
+        acc += np.asarray(mi.render(scene, seed=s, spp=per), dtype=np.float64)  # type: ignore[arg-type]
+        dr.sync_thread()
+        raise_if_signalled()  # (... or while it traced the kernels)
+        if progress is not None:
+            progress(i + 1, passes)
     acc /= passes
     rgb = (acc[..., :3] * scale).astype(np.float32)
     alpha = np.clip(acc[..., 3], 0.0, 1.0).astype(np.float32)

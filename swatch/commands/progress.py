@@ -1,0 +1,69 @@
+"""Progress bars on stderr for the commands: the library reports progress through callbacks and
+factories and draws nothing itself (issue 17: the library speaks parameters, the CLI speaks the terminal).
+
+:func:`terminal_bar_factory` gives ``swatch catalog build`` its bars (one per step), :class:`PassBar`
+turns the Mitsuba engine's ``progress(done, total)`` calls into one bar per render. Both draw only when
+stderr is a terminal. Light (click only): ``swatch catalog build`` with nothing to do stays quick.
+"""
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from contextlib import AbstractContextManager
+from typing import Any
+
+import click
+
+__all__ = ["terminal_bar_factory", "PassBar"]
+
+
+def terminal_bar_factory() -> Callable[[str, int], AbstractContextManager[Any]] | None:
+    """A progress-bar factory for :func:`swatch.catalog.build.build_catalog`, or None off a terminal.
+
+    Returns
+    -------
+    callable(label, total) or None
+        ``click.progressbar(length=total, label=label)`` on stderr, with the position shown; None when
+        stderr is not a terminal (a log file or a pipe gets no bar).
+    """
+    if not sys.stderr.isatty():
+        return None
+    return lambda label, total: click.progressbar(length=total, label=label, file=sys.stderr, show_pos=True)
+
+
+class PassBar:
+    """A bar on stderr driven by ``progress(done, total)`` calls (the Mitsuba engine's, after each pass).
+
+    Drawn from the first call on, only when stderr is a terminal and there is more than one pass;
+    :meth:`close` ends the line. Use as a context manager around the render.
+
+    Parameters
+    ----------
+    label : str
+        The bar's label (``mitsuba sphere``).
+    """
+
+    def __init__(self, label: str) -> None:
+        self.label = label
+        self._bar: Any = None
+        self._done = 0
+
+    def __call__(self, done: int, total: int) -> None:
+        if total <= 1 or not sys.stderr.isatty():
+            return
+        if self._bar is None:
+            self._bar = click.progressbar(length=total, label=self.label, file=sys.stderr)
+        self._bar.update(done - self._done)
+        self._done = done
+
+    def close(self) -> None:
+        """End the bar's line (when one was drawn)."""
+        if self._bar is not None:
+            self._bar.render_finish()
+            self._bar = None
+
+    def __enter__(self) -> PassBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
