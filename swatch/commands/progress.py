@@ -57,10 +57,15 @@ class PassBar:
         self._done = done
 
     def close(self) -> None:
-        """End the bar's line (when one was drawn)."""
+        """End the bar's line (when one was drawn); a later call starts a new bar.
+
+        Returns
+        -------
+        None
+        """
         if self._bar is not None:
             self._bar.render_finish()
-            self._bar = None
+        self._bar, self._done = None, 0
 
     def __enter__(self) -> PassBar:
         return self
