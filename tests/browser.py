@@ -111,11 +111,13 @@ def open_catalog_page(browser, out: Path, js: bool = True, viewport=(1280, 900),
                       fragment: str = ""):
     """A new context and page on ``out/index.html`` (``scale``: device pixels a CSS pixel; ``fragment``: the
     address's fragment without its ``#``, the view the page opens in, e.g. :data:`POINT_LIGHT`): (context, page,
-    events) where events collects page errors, console errors and warnings, and every request URL."""
+    events) where events collects page errors, console errors and warnings, every request URL, and the message
+    of every dialog (dismissed: an ``alert`` from an injected script is caught from the first load on)."""
     ctx = browser.new_context(java_script_enabled=js, viewport={"width": viewport[0], "height": viewport[1]},
                               device_scale_factor=scale)
     pg = ctx.new_page()
-    events: dict = {"errors": [], "requests": []}
+    events: dict = {"errors": [], "requests": [], "dialogs": []}
+    pg.on("dialog", lambda d: (events["dialogs"].append(d.message), d.dismiss()))
     pg.on("pageerror", lambda e: events["errors"].append(str(e)))
     pg.on("console", lambda m: events["errors"].append(text) if (text := page_error(m)) is not None else None)
     pg.on("request", lambda r: events["requests"].append(r.url))

@@ -12,7 +12,7 @@ import pytest
 
 import swatch  # noqa: F401
 from swatch.catalog.build import build_catalog
-from tests.browser import POINT_LIGHT, require_chromium, wait_until
+from tests.browser import POINT_LIGHT, open_catalog_page, require_chromium, wait_until
 
 EVIL = 'Ti <script>alert(1)</script> & "co" </script><img src=x onerror=alert(2)>'
 
@@ -33,32 +33,26 @@ rows = 1
 
 
 @pytest.fixture(scope="module")
-def page_url(tmp_path_factory):
+def catalog_out(tmp_path_factory):
     require_chromium()
     root = tmp_path_factory.mktemp("page")
     spec = root / "evil.toml"
     spec.write_text(SPEC.format(name=json.dumps(EVIL)), encoding="utf-8")
     out = root / "out"
     build_catalog(spec, out, jobs=1)
-    return out, (out / "index.html").resolve().as_uri()
+    return out
 
 
 @pytest.fixture(scope="module")
-def loaded(chromium, page_url):
+def loaded(chromium, catalog_out):
     """One page on the catalog for the file (issue 17: a page load was ~6 CPU-s of Chromium, most of it the
     live view's first frame under the studio: it opens under the point light, tests.browser.POINT_LIGHT);
     ``page`` gives it to each test with the filters reset."""
-    out, url = page_url
-    pg = chromium.new_page(viewport={"width": 1280, "height": 900})
-    events = {"dialogs": [], "errors": [], "requests": []}
-    pg.on("dialog", lambda d: (events["dialogs"].append(d.message), d.dismiss()))
-    pg.on("pageerror", lambda e: events["errors"].append(str(e)))
-    pg.on("console", lambda m: events["errors"].append(m.text) if m.type == "error" else None)
-    pg.on("request", lambda r: events["requests"].append(r.url))
-    pg.goto(f"{url}#{POINT_LIGHT}")  # no test here reads the live view
+    out = catalog_out
+    ctx, pg, events = open_catalog_page(chromium, out, fragment=POINT_LIGHT)  # no test here reads the live view
     pg.wait_for_selector("article.card")
     yield pg, events, out
-    pg.close()
+    ctx.close()
 
 
 @pytest.fixture
