@@ -8,16 +8,17 @@ stderr is a terminal. Light (click only): ``swatch catalog build`` with nothing 
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable
-from contextlib import AbstractContextManager
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
+
+if TYPE_CHECKING:  # the type only: `swatch render` does not load the catalog build
+    from swatch.catalog.build import ProgressBarFactory
 
 __all__ = ["terminal_bar_factory", "PassBar"]
 
 
-def terminal_bar_factory() -> Callable[[str, int], AbstractContextManager[Any]] | None:
+def terminal_bar_factory() -> ProgressBarFactory | None:
     """A progress-bar factory for :func:`swatch.catalog.build.build_catalog`, or None off a terminal.
 
     Returns

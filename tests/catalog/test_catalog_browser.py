@@ -48,10 +48,9 @@ def loaded(chromium, catalog_out):
     """One page on the catalog for the file (issue 17: a page load was ~6 CPU-s of Chromium, most of it the
     live view's first frame under the studio: it opens under the point light, tests.browser.POINT_LIGHT);
     ``page`` gives it to each test with the filters reset."""
-    out = catalog_out
-    ctx, pg, events = open_catalog_page(chromium, out, fragment=POINT_LIGHT)  # no test here reads the live view
+    ctx, pg, events = open_catalog_page(chromium, catalog_out, fragment=POINT_LIGHT)  # no test reads the live view
     pg.wait_for_selector("article.card")
-    yield pg, events, out
+    yield pg, events, catalog_out
     ctx.close()
 
 
