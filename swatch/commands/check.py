@@ -6,40 +6,6 @@ import click
 from swatch.commands import common
 
 
-def _figure(results: list[dict], spec: dict):
-    """Specified vs measured chips per angle (rows: parts, columns: geometries); failing cells framed red.
-
-    sRGB from CIE 1931 2° colorimetry: the spec's chips from its spectra, a part's from its measured
-    spectra (or, for a CIELAB-only file, the model at the part's fitted thickness: ``srgb_from``)."""
-    from PIL import Image, ImageDraw
-
-    entries = [spec["reference"], *spec["multi_angle"]]
-    geoms = [e["geometry"] for e in entries]
-    spec_hex = {e["geometry"]: e["srgb_hex"] for e in entries}
-    rows = results[:60]
-    cell, pad, head, label = 44, 6, 28, 150
-    img = Image.new("RGB", (label + len(geoms) * (2 * cell + pad) + pad, head + len(rows) * (cell + pad) + pad),
-                    "white")
-    dr = ImageDraw.Draw(img)
-    for j, g in enumerate(geoms):
-        dr.text((label + j * (2 * cell + pad), 8), f"{g}  spec | part", fill=(30, 30, 30))
-    tol = spec["tolerance"]["max"]
-    for i, r in enumerate(rows):
-        y = head + i * (cell + pad)
-        dr.text((6, y + 14), f"{r['id'][:18]} {'PASS' if r['pass'] else 'FAIL'}",
-                fill=(30, 30, 30) if r["pass"] else (200, 0, 0))
-        for j, g in enumerate(geoms):
-            if g not in r["Lab"]:
-                continue
-            x = label + j * (2 * cell + pad)
-            dr.rectangle([x, y, x + cell, y + cell], fill=spec_hex[g])
-            dr.rectangle([x + cell, y, x + 2 * cell, y + cell], fill=r["srgb_hex"][g])
-            bad = r["delta_E"][g] > tol
-            dr.rectangle([x, y, x + 2 * cell, y + cell], outline=(200, 0, 0) if bad else (120, 120, 120),
-                         width=3 if bad else 1)
-    return img
-
-
 def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observer) -> dict:
     """The spec ``swatch spec --thickness/--voltage`` would write, in memory (checked as a spec.json is)."""
     from swatch.colorimetry.tolerance import parse_tolerance
@@ -86,9 +52,11 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     """Judge measured parts against a finish specification, per geometry, in the tolerance's metric.
 
     FILES: CxF3, CGATS or CSV measurement files (one or many parts each, CIELAB or spectra, one or
-    many geometries of the spec). Prints per part the ΔE at each geometry, pass/fail, the fitted
-    thickness and the voltage correction that would bring the line back. Exit status 0 when every
-    part passes, 1 when any fails, 2 for bad input.
+    many geometries of the spec). Prints per part the worst ΔE, pass/fail, the best-fit thickness,
+    the residual (the part against the model at that thickness, in the tolerance's metric) and,
+    only when that residual is within the tolerance, the voltage change that would bring the line
+    back ("raise/lower the voltage by X V"); otherwise "not a thickness error: …" and no voltage.
+    Exit status 0 when every part passes, 1 when any fails, 2 for bad input.
     """
     import json
     from pathlib import Path
@@ -98,6 +66,7 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.instruments import Request
     from swatch.production.qc import check_file, load_spec_json
+    from swatch.report.check_report import check_figure
 
     if sum(x is not None for x in (spec_path, thickness, voltage)) != 1:
         raise SwatchError("give exactly one of --spec spec.json, --thickness NM or --voltage V")
@@ -123,22 +92,28 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
             r["id"] = f"{Path(r['source']).name}#{r['id']}"
     doc = {"spec": str(spec_path), "pass": all(r["pass"] for r in results),
            "tolerance": {k: spec["tolerance"][k] for k in ("metric", "max", "label")},
-           "colorimetry": {"illuminant": col["illuminant"], "observer": col["observer"]},
+           "colorimetry": {"illuminant": col["illuminant"], "observer": col["observer"],
+                           "srgb": "chips: sRGB by CIE 1931 2° colorimetry; a part's from its own measurement"},
+           "advice": "a voltage correction only where the model at the best-fit thickness explains the part within "
+                     "the tolerance (max_residual_delta_E); otherwise voltage_correction_reason says why not",
            "nominal": spec["nominal"], "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
            "measurements": results}
     text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     if report_dir is not None:
         check_writable_dir(out)
         with atomic_path(paths[0]) as tmp:
-            _figure(results, spec).save(tmp, format="PNG")
+            check_figure(results, spec).save(tmp, format="PNG")
         atomic_write_text(paths[1], text)
     if as_json:
         click.echo(text, nl=False)
     else:
+        click.echo(f"# {spec['tolerance']['label']}; CIELAB under {col['illuminant']}, {col['observer']}° observer; "
+                   f"nominal {spec['nominal']['thickness_nm']} nm")
         for r in results:
-            dv = "" if r["voltage_correction_V"] is None else f", voltage {r['voltage_correction_V'] + 0.0:+.1f} V"
+            advice = r["voltage_advice"] if r["voltage_advice"] is not None else r["voltage_correction_reason"]
             worst = max(r["delta_E"], key=r["delta_E"].get)
             click.echo(f"{r['id']}: {'PASS' if r['pass'] else 'FAIL'}  max {r['metric']} {r['max_delta_E']:.2f} "
-                       f"({worst})  thickness {r['thickness_nm']:.1f} nm ({r['thickness_offset_nm']:+.1f}){dv}")
+                       f"({worst})  best-fit thickness {r['thickness_nm']:.1f} nm ({r['thickness_offset_nm']:+.1f}), "
+                       f"residual {r['metric']} {r['max_residual_delta_E']:.2f}: {advice}")
         click.echo(f"{doc['n_parts'] - doc['n_failed']} of {doc['n_parts']} parts pass ({spec['tolerance']['label']})")
     return 0 if doc["pass"] else 1

@@ -12,6 +12,16 @@ interference order), with no intensity scaling: the spec's colours are the half-
 absolute reflectance factor. The fit is vectorised over the parts of a file (one thickness
 table). The voltage correction is the voltage change that would grow the nominal thickness
 instead: ``V(nominal) − V(fitted)`` by the spec's growth law (one or two slopes; positive: raise it).
+
+A correction is advice only where the model supports it: the **residual** (the tolerance's metric
+between the part and the model at its best-fit thickness, worst over the measured geometries) must
+be within the tolerance, and the fit inside its search. Otherwise the part differs in something a
+voltage cannot change (alloy, surface preparation, contamination, a sealed or heat-tinted film, the
+measurement) and no correction is given: ``voltage_correction_V`` is None and
+``voltage_correction_reason`` says why ("not a thickness error: …").
+
+The part's chip is its own colour: its spectra by CIE 1931 2° colorimetry, or its CIELAB through the
+observer bridge (:func:`swatch.colorimetry.observers.document_Lab_display`), out-of-gamut marked.
 """
 from __future__ import annotations
 
@@ -21,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter, srgb_hex
+from swatch.colorimetry.observers import LAB_CHIP_CONVENTION, document_Lab_display
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
@@ -34,7 +45,7 @@ from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import get_coating
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["load_spec_json", "check_spec", "check_file", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
+__all__ = ["load_spec_json", "check_spec", "check_file", "voltage_advice", "not_a_thickness_error", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
 FIT_SPAN_NM = 40.0
@@ -135,7 +146,7 @@ def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
 
 
 def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coating, cm, lo: float,
-                      hi: float) -> np.ndarray:
+                      hi: float) -> tuple[np.ndarray, np.ndarray]:
     """Fit the oxide thickness of P parts to their CIELAB at G geometries (least squares in ΔE2000).
 
     One thickness → CIELAB table every :data:`FINE_STEP_NM` on [``lo``, ``hi``] (one sweep for all
@@ -159,8 +170,10 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
 
     Returns
     -------
-    numpy.ndarray, shape (P,)
+    thickness_nm : numpy.ndarray, shape (P,)
         Fitted thickness of each part, nm (to :data:`FINE_STEP_NM`).
+    model_Lab : numpy.ndarray, shape (P, G, 3)
+        The model's CIELAB at each part's fitted thickness and measured geometries (under ``cm``).
     """
     cos_d = np.atleast_1d(geometry.cos_theta_d(light_deg, view_deg, 0.0, np.where(same_side, 0.0, 180.0)))
     cu, inv = unique_geometry(cos_d)
@@ -173,7 +186,8 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
                                    coarse.shape[0]) * every  # index into the fine table
     idx = np.clip(k0[:, None] + np.arange(-every, every + 1)[None, :], 0, count - 1)  # (P, F)
     best = _argmin_delta_E_by_chunks(Lab_meas, lambda a, b: table[idx[a:b]], idx.shape[1])
-    return lo + FINE_STEP_NM * idx[np.arange(P), best]
+    k = idx[np.arange(P), best]
+    return lo + FINE_STEP_NM * k, table[k]
 
 
 def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -> np.ndarray:
@@ -191,6 +205,49 @@ def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -
     return out
 
 
+def voltage_advice(correction_V: float) -> str:
+    """The voltage correction in a finisher's words.
+
+    Parameters
+    ----------
+    correction_V : float
+        ``V(nominal) − V(fitted)``, volts (positive: the line grows too thin a film).
+
+    Returns
+    -------
+    str
+        ``"raise the voltage by X V"``, ``"lower the voltage by X V"``, or ``"keep the voltage"`` when
+        the change rounds to 0.0 V.
+    """
+    if round(abs(correction_V), 1) == 0.0:
+        return "keep the voltage (the fitted thickness is the nominal)"
+    return f"{'raise' if correction_V > 0 else 'lower'} the voltage by {abs(correction_V):.1f} V"
+
+
+def not_a_thickness_error(residual: float, metric: str, bound: float, d_fit: float) -> str:
+    """Why no voltage correction is given to a part no thickness explains (one sentence).
+
+    Parameters
+    ----------
+    residual : float
+        The worst ΔE (``metric``) over the measured geometries between the part and the model at
+        its best-fit thickness.
+    metric : str
+        The tolerance's metric.
+    bound : float
+        The bound it is above (the tolerance's maximum).
+    d_fit : float
+        The best-fit thickness, nm.
+
+    Returns
+    -------
+    str
+    """
+    return (f"not a thickness error: the best-fit thickness {d_fit:.1f} nm still leaves {metric} {residual:.2f} "
+            f"between the part and the model (more than the tolerance, {bound:g}), so no voltage explains it; "
+            f"check the alloy, the surface preparation, contamination, sealing or heat tint, and the measurement")
+
+
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     """Judge every sample of a measurement file against a spec (see the module docstring).
 
@@ -205,9 +262,14 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     -------
     list of dict
         Per sample: ``pass``, ``delta_E`` and ``Lab`` per geometry (in the tolerance's metric, under the
-        spec's illuminant and observer), ``delta_Lab`` (measured − specified), the fitted
-        ``thickness_nm`` and its offset, nm, the ``voltage_correction_V`` (V; None without a growth
-        rate) and the sRGB chips (CIE 1931 2°).
+        spec's illuminant and observer), ``delta_Lab`` (measured − specified), the best-fit
+        ``thickness_nm`` and its offset, nm, the ``residual_delta_E`` per geometry (the tolerance's
+        metric, part vs the model at that thickness), ``thickness_explains`` (the worst residual is
+        within the tolerance and the fit is inside the search), the ``voltage_correction_V`` (V, with
+        ``voltage_advice`` in words; None with ``voltage_correction_reason`` when no thickness explains
+        the part or the process has no growth rate) and the part's own sRGB chips (CIE 1931 2°, from
+        its spectra, or from its CIELAB by :func:`swatch.colorimetry.observers.document_Lab_display`),
+        with ``srgb_in_gamut``.
 
     Raises
     ------
@@ -232,47 +294,67 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     targets = [_match_geometry(spec, float(a), float(b), bool(c), f.source, f.samples[0].id)
                for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)]
     measured: list[np.ndarray] = []
-    chips: list[list[str] | None] = []
+    chips: list[tuple[np.ndarray, np.ndarray]] = []
     for s in f.samples:  # same geometries in every sample of a file (instruments.same_geometries)
         m = s.measurement
         if isinstance(m, LabMeasurement):
             measured.append(m.Lab)
-            chips.append(None)
+            chips.append(document_Lab_display(m.Lab, cm))
         else:
             wl, interp = colour_grid(m.wavelength_nm)
             R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
             mcm = get_colorimeter(wl, ill, obs)
             measured.append(mcm.Lab(mcm.XYZ(R)))
-            chips.append([str(h) for h in np.atleast_1d(srgb_hex(mcm.reflectance_display(R, "srgb")[0]))])
+            chips.append(mcm.reflectance_display(R, "srgb"))
     Lab_all = np.stack(measured)  # (P, G, 3)
-    d_fit = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
-    if any(c is None for c in chips):  # CIELAB only: the chip is the model's at the fitted thickness
-        R_fit = np.stack([coating.half_vector(d_fit, float(a), float(b), 0.0, 0.0 if c else None)[0].R
-                          for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)], axis=1)  # (P, G, W)
-        model_hex = np.atleast_2d(srgb_hex(cm.reflectance_display(R_fit, "srgb")[0]))
-        chips = [list(map(str, model_hex[i])) if c is None else c for i, c in enumerate(chips)]
+    d_fit, Lab_model = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
+    residual_all = np.atleast_2d(tol.delta_E(Lab_all, Lab_model))  # (P, G), the tolerance's metric
     ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
     dE_all = np.atleast_2d(tol.delta_E(Lab_all, np.broadcast_to(ref, Lab_all.shape)))
+
     def volts(x: float) -> float:  # the spec's growth law (one or two slopes)
         return float(thickness_to_voltage_V(x, float(rate), float(proc.get("offset_nm", 0.0)), proc.get("knee_V"),
                                             proc.get("nm_per_V_above_knee")))
 
+    def per_geometry(values, nd: int) -> dict:
+        return {t["geometry"]: round(float(v), nd) for t, v in zip(targets, values, strict=True)}
+
     out = []
-    for s, Lab, dE, d, chip in zip(f.samples, Lab_all, dE_all, d_fit, chips, strict=True):
+    for s, Lab, dE, d, (enc, in_gamut), res in zip(f.samples, Lab_all, dE_all, d_fit, chips, residual_all,
+                                                   strict=True):
         d = float(d)
+        worst_res = float(res.max())
+        on_edge = (d - lo < 2 * FINE_STEP_NM and lo > 0.0) or hi - d < 2 * FINE_STEP_NM
+        if worst_res > tol.max:
+            reason: str | None = not_a_thickness_error(worst_res, tol.metric, tol.max, d)
+        elif on_edge:
+            reason = (f"not a thickness error near the nominal: the best fit lies on the edge of the search "
+                      f"(nominal ± {FIT_SPAN_NM:g} nm), another interference order or no thickness at all")
+        elif not rate:
+            reason = "the process profile has no growth rate: no voltage to correct"
+        else:
+            reason = None
+        corr = None if reason is not None else round(float(volts(d0) - volts(d)), 2)
+        hexes = np.atleast_1d(srgb_hex(enc))
         out.append({
-            "srgb_hex": {t["geometry"]: h for t, h in zip(targets, chip or [], strict=True)},
+            "srgb_hex": {t["geometry"]: str(h) for t, h in zip(targets, hexes, strict=True)},
+            "srgb_in_gamut": {t["geometry"]: bool(g) for t, g in zip(targets, np.atleast_1d(in_gamut), strict=True)},
             "srgb_from": "measured spectra (CIE 1931 2°)" if isinstance(s.measurement, SpectralMeasurement)
-            else "the model at the fitted thickness (CIE 1931 2°; the file has CIELAB only)",
+            else f"measured CIELAB ({ill}, {obs}°): {LAB_CHIP_CONVENTION}",
             "id": s.id, "source": f.source,
             "pass": bool(np.all(dE <= tol.max)),
-            "delta_E": {t["geometry"]: round(float(e), 3) for t, e in zip(targets, dE, strict=True)},
+            "delta_E": per_geometry(dE, 3),
             "max_delta_E": round(float(dE.max()), 3), "metric": tol.metric,
             "Lab": {t["geometry"]: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
             # measured − specified: which way the part is off (darker, redder, yellower …) at each geometry
             "delta_Lab": {t["geometry"]: [round(float(v), 3) for v in lab - np.asarray(t["Lab"])]
                           for t, lab in zip(targets, Lab, strict=True)},
             "thickness_nm": round(d, 2), "thickness_offset_nm": round(d - d0, 2),
-            "voltage_correction_V": None if not rate else round(float(volts(d0) - volts(d)), 2),
+            # the part against the model at its best-fit thickness: what no thickness explains
+            "residual_delta_E": per_geometry(res, 3), "max_residual_delta_E": round(worst_res, 3),
+            "thickness_explains": bool(worst_res <= tol.max and not on_edge),
+            "voltage_correction_V": corr,
+            "voltage_advice": None if corr is None else voltage_advice(corr),
+            "voltage_correction_reason": reason,
         })
     return out
