@@ -50,6 +50,7 @@ from swatch.catalog.records import CatalogData
 from swatch.catalog.sheet_layout import Layout
 from swatch.catalog.tiles import AMAP_ANGLES_DEG
 from swatch.colorimetry.names import NAME_RULES
+from swatch.colorimetry.observers import srgb_to_document_XYZ
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
 from swatch.fit.matching import MATCH_MIN_SEPARATION_NM
@@ -266,6 +267,9 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
         "srgb_linear_to_XYZ2": _matrix(lambda e: 100.0 * colour.RGB_to_XYZ(
             e, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")),
         "white_XYZ2": [float(v) for v in colour.xy_to_XYZ(cm2.white_xy)],
+        # a hex target in the catalog's observer, as swatch match --hex and swatch spec --hex: through its smoothest
+        # reflectance (swatch.colorimetry.observers; linear, so one matrix), L*a*b* against white_XYZ
+        "srgb_linear_to_XYZ": _matrix(lambda e: srgb_to_document_XYZ(e, cm)),
         "nm_per_V": spec.nm_per_V,  # growth law: thickness_nm = offset_nm + nm_per_V * voltage_V (null: none)
         "offset_nm": spec.offset_nm,
         **({} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}),

@@ -36,7 +36,8 @@ import numpy as np
 from swatch.colorimetry.colorimeter import DISPLAY_OBSERVER, Colorimeter, get_colorimeter
 from swatch.core.errors import SwatchError
 
-__all__ = ["HEX_CONVENTION", "LAB_CHIP_CONVENTION", "smooth_basis", "hex_to_document_Lab", "hex_display",
+__all__ = ["HEX_CONVENTION", "LAB_CHIP_CONVENTION", "smooth_basis", "srgb_to_document_XYZ", "hex_to_document_Lab",
+           "hex_display",
            "document_Lab_display", "parse_hex"]
 
 #: How a hex target is brought into a document's observer (printed with it).
@@ -114,6 +115,27 @@ def _to_document(cm: Colorimeter) -> np.ndarray:
     return cm.weights.T @ smooth_basis(cm.wavelength_nm)
 
 
+def srgb_to_document_XYZ(rgb_linear, cm: Colorimeter) -> np.ndarray:
+    """XYZ under the document's illuminant and observer of linear sRGB (the bridge above).
+
+    Parameters
+    ----------
+    rgb_linear : array_like, shape (..., 3)
+        Linear sRGB, 1.0 = white.
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+        The document's colorimeter.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        XYZ, Y = 100 for the white (linear in ``rgb_linear``: the catalog page takes it as a matrix).
+    """
+    cm2 = get_colorimeter(cm.wavelength_nm, SRGB_ILLUMINANT, DISPLAY_OBSERVER)
+    XYZ_2 = 100.0 * colour.RGB_to_XYZ(np.asarray(rgb_linear, dtype=np.float64), "sRGB", illuminant=cm2.white_xy,
+                                      chromatic_adaptation_transform="Bradford")
+    return XYZ_2 @ _to_document(cm).T
+
+
 def hex_to_document_Lab(hex_code: str, cm: Colorimeter) -> np.ndarray:
     """CIELAB of an sRGB hex colour under the document's illuminant and observer (the bridge above).
 
@@ -130,9 +152,7 @@ def hex_to_document_Lab(hex_code: str, cm: Colorimeter) -> np.ndarray:
         L*, a*, b* under ``cm``'s illuminant and observer; under D65 / 2° the hex's own CIELAB.
     """
     rgb = colour.RGB_COLOURSPACES["sRGB"].cctf_decoding(parse_hex(hex_code))
-    cm2 = get_colorimeter(cm.wavelength_nm, SRGB_ILLUMINANT, DISPLAY_OBSERVER)
-    XYZ_2 = 100.0 * colour.RGB_to_XYZ(rgb, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")
-    return cm.Lab(XYZ_2 @ _to_document(cm).T)
+    return cm.Lab(srgb_to_document_XYZ(rgb, cm))
 
 
 def document_Lab_display(Lab, cm: Colorimeter, space: str = "srgb") -> tuple[np.ndarray, np.ndarray]:

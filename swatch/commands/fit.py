@@ -93,7 +93,9 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
 # -- match ------------------------------------------------------------------------------------------
 @click.command()
 @click.option("--lab", "lab", default=None, help="target CIELAB L,a,b (under --illuminant/--observer)")
-@click.option("--hex", "hex_code", default=None, help="target sRGB colour RRGGBB")
+@click.option("--hex", "hex_code", default=None,
+              help="target sRGB colour RRGGBB (CIE 1931 2°; brought into --observer through its smoothest "
+                   "reflectance, docs/processes.md)")
 @common.geometry_options
 @common.material_options
 @common.colour_options
@@ -127,7 +129,8 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     Candidates are ranked by ΔE2000; each says whether it is within the tolerance (--grade of
     --scheme, or --tolerance), judged in the tolerance's own metric.
     """
-    from swatch.colorimetry.colorimeter import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.colorimetry.colorimeter import get_colorimeter, parse_Lab
+    from swatch.colorimetry.observers import HEX_CONVENTION, hex_to_document_Lab
     from swatch.colorimetry.tolerance import get_tolerance, parse_tolerance
     from swatch.fit.matching import judge_candidates, match_colour
     from swatch.report.text import match_text
@@ -142,9 +145,9 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     coating = proc.coating(common.resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
-    if hex_code is not None:  # sRGB is defined on CIE 1931 2° colorimetry: match in it
-        cm = cm.display_colorimeter
-    target = parse_Lab(lab, "--lab") if lab is not None else hex_to_Lab(hex_code, cm)
+    # a hex is sRGB (CIE 1931 2°): brought into --illuminant/--observer through its smoothest reflectance,
+    # as spec and the catalog page do (docs/processes.md)
+    target = parse_Lab(lab, "--lab") if lab is not None else hex_to_document_Lab(hex_code, cm)
     res = match_colour(target, coating, cm, light, view, light_azimuth, view_azimuth,
                        thickness_range=parse_pair(thickness_range, "--range"), step_nm=step, top=top,
                        nm_per_V=proc.nm_per_V or DEFAULT_NM_PER_V, grade=grade, scheme=scheme,
@@ -155,6 +158,7 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     out["tolerance"] = tol.to_json()
     if hex_code is not None:
         out["target_hex"] = "#" + hex_code.strip().lstrip("#").lower()
+        out["target_conversion"] = HEX_CONVENTION
     if as_json:
         common.echo_json(out)
         return
@@ -164,7 +168,8 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
 def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, substrate, nm_per_volt, wavelengths,
                   illuminant, observer, thickness_range, step, top, as_json):
     """``swatch match --angles`` / ``--measurement``: ranked by the worst or mean ΔE2000 over the geometries."""
-    from swatch.colorimetry.colorimeter import get_colorimeter, hex_to_Lab, parse_Lab
+    from swatch.colorimetry.colorimeter import get_colorimeter, parse_Lab
+    from swatch.colorimetry.observers import hex_to_document_Lab
     from swatch.fit.multi_match import match_angles, parse_angles
     from swatch.fit.result import colour_grid, interp_rows
     from swatch.io.instrument_files import read_instrument_file
@@ -193,9 +198,7 @@ def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, 
             target = mcm.Lab(mcm.XYZ(R))
     else:
         geoms = parse_angles(angles)
-        if hex_code is not None:  # sRGB is defined on CIE 1931 2° colorimetry: match in it
-            cm = cm.display_colorimeter
-        target = parse_Lab(lab, "--lab") if lab is not None else hex_to_Lab(hex_code, cm)
+        target = parse_Lab(lab, "--lab") if lab is not None else hex_to_document_Lab(hex_code, cm)
     out = match_angles(target, geoms, coating, cm, tol, rank=rank, thickness_range=parse_pair(thickness_range, "--range"),
                        step_nm=step, top=top, voltage_of=proc.voltage_V)
     out.update({"illuminant": cm.illuminant, "observer": cm.observer, "tolerance": tol.to_json(),

@@ -19,6 +19,8 @@ PRINT_NOTE = ("Printed chips cannot show the metallic angle shift (the colour mo
               "view) and are not approval standards: approve on a physical sample, measured as below.")
 _INK = HexColor("#1a1a1a")
 _MUTED = HexColor("#666666")
+_RED = HexColor("#c00000")
+_AMBER = HexColor("#9a5b00")
 _MM = 72.0 / 25.4
 
 
@@ -34,6 +36,51 @@ def _chip(c, x, y, w, h, hex_code, label):
     c.setFillColor(_INK)
     c.setFont("Helvetica", 6.5)
     c.drawCentredString(x + w / 2, y - 8, label)
+
+
+def _wrapped(c, x, y, text: str, size: float, width: float) -> float:
+    """Draw ``text`` from (x, y) wrapped to ``width`` points in the current font; returns the next y."""
+    font = c._fontname
+    words, line = text.split(), ""
+    for w in words:
+        trial = f"{line} {w}".strip()
+        if c.stringWidth(trial, font, size) > width and line:
+            c.drawString(x, y, line)
+            y -= size + 2.5
+            line = w
+        else:
+            line = trial
+    if line:
+        c.drawString(x, y, line)
+        y -= size + 2.5
+    return y
+
+
+def _stamp(c, x, y, width, reach) -> float:
+    """The plain stamp of a colour target out of reach within the tolerance (or accepted deliberately)."""
+    accepted = reach["accepted_closest"]
+    colour_ = _AMBER if accepted else _RED
+    h = 46
+    y -= h + 2
+    c.setStrokeColor(colour_)
+    c.setLineWidth(2.5)
+    c.rect(x, y, width, h, fill=0, stroke=1)
+    c.setLineWidth(1)
+    c.setFillColor(colour_)
+    c.setFont("Helvetica-Bold", 16)
+    title = ("CLOSEST COLOUR ACCEPTED — TARGET NOT REACHABLE" if accepted
+             else "TARGET NOT REACHABLE WITHIN THE TOLERANCE")
+    c.drawString(x + 8, y + h - 20, title)
+    c.setFont("Helvetica-Bold", 8.5)
+    dist = f"{reach['metric']} {_s(reach['delta_E'])}"
+    line = (f"The specifier accepted the closest reachable colour deliberately ({dist} from the target); this card "
+            "specifies that colour, not the target." if accepted else
+            f"This card specifies the closest reachable colour, {dist} from the target, not the target itself. Do not "
+            "sign it as the target; change the target or the tolerance, or accept the closest colour deliberately.")
+    _wrapped(c, x + 8, y + h - 31, line, 8.5, width - 16)
+    c.setFillColor(_INK)
+    c.setStrokeColor(_INK)
+    return y - 6
 
 
 def write_spec_card(spec: dict, path: Path) -> None:
@@ -67,36 +114,60 @@ def write_spec_card(spec: dict, path: Path) -> None:
     c.drawRightString(W - left, y, f"spec format {spec['swatch_spec']} · swatch {spec['provenance']['swatch_version']}")
     y -= 16
     c.setFont("Helvetica", 9.5)
-    t_lab = f"  Lab {' '.join(_s(v) for v in tgt['Lab'])}" if "Lab" in tgt else ""
-    c.drawString(left, y, f"Target: {tgt['kind']} {tgt.get('value')}{t_lab}   ·   colorimetry {col['illuminant']}, "
-                          f"{col['observer']}° observer; chips sRGB from CIE 1931 2°")
-    y -= 14
+    obs = f"{col['illuminant']}, {col['observer']}° observer"
+    c.drawString(left, y, f"Every CIELAB on this card: {obs}. Chips: sRGB from CIE 1931 2° colorimetry.")
+    y -= 13
+    if "Lab" in tgt:
+        c.drawString(left, y, f"Target: {tgt['kind']} {tgt.get('value')} = Lab {' '.join(_s(v) for v in tgt['Lab'])} "
+                              f"({obs}, {tgt['colorimetry']['geometry']})")
+        y -= 11
+        if tgt.get("conversion"):
+            c.setFont("Helvetica", 7.5)
+            y = _wrapped(c, left, y, f"({tgt['conversion']}; docs/processes.md)", 7.5, W - 2 * left) - 1
+            c.setFont("Helvetica", 9.5)
+    else:
+        c.drawString(left, y, f"Target: {tgt['kind']} {tgt.get('value')}")
+        y -= 11
+    y -= 4
     c.setFont("Helvetica-Bold", 11)
     volts = f" at {_s(nom['voltage_V'])} V" if nom["voltage_V"] is not None else " (no growth rate: thickness only)"
     c.drawString(left, y, f"Nominal oxide thickness {_s(nom['thickness_nm'])} nm{volts}")
     y -= 13
+    vb = nom.get("voltage")
+    if vb is not None and not vb["calibrated"]:
+        c.setFont("Helvetica-Bold", 9)
+        c.drawString(left, y, "Voltage not calibrated:")
+        c.setFont("Helvetica", 9)
+        y = _wrapped(c, left + 104, y, vb["note"] + ".", 9, W - 2 * left - 104)
+        y -= 2
     c.setFont("Helvetica", 9)
     reach = spec.get("reach")
     if reach is not None:
         ok = "within" if reach["within_tolerance"] else "NOT within"
-        c.drawString(left, y, f"Closest reachable colour: {_s(reach['closest_thickness_nm'])} nm, Lab "
-                              f"{' '.join(_s(v) for v in reach['closest_Lab'])} — {reach['metric']} {_s(reach['delta_E'])} "
-                              f"from the target, {ok} the tolerance ({reach['colorimetry']['geometry']})")
-        y -= 12
+        y = _wrapped(c, left, y, f"Closest reachable colour: {_s(reach['closest_thickness_nm'])} nm, Lab "
+                                 f"{' '.join(_s(v) for v in reach['closest_Lab'])} ({obs}, "
+                                 f"{reach['colorimetry']['geometry']}) — {reach['metric']} {_s(reach['delta_E'])} from "
+                                 f"the target, {ok} the tolerance.", 9, W - 2 * left) - 1
         per = reach.get("delta_E_per_geometry")
         if per:
             c.drawString(left, y, f"Worst over the angles the target must hold at — {reach['metric']} "
                                   + ", ".join(f"{n}: {_s(v)}" for n, v in per.items()))
             y -= 12
+        if not reach["within_tolerance"]:
+            y = _stamp(c, left, y, W - 2 * left, reach)
 
-    # chips: reference large, multi-angle row
-    y -= 62
+    # chips: the target's own (a colour target), the nominal's reference (large), the multi-angle row
+    y -= 64
     ref = spec["reference"]
-    _chip(c, left, y, 60, 60, ref["srgb_hex"], f"{ref['geometry']} (reference)")
-    x = left + 80
+    x = left
+    if tgt.get("srgb_hex"):
+        _chip(c, x, y, 60, 60, tgt["srgb_hex"], "target" + ("" if tgt.get("srgb_in_gamut", True) else " (outside sRGB)"))
+        x += 66
+    _chip(c, x, y, 60, 60, ref["srgb_hex"], f"nominal {ref['geometry']} (reference)")
+    x += 80
     for e in spec["multi_angle"]:
         _chip(c, x, y + 14, 46, 46, e["srgb_hex"], e["geometry"])
-        x += 56
+        x += 52
     y -= 26
 
     # the multi-angle table
@@ -154,14 +225,13 @@ def write_spec_card(spec: dict, path: Path) -> None:
     c.setFont("Helvetica-Bold", 9.5)
     c.drawString(left, y, "How to measure")
     c.setFont("Helvetica", 8.5)
-    for line in ("Multi-angle spectrophotometer, illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° (ASTM "
-                 "E2194 / E2539), specular excluded;",
-                 f"CIELAB under {col['illuminant']} and the {col['observer']}° observer; the reference value at 45:0. "
-                 "Check each part: swatch check FILE --spec spec.json",
-                 "(CxF3, CGATS or CSV from the instrument); it reports ΔE per geometry in the tolerance's metric, "
-                 "the fitted thickness and the voltage correction."):
-        y -= 11
-        c.drawString(left, y, line)
+    y -= 11
+    y = _wrapped(c, left, y, "Multi-angle spectrophotometer, illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° "
+                             f"(ASTM E2194 / E2539), specular excluded; CIELAB under {col['illuminant']} and the "
+                             f"{col['observer']}° observer; the reference value at 45:0. Check each part: swatch check "
+                             "FILE --spec spec.json (CxF3, CGATS or CSV); it reports ΔE per geometry in the tolerance's "
+                             "metric, the best-fit thickness and, only where that thickness explains the part, the "
+                             "voltage correction.", 8.5, W - 2 * left) + 11
     y -= 16
     c.setFont("Helvetica-Oblique", 8.5)
     cut = PRINT_NOTE.rfind(" ", 0, 112)

@@ -23,13 +23,14 @@ import numpy as np
 from swatch.catalog.geometry import DEFAULT_ASPECULAR_DEG, Geometry
 from swatch.catalog.records import process_window, window_voltage_V
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter, srgb_hex
+from swatch.colorimetry.observers import HEX_CONVENTION, document_Lab_display
 from swatch.colorimetry.tolerance import Tolerance
 from swatch.core.errors import SwatchError
 from swatch.core.version import __version__
 from swatch.fit.matching import match_colour
 from swatch.fit.multi_match import match_angles
 
-__all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "finish_spec"]
+__all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "finish_spec", "voltage_basis"]
 
 #: Version of the spec.json layout (bumped when a key changes meaning).
 SPEC_VERSION = 1
@@ -79,16 +80,56 @@ def _Lab_at(coating, cm, d: float, geometries) -> tuple[np.ndarray, np.ndarray]:
     return cm.Lab(cm.XYZ(R)), R
 
 
+def voltage_basis(proc) -> dict:
+    """Where the nominal voltage comes from, in words a specifier reads on the card.
+
+    Parameters
+    ----------
+    proc : swatch.physics.process.Process
+
+    Returns
+    -------
+    dict
+        ``basis``: ``"calibrated"`` (a profile written by ``swatch calibrate`` from the line's coupons),
+        ``"given"`` (a growth rate given for this spec), ``"preset"`` (a profile's published rate, not
+        the line's), ``"profile"`` (a profile file without a calibration) or None (no growth rate);
+        ``calibrated`` (bool) and ``note`` (one sentence for the card and the command's output).
+    """
+    how = ("calibrate the line from its test coupons (swatch calibrate) and make the spec with the profile it "
+           "writes")
+    if proc.nm_per_V is None:
+        return {"basis": None, "calibrated": False,
+                "note": f"process {proc.name} has no growth rate: thickness only, no voltage; {how}"}
+    rate = f"{proc.nm_per_V:g} nm/V"
+    if "overridden" in proc.origin and "nm_per_V" in proc.origin:
+        return {"basis": "given", "calibrated": False,
+                "note": f"the nominal voltage uses the growth rate given for this spec ({rate}), not a calibrated "
+                        f"line; {how}"}
+    if proc.calibration:
+        src = dict(proc.calibration).get("source")
+        return {"basis": "calibrated", "calibrated": True,
+                "note": f"the nominal voltage comes from the line's calibration ({proc.name}"
+                        f"{'' if src is None else ', from ' + str(src)}; {rate})"}
+    if proc.origin == "preset":
+        return {"basis": "preset", "calibrated": False,
+                "note": f"the nominal voltage comes from the default preset {proc.name} ({rate}, published for "
+                        f"another line), not from your line: {how}"}
+    return {"basis": "profile", "calibrated": False,
+            "note": f"the nominal voltage comes from the profile {proc.name} ({rate}), which was not calibrated "
+                    f"from coupons: {how}"}
+
+
 def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "D65", observer: str = "10",
                 wavelength_nm=None, roughness: float | None = None, thickness_range=(0.0, 400.0),
-                angles=None) -> dict:
+                angles=None, accept_closest: bool = False) -> dict:
     """The spec.json dictionary for ``target`` on the process profile ``proc``.
 
     Parameters
     ----------
     target : dict
         ``{"kind": "hex"|"lab", "Lab": [L, a, b], "value": ...}`` (a colour, Lab under
-        ``illuminant``/``observer``, or for a hex code under CIE 1931 2°) or
+        ``illuminant``/``observer``, the document's; a hex code brought there by
+        :func:`swatch.colorimetry.observers.hex_to_document_Lab`) or
         ``{"kind": "thickness"|"voltage", "thickness_nm": d, "value": ...}``.
     proc : swatch.physics.process.Process
         The process profile (growth law, materials, film index scale).
@@ -100,6 +141,9 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
         For a colour target: choose the nominal thickness whose worst difference (in the tolerance's
         metric) over these geometries is smallest (:func:`swatch.fit.multi_match.match_angles`), e.g. a
         colour that must still read the same at a 60° view; default the reference geometry alone.
+    accept_closest : bool
+        For a colour target out of reach within the tolerance: the specifier accepts the closest
+        reachable colour deliberately (recorded as ``reach.accepted_closest``, said on the card).
 
     Returns
     -------
@@ -110,7 +154,7 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     reach: dict | None = None
     if target["kind"] in ("hex", "lab"):
-        target_cm = cm.display_colorimeter if target["kind"] == "hex" else cm
+        target_cm = cm  # one document, one observer: a hex target arrives already in it
         goal = np.asarray(target["Lab"], dtype=np.float64)
         if angles:
             res_a = match_angles(goal, angles, coating, target_cm, tolerance, rank="worst",
@@ -129,7 +173,9 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
             reached = np.asarray(best["Lab"])
             dE = float(tolerance.delta_E(reached, goal))
             per, where = None, REFERENCE.name
-        reach = {"delta_E": _r(dE, 2), "metric": tolerance.metric, "within_tolerance": bool(dE <= tolerance.max),
+        within = bool(dE <= tolerance.max)
+        reach = {"delta_E": _r(dE, 2), "metric": tolerance.metric, "within_tolerance": within,
+                 "accepted_closest": bool(accept_closest and not within),
                  "closest_thickness_nm": _r(d, 1), "closest_Lab": [_r(v, 2) for v in reached],
                  "colorimetry": {"illuminant": target_cm.illuminant, "observer": target_cm.observer,
                                  "geometry": where}}
@@ -164,10 +210,16 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     target_out = {k: v for k, v in target.items() if k != "Lab"}
     if "Lab" in target:
         target_out["Lab"] = [_r(v, 2) for v in target["Lab"]]
+        target_out["colorimetry"] = {"illuminant": cm.illuminant, "observer": cm.observer, "geometry": REFERENCE.name}
+        if target["kind"] == "hex":  # the chip is the hex itself; its Lab came through the observer bridge
+            target_out.update(srgb_hex=str(target["value"]), srgb_in_gamut=True, conversion=HEX_CONVENTION)
+        else:
+            enc, ok = document_Lab_display(np.asarray(target["Lab"], dtype=np.float64), cm)
+            target_out.update(srgb_hex=str(srgb_hex(enc)), srgb_in_gamut=bool(ok))
     return {
         "swatch_spec": SPEC_VERSION,
         "target": target_out,
-        "nominal": {"thickness_nm": _r(d, 1), "voltage_V": _r(v_nom, 1)},
+        "nominal": {"thickness_nm": _r(d, 1), "voltage_V": _r(v_nom, 1), "voltage": voltage_basis(proc)},
         "reach": reach,
         "colorimetry": {"illuminant": cm.illuminant, "observer": cm.observer,
                         "srgb_observer": disp.observer, "model": "half-vector reflectance factor (Fujii et al. 2019)"},

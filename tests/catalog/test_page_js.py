@@ -20,7 +20,7 @@ from swatch.catalog.context import catalog_context
 from swatch.catalog.explorer import explorer_data
 from swatch.catalog.records import process_window
 from swatch.catalog.spec import parse_spec
-from swatch.colorimetry.colorimeter import hex_to_Lab
+from swatch.colorimetry.observers import hex_to_document_Lab
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.fit.matching import judge_candidates, match_colour
 from swatch.physics.microfacet import D_ratio, ggx_reflectance_factor_cos
@@ -61,8 +61,8 @@ def _search_fixture() -> dict:
     lo, hi = col["start"], col["start"] + col["step"] * (col["count"] - 1)
     matches = []
     for target in MATCH_TARGETS:
-        cm = ctx.colorimeter if "Lab" in target else ctx.colorimeter.display_colorimeter
-        Lab = np.asarray(target["Lab"]) if "Lab" in target else hex_to_Lab(target["hex"], cm)
+        cm = ctx.colorimeter  # a hex in the catalog's observer (swatch.colorimetry.observers), as a Lab target
+        Lab = np.asarray(target["Lab"]) if "Lab" in target else hex_to_document_Lab(target["hex"], cm)
         res = match_colour(Lab, ctx.coating, cm, ref.light_deg, ref.view_deg, 0.0, ref.view_azimuth_deg,
                            thickness_range=(lo, hi), step_nm=col["step"], top=5)
         within = {}

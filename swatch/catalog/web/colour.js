@@ -175,12 +175,16 @@ function makeColour(T) {
   function hexOf(enc) {
     return "#" + enc.map((c) => Math.round(Math.min(Math.max(c, 0), 1) * 255).toString(16).padStart(2, "0")).join("");
   }
-  function hexToLab(hex) {
+  function hexLinear(hex) {
     const h = String(hex).trim().replace(/^#/, "");
     if (!/^[0-9a-f]{6}$/i.test(h)) throw new Error("bad hex colour " + JSON.stringify(hex) + "; give six hex digits like 1f4e9a");
-    const rgb = [0, 2, 4].map((i) => decode(parseInt(h.slice(i, i + 2), 16) / 255));
-    return XYZtoLab(mulRow(rgb, T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.colorimeter.hex_to_Lab
+    return [0, 2, 4].map((i) => decode(parseInt(h.slice(i, i + 2), 16) / 255));
   }
+  function hexToLab(hex) {
+    return XYZtoLab(mulRow(hexLinear(hex), T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.colorimeter.hex_to_Lab
+  }
+  // in the catalog's observer, as swatch.colorimetry.observers.hex_to_document_Lab (swatch match --hex)
+  function hexToDocumentLab(hex) { return XYZtoLab(mulRow(hexLinear(hex), T.srgb_linear_to_XYZ), W); }
   const dE00 = deltaE00;
   function dEab(a, b) { return Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
   function LCh(Lab) { const h = Math.atan2(Lab[2], Lab[1]) / DEG; return [Lab[0], Math.hypot(Lab[1], Lab[2]), h < 0 ? h + 360 : h]; }
@@ -236,20 +240,19 @@ function makeColour(T) {
   // as swatch.fit.matching.match_colour over the catalog's range: local minima of the sampled
   // CIEDE2000 curve (an end counts only when lower than every interior minimum), the best
   // refined within one step, kept at least min_separation apart, ranked by CIEDE2000.
-  // A Lab target is in the catalog's observer; a hex target is sRGB, so (as swatch match --hex)
-  // the whole match runs in CIE 1931 2° colorimetry.
+  // A Lab target is in the catalog's observer; a hex target is sRGB (2°), brought into the catalog's
+  // observer through its smoothest reflectance (as swatch match --hex, docs/processes.md).
   function match(target, n) {
-    let Lab, o = 0;
+    let Lab;
     if (target && target.Lab) Lab = Array.from(target.Lab, Number);
-    else if (target && target.hex !== undefined) { Lab = hexToLab(target.hex); o = 3; }
+    else if (target && target.hex !== undefined) Lab = hexToDocumentLab(target.hex);
     else throw new Error("match: give {Lab: [L, a, b]} or {hex: '#rrggbb'}");
     if (Lab.length !== 3) throw new Error("match: Lab must have three numbers");
-    const white = o ? T.white_XYZ2 : W;
-    const labAt = (d) => XYZtoLab(refAt(d).slice(o, o + 3), white);
+    const labAt = (d) => XYZtoLab(refAt(d).slice(0, 3), W);
     if (!Lab.every(Number.isFinite) || Lab[0] < 0 || Lab[0] > 100) throw new Error("match: Lab must be finite with L in [0, 100]");
     const top = n === undefined ? 5 : Math.floor(Number(n));
     if (!(top >= 1 && top <= 100)) throw new Error("match: n must be from 1 to 100");
-    const fcurve = refLab(o).map((x) => dE00(x, Lab));
+    const fcurve = refLab(0).map((x) => dE00(x, Lab));
     const fine = (d) => dE00(labAt(d), Lab);
     const idx = [];
     for (let i = 0; i < nr; i++) {
@@ -303,6 +306,6 @@ function makeColour(T) {
     const hi = R.start + R.step * (nr - 1);
     return {minus: edge(-1), plus: edge(1)};
   }
-  return {colorAt, match, gridAt, rowLinearSrgb, refColour, hexColour, labColour, windowAt, dE00, dEab, LCh, XYZtoLab, LabtoXYZ, hexToLab,
+  return {colorAt, match, gridAt, rowLinearSrgb, refColour, hexColour, labColour, windowAt, dE00, dEab, LCh, XYZtoLab, LabtoXYZ, hexToLab, hexToDocumentLab,
           cosThetaD, range: [d0, d0 + dstep * (nd - 1)], cosNodes: nc};
 }
