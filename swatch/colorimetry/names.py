@@ -1,8 +1,13 @@
 """Words designers use for anodised colours: a plain name from CIELAB lightness, chroma and hue.
 
-The names are the trade's (bronze, gold, straw, purple, blue, silver blue, magenta, pink, teal,
-green, silver ...) given to regions of L*C*h (the catalog's illuminant and observer, reference
-geometry). They are labels for people, not measurements: the numbers stay beside them.
+The names are the trade's (bronze, gold, straw, purple, violet, blue, silver blue, magenta, pink,
+mauve, teal, green, silver ...) given to regions of L*C*h (the catalog's illuminant and observer,
+reference geometry). They are labels for people, not measurements: the numbers stay beside them.
+They follow hue as the published titanium anodising voltage charts name it, in their order
+(bronze/gold, purple, blue, light blue, yellow/gold, rose/magenta, purple/violet, teal/green …;
+tests/production/test_colour_names.py walks the model's colours up the voltage scale against that
+order): a blue-violet between purple and blue is "violet", a pale greyish purple (the third
+order's 275 nm, #a28bb0) "mauve", not "blue" (issue 35).
 
 :data:`NAME_RULES` is the one definition: rows ``(name, h_from, h_to, C_min, C_max, L_min, L_max)``
 tried in order, the first whose bounds all hold wins (hue in ``[h_from, h_to)`` degrees, wrapping
@@ -22,10 +27,12 @@ __all__ = ["colour_name", "colour_names", "NAME_RULES", "NEUTRAL_CHROMA"]
 NEUTRAL_CHROMA = 10.0
 
 NAME_RULES: tuple[tuple, ...] = (
-    ("silver blue", 180.0, 290.0, 5.0, NEUTRAL_CHROMA, None, None),  # a grey with a cool tint
+    ("silver blue", 180.0, 272.0, 5.0, NEUTRAL_CHROMA, None, None),  # a grey with a cool tint
     ("silver", 0.0, 360.0, None, NEUTRAL_CHROMA, None, None),
-    ("silver blue", 228.0, 290.0, None, 25.0, 65.0, None),  # pale light blue
-    ("blue", 228.0, 290.0, None, None, None, None),
+    ("silver blue", 228.0, 272.0, None, 25.0, 65.0, None),  # pale light blue
+    ("blue", 228.0, 272.0, None, None, None, None),
+    ("mauve", 272.0, 325.0, None, 25.0, 50.0, None),  # pale greyish purple (the third order's 275 nm)
+    ("violet", 272.0, 295.0, None, None, None, None),  # blue-violet, between purple and blue
     ("teal", 185.0, 228.0, 20.0, None, None, None),
     ("silver blue", 185.0, 228.0, None, None, None, None),
     ("green", 135.0, 185.0, None, None, None, None),
@@ -39,7 +46,7 @@ NAME_RULES: tuple[tuple, ...] = (
     ("plum", 350.0, 35.0, None, None, None, 45.0),
     ("pink", 350.0, 35.0, None, None, None, None),
     ("magenta", 325.0, 350.0, None, None, None, None),
-    ("purple", 290.0, 325.0, None, None, None, None),
+    ("purple", 295.0, 325.0, None, None, None, None),
 )
 
 

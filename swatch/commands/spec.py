@@ -70,6 +70,7 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
         raise SwatchError(f"--roughness must be from 0.01 to 1 (got {rough:g})")
     wl = wavelength_grid(380.0, 780.0, 5.0)
     cm = get_colorimeter(wl, illuminant, observer)
+    target: dict[str, object]
     if hex_code is not None:
         target = {"kind": "hex", "value": hex_display(hex_code),
                   "Lab": [float(v) for v in hex_to_document_Lab(hex_code, cm)]}
