@@ -294,19 +294,23 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     targets = [_match_geometry(spec, float(a), float(b), bool(c), f.source, f.samples[0].id)
                for a, b, c in zip(m0.light_deg, m0.view_deg, same, strict=True)]
     measured: list[np.ndarray] = []
-    chips: list[tuple[np.ndarray, np.ndarray]] = []
-    for s in f.samples:  # same geometries in every sample of a file (instruments.same_geometries)
+    enc_all = np.empty((len(f.samples), len(targets), 3))
+    gamut_all = np.empty((len(f.samples), len(targets)), dtype=bool)
+    for i, s in enumerate(f.samples):  # same geometries in every sample of a file (instruments.same_geometries)
         m = s.measurement
         if isinstance(m, LabMeasurement):
             measured.append(m.Lab)
-            chips.append(document_Lab_display(m.Lab, cm))
         else:
             wl, interp = colour_grid(m.wavelength_nm)
             R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
             mcm = get_colorimeter(wl, ill, obs)
             measured.append(mcm.Lab(mcm.XYZ(R)))
-            chips.append(mcm.reflectance_display(R, "srgb"))
+            enc_all[i], gamut_all[i] = mcm.reflectance_display(R, "srgb")
     Lab_all = np.stack(measured)  # (P, G, 3)
+    lab_only = np.array([isinstance(s.measurement, LabMeasurement) for s in f.samples])
+    if lab_only.any():  # the parts' own CIELAB, all at once
+        enc_all[lab_only], gamut_all[lab_only] = document_Lab_display(Lab_all[lab_only], cm)
+    hex_all = np.asarray(srgb_hex(enc_all.reshape(-1, 3))).reshape(enc_all.shape[:2])
     d_fit, Lab_model = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
     residual_all = np.atleast_2d(tol.delta_E(Lab_all, Lab_model))  # (P, G), the tolerance's metric
     ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
@@ -320,8 +324,8 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
         return {t["geometry"]: round(float(v), nd) for t, v in zip(targets, values, strict=True)}
 
     out = []
-    for s, Lab, dE, d, (enc, in_gamut), res in zip(f.samples, Lab_all, dE_all, d_fit, chips, residual_all,
-                                                   strict=True):
+    for s, Lab, dE, d, hexes, in_gamut, res in zip(f.samples, Lab_all, dE_all, d_fit, hex_all, gamut_all,
+                                                   residual_all, strict=True):
         d = float(d)
         worst_res = float(res.max())
         on_edge = (d - lo < 2 * FINE_STEP_NM and lo > 0.0) or hi - d < 2 * FINE_STEP_NM
@@ -335,10 +339,9 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
         else:
             reason = None
         corr = None if reason is not None else round(float(volts(d0) - volts(d)), 2)
-        hexes = np.atleast_1d(srgb_hex(enc))
         out.append({
             "srgb_hex": {t["geometry"]: str(h) for t, h in zip(targets, hexes, strict=True)},
-            "srgb_in_gamut": {t["geometry"]: bool(g) for t, g in zip(targets, np.atleast_1d(in_gamut), strict=True)},
+            "srgb_in_gamut": {t["geometry"]: bool(g) for t, g in zip(targets, in_gamut, strict=True)},
             "srgb_from": "measured spectra (CIE 1931 2°)" if isinstance(s.measurement, SpectralMeasurement)
             else f"measured CIELAB ({ill}, {obs}°): {LAB_CHIP_CONVENTION}",
             "id": s.id, "source": f.source,
