@@ -65,7 +65,7 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     from swatch.core.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.instruments import Request
-    from swatch.production.qc import check_file, load_spec_json
+    from swatch.production.qc import check_file, load_spec_json, spec_notes
     from swatch.report.check_report import check_figure
 
     if sum(x is not None for x in (spec_path, thickness, voltage)) != 1:
@@ -96,19 +96,21 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
                            "srgb": "chips: sRGB by CIE 1931 2° colorimetry; a part's from its own measurement"},
            "advice": "a voltage correction only where the model at the best-fit thickness explains the part within "
                      "the tolerance (max_residual_delta_E); otherwise voltage_correction_reason says why not",
-           "nominal": spec["nominal"], "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
+           "nominal": spec["nominal"], "notes": spec_notes(spec), "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
            "measurements": results}
     text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     if report_dir is not None:
         check_writable_dir(out)
         with atomic_path(paths[0]) as tmp:
-            check_figure(results, spec).save(tmp, format="PNG")
+            check_figure(results, spec, doc["notes"]).save(tmp, format="PNG")
         atomic_write_text(paths[1], text)
     if as_json:
         click.echo(text, nl=False)
     else:
         click.echo(f"# {spec['tolerance']['label']}; CIELAB under {col['illuminant']}, {col['observer']}° observer; "
                    f"nominal {spec['nominal']['thickness_nm']} nm")
+        for note in doc["notes"]:
+            click.echo(f"note: {note}")
         for r in results:
             advice = r["voltage_advice"] if r["voltage_advice"] is not None else r["voltage_correction_reason"]
             worst = max(r["delta_E"], key=r["delta_E"].get)

@@ -45,7 +45,7 @@ from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import get_coating
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["load_spec_json", "check_spec", "check_file", "voltage_advice", "not_a_thickness_error", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
+__all__ = ["load_spec_json", "check_spec", "check_file", "spec_notes", "voltage_advice", "not_a_thickness_error", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
 FIT_SPAN_NM = 40.0
@@ -203,6 +203,35 @@ def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -
         cost = np.sum(delta_E_00(cand, np.broadcast_to(Lab_meas[a:b, None], cand.shape)) ** 2, axis=-1)
         out[a:b] = np.argmin(cost, axis=1)
     return out
+
+
+def spec_notes(spec: dict) -> list[str]:
+    """What a finisher must know about the spec before acting on a check (one sentence each).
+
+    Parameters
+    ----------
+    spec : dict
+        A checked spec.
+
+    Returns
+    -------
+    list of str
+        A colour target that was out of reach (accepted or not), and a nominal voltage that is not a
+        calibrated line's (the corrections' direction holds, their size is that rate's).
+    """
+    notes = []
+    reach = spec.get("reach")
+    if isinstance(reach, dict) and reach.get("within_tolerance") is False:
+        far = f"{reach.get('metric')} {reach.get('delta_E')}"
+        notes.append(f"the spec's target was out of reach ({far} from the closest colour) and the closest colour "
+                     + ("was accepted deliberately" if reach.get("accepted_closest") else "was NOT accepted")
+                     + ": parts are judged against that closest colour, not the target")
+    basis = spec["nominal"].get("voltage")
+    rate = spec["process"].get("nm_per_V")
+    if rate and isinstance(basis, dict) and basis.get("calibrated") is False:
+        notes.append(f"voltages use the spec's growth rate ({rate} nm/V, {basis.get('basis')}), not a calibrated "
+                     "line: a correction's direction holds, its size is only as good as that rate")
+    return notes
 
 
 def voltage_advice(correction_V: float) -> str:

@@ -21,7 +21,7 @@ MAX_FIGURE_ROWS = 60
 _INK, _RED, _GREY = (30, 30, 30), (200, 0, 0), (120, 120, 120)
 
 
-def check_figure(results: list[dict], spec: dict) -> Image.Image:
+def check_figure(results: list[dict], spec: dict, notes=()) -> Image.Image:
     """Specified vs measured chips per measured geometry (rows: parts), as a PIL image.
 
     Parameters
@@ -30,6 +30,8 @@ def check_figure(results: list[dict], spec: dict) -> Image.Image:
         :func:`swatch.production.qc.check_file`'s entries.
     spec : dict
         The checked spec.
+    notes : sequence of str
+        Sentences printed under the header (:func:`swatch.production.qc.spec_notes`).
 
     Returns
     -------
@@ -45,7 +47,7 @@ def check_figure(results: list[dict], spec: dict) -> Image.Image:
     bold = ImageFont.truetype(font_path("DroidSans-Bold"), 13)
     small = ImageFont.truetype(font_path("DroidSans"), 11)
     cell, pad, label, advice_w = 48, 8, 170, 430
-    head = 84
+    head = 84 + 17 * len(notes)
     width = max(label + len(geoms) * (2 * cell + pad) + advice_w, 900)
     height = head + len(rows) * (cell + pad) + pad + (18 if len(results) > len(rows) else 0)
     img = Image.new("RGB", (width, height), "white")
@@ -58,6 +60,7 @@ def check_figure(results: list[dict], spec: dict) -> Image.Image:
              f"CIELAB under {col['illuminant']}, {col['observer']}° observer; chips sRGB from CIE 1931 2° "
              "(left: spec, right: the part's own measurement; black corner: outside sRGB)",
              "Advice only where the model at the best-fit thickness explains the part within the tolerance."]
+    lines += [f"Note: {n}." for n in notes]
     for k, t in enumerate(lines):
         dr.text((8, 6 + 17 * k), drawable_text(t), fill=_INK, font=bold if k == 0 else small)
     for j, g in enumerate(geoms):

@@ -65,6 +65,8 @@ def test_offset_parts_get_minus_offset_over_rate_in_words_and_a_foreign_colour_g
         assert r["max_residual_delta_E"] > 2.0
     assert got["wrong-alloy"]["max_residual_delta_E"] == pytest.approx(8.2, abs=0.3)  # the figure
     assert json.loads((tmp_path / "qc" / "check.json").read_text(encoding="utf-8")) == doc
+    # the spec's voltage is the default preset's: said before any correction is read
+    assert any("not a calibrated line" in n for n in doc["notes"])
     text = run_swatch("check", parts, "--spec", gold)
     assert text.returncode == 1
     lines = {ln.split(":")[0]: ln for ln in text.stdout.splitlines()}
