@@ -144,10 +144,13 @@ def write_spec_card(spec: dict, path: Path) -> None:
     reach = spec.get("reach")
     if reach is not None:
         ok = "within" if reach["within_tolerance"] else "NOT within"
+        where = reach["colorimetry"]["geometry"]
         y = _wrapped(c, left, y, f"Closest reachable colour: {_s(reach['closest_thickness_nm'])} nm, Lab "
                                  f"{' '.join(_s(v) for v in reach['closest_Lab'])} ({obs}, "
-                                 f"{reach['colorimetry']['geometry']}) — {reach['metric']} {_s(reach['delta_E'])} from "
-                                 f"the target, {ok} the tolerance.", 9, W - 2 * left) - 1
+                                 f"{reach.get('closest_Lab_geometry', where)}) — {reach['metric']} "
+                                 f"{_s(reach['delta_E'])} from the target "
+                                 f"({'worst over ' + where if reach.get('delta_E_per_geometry') else where}), {ok} the "
+                                 "tolerance.", 9, W - 2 * left) - 1
         per = reach.get("delta_E_per_geometry")
         if per:
             c.drawString(left, y, f"Worst over the angles the target must hold at — {reach['metric']} "

@@ -177,6 +177,7 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
         reach = {"delta_E": _r(dE, 2), "metric": tolerance.metric, "within_tolerance": within,
                  "accepted_closest": bool(accept_closest and not within),
                  "closest_thickness_nm": _r(d, 1), "closest_Lab": [_r(v, 2) for v in reached],
+                 "closest_Lab_geometry": angles[0][0] if angles else REFERENCE.name,
                  "colorimetry": {"illuminant": target_cm.illuminant, "observer": target_cm.observer,
                                  "geometry": where}}
         if per is not None:
