@@ -222,14 +222,17 @@ def spec_notes(spec: dict) -> list[str]:
     notes = []
     reach = spec.get("reach")
     if isinstance(reach, dict) and reach.get("within_tolerance") is False:
-        far = f"{reach.get('metric')} {reach.get('delta_E')}"
+        dE = reach.get("delta_E")  # read back from a file: said only as a number in the tolerance's metric
+        far = (f"{spec['_tolerance'].metric} {float(dE):g}" if isinstance(dE, (int, float)) and np.isfinite(dE)
+               else "too far")
         notes.append(f"the spec's target was out of reach ({far} from the closest colour) and the closest colour "
                      + ("was accepted deliberately" if reach.get("accepted_closest") else "was NOT accepted")
                      + ": parts are judged against that closest colour, not the target")
     basis = spec["nominal"].get("voltage")
     rate = spec["process"].get("nm_per_V")
     if rate and isinstance(basis, dict) and basis.get("calibrated") is False:
-        notes.append(f"voltages use the spec's growth rate ({rate} nm/V, {basis.get('basis')}), not a calibrated "
+        kind = basis.get("basis") if basis.get("basis") in ("preset", "given", "profile") else "not calibrated"
+        notes.append(f"voltages use the spec's growth rate ({float(rate):g} nm/V, {kind}), not a calibrated "
                      "line: a correction's direction holds, its size is only as good as that rate")
     return notes
 

@@ -112,3 +112,16 @@ def test_a_part_outside_srgb_is_marked_and_bad_input_writes_nothing(tmp_path, go
     bad.write_text("id,light_deg,view_deg,L,a,b\nx,45,0,55,12\n", encoding="utf-8")
     assert_one_line_error(run_swatch("check", bad, "--spec", gold, "--report", tmp_path / "qc"))
     assert not (tmp_path / "qc").exists() or not any((tmp_path / "qc").iterdir())
+
+
+def test_a_check_against_an_out_of_reach_spec_says_what_the_parts_are_judged_against(tmp_path):
+    for flag, word in (("", "was NOT accepted"), ("--accept-closest", "was accepted deliberately")):
+        out = tmp_path / (flag or "plain")
+        args = ["spec", "--hex", "b08d57", "--out", out] + ([flag] if flag else [])
+        assert run_swatch(*args).returncode == (0 if flag else 1)
+        spec = json.loads((out / "spec.json").read_text(encoding="utf-8"))
+        parts = _csv(tmp_path / "p.csv", {"p": spec["reference"]["Lab"]})
+        proc = run_swatch("check", parts, "--spec", out / "spec.json")
+        assert proc.returncode == 0  # the part is the spec's (closest) colour
+        note = next(ln for ln in proc.stdout.splitlines() if ln.startswith("note: the spec's target"))
+        assert word in note and f"dE00 {spec['reach']['delta_E']:g}" in note and "not the target" in note
