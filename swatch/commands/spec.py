@@ -114,8 +114,8 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
         where = reach["colorimetry"]["geometry"]
         click.echo(f"{'accepted' if reach['accepted_closest'] else 'NOT REACHABLE'}: the target cannot be reached within "
                    f"the tolerance; closest {reach['closest_thickness_nm']} nm, {reach['metric']} {reach['delta_E']} "
-                   f"from the target ({'worst over ' if reach.get('delta_E_per_geometry') else 'at '}{where}; at "
-                   f"{reach['closest_Lab_geometry']} Lab {' '.join(map(str, reach['closest_Lab']))} against the "
+                   f"from the target ({'worst over ' + where + '; ' if reach.get('delta_E_per_geometry') else ''}at "
+                   f"{reach['closest_Lab_geometry']}: Lab {' '.join(map(str, reach['closest_Lab']))} against the "
                    f"target's {' '.join(map(str, data['target']['Lab']))}, {col['illuminant']} {col['observer']}°)"
                    + ("; accepted deliberately (--accept-closest)" if reach["accepted_closest"] else
                       "; exit status 1 (give --accept-closest to accept the closest colour deliberately)"))
