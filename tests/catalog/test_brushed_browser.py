@@ -1,0 +1,86 @@
+"""Brushed reads brushed in the live view too (issue 37): a brushed catalog's page embeds the hairline field's
+constants (swatch.catalog.explorer.hairline_data, from swatch.physics.finishes) and its WebGL view tilts the facet
+normals with it, so the plate shows lines along its grain (left to right) under the studio and the point light,
+and the bent sheet lines up its axis; a satin catalog's page has no field and no lines."""
+from __future__ import annotations
+
+import json
+import re
+import shutil
+
+import numpy as np
+import pytest
+
+from swatch.physics.finishes import HAIRLINE_OCTAVES, HAIRLINE_SLOPE, HAIRLINE_STRETCH
+from tests.browser import open_catalog_page
+
+SPEC = """
+name = "brushed page"
+[thickness]
+list_nm = [50.8, 140]
+[render]
+size_px = 64
+finish = "{finish}"
+angular_map = false
+[chips]
+enabled = false
+[presets]
+enabled = false
+"""
+
+#: The canvas's pixels (RGBA, bottom row first) after showing q, at 320 x 240.
+_PIXELS_JS = """q => { const c = document.getElementById('view'), gl = c.getContext('webgl2');
+  c.width = 320; c.height = 240; swatchCatalog.show(q);
+  const p = new Uint8Array(c.width * c.height * 4); gl.readPixels(0, 0, c.width, c.height, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  return Array.from(p); }"""
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory, chromium):
+    from swatch.catalog.build import build_catalog
+
+    root = tmp_path_factory.mktemp("brushed-page")
+    out = {}
+    for finish in ("brushed", "satin"):
+        spec = root / f"{finish}.toml"
+        spec.write_text(SPEC.format(finish=finish), encoding="utf-8")
+        build_catalog(spec, root / finish, jobs=1)
+        out[finish] = root / finish
+    yield out
+    shutil.rmtree(root, ignore_errors=True)
+
+
+def _texture(pixels: list[int], w: int = 320, h: int = 240) -> tuple[float, float]:
+    """Mean |second difference| of the green channel along x and along y, in the middle of the canvas."""
+    g = np.asarray(pixels, dtype=np.float64).reshape(h, w, 4)[..., 1]
+    c = g[h // 3: 2 * h // 3, w // 3: 2 * w // 3]
+    return float(np.abs(np.diff(c, 2, axis=1)).mean()), float(np.abs(np.diff(c, 2, axis=0)).mean())
+
+
+def test_the_page_embeds_the_field_only_for_brushed(pages):
+    def table(finish):
+        text = (pages[finish] / "index.html").read_text(encoding="utf-8")
+        return json.loads(re.search(r'<script type="application/json" id="explorer-table">(.*?)</script>', text).group(1))
+    h = table("brushed")["render"]["hairlines"]
+    assert h == {"slope": HAIRLINE_SLOPE, "octaves": [list(o) for o in HAIRLINE_OCTAVES], "stretch": HAIRLINE_STRETCH}
+    assert "hairlines" not in table("satin")["render"]
+
+
+@pytest.mark.parametrize("lighting", ["studio", "point"])
+def test_live_view_draws_lines_along_the_grain(chromium, pages, lighting):
+    got = {}
+    for finish, path in pages.items():
+        ctx, pg, events = open_catalog_page(chromium, path, fragment="lighting=point")
+        try:
+            q = {"lighting": lighting, "thickness_nm": 50.8, "view_azimuth_deg": 180}
+            got[finish, "plate"] = _texture(pg.evaluate(_PIXELS_JS, {**q, "shape": "plate", "view_deg": 20}))
+            got[finish, "bent sheet"] = _texture(pg.evaluate(_PIXELS_JS, {**q, "shape": "bent sheet", "view_deg": 70}))
+            assert events["errors"] == []
+        finally:
+            ctx.close()
+    print(lighting, got)
+    # the plate is brushed left to right: its texture is across the lines, along y; the sheet's up its axis: along x
+    bx, by = got["brushed", "plate"]
+    assert by > 3 * bx and by > 4 * got["satin", "plate"][1], got
+    sx, sy = got["brushed", "bent sheet"]
+    assert sx > 3 * sy and sx > 4 * got["satin", "bent sheet"][0], got
