@@ -178,12 +178,12 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     e = html.escape
     ref = c["reference_geometry"]["name"]
     gam = "" if s["in_srgb_gamut"] else '<span class="gamut">outside sRGB</span>'
-    chip = (f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
-            f'{gam}</div>')
+    chip_html = (f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
+                 f'{gam}</div>')
     out = [f'<article class="card" id="card-{e(s["id"])}" data-id="{e(s["id"])}">']
     hero = _hero_img(s)
     # the hero (a path-traced picture of the swatch on the metal) first, the flat chip beside it; else the chip
-    out.append(f'<div class="hero-row">{hero}{chip}</div>' if hero else chip)
+    out.append(f'<div class="hero-row">{hero}{chip_html}</div>' if hero else chip_html)
     if c["multi_angle_geometries"]:
         out.append('<div class="flop">')
         for g in c["multi_angle_geometries"]:
@@ -303,7 +303,7 @@ def _tools(c: dict, env: dict | None = None) -> str:
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
 <div class="stage"><div class="frame"><canvas id="view" width="800" height="600" tabindex="0" role="img"
 aria-label="live view of the swatch: drag, or use the arrow keys, to turn it"></canvas>
-<img id="hero-view" alt="" hidden><p id="hero-badge" hidden></p></div></div>
+<p id="hero-badge" hidden></p></div></div>
 <div class="panel">
 <h2>Live view</h2>
 <p class="hint" id="view-note">Drag the picture (or focus it and use the arrow keys) to turn the part; the light

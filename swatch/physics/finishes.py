@@ -278,7 +278,7 @@ def brush_tangent(shape: str, normals) -> np.ndarray:
 # of the facet normal about the grain (a slope across it), a procedural field that varies quickly across the
 # grain and slowly along it: the film's colour still comes from the film model at each facet's own geometry.
 
-#: Peak slope (tan of the tilt across the grain) of the hairline field: ±0.12 (±6.8°), RMS about 0.045 (2.6°);
+#: Bound of the slope (tan of the tilt across the grain) of the hairline field: ±0.2 (±11°), RMS about 0.05 (2.9°);
 #: small beside the finish's across-grain RMS slope (alpha_v / sqrt 2 = 0.28): the lines are a visible part of
 #: the relief, not a new finish. A typical value chosen for appearance, not a fit to a measured profile.
 HAIRLINE_SLOPE = 0.2

@@ -116,10 +116,13 @@ function heroAt(st) {
       near((((h.view_azimuth_deg - st.view_azimuth_deg) % 360) + 540) % 360 - 180, 0);
   }) || null;
 }
-const heroImg = $("hero-view"), heroBadge = $("hero-badge");
+// the image over the canvas, made only where the catalog has heroes (the page itself has no <img> otherwise)
+const heroBadge = $("hero-badge"), heroImg = heroes.length ? el("img") : null;
+if (heroImg) { heroImg.id = "hero-view"; heroImg.alt = ""; heroImg.hidden = true; heroBadge.before(heroImg); }
 function updateHero() {
-  const s = heroAt(state);
-  heroImg.hidden = heroBadge.hidden = !s;
+  const s = heroImg ? heroAt(state) : null;
+  heroBadge.hidden = !s;
+  if (heroImg) heroImg.hidden = !s;
   if (!s) return;
   if (heroImg.getAttribute("src") !== s.hero.png) heroImg.setAttribute("src", s.hero.png);
   heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, path-traced: a " + (s.hero.shape || "sphere") + " under the " +
