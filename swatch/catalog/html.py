@@ -290,6 +290,18 @@ too).</p></details>
 </div>"""
 
 
+def _palette(swatches: list[dict]) -> str:
+    """A band of the catalog's colours in its order (sRGB at the reference geometry): the range at a glance."""
+    if not swatches:
+        return ""
+    e = html.escape
+    first, last = swatches[0], swatches[-1]
+    label = (f"the catalog's {len(swatches)} colours, {_fmt(first['thickness_nm'], 0)} to "
+             f"{_fmt(last['thickness_nm'], 0)} nm, in order")
+    return (f'<div class="palette" role="img" aria-label="{e(label)}">'
+            + "".join(f'<span style="background-color:{e(s["srgb_hex"])}"></span>' for s in swatches) + "</div>")
+
+
 def _lighting_select(env: dict | None) -> str:
     """The live view's lighting choice: the point light, and the environments the page embeds."""
 
@@ -303,19 +315,10 @@ def _tools(c: dict, env: dict | None = None) -> str:
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
 <div class="stage"><div class="frame"><canvas id="view" width="800" height="600" tabindex="0" role="img"
 aria-label="live view of the swatch: drag, or use the arrow keys, to turn it"></canvas>
-<p id="hero-badge" hidden></p></div></div>
+<p id="hero-badge" hidden></p></div>
+<p class="hint stage-hint">Drag the picture to turn the part, or focus it and use the arrow keys.</p></div>
 <div class="panel">
 <h2>Live view</h2>
-<p class="hint" id="view-note">Drag the picture (or focus it and use the arrow keys) to turn the part; the light
-stays where it is. Lighting: the photo studio of the sheets' renders, uniform white, or one point light with a
-fill (a uniform white surround).</p>
-<details class="how"><summary>How the live view is drawn</summary><p class="hint">Colours are the thin-film
-physics of this catalog (embedded table), shaded with the microfacet model. Under the studio or uniform white
-the light is integrated over the microfacet lobe at exposure 1 (a white diffuser would be white), as
-<code>swatch render --environment</code>; the point light's angle is on its slider, the exposure from the
-picture, and its fill (1 = the light that shows white paper as white) shows the side away from the light in the
-film's colour, dimmed rather than black. Outlines are antialiased. Where the catalog has path-traced heroes
-(Mitsuba), the picture is the hero while the view is at the hero's state, and the live render once you change it.</p></details>
 <form id="live-form" autocomplete="off">
 <label><span>thickness <strong id="t-out"></strong> · voltage <strong id="v-out"></strong></span>
 <input id="thickness" type="range" step="0.1" aria-label="thickness (nm)"></label>
@@ -338,6 +341,15 @@ white paper as white; 0 = the bare light, black where it does not reach)</span><
 <div class="chip" id="ref-chip"></div><div><strong>reference {html.escape(ref["name"])}</strong><br><span id="ref-text" class="num"></span></div>
 </div>
 <div><button type="button" id="pin">pin for comparison</button></div>
+<p class="hint" id="view-note">The light stays where it is when you turn the part. Lighting: the photo studio of
+the sheets' renders, uniform white, or one point light with a fill (a uniform white surround).</p>
+<details class="how"><summary>How the live view is drawn</summary><p class="hint">Colours are the thin-film
+physics of this catalog (embedded table), shaded with the microfacet model. Under the studio or uniform white
+the light is integrated over the microfacet lobe at exposure 1 (a white diffuser would be white), as
+<code>swatch render --environment</code>; the point light's angle is on its slider, the exposure from the
+picture, and its fill (1 = the light that shows white paper as white) shows the side away from the light in the
+film's colour, dimmed rather than black. Outlines are antialiased. Where the catalog has path-traced heroes
+(Mitsuba), the picture is the hero while the view is at the hero's state, and the live render once you change it.</p></details>
 </div>
 </section>
 <section id="find" class="tool" hidden aria-label="find by colour">
@@ -422,12 +434,13 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 <header>
 <div class="head">
 <h1 id="catalog-name">{e(c["name"])}</h1>
+{_palette(swatches)}
 <p class="lede">{len(swatches)} colours of anodised titanium: a clear oxide film on the metal, coloured by light
 interference, not dye. Each card is one film thickness{volts_text}. The picture is the colour on a part in a
 photo studio: turn it, or slide through the colours.</p>
-<p class="lede how-to"><strong>Choosing:</strong> pick a colour you like; look at the strip under its chip to see
-how it shifts with the viewing angle; prefer a wide process window (a colour that forgives small voltage
-changes). “Compare” sets colours side by side; “Find by colour” finds the nearest to a hex code or L*a*b*.</p>
+<p class="lede how-to"><strong>Choosing:</strong> pick a colour you like; the strip under its chip shows how it
+shifts with the viewing angle; prefer a wide process window (it forgives small voltage changes). “Compare”
+sets colours side by side; “Find by colour” finds the nearest to a hex code or L*a*b*.</p>
 <details class="tech"><summary>Technical details: geometry, codes, tolerance, files</summary>
 <p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
 process {e(c["process"]["name"])}: {e(_growth_text(c["process"]))} · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
@@ -437,8 +450,9 @@ L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:
 the gloss, the mirror direction; “as−15” 15° past it). Process window: thickness and
 voltage deviations that keep the colour difference to the nominal colour within {e(pw["text"])}.</p>
 {_explain(c)}
+<p class="sub files phone">Download: {links}</p>
 </details>
-<p class="sub files">Download: {links}</p>
+<p class="sub files wide">Download: {links}</p>
 </div>
 </header>
 {tools}
