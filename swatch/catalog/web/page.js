@@ -125,10 +125,10 @@ function updateHero() {
   if (heroImg) heroImg.hidden = !s;
   if (!s) return;
   if (heroImg.getAttribute("src") !== s.hero.png) heroImg.setAttribute("src", s.hero.png);
-  heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, path-traced: a " + (s.hero.shape || "sphere") + " under the " +
-    (s.hero.lighting || "studio") + " light";
-  heroBadge.textContent = "path-traced" + (Number.isFinite(s.hero.spp) ? " (" + s.hero.spp + " samples a pixel)" : "") +
-    " · turn it or move a slider for the live view";
+  heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, path-traced" +
+    (Number.isFinite(s.hero.spp) ? " (" + s.hero.spp + " samples a pixel)" : "") + ": a " + (s.hero.shape || "sphere") +
+    " under the " + (s.hero.lighting || "studio") + " light";
+  heroBadge.textContent = "path-traced · turn or slide for the live view";
 }
 // the first view sells the metal: a hero where the catalog has them, else the live sphere under the studio; at
 // the catalog's most vivid colour (the largest chroma at the reference geometry among the swatches inside sRGB)
