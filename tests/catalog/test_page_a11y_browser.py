@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 import shutil
 from pathlib import Path
 
@@ -231,3 +232,17 @@ def test_cards_show_their_hero_first_and_the_live_view_shows_it_at_its_state(chr
         assert events["errors"] == []
     finally:
         ctx.close()
+
+
+@pytest.mark.parametrize("png", ["../../etc/x.png", "javascript:alert(1)//.png", "/abs/hero.png", "heroes/a b.png",
+                                 'heroes/x.png" onerror="alert(1)', "heroes/x.svg", 7])
+def test_a_hero_path_that_is_not_a_plain_relative_png_is_left_out(png):
+    """A record read back is not trusted: a hero whose ``png`` is anything but a plain relative PNG path
+    (swatch.catalog.html.HERO_PATH) is not put on the page, by the build's HTML or by the script (HERO_PNG)."""
+    from swatch.catalog.html import HERO_PATH, hero_png
+
+    assert hero_png({"hero": {"png": png}}) is None
+    assert hero_png({"hero": {"png": "heroes/hero_S001.png"}}) == "heroes/hero_S001.png"
+    script = (Path(__file__).resolve().parents[2] / "swatch" / "catalog" / "web" / "page.js").read_text(encoding="utf-8")
+    js = re.search(r"const HERO_PNG = /(.*)/;", script).group(1).replace("\\/", "/")
+    assert js == "^" + HERO_PATH.pattern + "$"  # the script's rule is the build's
