@@ -84,3 +84,50 @@ def test_live_view_draws_lines_along_the_grain(chromium, pages, lighting):
     assert by > 3 * bx and by > 4 * got["satin", "plate"][1], got
     sx, sy = got["brushed", "bent sheet"]
     assert sx > 3 * sy and sx > 4 * got["satin", "bent sheet"][0], got
+
+
+#: The canvas at 256 x 192: its central 192 x 192 square, one canvas pixel per pixel of a 192 px render (the page's
+#: framing is swatch render's: tests/catalog/test_catalog_explorer_env_browser.py), green channel, top row first.
+_SQUARE_JS = """q => { const c = document.getElementById('view'), gl = c.getContext('webgl2');
+  c.width = 256; c.height = 192; swatchCatalog.show(q);
+  const p = new Uint8Array(256 * 192 * 4); gl.readPixels(0, 0, 256, 192, gl.RGBA, gl.UNSIGNED_BYTE, p);
+  const out = [];
+  for (let y = 0; y < 192; y++) for (let x = 32; x < 224; x++) out.push(p[((191 - y) * 256 + x) * 4 + 1]);
+  return out; }"""
+
+
+def _profile(green: np.ndarray, axis: int) -> np.ndarray:
+    """The lines' profile: the middle of the object averaged along the grain (``axis``), less its running mean
+    over 9 pixels (the smooth shading), so what is left is the lines."""
+    n = green.shape[0]
+    mid = green[n // 4: 3 * n // 4, n // 4: 3 * n // 4].astype(np.float64)
+    prof = mid.mean(axis=axis)
+    return prof - np.convolve(prof, np.ones(9) / 9, mode="same")
+
+
+@pytest.mark.parametrize("shape, page_shape, view_deg, axis", [("flat", "plate", 36.0, 1), ("cylinder", "bent sheet", 70.0, 0)])
+def test_the_live_view_draws_the_same_lines_as_swatch_render(chromium, pages, tmp_path, shape, page_shape, view_deg, axis):
+    """The same field at the same surface points: the page's GLSL hash and coordinates are the Python's, so its
+    lines fall where `swatch render --finish brushed` draws them (the profiles across the grain correlate; the
+    page's lobe is the isotropic one of the same area, so the lines' contrast differs, not their places)."""
+    from PIL import Image
+
+    from tests.cli_helpers import run_swatch
+
+    r = run_swatch("render", "--thickness", "50.8", "--shape", shape, "--finish", "brushed", "--environment", "studio",
+                   "--size", "192", "--out", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    want = np.asarray(Image.open(tmp_path / f"{shape}_050.8nm.png").convert("RGB"))[..., 1]
+    ctx, pg, events = open_catalog_page(chromium, pages["brushed"], fragment="lighting=point")
+    try:
+        got = np.asarray(pg.evaluate(_SQUARE_JS, {"lighting": "studio", "shape": page_shape, "thickness_nm": 50.8,
+                                                  "view_deg": view_deg, "view_azimuth_deg": 180}),
+                         dtype=np.float64).reshape(192, 192)
+        assert events["errors"] == []
+    finally:
+        ctx.close()
+    a, b = _profile(want, axis), _profile(got, axis)
+    corr = float(np.corrcoef(a, b)[0, 1])
+    shifted = float(np.corrcoef(a[3:], b[:-3])[0, 1])  # the lines three pixels off: the check can fail
+    print(shape, "correlation", round(corr, 3), "shifted", round(shifted, 3))
+    assert corr > 0.6 and shifted < 0.5 * corr, (corr, shifted)
