@@ -55,11 +55,12 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
 from swatch.fit.matching import MATCH_MIN_SEPARATION_NM
 from swatch.physics import geometry
+from swatch.physics.finishes import HAIRLINE_OCTAVES, HAIRLINE_SLOPE, HAIRLINE_STRETCH
 from swatch.render.camera import FRAME_FILL
 from swatch.render.scene import DEFAULT_VIEW_DEG, HalfCylinder, make_scene
 
 __all__ = ["GRID_STEP_NM", "COS_NODES", "MATCH_STEP_NM", "MAX_GRID_NODES", "PAGE_FROM_RENDER", "explorer_data",
-           "scene_data", "decode", "grid_lookup", "tile_rects", "chip_colours"]
+           "scene_data", "decode", "grid_lookup", "tile_rects", "chip_colours", "hairline_data"]
 
 #: Thickness step of the shading grid (nm); 2 nm would give ΔE2000 up to 0.27 with 129 cos nodes, 1 nm keeps
 #: the cos θ_d axis short (97 nodes) for the same accuracy.
@@ -275,9 +276,23 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
         **({} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}),
         "match": {"min_separation_nm": MATCH_MIN_SEPARATION_NM, "step_nm": MATCH_STEP_NM},
         "name_rules": [list(r) for r in NAME_RULES],
-        "render": {"model": spec.model, "roughness": spec.roughness, "shapes": list(spec.shapes)},
+        "render": {"model": spec.model, "roughness": spec.roughness, "shapes": list(spec.shapes),
+                   **({"hairlines": hairline_data()} if spec.finish_spec is not None and spec.finish_spec.anisotropic
+                      else {})},
         "scene": scene_data(),
     }
+
+
+def hairline_data() -> dict:
+    """The hairlines of a brushed finish as the live view draws them (:func:`swatch.physics.finishes.hairline_slope`):
+    the peak slope, the octaves (lines per object unit across the grain, weight) and the stretch along the grain.
+
+    Returns
+    -------
+    dict
+        ``slope``, ``octaves``, ``stretch``.
+    """
+    return {"slope": HAIRLINE_SLOPE, "octaves": [list(o) for o in HAIRLINE_OCTAVES], "stretch": HAIRLINE_STRETCH}
 
 
 def grid_lookup(block: dict, thickness_nm, cos_d) -> np.ndarray:

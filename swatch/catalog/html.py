@@ -16,12 +16,13 @@ import base64
 import hashlib
 import html
 import json
+import re
 from importlib import resources
 
 from swatch.colorimetry.names import colour_names
 from swatch.core.choices import LIGHTINGS
 
-__all__ = ["index_html", "embed_json", "page_script", "page_style", "print_page_style", "css_string"]
+__all__ = ["index_html", "embed_json", "hero_png", "page_script", "page_style", "print_page_style", "css_string"]
 
 #: The page's script files, concatenated in this order inside one strict-mode function.
 SCRIPTS = ("colour.js", "microfacet.js", "envlight.js", "view.js", "link.js", "page.js")
@@ -136,13 +137,53 @@ def _sprite(sheet: str, rect, origin, sheet_px, px: int, cls: str, label: str) -
     return f'<div class="{cls}" role="img" aria-label="{html.escape(label)}" style="{style}"></div>'
 
 
+#: A hero's file as the page accepts it: a relative path of plain characters, a PNG (the build writes
+#: ``heroes/hero_S001.png``; a record read back is not trusted to name anything else).
+HERO_PATH = re.compile(r"[A-Za-z0-9_-]+(/[A-Za-z0-9_-]+)*\.png")
+#: Largest width (CSS px) of a hero in a card: half its pixels (sharp on a 2x display), at least
+#: :data:`CARD_IMAGE_PX` (as the tile renders beside it).
+CARD_HERO_MAX_PX = 150
+
+
+def hero_png(s: dict) -> str | None:
+    """The relative path of a record's hero render (``s["hero"]["png"]``), or None when it has none or
+    names anything but a plain relative PNG path (:data:`HERO_PATH`).
+
+    Parameters
+    ----------
+    s : dict
+        A swatch record (``catalog.json``).
+
+    Returns
+    -------
+    str or None
+    """
+    h = s.get("hero")
+    png = h.get("png") if isinstance(h, dict) else None
+    return png if isinstance(png, str) and HERO_PATH.fullmatch(png) else None
+
+
+def _hero_img(s: dict) -> str:
+    png = hero_png(s)
+    if png is None:
+        return ""
+    size = s["hero"].get("size_px")
+    px = min(CARD_HERO_MAX_PX, max(CARD_IMAGE_PX, int(size) // 2)) if isinstance(size, int) and size > 0 else 96
+    what = f'{s["hero"].get("shape", "sphere")} under the {s["hero"].get("lighting", "studio")} light'
+    return (f'<img class="hero" src="{html.escape(png)}" width="{px}" height="{px}" loading="lazy" '
+            f'alt="{html.escape(s["id"])}: {_fmt(s["thickness_nm"], 1)} nm, path-traced {html.escape(what)}">')
+
+
 def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     e = html.escape
     ref = c["reference_geometry"]["name"]
     gam = "" if s["in_srgb_gamut"] else '<span class="gamut">outside sRGB</span>'
-    out = [f'<article class="card" id="card-{e(s["id"])}" data-id="{e(s["id"])}">',
-           f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
-           f'{gam}</div>']
+    chip_html = (f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
+                 f'{gam}</div>')
+    out = [f'<article class="card" id="card-{e(s["id"])}" data-id="{e(s["id"])}">']
+    hero = _hero_img(s)
+    # the hero (a path-traced picture of the swatch on the metal) first, the flat chip beside it; else the chip
+    out.append(f'<div class="hero-row">{hero}{chip_html}</div>' if hero else chip_html)
     if c["multi_angle_geometries"]:
         out.append('<div class="flop">')
         for g in c["multi_angle_geometries"]:
@@ -249,6 +290,18 @@ too).</p></details>
 </div>"""
 
 
+def _palette(swatches: list[dict]) -> str:
+    """A band of the catalog's colours in its order (sRGB at the reference geometry): the range at a glance."""
+    if not swatches:
+        return ""
+    e = html.escape
+    first, last = swatches[0], swatches[-1]
+    label = (f"the catalog's {len(swatches)} colours, {_fmt(first['thickness_nm'], 0)} to "
+             f"{_fmt(last['thickness_nm'], 0)} nm, in order")
+    return (f'<div class="palette" role="img" aria-label="{e(label)}">'
+            + "".join(f'<span style="background-color:{e(s["srgb_hex"])}"></span>' for s in swatches) + "</div>")
+
+
 def _lighting_select(env: dict | None) -> str:
     """The live view's lighting choice: the point light, and the environments the page embeds."""
 
@@ -260,13 +313,10 @@ def _lighting_select(env: dict | None) -> str:
 def _tools(c: dict, env: dict | None = None) -> str:
     ref = c["reference_geometry"]
     return f"""<section id="explorer" class="tool" hidden aria-label="live view">
-<div class="stage"><canvas id="view" width="800" height="600" role="img" aria-label="live view of the swatch"></canvas>
-<p class="hint" id="view-note">Drag the picture to turn the view; the lighting stays fixed. Colours are the
-thin-film physics of this catalog (embedded table), shaded with the microfacet model. Lighting: the studio of
-the sheets' renders (at first) or uniform white, integrated over the microfacet lobe at exposure 1 (a white
-diffuser would be white), as <code>swatch render --environment</code>; or one point light (its angle on the
-slider, exposure from the picture) with a fill: a uniform white surround, so the side away from the light shows
-the film's colour dimmed rather than black. Outlines are antialiased.</p></div>
+<div class="stage"><div class="frame"><canvas id="view" width="800" height="600" tabindex="0" role="img"
+aria-label="live view of the swatch: drag, or use the arrow keys, to turn it"></canvas>
+<p id="hero-badge" hidden></p></div>
+<p class="hint stage-hint">Drag the picture to turn the part, or focus it and use the arrow keys.</p></div>
 <div class="panel">
 <h2>Live view</h2>
 <form id="live-form" autocomplete="off">
@@ -291,6 +341,15 @@ white paper as white; 0 = the bare light, black where it does not reach)</span><
 <div class="chip" id="ref-chip"></div><div><strong>reference {html.escape(ref["name"])}</strong><br><span id="ref-text" class="num"></span></div>
 </div>
 <div><button type="button" id="pin">pin for comparison</button></div>
+<p class="hint" id="view-note">The light stays where it is when you turn the part. Lighting: the photo studio of
+the sheets' renders, uniform white, or one point light with a fill (a uniform white surround).</p>
+<details class="how"><summary>How the live view is drawn</summary><p class="hint">Colours are the thin-film
+physics of this catalog (embedded table), shaded with the microfacet model. Under the studio or uniform white
+the light is integrated over the microfacet lobe at exposure 1 (a white diffuser would be white), as
+<code>swatch render --environment</code>; the point light's angle is on its slider, the exposure from the
+picture, and its fill (1 = the light that shows white paper as white) shows the side away from the light in the
+film's colour, dimmed rather than black. Outlines are antialiased. Where the catalog has path-traced heroes
+(Mitsuba), the picture is the hero while the view is at the hero's state, and the live render once you change it.</p></details>
 </div>
 </section>
 <section id="find" class="tool" hidden aria-label="find by colour">
@@ -349,6 +408,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     links = " ".join(f'<a href="{e(href)}">{e(text)}</a>' for href, text in files)
     pw = c["tolerance"]
     swatches = catalog["swatches"]
+    volts_text = "" if c["process"]["nm_per_V"] is None else " and its anodising voltage"
     cards = "\n".join(_card(s, c, tiles, None if chips is None else chips[i]) for i, s in enumerate(swatches))
     # one vocabulary (swatch.colorimetry.names): the names in the catalog, in the order of NAME_RULES
     present = {s.get("colour_name") for s in swatches}
@@ -372,7 +432,16 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 </head>
 <body>
 <header>
+<div class="head">
 <h1 id="catalog-name">{e(c["name"])}</h1>
+{_palette(swatches)}
+<p class="lede">{len(swatches)} colours of anodised titanium: a clear oxide film on the metal, coloured by light
+interference, not dye. Each card is one film thickness{volts_text}. The picture is the colour on a part in a
+photo studio: turn it, or slide through the colours.</p>
+<p class="lede how-to"><strong>Choosing:</strong> pick a colour you like; the strip under its chip shows how it
+shifts with the viewing angle; prefer a wide process window (it forgives small voltage changes). “Compare”
+sets colours side by side; “Find by colour” finds the nearest to a hex code or L*a*b*.</p>
+<details class="tech"><summary>Technical details: geometry, codes, tolerance, files</summary>
 <p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
 process {e(c["process"]["name"])}: {e(_growth_text(c["process"]))} · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
 L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}
@@ -381,10 +450,13 @@ L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:
 the gloss, the mirror direction; “as−15” 15° past it). Process window: thickness and
 voltage deviations that keep the colour difference to the nominal colour within {e(pw["text"])}.</p>
 {_explain(c)}
-<p class="sub files">{links}</p>
+<p class="sub files phone">Download: {links}</p>
+</details>
+<p class="sub files wide">Download: {links}</p>
+</div>
 </header>
 {tools}
-<form id="controls" autocomplete="off">
+<section id="filters" aria-label="filter and sort the swatches"><form id="controls" autocomplete="off">
 <fieldset><label>sort by<select id="sort"><option value="thickness">thickness</option>
 <option value="voltage">voltage</option><option value="hue">hue angle</option></select></label>
 <label>order<select id="order"><option value="asc">ascending</option><option value="desc">descending</option></select></label></fieldset>
@@ -396,8 +468,8 @@ voltage deviations that keep the colour difference to the nominal colour within 
 <label>hue from °<input id="hmin" type="number" min="0" max="360" step="any"></label>
 <label>to °<input id="hmax" type="number" min="0" max="360" step="any"></label></fieldset>
 <fieldset><button type="reset">reset</button></fieldset>
-<span id="count"></span>
-</form>
+<span id="count" role="status"></span>
+</form></section>
 <main id="swatches">
 {cards}
 </main>

@@ -39,7 +39,8 @@ from swatch.core.choices import FINISHES
 from swatch.core.errors import SwatchError
 
 __all__ = ["FINISHES", "Finish", "get_finish", "finish_or_roughness", "highlight_half_width_deg", "brush_tangent",
-           "isotropic_finish"]
+           "isotropic_finish", "HAIRLINE_SLOPE", "HAIRLINE_OCTAVES", "HAIRLINE_STRETCH", "hairline_slope",
+           "brush_coordinates", "tilt_normals"]
 
 
 @dataclass(frozen=True)
@@ -268,3 +269,114 @@ def brush_tangent(shape: str, normals) -> np.ndarray:
         t[bad] = alt
         norm[bad] = np.linalg.norm(alt, axis=1)
     return t / np.maximum(norm, np.float32(1e-12))[:, None]
+
+
+# -- hairlines ------------------------------------------------------------------------------------------------
+# A brushed sheet shows fine lines along the grain: bands across it where the abrasive cut a little deeper or
+# shallower, so the facets there lean a little more one way or the other. The finish's alpha_u / alpha_v are the
+# slopes finer than a pixel; the hairlines are the part of the relief the eye resolves. They are drawn as a tilt
+# of the facet normal about the grain (a slope across it), a procedural field that varies quickly across the
+# grain and slowly along it: the film's colour still comes from the film model at each facet's own geometry.
+
+#: Bound of the slope (tan of the tilt across the grain) of the hairline field: ±0.2 (±11°), RMS about 0.05 (2.9°);
+#: small beside the finish's across-grain RMS slope (alpha_v / sqrt 2 = 0.28): the lines are a visible part of
+#: the relief, not a new finish. A typical value chosen for appearance, not a fit to a measured profile.
+HAIRLINE_SLOPE = 0.2
+#: The field's octaves: (lines per object unit across the grain, weight); the weights sum to 1. The shapes are
+#: about 2 units across, so the finest octave gives lines ~1/300 of the part wide.
+HAIRLINE_OCTAVES = ((40.0, 0.45), (95.0, 0.35), (160.0, 0.20))
+#: How much longer a line's cell is along the grain than across (a line's length / width).
+HAIRLINE_STRETCH = 60.0
+
+
+def _lattice_hash(i, j) -> np.ndarray:
+    """A value in [-1, 1) per integer lattice point (i, j): an integer hash (uint32 arithmetic, wrapping), the same
+    bits as the live view's GLSL ``hairHash`` (swatch/catalog/web/view.js)."""
+    h = ((np.asarray(i, dtype=np.int64) & 0xFFFFFFFF).astype(np.uint32) * np.uint32(0x27D4EB2D)
+         ^ (np.asarray(j, dtype=np.int64) & 0xFFFFFFFF).astype(np.uint32) * np.uint32(0x165667B1))
+    h = (h ^ (h >> np.uint32(15))) * np.uint32(0x2C1B3C6D)
+    h = (h ^ (h >> np.uint32(12))) * np.uint32(0x297A2D39)
+    h = h ^ (h >> np.uint32(15))
+    return (h >> np.uint32(8)).astype(np.float64) * (2.0 / 16777216.0) - 1.0
+
+
+def _value_noise(x, y) -> np.ndarray:
+    """Smooth value noise: the lattice's hash values, interpolated with the smoothstep weight ``3f² − 2f³``."""
+    i0, j0 = np.floor(x), np.floor(y)
+    fx, fy = x - i0, y - j0
+    sx, sy = fx * fx * (3.0 - 2.0 * fx), fy * fy * (3.0 - 2.0 * fy)
+    i, j = i0.astype(np.int64), j0.astype(np.int64)
+    a = _lattice_hash(i, j) + sx * (_lattice_hash(i + 1, j) - _lattice_hash(i, j))
+    b = _lattice_hash(i, j + 1) + sx * (_lattice_hash(i + 1, j + 1) - _lattice_hash(i, j + 1))
+    return a + sy * (b - a)
+
+
+def hairline_slope(across, along) -> np.ndarray:
+    """The hairline field: the facets' slope across the grain (tan of their tilt about the brushing direction) at
+    surface coordinates ``across`` and ``along`` the grain (object units), a sum of the value-noise octaves of
+    :data:`HAIRLINE_OCTAVES` stretched :data:`HAIRLINE_STRETCH` times along the grain, scaled to
+    :data:`HAIRLINE_SLOPE`. Deterministic (a fixed integer hash): the same point has the same slope in every run.
+
+    Parameters
+    ----------
+    across, along : array_like
+        Surface coordinates (object units; broadcast together).
+
+    Returns
+    -------
+    numpy.ndarray, float64
+        Slopes in [−HAIRLINE_SLOPE, HAIRLINE_SLOPE], the broadcast shape.
+    """
+    a, b = np.broadcast_arrays(np.asarray(across, dtype=np.float64), np.asarray(along, dtype=np.float64))
+    out = np.zeros(a.shape, dtype=np.float64)
+    for k, (freq, weight) in enumerate(HAIRLINE_OCTAVES):
+        out += weight * _value_noise(a * freq + 17.0 * k, b * (freq / HAIRLINE_STRETCH) + 31.0 * k)
+    return HAIRLINE_SLOPE * out
+
+
+def brush_coordinates(shape: str, points) -> tuple[np.ndarray, np.ndarray] | None:
+    """Surface coordinates across and along the grain of points on a shape (object units), for
+    :func:`hairline_slope`: the plate (brushed along x) ``(z, x)``; the cylinder and the sphere (brushed along
+    the vertical y) the arc ``atan2(x, z)`` about the vertical (their radius is 1) and ``y``. None for other
+    shapes (a mesh has no such parameterisation here: no hairlines).
+
+    Parameters
+    ----------
+    shape : str
+        ``flat``, ``cylinder`` or ``sphere`` (any other: None).
+    points : array_like, shape (..., 3)
+        Points on the surface (render world, y up).
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray) or None
+        ``across``, ``along``, the points' shape less its last axis.
+    """
+    p = np.asarray(points, dtype=np.float64)
+    if shape == "flat":
+        return p[..., 2], p[..., 0]
+    if shape in ("cylinder", "sphere"):
+        return np.arctan2(p[..., 0], p[..., 2]), p[..., 1]
+    return None
+
+
+def tilt_normals(normals, tangents, slope) -> np.ndarray:
+    """Unit normals tilted across the grain: ``normalize(n + s (n × t))`` for unit normals ``n``, unit brushing
+    tangents ``t`` (perpendicular to ``n``, :func:`brush_tangent`) and slopes ``s``; ``t`` stays a tangent of the
+    tilted normal.
+
+    Parameters
+    ----------
+    normals, tangents : array_like, shape (P, 3)
+    slope : array_like, shape (P,)
+        tan of the tilt (:func:`hairline_slope`).
+
+    Returns
+    -------
+    numpy.ndarray, float32, shape (P, 3)
+    """
+    n = np.asarray(normals, dtype=np.float32).reshape(-1, 3)
+    t = np.asarray(tangents, dtype=np.float32).reshape(-1, 3)
+    s = np.asarray(slope, dtype=np.float32).reshape(-1, 1)
+    m = n + s * np.cross(n, t)
+    return m / np.maximum(np.linalg.norm(m, axis=1, keepdims=True), np.float32(1e-12))

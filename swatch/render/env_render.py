@@ -33,7 +33,7 @@ import numpy as np
 from swatch.colorimetry.colorimeter import RGB_SPACES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_ENV_RENDER_PX, MIN_ENV_RENDER_PX
-from swatch.physics.finishes import brush_tangent
+from swatch.physics.finishes import brush_coordinates, brush_tangent, hairline_slope, tilt_normals
 from swatch.render import env_shading, shading
 from swatch.render import environment as envmod
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
@@ -95,6 +95,23 @@ class _Points:
 
 
 @dataclass
+class _Hair:
+    """The hairlines of a brushed finish on the interpolated pixels, to first order in the slope: the nodes'
+    samples with their normals tilted by ``+eps`` and ``-eps`` across the grain, and each interpolated pixel's
+    slope (:func:`swatch.physics.finishes.hairline_slope`); the pixel's radiance is the interpolated radiance
+    plus its slope times the interpolated central difference."""
+
+    plus: _Points
+    minus: _Points
+    eps: float
+    slope: np.ndarray  # (I,) the interpolated pixels' slopes
+
+
+#: Tilt (tan) of the central difference of the hairlines' first-order term (:class:`_Hair`).
+HAIR_EPS = 0.05
+
+
+@dataclass
 class Prepared:
     """A scene's thickness-independent part (see the module doc): which pixels are shaded how,
     their gathered environment samples, coverage and the background.
@@ -131,6 +148,34 @@ class Prepared:
     edge: _Points
     background: np.ndarray | None  # (H, W, 3) environment behind the object, or None
     samples: env_shading.SampleSet | AnisoSampleSet
+    hair: _Hair | None = None  # brushed: the hairlines of the interpolated pixels (first order)
+
+
+def _surface_points(scene, x, y, size, n) -> np.ndarray:
+    """Points (float32, (…, 3)) where the rays through pixel coordinates x, y meet the scene's plate, cylinder
+    or sphere (unit radius), from the hits' unit normals ``n`` (the cylinder's inner face has them reversed)."""
+    name = getattr(scene.shape, "name", "")
+    if name == "sphere":
+        return n
+    o = np.asarray(scene.camera.position, dtype=np.float32)
+    d = np.stack(np.broadcast_arrays(*scene.camera.directions(x, y, size, dtype=np.float32)), -1)
+    if name == "flat":
+        t = -o[1] / np.minimum(d[..., 1], np.float32(-1e-30))
+    else:  # the cylinder's points lie at ±n in x and z: the sign that the ray passes through
+        dd = np.maximum(d[..., 0] ** 2 + d[..., 2] ** 2, np.float32(1e-12))
+        tr = []
+        for sign in (1.0, -1.0):
+            tt = ((sign * n[..., 0] - o[0]) * d[..., 0] + (sign * n[..., 2] - o[2]) * d[..., 2]) / dd
+            tr.append((tt, np.hypot(o[0] + tt * d[..., 0] - sign * n[..., 0], o[2] + tt * d[..., 2] - sign * n[..., 2])))
+        t = np.where(tr[0][1] <= tr[1][1], tr[0][0], tr[1][0])
+    return o + t[..., None] * d
+
+
+def _hair_slope(scene, x, y, size, n) -> np.ndarray | None:
+    """The hairline slope at pixel coordinates x, y with hit normals n, or None for a shape without them."""
+    name = getattr(scene.shape, "name", "")
+    coords = brush_coordinates(name, _surface_points(scene, x, y, size, n))
+    return None if coords is None else hairline_slope(*coords).astype(np.float32).reshape(-1)
 
 
 def _normals_views(scene, x, y, size):
@@ -182,10 +227,18 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     table = env_shading.level_table(ss, maps)
     shape_name = getattr(scene.shape, "name", "sphere")
 
-    def points(n, v):
+    def points(n, v, slope=None):  # slope: the hairlines' tilt of the normals (brushed)
         if aniso:
-            return _Points(*gather_aniso(n, v, maps, ss, table, brush_tangent(shape_name, n)))
+            t = brush_tangent(shape_name, n)
+            if slope is not None:
+                n = tilt_normals(n, t, slope)
+            return _Points(*gather_aniso(n, v, maps, ss, table, t))
         return _Points(*env_shading.gather(n, v, maps, ss, table))
+
+    hairy = aniso and brush_coordinates(shape_name, np.zeros((1, 3))) is not None  # brushed plate, cylinder, sphere
+
+    def slope_at(x, y, n):
+        return _hair_slope(scene, x, y, size, n) if hairy else None
 
     c = np.arange(size, dtype=np.float32) + np.float32(0.5)
     rays = scene.camera.directions(c[None, :], c[:, None], size, dtype=np.float32)
@@ -201,6 +254,10 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     gy, gx = np.nonzero(g_hit)
     _, gn, gv = _normals_views(scene, grid[gx] + np.float32(0.5), grid[gy] + np.float32(0.5), size)
     nodes = points(gn, gv)
+    hair_nodes = None
+    if hairy:  # brushed: the nodes tilted both ways
+        ones = np.ones(len(gn), dtype=np.float32)
+        hair_nodes = (points(gn, gv, HAIR_EPS * ones), points(gn, gv, -HAIR_EPS * ones))
     # each covered pixel's cell (between grid[k] and grid[k + 1]) and bilinear weights
     k = np.clip(np.searchsorted(grid, np.arange(size), side="right") - 1, 0, grid.size - 2)
     f = ((np.arange(size) - grid[k]) / (grid[k + 1] - grid[k])).astype(np.float32)
@@ -215,7 +272,10 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     fy, fx = fy[smooth, None], fx[smooth, None]
     wts = np.concatenate([(1 - fy) * (1 - fx), (1 - fy) * fx, fy * (1 - fx), fy * fx], -1).astype(np.float32)
     exact_px = px[~smooth]
-    exact = points(n[~smooth], v[~smooth])
+    ix_f, iy_f = ix.astype(np.float32) + np.float32(0.5), iy.astype(np.float32) + np.float32(0.5)
+    slope = slope_at(ix_f, iy_f, n)
+    exact = points(n[~smooth], v[~smooth], None if slope is None else slope[~smooth])
+    hair = None if hair_nodes is None or slope is None else _Hair(*hair_nodes, HAIR_EPS, slope[smooth])
     coverage = hit.astype(np.float32)
     # silhouettes: coverage from SUPERSAMPLE² sub-samples, colour at their covered centroid
     edge = edge_pixels(hit)
@@ -239,14 +299,14 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
         _ch2, cn2, cv2 = _normals_views(scene, sx[keep][bad, first[bad]], sy[keep][bad, first[bad]], size)
         cn[bad], cv[bad] = cn2, cv2
     coverage.reshape(-1)[edge] = cover
-    edge_points = points(cn, cv)
+    edge_points = points(cn, cv, slope_at(cxs, cys, cn))
     bg = None
     if background == "environment":
         bg = np.empty((size, size, 3), dtype=np.float32)
         for r0 in range(0, size, 128):  # bounded temporaries
             d = np.stack([np.broadcast_to(t, (size, size))[r0:r0 + 128] for t in rays], -1)
             bg[r0:r0 + 128] = env.radiance_at(d)
-    prep = Prepared(size, coverage, nodes, interp, ids, wts, exact_px, exact, edge[keep], edge_points, bg, ss)
+    prep = Prepared(size, coverage, nodes, interp, ids, wts, exact_px, exact, edge[keep], edge_points, bg, ss, hair)
     if len(_CACHE) >= 4:
         _CACHE.pop(next(iter(_CACHE)))
     _CACHE[key] = prep
@@ -293,6 +353,11 @@ def render_environment(prep: Prepared, f_table_srgb: np.ndarray, background: str
     nodes = prep.nodes.radiance(w)
     if prep.interp_pixels.size:
         flat[prep.interp_pixels] = np.einsum("ik,ikc->ic", prep.interp_weights, nodes[prep.interp_nodes])
+        if prep.hair is not None:  # the hairlines, to first order in the slope (_Hair)
+            diff = (prep.hair.plus.radiance(w) - prep.hair.minus.radiance(w)) / np.float32(2 * prep.hair.eps)
+            flat[prep.interp_pixels] += prep.hair.slope[:, None] * np.einsum("ik,ikc->ic", prep.interp_weights,
+                                                                             diff[prep.interp_nodes])
+            flat[prep.interp_pixels] = np.maximum(flat[prep.interp_pixels], np.float32(0))
     flat[prep.exact_pixels] = prep.exact.radiance(w)
     flat[prep.edge_pixels] = prep.edge.radiance(w) * prep.coverage.reshape(-1)[prep.edge_pixels, None]
     rgb = flat.reshape(size, size, 3)

@@ -27,6 +27,9 @@ void main() {
   if (cover <= 0.0) { outM = uvec4(0u); return; }
   vec3 v = -d;
   if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
+#ifdef HAIR
+  n = hairTilt(n, d);  // a brushed finish's hairlines (view.js)
+#endif
   float cv = dot(n, v);
   vec3 t = v - cv * n;
   float tl = length(t);

@@ -77,12 +77,12 @@ $("controls").addEventListener("submit", (e) => e.preventDefault());
 // the point light's fill: a uniform white surround of this radiance (1 shows a white diffuser as display
 // white), so the side turned from the light is the film's colour dimmed, not black
 const DEFAULT_FILL = 0.1;
-const state = {thickness_nm: swatches.length ? swatches[0].thickness_nm : C.range[0], light_deg: ref.light_deg,
+const state = {thickness_nm: C.range[0], light_deg: ref.light_deg,
   view_deg: ref.view_deg, light_azimuth_deg: 0, view_azimuth_deg: ref.view_side === "light" ? 0 : 180,
   shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point", fill: DEFAULT_FILL};
 const canvas = $("view");
 let view = null;
-try { view = makeView(canvas, C, {roughness: T.render.roughness, scene: T.scene}, ENV); } catch (e) { view = null; console.warn(String(e)); }
+try { view = makeView(canvas, C, {roughness: T.render.roughness, scene: T.scene, hairlines: T.render.hairlines || null}, ENV); } catch (e) { view = null; console.warn(String(e)); }
 if (!view) {
   $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
   $("lighting").disabled = true;
@@ -91,6 +91,58 @@ for (const o of [...$("lighting").options]) if (!(view ? view.lightings : ["poin
 // the live view opens under the studio light box (as the sheets' renders), where the page has it
 if (view && view.lightings.includes("studio") && state.model === "microfacet") state.lighting = "studio";
 const clampT = (d) => Math.min(Math.max(d, C.range[0]), C.range[1]);
+// -- heroes: the catalog's path-traced pictures (records' "hero", swatch.catalog.hero), shown over the canvas
+// while the view is at a hero's state (its thickness, shape, camera and lighting); the live render once changed
+const HERO_SHAPES = {sphere: "sphere", cylinder: "bent sheet", flat: "plate"};
+const HERO_PNG = /^[A-Za-z0-9_-]+(\/[A-Za-z0-9_-]+)*\.png$/;  // a plain relative PNG path (swatch.catalog.html.HERO_PATH)
+const heroes = swatches.filter((s) => s.hero && typeof s.hero.png === "string" && HERO_PNG.test(s.hero.png) &&
+  HERO_SHAPES[s.hero.shape || "sphere"] !== undefined);
+const lightingsHere = () => (view ? view.lightings : ["point"]);
+function heroState(s) {
+  const shape = HERO_SHAPES[s.hero.shape || "sphere"], cam = shapeCamera(shape);
+  const st = {thickness_nm: s.thickness_nm, shape, model: "microfacet", view_deg: cam.view_deg, view_azimuth_deg: cam.view_azimuth_deg};
+  if (Number.isFinite(s.hero.view_deg)) st.view_deg = s.hero.view_deg;
+  if (Number.isFinite(s.hero.view_azimuth_deg)) st.view_azimuth_deg = s.hero.view_azimuth_deg;
+  const lit = s.hero.lighting || "studio";
+  if (lightingsHere().includes(lit)) st.lighting = lit;
+  return st;
+}
+const near = (a, b) => Math.abs(a - b) < 1e-6;
+function heroAt(st) {
+  return heroes.find((s) => {
+    const h = heroState(s);
+    return near(h.thickness_nm, st.thickness_nm) && h.shape === st.shape && st.model === "microfacet" &&
+      (h.lighting === undefined || h.lighting === st.lighting) && near(h.view_deg, st.view_deg) &&
+      near((((h.view_azimuth_deg - st.view_azimuth_deg) % 360) + 540) % 360 - 180, 0);
+  }) || null;
+}
+// the image over the canvas, made only where the catalog has heroes (the page itself has no <img> otherwise)
+const heroBadge = $("hero-badge"), heroImg = heroes.length ? el("img") : null;
+if (heroImg) { heroImg.id = "hero-view"; heroImg.alt = ""; heroImg.hidden = true; heroBadge.before(heroImg); }
+function updateHero() {
+  const s = heroImg ? heroAt(state) : null;
+  heroBadge.hidden = !s;
+  if (heroImg) heroImg.hidden = !s;
+  if (!s) return;
+  if (heroImg.getAttribute("src") !== s.hero.png) heroImg.setAttribute("src", s.hero.png);
+  heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, path-traced" +
+    (Number.isFinite(s.hero.spp) ? " (" + s.hero.spp + " samples a pixel)" : "") + ": a " + (s.hero.shape || "sphere") +
+    " under the " + (s.hero.lighting || "studio") + " light";
+  heroBadge.textContent = "path-traced · turn or slide for the live view";
+}
+// the first view sells the metal: a hero where the catalog has them, else the live sphere under the studio; at
+// the catalog's most vivid colour (the largest chroma at the reference geometry among the swatches inside sRGB)
+function vivid(list) {
+  let best = null;
+  for (const s of list) if (s.in_srgb_gamut && Array.isArray(s.LCh) && (!best || s.LCh[1] > best.LCh[1])) best = s;
+  return best || list[0] || null;
+}
+{
+  const first = vivid(heroes.length ? heroes : swatches);
+  if (first && heroes.includes(first)) Object.assign(state, heroState(first));
+  else Object.assign(state, {thickness_nm: first ? first.thickness_nm : C.range[0], shape: "sphere"}, shapeCamera("sphere"));
+  state.thickness_nm = clampT(state.thickness_nm);
+}
 function readout() {
   const c = C.colorAt(state);
   paint($("state-chip"), c);
@@ -120,6 +172,7 @@ viewLinkA.id = "view-link"; linkNote.id = "link-note";
 let drag = null;
 function draw() {
   if (view) state.exposure = view.draw(drag ? Object.assign({coarse: true}, state) : state); // coarse while dragged
+  updateHero();
   readout();
 }
 function syncInputs() {
@@ -195,6 +248,14 @@ canvas.addEventListener("pointermove", (e) => {
   show({view_azimuth_deg: drag[2] - (e.clientX - drag[0]) * 0.5, view_deg: drag[3] + (e.clientY - drag[1]) * 0.3});
 });
 canvas.addEventListener("pointerup", () => { drag = null; draw(); }); // refined when let go
+// the keyboard turns it too (the canvas takes focus): arrows left/right the azimuth, up/down the view angle
+canvas.addEventListener("keydown", (e) => {
+  const step = e.shiftKey ? 15 : 5;
+  const turn = {ArrowLeft: [step, 0], ArrowRight: [-step, 0], ArrowUp: [0, -step / 2], ArrowDown: [0, step / 2]}[e.key];
+  if (!turn) return;
+  e.preventDefault();
+  show({view_azimuth_deg: state.view_azimuth_deg + turn[0], view_deg: state.view_deg + turn[1]});
+});
 
 // -- names (swatch.colorimetry.names.NAME_RULES, embedded) -----------------------------------------
 function nameOf(lch) {
@@ -271,7 +332,8 @@ for (const s of swatches) {
   const bp = el("button", "", "compare"); bp.type = "button";
   bp.addEventListener("click", () => pin({thickness_nm: s.thickness_nm, label: s.id + " · " + fmt(s.thickness_nm, 1) + " nm", record: s}));
   const bs = el("button", "", "live view"); bs.type = "button";
-  bs.addEventListener("click", () => { show({thickness_nm: s.thickness_nm}); $("explorer").scrollIntoView(); });
+  // a card with a hero opens the live view on its hero; the others at their thickness, as the view is
+  bs.addEventListener("click", () => { show(heroes.includes(s) ? heroState(s) : {thickness_nm: s.thickness_nm}); $("explorer").scrollIntoView(); });
   tools.append(bp, bs);
   card.querySelector(".body").appendChild(tools);
 }
@@ -399,5 +461,7 @@ window.swatchCatalog = Object.freeze({
     return {rgb, hex: "#" + rgb.map((c) => c.toString(16).padStart(2, "0")).join("")};
   },
   lightings: Object.freeze(view ? view.lightings.slice() : ["point"]),
+  // the id of the swatch whose hero the live view shows now (at its state), or null
+  hero: () => { const s = heroAt(state); return s ? s.id : null; },
   swatches: Object.freeze(swatches.map((s) => Object.freeze(s))),
 });

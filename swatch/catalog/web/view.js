@@ -150,6 +150,9 @@ void main() {
   if (cover <= 0.0) { outG = uvec4(0u); return; }
   vec3 v = -d;
   if (dot(n, v) < 0.0) n = -n;  // the sheet's back side
+#ifdef HAIR
+  n = hairTilt(n, d);  // a brushed finish's hairlines
+#endif
   float cl = dot(n, light), cv = max(dot(n, v), 0.0);
   float lv = dot(light, v); float cd = sqrt(max((lv + 1.0) * 0.5, 1e-12));
   float ch = (cl + cv) * (0.5 / cd);
@@ -188,6 +191,55 @@ void main() {
   outColor = vec4(enc(lin.r), enc(lin.g), enc(lin.b), 1.0);
 }`;
 
+// The hairlines of a brushed finish (swatch.physics.finishes.hairline_slope, brush_coordinates, tilt_normals; the
+// build embeds their constants): the facet normal tilted across the grain by a procedural slope, a sum of smooth
+// value-noise octaves over an integer hash (the same uint32 arithmetic as the Python), on the surface coordinates
+// across and along the grain (page coordinates: the render's x is -y here, its y is z, its z is -x).
+function hairSource(h) {
+  const f = (x) => Number(x).toFixed(6);
+  const octaves = h.octaves.map(([freq, w], k) =>
+    `  s += ${f(w)} * hairNoise(vec2(across * ${f(freq)} + ${f(17 * k)}, along * ${f(freq / h.stretch)} + ${f(31 * k)}));`).join("\n");
+  return `
+float hairHash(int i, int j) {
+  uint h = uint(i) * 0x27D4EB2Du ^ uint(j) * 0x165667B1u;
+  h = (h ^ (h >> 15u)) * 0x2C1B3C6Du;
+  h = (h ^ (h >> 12u)) * 0x297A2D39u;
+  h ^= h >> 15u;
+  return float(h >> 8u) * (2.0 / 16777216.0) - 1.0;
+}
+float hairNoise(vec2 q) {
+  vec2 i0 = floor(q), fr = q - i0, w = fr * fr * (3.0 - 2.0 * fr);
+  int i = int(i0.x), j = int(i0.y);
+  float a = hairHash(i, j) + w.x * (hairHash(i + 1, j) - hairHash(i, j));
+  float b = hairHash(i, j + 1) + w.x * (hairHash(i + 1, j + 1) - hairHash(i, j + 1));
+  return a + w.y * (b - a);
+}
+// n: the shading normal facing the viewer, d: the pixel's ray
+vec3 hairTilt(vec3 n, vec3 d) {
+  float across, along; vec3 axis;
+#if SHAPE == 0
+  vec3 p = eye + (-eye.z / (abs(d.z) < 1e-6 ? -1e-6 : d.z)) * d;
+  across = -p.x; along = -p.y; axis = vec3(0.0, -1.0, 0.0);
+#elif SHAPE == 1
+  vec2 dd = d.xy; float a2 = max(dot(dd, dd), 1e-12);
+  float tp = dot(n.xy - eye.xy, dd) / a2, tm = dot(-n.xy - eye.xy, dd) / a2;
+  float rp = length(eye.xy + tp * dd - n.xy), rm = length(eye.xy + tm * dd + n.xy);
+  vec3 p = eye + (rp <= rm ? tp : tm) * d;
+  across = atan(-p.y, -p.x); along = p.z; axis = vec3(0.0, 0.0, 1.0);
+#else
+  across = atan(-n.y, -n.x); along = n.z; axis = vec3(0.0, 0.0, 1.0);
+#endif
+  float s = 0.0;
+${octaves}
+  s *= ${f(h.slope)};
+  vec3 t = axis - dot(n, axis) * n;
+  if (length(t) < 0.02) { t = vec3(0.0, -1.0, 0.0) - dot(n, vec3(0.0, -1.0, 0.0)) * n; }
+  t = normalize(t);
+  return normalize(n + s * cross(n, t));
+}
+`;
+}
+
 function makeView(canvas, C, settings, envData) {
   const DEG = Math.PI / 180;
   const gl = canvas.getContext("webgl2", {antialias: false, preserveDrawingBuffer: true});
@@ -207,7 +259,9 @@ function makeView(canvas, C, settings, envData) {
     const key = pass + "/" + shape + "/" + model;
     if (programs.has(key)) return programs.get(key);
     const body = {pgeom: POINT_GEOM, pshade: POINT_SHADE}[pass] || (pass === "gather" ? env.gatherSource : env.shadeSource);
-    const src = GEOM.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model) + body;
+    const hair = settings.hairlines ? "\n#define HAIR 1" : "";
+    const src = GEOM.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model + hair) +
+      (settings.hairlines ? hairSource(settings.hairlines) : "") + body;
     const prog = gl.createProgram();
     gl.attachShader(prog, vs);
     gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, src));
