@@ -5,7 +5,7 @@ Needs nothing but Python 3.11+ and pip:
 
     python3 dev.py catalog    # build the default catalog (catalog/titanium.toml -> build/catalog)
     python3 dev.py test       # run the test suite
-    python3 dev.py bench      # time the project against the reference implementations
+    python3 dev.py bench      # time the project against the reference implementations (--tiny: a smoke run)
     python3 dev.py lint       # ruff and mypy, as CI runs them
     python3 dev.py swatch ARGS...   # run the CLI inside the environment
 
