@@ -34,4 +34,3 @@ numpydoc_validation_checks: set[str] = set()
 html_theme = "alabaster"
 html_title = f"swatch {release}"
 html_static_path: list[str] = []
-suppress_warnings = ["myst.xref_missing"]  # links to repository files outside docs/ (tables/README.md, ...)
