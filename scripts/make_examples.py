@@ -16,6 +16,8 @@ spread by Gauss–Legendre quadrature where the line has one, and CIELAB by ``co
   aspecular −15°, 15°, 25°, 45°, 75°, 110°; spectra 380–730 nm at 10 nm; D65, 10°): CxF3, XSD-valid.
 * ``parts-i1.txt`` — the same four parts at 45/0 only, in X-Rite i1Profiler's CGATS.17 export layout
   (CIELAB and spectra, D65, 10°).
+* ``sky.hdr`` — a small equirectangular sky (Radiance HDR, 128 × 64, y up): a blue gradient over a grey
+  ground with a sun 35° up, for ``--environment FILE``.
 * ``sample.cxf`` — one multi-angle measurement of the paper's blue plate (50.8 nm of TiO2-Siefke on
   Ti-Johnson), for ``swatch match --measurement``.
 """
@@ -142,6 +144,28 @@ def i1profiler_parts(path: Path) -> None:
     path.write_text("\n".join(lines), encoding="utf-8")
 
 
+def sky_hdr(path: Path) -> None:
+    """A 128 × 64 equirectangular sky (rows from the zenith down): gradient, ground, a sun 35° up."""
+    import OpenImageIO as oiio
+
+    h, w = 64, 128
+    elevation = np.radians(90.0 - (np.arange(h) + 0.5) * 180.0 / h)[:, None]
+    azimuth = np.radians((np.arange(w) + 0.5) * 360.0 / w - 180.0)[None, :]
+    up = np.clip(np.sin(elevation), 0.0, 1.0)
+    sky = np.stack([0.35 + 0.25 * (1 - up), 0.55 + 0.2 * (1 - up), 0.95 + 0.0 * up], -1) * np.ones((1, w, 1))
+    ground = np.full((h, w, 3), 0.18)
+    img = np.where((elevation > 0)[..., None], sky, ground)
+    sun = np.array([np.cos(np.radians(35.0)) * np.sin(np.radians(40.0)), np.sin(np.radians(35.0)),
+                    np.cos(np.radians(35.0)) * np.cos(np.radians(40.0))])
+    d = np.stack(np.broadcast_arrays(np.cos(elevation) * np.sin(azimuth), np.sin(elevation),
+                                     np.cos(elevation) * np.cos(azimuth)), -1)
+    img = img + 200.0 * (d @ sun > np.cos(np.radians(4.0)))[..., None]
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), oiio.ImageSpec(w, h, 3, "float"))
+    out.write_image(img.astype(np.float32))
+    out.close()
+
+
 def main() -> None:
     knob().export(OUT / "part.glb")
     shutil.copyfile(ROOT / "tests" / "data" / "simulated-line-coupons.csv", OUT / "coupons.csv")
@@ -150,6 +174,7 @@ def main() -> None:
                     str(OUT / "line.toml")], check=True, cwd=ROOT, stdout=subprocess.DEVNULL)
     multi_angle_cxf(OUT / "parts.cxf", PARTS_NM, "a multi-angle spectrophotometer (simulated: tmm)", **LINE)
     i1profiler_parts(OUT / "parts-i1.txt")
+    sky_hdr(OUT / "sky.hdr")
     multi_angle_cxf(OUT / "sample.cxf", {"blue-plate": SAMPLE_NM}, "a multi-angle spectrophotometer (simulated: tmm)")
     print("written: " + ", ".join(sorted(p.name for p in OUT.iterdir())))
 

@@ -438,7 +438,8 @@ def resolve_spec_path(spec) -> Path:
     """The spec file that ``spec`` names: a path to a TOML file, or the name of a bundled spec.
 
     A file that exists wins; otherwise a bare name (no folder, no suffix) is looked up in
-    :func:`bundled_specs`, so ``"titanium"`` works in an empty folder.
+    :func:`bundled_specs`, so ``"titanium"`` works in an empty folder, and in one where a catalog was
+    built into ``titanium/``.
 
     Parameters
     ----------
@@ -456,11 +457,13 @@ def resolve_spec_path(spec) -> Path:
         ``spec`` is a bare name that is neither a file here nor a bundled spec.
     """
     p = Path(spec)
-    if p.exists() or p.suffix or len(p.parts) != 1:
+    if p.is_file() or p.suffix or len(p.parts) != 1:
         return p
     bundled = bundled_specs()
     if p.name in bundled:
         return bundled[p.name]
+    if p.exists():
+        raise SwatchError(f"{spec} is a folder, not a catalog spec; give a TOML file or one of: {', '.join(bundled)}")
     raise SwatchError(f"{spec}: no such file here, nor a bundled catalog spec; give a TOML file or one of: "
                       f"{', '.join(bundled) or '(none bundled)'}")
 

@@ -16,7 +16,7 @@ def catalog():
 
 
 @catalog.command()
-@click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("spec")  # a file or a bundled name (a folder of that name, e.g. a catalog built there, is no spec)
 @click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=str),
               help="output folder (created; a folder a previous catalog build wrote is updated in place)")
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=None,
@@ -44,7 +44,7 @@ def build(spec, out, jobs, quiet):
 
 
 @catalog.command()
-@click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("spec")
 def validate(spec):
     """Check a catalog spec (a file or a bundled name) and summarise it (nothing is written)."""
     from swatch.catalog.build import check_buildable

@@ -22,6 +22,9 @@ def test_the_bundled_specs_are_the_repository_catalog_folder():
 def test_a_name_resolves_to_the_bundled_spec_and_a_file_wins(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert resolve_spec_path("titanium") == bundled_specs()["titanium"]
+    (tmp_path / "titanium").mkdir()  # a catalog built with --out titanium/: the name still means the spec
+    assert resolve_spec_path("titanium") == bundled_specs()["titanium"]
+    (tmp_path / "titanium").rmdir()
     (tmp_path / "titanium").write_text('name = "mine"\n', encoding="utf-8")
     assert resolve_spec_path("titanium") == Path("titanium")  # a file of that name here is what the user meant
     assert resolve_spec_path("other.toml") == Path("other.toml")  # a path is a path (load_spec reports it missing)
@@ -33,6 +36,12 @@ def test_an_unknown_name_is_one_line_listing_the_bundled_ones(tmp_path):
     assert r.stderr.startswith("error: titanum: no such file here, nor a bundled catalog spec")
     assert "titanium" in r.stderr and r.stderr.count("\n") == 1
     assert not (tmp_path / "c").exists()
+
+
+def test_a_folder_is_no_spec(tmp_path):
+    (tmp_path / "mine").mkdir()
+    r = run_swatch("catalog", "validate", "mine", cwd=tmp_path)
+    assert r.returncode == 2 and r.stderr.startswith("error: mine is a folder, not a catalog spec")
 
 
 def test_validate_and_list_take_bundled_names(tmp_path):
