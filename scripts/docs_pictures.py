@@ -26,8 +26,10 @@ ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 RECORD = DOCS / "pictures.json"
 
-#: What every picture depends on: the layers below the renderers, the optical tables, this script.
-BASE = ["swatch/core/*.py", "swatch/physics/*.py", "swatch/colorimetry/*.py", "swatch/io/*.py",
+#: What every picture depends on: the layers below the renderers (of io/, the image files; not the
+#: measurement readers), the optical tables, this script.
+BASE = ["swatch/core/*.py", "swatch/physics/*.py", "swatch/colorimetry/*.py", "swatch/io/imageio.py",
+        "swatch/io/drawing.py", "swatch/io/pngmeta.py", "swatch/io/imagecheck.py",
         "tables/optical/*.csv", "tables/processes/*.toml", "scripts/docs_pictures.py"]
 RENDER = [*BASE, "swatch/render/*.py"]
 
