@@ -11,7 +11,7 @@ spread by Gauss–Legendre quadrature where the line has one, and CIELAB by ``co
   (the file ``scripts/simulate_coupons.py`` writes: TiO2-Franta on Ti-Palm, a knee at 45 V, 3.5 % spread,
   0.3 noise, one mislabelled coupon), for ``swatch calibrate``.
 * ``line.toml`` — that line's process profile as ``swatch calibrate examples/coupons.csv`` writes it.
-* ``parts.cxf`` — four parts anodised on that line, aimed at 49.9 nm (the spec for ``#1573ae`` on
+* ``parts.cxf`` — four parts anodised on that line, aimed at 51.2 nm (the spec for ``#2579b8`` on
   ``line.toml``) and landing at +0, +0.5, −0.6 and +3 nm, measured by a multi-angle instrument (light 45°,
   aspecular −15°, 15°, 25°, 45°, 75°, 110°; spectra 380–730 nm at 10 nm; D65, 10°): CxF3, XSD-valid.
 * ``parts-i1.txt`` — the same four parts at 45/0 only, in X-Rite i1Profiler's CGATS.17 export layout
@@ -43,7 +43,7 @@ WL = np.arange(380.0, 731.0, 10.0)
 ASPECULAR = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
 CC = "http://colorexchangeformat.com/CxF3-core"
 LINE = {"film": "TiO2-Franta", "substrate": "Ti-Palm", "spread": 0.035}  # scripts/simulate_coupons.py
-PARTS_NM = {"P1": 49.9, "P2": 50.4, "P3": 49.3, "P4": 52.9}
+PARTS_NM = {"P1": 51.2, "P2": 51.7, "P3": 50.6, "P4": 54.2}
 SAMPLE_NM = 50.8
 
 
