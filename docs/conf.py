@@ -16,7 +16,7 @@ import swatch  # noqa: E402
 
 project = "swatch"
 author = "the swatch authors"
-copyright = "the swatch authors, MIT licence"  # noqa: A001 (Sphinx's name)
+copyright = "the swatch authors, MIT licence"  # (Sphinx's name for it)
 release = swatch.__version__
 version = release
 
