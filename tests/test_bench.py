@@ -39,6 +39,8 @@ def test_the_whole_bench_runs_to_its_end_at_a_tiny_size():
     for section, key in KEYS.items():
         if section == "explorer" and "explorer: skipped" in out and os.environ.get("SWATCH_REQUIRE_BROWSER") != "1":
             continue
+        if section == "mitsuba" and "mitsuba: skipped" in out and os.environ.get("SWATCH_REQUIRE_MITSUBA") != "1":
+            continue
         assert re.search(rf"(^| ){key}=[0-9.]+", out, re.M), f"section {section}: no {key}= in\n{out}"
     assert re.search(r"^ratio_vs_colour=[0-9.]+ ratio_vs_tmm=[0-9]+$", out.splitlines()[-1])
 
