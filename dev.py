@@ -5,8 +5,9 @@ Needs nothing but Python 3.11+ and pip:
 
     python3 dev.py catalog    # build the default catalog (catalog/titanium.toml -> build/catalog)
     python3 dev.py test       # run the test suite
-    python3 dev.py bench      # time the project against the reference implementations
+    python3 dev.py bench      # time the project against the reference implementations (--tiny: a smoke run)
     python3 dev.py lint       # ruff and mypy, as CI runs them
+    python3 dev.py docs       # the user guide (Sphinx) into build/docs/, warnings as errors
     python3 dev.py swatch ARGS...   # run the CLI inside the environment
 
 The environment is (re)installed when pyproject.toml changes (a stamp file records its hash).
@@ -60,7 +61,7 @@ def ensure_env() -> None:
         venv.EnvBuilder(with_pip=True).create(VENV)
     print("dev.py: installing the project and its test dependencies", file=sys.stderr)
     subprocess.run([str(PY), "-m", "pip", "install", "-q", "--upgrade", "pip"], check=True)
-    subprocess.run([str(PY), "-m", "pip", "install", "-q", "-e", f"{ROOT}[test]"], check=True)
+    subprocess.run([str(PY), "-m", "pip", "install", "-q", "-e", f"{ROOT}[test,docs]"], check=True)
     ensure_libllvm()
     stamp.write_text(want)
 
@@ -109,12 +110,14 @@ def main(argv: list[str]) -> int:
     elif job == "lint":
         rc = subprocess.run([str(BIN / "ruff"), "check", ".", *rest], cwd=ROOT).returncode
         return rc or subprocess.run([str(BIN / "mypy")], cwd=ROOT).returncode
+    elif job == "docs":  # the guide: Markdown pages (MyST) and the API from the numpydoc docstrings
+        cmd = [str(PY), "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", "docs", "build/docs", *rest]
     elif job == "bench":
         cmd = [str(PY), "-m", "benchmarks.bench", *rest]
     elif job == "swatch":
         cmd = [str(BIN / "swatch"), *rest]
     else:
-        print(f"dev.py: unknown job {job!r}; use catalog, test, lint, bench or swatch", file=sys.stderr)
+        print(f"dev.py: unknown job {job!r}; use catalog, test, lint, docs, bench or swatch", file=sys.stderr)
         return 2
     return subprocess.run(cmd, cwd=ROOT, env=env).returncode
 

@@ -2,6 +2,8 @@
 
 Runs each section (benchmarks/bench_<area>.py, ``run() -> list[str]``) and prints its lines.
 The engine section runs last, so the final line is ``ratio_vs_colour=X ratio_vs_tmm=Y``.
+``--tiny`` (or ``SWATCH_BENCH_TINY=1``) runs each section at a tiny size, one repeat: a smoke test whose
+figures mean nothing (tests/test_bench.py). Section names pick sections: ``python3 dev.py bench render qc``.
 Machines here are noisy: every figure is a median of repeats, and ratios are measured in one run.
 """
 from __future__ import annotations
@@ -32,6 +34,16 @@ def machine() -> str:
 
 
 def main(argv: list[str]) -> int:
+    if "--tiny" in argv:
+        os.environ["SWATCH_BENCH_TINY"] = "1"  # for the processes the sections start
+        from benchmarks import timing
+
+        timing.TINY = True
+        argv = [a for a in argv if a != "--tiny"]
+    unknown = sorted(set(argv) - set(SECTIONS))
+    if unknown:
+        print(f"bench: unknown section(s) {', '.join(unknown)}; sections: {' '.join(SECTIONS)}", file=sys.stderr)
+        return 2
     wanted = argv or SECTIONS
     print(machine(), flush=True)
     for name in SECTIONS:

@@ -14,12 +14,11 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-SPEC = ROOT / "catalog" / "titanium.toml"
+from benchmarks.timing import ROOT, bench_spec, pick
 
 
-def _build(out: Path) -> float:
-    cmd = [sys.executable, "-m", "swatch.cli", "catalog", "build", str(SPEC), "--out", str(out), "--quiet"]
+def _build(spec: Path, out: Path) -> float:
+    cmd = [sys.executable, "-m", "swatch.cli", "catalog", "build", str(spec), "--out", str(out), "--quiet"]
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     wall = time.perf_counter() - t0
@@ -31,8 +30,9 @@ def _build(out: Path) -> float:
 def run() -> list[str]:
     with tempfile.TemporaryDirectory(prefix="swatch-bench-catalog-") as tmp:
         out = Path(tmp) / "catalog"
-        cold = _build(out)
-        noop = statistics.median(_build(out) for _ in range(3))
+        spec = bench_spec(tmp)
+        cold = _build(spec, out)
+        noop = statistics.median(_build(spec, out) for _ in range(pick(3, 1)))
     return [f"catalog_cold_s={cold:.2f} catalog_noop_s={noop:.2f}"]
 
 

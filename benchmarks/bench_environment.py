@@ -18,10 +18,11 @@ import time
 
 import numpy as np
 
-from benchmarks.timing import median_seconds
+from benchmarks.timing import median_seconds, pick
 
 
-def run(size: int = 1024, repeats: int = 5) -> list[str]:
+def run(size: int | None = None, repeats: int = 5) -> list[str]:
+    size = size or pick(1024, 64)
     from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
     from swatch.physics.model import get_coating
     from swatch.render import env_render, env_shading, environment, render_swatch, scene, shading

@@ -23,8 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-SPEC = ROOT / "catalog" / "titanium.toml"
+from benchmarks.timing import ROOT, TINY, bench_spec, pick
+
 CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
 
@@ -32,7 +32,7 @@ FRAMES_JS = """() => {
   const s = document.getElementById('thickness'), c = document.getElementById('view');
   const gl = c.getContext('webgl2'), px = new Uint8Array(4), times = [];
   const lo = Number(s.min), hi = Number(s.max);
-  for (let i = -15; i < 60; i++) {  // 15 untimed frames first: shader compilation and warm-up
+  for (let i = -WARMUP; i < 60; i++) {  // untimed frames first: shader compilation and warm-up
     const t0 = performance.now();
     s.value = lo + (hi - lo) * Math.abs(i) / 59;
     s.dispatchEvent(new Event('input', {bubbles: true}));
@@ -46,7 +46,7 @@ FRAMES_JS = """() => {
 GATHER_JS = """() => {
   const times = [];
   swatchCatalog.show({lighting: 'studio', shape: 'sphere', view_deg: 0});
-  for (let i = 0; i < 13; i++) {
+  for (let i = 0; i < STEPS; i++) {
     const t0 = performance.now();
     swatchCatalog.show({view_deg: 5 * i});
     swatchCatalog.pixel({x: 0, y: 0});  // read back: the GPU work is included
@@ -76,26 +76,31 @@ def run() -> list[str]:
         return ["explorer: skipped (playwright missing)"]
     with tempfile.TemporaryDirectory(prefix="swatch-bench-explorer-") as tmp:
         out = Path(tmp) / "catalog"
-        subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(SPEC), "--out", str(out), "--quiet"],
+        subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(bench_spec(tmp)), "--out", str(out),
+                        "--quiet"],
                        cwd=ROOT, check=True, capture_output=True)
         url = (out / "index.html").resolve().as_uri()
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
             loads, frames, env_frames, gathers = [], [], [], []
-            for _ in range(3):
+            frames_js = FRAMES_JS.replace("WARMUP", pick("15", "1")).replace("60", pick("60", "3"))
+            gather_js = GATHER_JS.replace("STEPS", pick("13", "1"))
+            for _ in range(pick(3, 1)):
                 # 1.25 device pixels a CSS pixel: the canvas (640 x 480 CSS px at 1280 px wide) gets the 800 x 600
                 # drawing buffer the figures were measured at before it followed its displayed size (issue 17)
-                page = browser.new_page(viewport={"width": 1280, "height": 900}, device_scale_factor=1.25)
+                # (tiny: a 320 px page, the smallest canvas)
+                page = browser.new_page(viewport={"width": pick(1280, 360), "height": pick(900, 640)},
+                                        device_scale_factor=pick(1.25, 1))
                 page.goto(url, wait_until="load")
                 _wait_for_api(page)
                 loads.append(page.evaluate("performance.getEntriesByType('navigation')[0].loadEventEnd"))
                 page.evaluate("swatchCatalog.show({lighting: 'point'})")
-                ms, w, h = page.evaluate(FRAMES_JS)
-                assert (w, h) == (800, 600)
+                ms, w, h = page.evaluate(frames_js)
+                assert TINY or (w, h) == (800, 600)
                 frames.append(ms)
                 page.evaluate("swatchCatalog.show({lighting: 'studio'})")
-                env_frames.append(page.evaluate(FRAMES_JS)[0])
-                gathers.append(page.evaluate(GATHER_JS))
+                env_frames.append(page.evaluate(frames_js)[0])
+                gathers.append(page.evaluate(gather_js))
                 page.close()
             browser.close()
     return [f"explorer_load_ms={statistics.median(loads):.0f} explorer_frame_ms={statistics.median(frames):.1f} "

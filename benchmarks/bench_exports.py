@@ -10,9 +10,7 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from benchmarks.timing import median_seconds
-
-ROOT = Path(__file__).resolve().parents[1]
+from benchmarks.timing import bench_spec, median_seconds
 
 
 def run() -> list[str]:
@@ -24,17 +22,20 @@ def run() -> list[str]:
     from swatch.catalog.records import compute
     from swatch.catalog.spec import load_spec
 
-    spec, _ = load_spec(ROOT / "catalog" / "titanium.toml")
-    data = compute(catalog_context(spec))
-    header = _catalog_header(spec, data, "titanium.toml")
     with tempfile.TemporaryDirectory(prefix="swatch-bench-chips-") as tmp:
+        spec_path = bench_spec(tmp)
+        spec, _ = load_spec(spec_path)
+        data = compute(catalog_context(spec))
+        header = _catalog_header(spec, data, spec_path.name)
+        (Path(tmp) / "chips").mkdir()  # the catalog folder's chips/ (the build makes it in its staging folder)
+
         def write_all():
             for args in chips.chip_batches(tmp, header, data, data.records, metal_symbol(spec), spec.chip_size_mm,
                                            spec.chip_dpi, 1):
                 chips.write_chips(*args)
 
         t_chips = median_seconds(write_all, repeats=3)
-        size = sum(p.stat().st_size for p in Path(tmp).iterdir())
+        size = sum(p.stat().st_size for p in (Path(tmp) / "chips").iterdir())
     t_cxf = median_seconds(lambda: cxf_bytes(spec, data), repeats=3)
     t_ase = median_seconds(lambda: (ase_bytes(spec, data.records, "lab"), ase_bytes(spec, data.records, "srgb")),
                            repeats=3)

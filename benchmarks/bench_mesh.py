@@ -13,10 +13,11 @@ import time
 
 import numpy as np
 
-from benchmarks.timing import median_seconds
+from benchmarks.timing import median_seconds, pick
 
 
-def run(size: int = 512, repeats: int = 5) -> list[str]:
+def run(size: int | None = None, repeats: int = 5) -> list[str]:
+    size = size or pick(512, 64)
     import trimesh
     from trimesh.ray.ray_triangle import RayMeshIntersector
 

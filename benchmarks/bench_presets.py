@@ -12,6 +12,8 @@ import time
 
 import numpy as np
 
+from benchmarks.timing import DEFAULT_SPEC, TINY
+
 
 def run() -> list[str]:
     from swatch.catalog.presets import fit_format, roughness_factor, round_params
@@ -20,7 +22,11 @@ def run() -> list[str]:
     from swatch.presets import FORMAT_MODEL, PRESET_FORMATS
     from swatch.presets.fit import FIT_ANGLES_DEG, _bare_metal_rgb, errors_delta_E_00, fit_presets
 
-    spec, _ = load_spec("catalog/titanium.toml")
+    spec, _ = load_spec(DEFAULT_SPEC)
+    if TINY:  # three swatches
+        import dataclasses
+
+        spec = dataclasses.replace(spec, thickness_nm=spec.thickness_nm[::20])
     d = np.asarray(spec.thickness_nm)
     rough = roughness_factor(spec.roughness)
     fit_presets(d[:2], "threejs", [22.5], roughness=rough, extra_model_angles_deg=[0.0])  # imports and tables

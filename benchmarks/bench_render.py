@@ -14,10 +14,11 @@ per-pixel spectral path measured in the same run.
 """
 from __future__ import annotations
 
-from benchmarks.timing import median_seconds
+from benchmarks.timing import median_seconds, pick
 
 
-def run(size: int = 1024, repeats: int = 7) -> list[str]:
+def run(size: int | None = None, repeats: int = 7) -> list[str]:
+    size = size or pick(1024, 64)
     from swatch.colorimetry.colorimeter import get_colorimeter
     from swatch.physics.model import get_coating
     from swatch.render import render_swatch, shading

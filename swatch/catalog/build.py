@@ -56,7 +56,7 @@ from swatch.catalog.folder import (
 )
 from swatch.catalog.journal import commit, is_catalog, prepare_commit, recover, rollback
 from swatch.catalog.layout import SHEETS, make_subfolders, output_files, sheet_count
-from swatch.catalog.spec import CatalogSpec, load_spec
+from swatch.catalog.spec import CatalogSpec, load_spec, resolve_spec_path
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
 from swatch.core.safepath import make_real_folder
@@ -212,7 +212,8 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: Progres
     Parameters
     ----------
     spec_path : str or path-like
-        The catalog spec (TOML; see docs/catalog.md).
+        The catalog spec (TOML; see docs/catalog.md): a file, or the name of a bundled spec
+        (:func:`swatch.catalog.spec.resolve_spec_path`, e.g. ``"titanium"``).
     out_dir : str or path-like
         The catalog folder (the build's own: it writes and deletes only inside it).
     jobs : int or None
@@ -232,8 +233,9 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: Progres
     say = log or (lambda msg: None)
     if not str(out_dir).strip():  # (Path('') is the current folder)
         raise SwatchError("`out_dir` is an empty string; give a folder path")
+    spec_path = resolve_spec_path(spec_path)
     spec, _raw = load_spec(spec_path)
-    spec_name = Path(spec_path).name
+    spec_name = spec_path.name
     out = Path(out_dir)
     jobs = _check_jobs(jobs)
     created = not out.exists()

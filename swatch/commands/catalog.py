@@ -5,6 +5,8 @@ a rebuild with nothing changed finishes in well under a second.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 
@@ -14,14 +16,15 @@ def catalog():
 
 
 @catalog.command()
-@click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("spec")  # a file or a bundled name (a folder of that name, e.g. a catalog built there, is no spec)
 @click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=str),
               help="output folder (created; a folder a previous catalog build wrote is updated in place)")
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=None,
               help="parallel render processes [default: the number of CPUs, at most 8]")
 @click.option("--quiet", "-q", is_flag=True, help="no progress bar or summary")
 def build(spec, out, jobs, quiet):
-    """Build the catalog described by SPEC (a TOML file, e.g. catalog/titanium.toml) into --out.
+    """Build the catalog described by SPEC into --out: a TOML file (e.g. mine.toml) or the name of a
+    bundled spec (titanium, niobium, tantalum, paper-samples: `swatch catalog list`).
 
     Deterministic (the same spec gives byte-identical files), incremental (only what changed is
     rebuilt) and atomic (a failed or interrupted build leaves the previous catalog intact).
@@ -41,15 +44,49 @@ def build(spec, out, jobs, quiet):
 
 
 @catalog.command()
-@click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("spec")
 def validate(spec):
-    """Check a catalog spec and summarise it (nothing is written)."""
+    """Check a catalog spec (a file or a bundled name) and summarise it (nothing is written)."""
     from swatch.catalog.build import check_buildable
     from swatch.catalog.layout import layout_summary
-    from swatch.catalog.spec import load_spec, spec_summary
+    from swatch.catalog.spec import load_spec, resolve_spec_path, spec_summary
 
-    s, _ = load_spec(spec)
+    s, _ = load_spec(resolve_spec_path(spec))
     check_buildable(s)  # validate refuses what build refuses, by the same checks
     click.echo(f"{spec}: ok — {spec_summary(s)}")
     n = len(s.thickness_nm)
     click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero, s.presets)}")
+
+
+@catalog.command(name="list")
+def list_specs():
+    """The catalog specs bundled with swatch (build one by name, or copy it with `swatch catalog init`)."""
+    from swatch.catalog.spec import bundled_specs, load_spec
+
+    for name, path in bundled_specs().items():
+        s, _ = load_spec(path)
+        click.echo(f"{name:<14} {s.name}: {len(s.thickness_nm)} swatches")
+
+
+@catalog.command()
+@click.argument("name")
+@click.option("--out", "out", type=click.Path(dir_okay=False, path_type=str), default=None,
+              help="the file to write [default: NAME.toml in the current folder]")
+@click.option("--force", is_flag=True, help="overwrite an existing file")
+def init(name, out, force):
+    """Write a copy of the bundled spec NAME (e.g. titanium) to edit, then build it with
+    `swatch catalog build NAME.toml --out DIR`."""
+    from swatch.catalog.spec import bundled_specs
+    from swatch.core.errors import SwatchError
+    from swatch.core.fileio import atomic_write_bytes, check_creatable_dir, check_new
+
+    bundled = bundled_specs()
+    if name not in bundled:
+        raise SwatchError(f"{name}: not a bundled catalog spec; bundled: {', '.join(bundled)}")
+    target = Path(out if out is not None else f"{name}.toml")
+    check_new([target], force)
+    check_creatable_dir(target.parent)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_bytes(target, bundled[name].read_bytes())
+    click.echo(f"wrote {target} (a copy of the bundled {name!r} spec; edit it, then "
+               f"`swatch catalog build {target} --out DIR`)")

@@ -1,0 +1,183 @@
+"""Write the example inputs in examples/ that the README's and the guide's commands name.
+
+    python scripts/make_examples.py          # from the repository root; about a minute (tmm is scalar code)
+
+Every measurement is made by an independent route, not by swatch's own optics or colorimetry: spectra by
+Byrnes' ``tmm.coh_tmm`` on the half-vector facet (tests/synthetic.py), averaged over the film's thickness
+spread by Gauss–Legendre quadrature where the line has one, and CIELAB by ``colour.sd_to_XYZ`` (ASTM E308).
+
+* ``part.glb`` — a knob (a fluted cylinder with a domed cap on a round base), for ``swatch render --mesh``.
+* ``coupons.csv`` — 30 coupons of a simulated anodising line at 8–100 V, CIELAB at 45:0, D65, 10°
+  (the file ``scripts/simulate_coupons.py`` writes: TiO2-Franta on Ti-Palm, a knee at 45 V, 3.5 % spread,
+  0.3 noise, one mislabelled coupon), for ``swatch calibrate``.
+* ``line.toml`` — that line's process profile as ``swatch calibrate examples/coupons.csv`` writes it.
+* ``parts.cxf`` — four parts anodised on that line, aimed at 51.2 nm (the spec for ``#2579b8`` on
+  ``line.toml``) and landing at +0, +0.5, −0.6 and +3 nm, measured by a multi-angle instrument (light 45°,
+  aspecular −15°, 15°, 25°, 45°, 75°, 110°; spectra 380–730 nm at 10 nm; D65, 10°): CxF3, XSD-valid.
+* ``parts-i1.txt`` — the same four parts at 45/0 only, in X-Rite i1Profiler's CGATS.17 export layout
+  (CIELAB and spectra, D65, 10°).
+* ``sky.hdr`` — a small equirectangular sky (Radiance HDR, 128 × 64, y up): a blue gradient over a grey
+  ground with a sun 35° up, for ``--environment FILE``.
+* ``sample.cxf`` — one multi-angle measurement of the paper's blue plate (50.8 nm of TiO2-Siefke on
+  Ti-Johnson), for ``swatch match --measurement``.
+"""
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import colour
+import numpy as np
+import trimesh
+from lxml import etree
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from tests.synthetic import tmm_half_vector_reflectance  # noqa: E402
+
+OUT = ROOT / "examples"
+WL = np.arange(380.0, 731.0, 10.0)
+ASPECULAR = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
+CC = "http://colorexchangeformat.com/CxF3-core"
+LINE = {"film": "TiO2-Franta", "substrate": "Ti-Palm", "spread": 0.035}  # scripts/simulate_coupons.py
+PARTS_NM = {"P1": 51.2, "P2": 51.7, "P3": 50.6, "P4": 54.2}
+SAMPLE_NM = 50.8
+
+
+def knob() -> trimesh.Trimesh:
+    """A knob, y up: a round base, a fluted grip and a domed cap (about 2 000 triangles)."""
+    base = trimesh.creation.cylinder(radius=1.0, height=0.25, sections=64)
+    base.apply_translation([0, 0, 0.125])
+    grip = trimesh.creation.cylinder(radius=0.62, height=0.9, sections=48)
+    grip.apply_translation([0, 0, 0.7])
+    v = grip.vertices
+    angle = np.arctan2(v[:, 1], v[:, 0])
+    v[:, :2] *= (1.0 + 0.06 * np.cos(12.0 * angle))[:, None]  # twelve flutes
+    grip.vertices = v
+    cap = trimesh.creation.icosphere(subdivisions=3, radius=0.62)
+    cap.vertices[:, 2] = 1.15 + 0.45 * np.maximum(cap.vertices[:, 2], 0.0)
+    knob = trimesh.util.concatenate([base, grip, cap])
+    knob.apply_transform(trimesh.transformations.rotation_matrix(-np.pi / 2, [1, 0, 0]))  # z up -> y up
+    return knob
+
+
+def reflectance(d_nm: float, light_deg: float, view_deg: float, film=None, substrate=None, spread=0.0):
+    """tmm's half-vector reflectance (W,) at one in-plane geometry (view < 0: the light's side), averaged
+    over a normal thickness distribution of 1σ = spread × d by 12-point Gauss–Legendre over ±4σ."""
+    kw = {} if film is None else {"film": film, "substrate": substrate}
+    azimuth = None if view_deg >= 0 else 0.0
+    if spread == 0.0:
+        return tmm_half_vector_reflectance(d_nm, [light_deg], [abs(view_deg)], WL, view_azimuth_deg=azimuth, **kw)[0]
+    x, w = np.polynomial.legendre.leggauss(12)
+    ts = d_nm + 4.0 * spread * d_nm * x
+    ww = w * np.exp(-0.5 * (4.0 * x) ** 2)
+    rows = [tmm_half_vector_reflectance(t, [light_deg], [abs(view_deg)], WL, view_azimuth_deg=azimuth, **kw)[0]
+            for t in ts]
+    return np.tensordot(ww / ww.sum(), np.stack(rows), axes=1)
+
+
+def lab_d65_10(R) -> np.ndarray:
+    cmfs = colour.MSDS_CMFS["CIE 1964 10 Degree Standard Observer"]
+    ill = colour.SDS_ILLUMINANTS["D65"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # colour-science notes that 10 nm data is interpolated (ASTM E308)
+        XYZ = colour.sd_to_XYZ(colour.SpectralDistribution(R, WL), cmfs, ill) / 100.0
+    return colour.XYZ_to_Lab(XYZ, colour.CCS_ILLUMINANTS["CIE 1964 10 Degree Standard Observer"]["D65"])
+
+
+def multi_angle_cxf(path: Path, parts: dict[str, float], creator: str, **line) -> None:
+    """A multi-angle CxF3 document (spectra per BRDF angle, D65 / 10°), validated against the CxF3 XSD."""
+
+    def el(parent, tag, text=None, **attrib):
+        e = etree.SubElement(parent, f"{{{CC}}}{tag}", {k: str(v) for k, v in attrib.items()})
+        if text is not None:
+            e.text = str(text)
+        return e
+
+    root = etree.Element(f"{{{CC}}}CxF", nsmap={"cc": CC})
+    info = el(root, "FileInformation")
+    el(info, "Creator", creator)
+    el(info, "CreationDate", "2026-12-01T00:00:00")
+    res = el(root, "Resources")
+    objs = el(res, "ObjectCollection")
+    for name, d in parts.items():
+        o = el(objs, "Object", ObjectType="Sample", Name=name, Id=name)
+        el(o, "CreationDate", "2026-12-01T00:00:00")
+        cv = el(o, "ColorValues")
+        for k, a in enumerate(ASPECULAR):
+            R = reflectance(d, 45.0, 45.0 - a, **line)
+            el(cv, "ReflectanceSpectrum", " ".join(f"{x:.6f}" for x in R), ColorSpecification=f"CS{k}", StartWL=380)
+    specs = el(res, "ColorSpecificationCollection")
+    for k, a in enumerate(ASPECULAR):
+        cs = el(specs, "ColorSpecification", Id=f"CS{k}")
+        ts = el(cs, "TristimulusSpec")
+        el(ts, "Illuminant", "D65")
+        el(ts, "Observer", "10_Degree")
+        el(ts, "Method", "E308_Table6")
+        ms = el(cs, "MeasurementSpec")
+        el(ms, "MeasurementType", "Spectrum_Reflectance")
+        b = el(el(el(ms, "GeometryChoice"), "MultiAngle"), "BRDFAngle", Notation=f"45as{a:g}")
+        el(b, "IlluminationAngle", 45.0)
+        el(b, "Aspecular", a)
+        el(ms, "WavelengthRange", StartWL=380, Increment=10)
+    schema = etree.XMLSchema(etree.parse(str(ROOT / "tests" / "data" / "cxf3" / "CxF3_Core.xsd")))
+    schema.assertValid(root)
+    path.write_bytes(etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True))
+
+
+def i1profiler_parts(path: Path) -> None:
+    """The parts at 45/0 in i1Profiler's CGATS.17 layout: CIELAB and spectra (fractions), D65 / 10°."""
+    R = np.stack([reflectance(d, 45.0, 0.0, **LINE) for d in PARTS_NM.values()])
+    lines = ["CGATS.17", 'ORIGINATOR "X-Rite i1Profiler"', 'DESCRIPTOR "Anodised parts, order 2026-12"',
+             'CREATED "December 1, 2026"', 'INSTRUMENTATION "i1Pro 3"', 'INSTRUMENT_SERIAL_NUMBER "000000"',
+             'MEASUREMENT_SOURCE "Illumination=D65\tObserverAngle=10\tWhiteBase=Abs\tFilter=No"',
+             'MEASUREMENT_GEOMETRY "45/0"', "", f"NUMBER_OF_FIELDS {5 + WL.size}", "BEGIN_DATA_FORMAT",
+             "SampleID SAMPLE_NAME LAB_L LAB_A LAB_B " + " ".join(f"nm{round(w)}" for w in WL),
+             "END_DATA_FORMAT", "", f"NUMBER_OF_SETS {len(PARTS_NM)}", "BEGIN_DATA"]
+    for k, (name, r) in enumerate(zip(PARTS_NM, R, strict=True)):
+        lines.append(f"{k + 1} {name} " + " ".join(f"{x:.4f}" for x in lab_d65_10(r)) + " "
+                     + " ".join(f"{x:.6f}" for x in r))
+    lines += ["END_DATA", ""]
+    path.write_text("\n".join(lines), encoding="utf-8")
+
+
+def sky_hdr(path: Path) -> None:
+    """A 128 × 64 equirectangular sky (rows from the zenith down): gradient, ground, a sun 35° up."""
+    import OpenImageIO as oiio
+
+    h, w = 64, 128
+    elevation = np.radians(90.0 - (np.arange(h) + 0.5) * 180.0 / h)[:, None]
+    azimuth = np.radians((np.arange(w) + 0.5) * 360.0 / w - 180.0)[None, :]
+    up = np.clip(np.sin(elevation), 0.0, 1.0)
+    sky = np.stack([0.35 + 0.25 * (1 - up), 0.55 + 0.2 * (1 - up), 0.95 + 0.0 * up], -1) * np.ones((1, w, 1))
+    ground = np.full((h, w, 3), 0.18)
+    img = np.where((elevation > 0)[..., None], sky, ground)
+    sun = np.array([np.cos(np.radians(35.0)) * np.sin(np.radians(40.0)), np.sin(np.radians(35.0)),
+                    np.cos(np.radians(35.0)) * np.cos(np.radians(40.0))])
+    d = np.stack(np.broadcast_arrays(np.cos(elevation) * np.sin(azimuth), np.sin(elevation),
+                                     np.cos(elevation) * np.cos(azimuth)), -1)
+    img = img + 200.0 * (d @ sun > np.cos(np.radians(4.0)))[..., None]
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), oiio.ImageSpec(w, h, 3, "float"))
+    out.write_image(img.astype(np.float32))
+    out.close()
+
+
+def main() -> None:
+    knob().export(OUT / "part.glb")
+    shutil.copyfile(ROOT / "tests" / "data" / "simulated-line-coupons.csv", OUT / "coupons.csv")
+    (OUT / "line.toml").unlink(missing_ok=True)
+    subprocess.run([sys.executable, "-m", "swatch.cli", "calibrate", str(OUT / "coupons.csv"), "--out",
+                    str(OUT / "line.toml")], check=True, cwd=ROOT, stdout=subprocess.DEVNULL)
+    multi_angle_cxf(OUT / "parts.cxf", PARTS_NM, "a multi-angle spectrophotometer (simulated: tmm)", **LINE)
+    i1profiler_parts(OUT / "parts-i1.txt")
+    sky_hdr(OUT / "sky.hdr")
+    multi_angle_cxf(OUT / "sample.cxf", {"blue-plate": SAMPLE_NM}, "a multi-angle spectrophotometer (simulated: tmm)")
+    print("written: " + ", ".join(sorted(p.name for p in OUT.iterdir())))
+
+
+if __name__ == "__main__":
+    main()
