@@ -21,12 +21,14 @@ from typing import TYPE_CHECKING
 
 from swatch.core.errors import SwatchError
 from swatch.core.limits import (
+    MAX_FILM_INDEX_SCALE,
     MAX_PROFILE_BYTES,
     MAX_PROFILE_NAME_CHARS,
     MAX_PROFILE_TEXT_CHARS,
     MAX_SPREAD_FRACTION,
     MAX_SPREAD_NM,
     MAX_VOLTAGE_V,
+    MIN_FILM_INDEX_SCALE,
     read_capped,
 )
 from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
@@ -42,7 +44,7 @@ __all__ = ["DEFAULT_PROCESS", "Process", "load_process", "list_processes", "pres
 DEFAULT_PROCESS = "titanium-fujii2019"
 RATE_RANGE = (0.1, 10.0)  # nm per volt
 OFFSET_RANGE = (-50.0, 100.0)  # nm at 0 V
-SCALE_RANGE = (0.5, 1.5)
+SCALE_RANGE = (MIN_FILM_INDEX_SCALE, MAX_FILM_INDEX_SCALE)  # dimensionless (swatch.core.limits)
 _TOP_KEYS = ("name", "description", "film", "substrate", "nm_per_V", "offset_nm", "film_index_scale", "roughness",
              "spread_nm", "spread_fraction", "knee_V", "nm_per_V_above_knee", "sources", "calibration")
 _SOURCE_KEYS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness", "film", "substrate", "spread_nm",

@@ -32,7 +32,7 @@ from swatch.render.env_render import check_env_size_px
 from swatch.render.environment import Environment, get_environment
 from swatch.render.hdri import read_equirect
 
-__all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine"]
+__all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine", "default_environment"]
 
 
 @dataclass(frozen=True)
@@ -145,6 +145,26 @@ def check_sun(sun: Sun) -> Sun:
     return sun
 
 
+def default_environment(engine: str, model: str = "microfacet", distribution: str = "ggx") -> str:
+    """The lighting an engine renders when none is named (``swatch render`` without ``--environment``).
+
+    Parameters
+    ----------
+    engine : str
+        ``builtin`` or ``mitsuba``.
+    model, distribution : str
+        The intensity model and facet distribution (the built-in engine's environments need GGX microfacet).
+
+    Returns
+    -------
+    str
+        ``studio`` (mitsuba; builtin with the GGX microfacet model), else ``none`` (the point light).
+    """
+    if engine == "mitsuba" or (model, distribution) == ("microfacet", "ggx"):
+        return "studio"
+    return "none"
+
+
 def check_engine(engine: str) -> str:
     """A render engine's name, checked.
 
@@ -204,9 +224,9 @@ def _builtin(environment, model: str, distribution: str, size_px, background, vi
         env: Environment | None = environment
     else:
         if environment is None:
-            environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
+            environment = default_environment("builtin", model, distribution)
         if str(environment).strip().lower() == "sun":
-            raise SwatchError("sun and sky lighting is the mitsuba engine's; use `engine='mitsuba'`")
+            raise SwatchError("sun and sky lighting is the mitsuba engine's; add `engine='mitsuba'`")
         env = get_environment(environment)
     if env is not None and (model != "microfacet" or distribution != "ggx"):
         raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
@@ -283,5 +303,5 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
     if engine == "mitsuba":
         return _mitsuba(environment, sun)
     if sun is not None:
-        raise SwatchError("sun and sky lighting is the mitsuba engine's; use `engine='mitsuba'`")
+        raise SwatchError("sun and sky lighting is the mitsuba engine's; add `engine='mitsuba'`")
     return _builtin(environment, model, distribution, size_px, background, view_deg, view_azimuth_deg)
