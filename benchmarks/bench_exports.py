@@ -18,15 +18,15 @@ ROOT = Path(__file__).resolve().parents[1]
 def run() -> list[str]:
     import swatch  # noqa: F401
     from swatch.catalog import chips
-    from swatch.catalog.build import _catalog_header
     from swatch.catalog.context import catalog_context
+    from swatch.catalog.execute import catalog_header
     from swatch.catalog.exports import ase_bytes, cxf_bytes, metal_symbol
     from swatch.catalog.records import compute
     from swatch.catalog.spec import load_spec
 
     spec, _ = load_spec(ROOT / "catalog" / "titanium.toml")
     data = compute(catalog_context(spec))
-    header = _catalog_header(spec, data, "titanium.toml")
+    header = catalog_header(spec, data, "titanium.toml")
     with tempfile.TemporaryDirectory(prefix="swatch-bench-chips-") as tmp:
         def write_all():
             for args in chips.chip_batches(tmp, header, data, data.records, metal_symbol(spec), spec.chip_size_mm,

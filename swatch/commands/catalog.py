@@ -44,7 +44,7 @@ def build(spec, out, jobs, quiet):
 @click.argument("spec", type=click.Path(dir_okay=False, path_type=str))
 def validate(spec):
     """Check a catalog spec and summarise it (nothing is written)."""
-    from swatch.catalog.build import check_buildable
+    from swatch.catalog.execute import check_buildable
     from swatch.catalog.layout import layout_summary
     from swatch.catalog.spec import load_spec, spec_summary
 

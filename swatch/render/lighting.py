@@ -32,7 +32,8 @@ from swatch.render.env_render import check_env_size_px
 from swatch.render.environment import Environment, get_environment
 from swatch.render.hdri import read_equirect
 
-__all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine", "default_environment"]
+__all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine", "default_environment",
+           "lighting_for"]
 
 
 @dataclass(frozen=True)
@@ -219,7 +220,7 @@ class Lighting:
     hdri: np.ndarray | None = None
 
 
-def _builtin(environment, model: str, distribution: str, size_px, background, view_deg, view_azimuth_deg) -> Lighting:
+def _builtin(environment, model: str, distribution: str, size_px, background) -> Lighting:
     if isinstance(environment, Environment):
         env: Environment | None = environment
     else:
@@ -293,15 +294,36 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
         For an unknown name, an unusable map, a sun out of range, or a lighting the engine cannot render.
     """
     engine = check_engine(engine)
+    if not isinstance(environment, Lighting):
+        if view_deg is not None:
+            geometry.check_polar_deg(view_deg, "view_deg")
+        geometry.check_azimuth_deg(view_azimuth_deg, "view_azimuth_deg")
+    return lighting_for(environment, engine, sun, model, distribution, size_px, background)
+
+
+def lighting_for(environment, engine: str, sun: Sun | None = None, model: str = "microfacet",
+                 distribution: str = "ggx", size_px: int | None = None, background: str | None = None) -> Lighting:
+    """:func:`resolve_lighting` for an ``engine`` name already checked (:func:`check_engine`), the camera
+    checked elsewhere (the render request checks each once; its scene checks the camera).
+
+    Parameters
+    ----------
+    environment, sun, model, distribution, size_px, background
+        As :func:`resolve_lighting`.
+    engine : str
+        ``builtin`` or ``mitsuba``, lower case.
+
+    Returns
+    -------
+    Lighting
+        The lighting resolved for ``engine``.
+    """
     if isinstance(environment, Lighting):
         if environment.engine != engine:
             raise SwatchError(f"this lighting was resolved for the {environment.engine} engine, not {engine}")
         return environment
-    if view_deg is not None:
-        geometry.check_polar_deg(view_deg, "view_deg")
-    geometry.check_azimuth_deg(view_azimuth_deg, "view_azimuth_deg")
     if engine == "mitsuba":
         return _mitsuba(environment, sun)
     if sun is not None:
         raise SwatchError("sun and sky lighting is the mitsuba engine's; add `engine='mitsuba'`")
-    return _builtin(environment, model, distribution, size_px, background, view_deg, view_azimuth_deg)
+    return _builtin(environment, model, distribution, size_px, background)

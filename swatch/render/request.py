@@ -27,7 +27,7 @@ from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render import shading
 from swatch.render.image import check_background, check_finish_lighting, check_size_px
-from swatch.render.lighting import Lighting, Sun, check_engine, resolve_lighting
+from swatch.render.lighting import Lighting, Sun, check_engine, lighting_for
 from swatch.render.metadata import coating_and_colorimeter
 from swatch.render.scene import Scene, check_shape, make_scene
 
@@ -384,8 +384,8 @@ def _builtin(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
     space = check_rgb_space(o["space"])
     coating, colorimeter = coating_and_colorimeter(o["coating"], o["colorimeter"])
     background = check_background("grey" if o["background"] is None else o["background"])
-    light = resolve_lighting("none" if o["environment"] is None else o["environment"], "builtin", o["sun"], model,
-                             distribution, size, background, o["view_deg"], o["view_azimuth_deg"])
+    light = lighting_for("none" if o["environment"] is None else o["environment"], "builtin", o["sun"], model,
+                         distribution, size, background)
     check_finish_lighting(finish, light.environment, model, distribution, size)
     for name in ("exposure", "window_px", "bsdf_override", "variant"):
         if o[name] is not None:
@@ -410,8 +410,7 @@ def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
     if getattr(coating, "overcoats", ()):
         raise SwatchError("the mitsuba engine renders one film on the metal; drop the overcoats")
     size, spp, seed = check_mitsuba_request(size_px, o["spp"], o["seed"])
-    light = resolve_lighting(o["environment"], "mitsuba", o["sun"], view_deg=o["view_deg"],
-                             view_azimuth_deg=o["view_azimuth_deg"])
+    light = lighting_for(o["environment"], "mitsuba", o["sun"])
     lobe = _lobe(o["roughness_alpha"], o["finish"])
     distribution = microfacet.check_distribution(o["distribution"])
     space = check_rgb_space(o["space"])
