@@ -430,3 +430,24 @@ def test_the_engine_registry_covers_the_engine_choices():
     assert tuple(ENGINES) == tuple(NAMES)
     for engine in ENGINES.values():
         assert list(inspect.signature(engine).parameters) == ["request", "progress"]
+
+
+def test_production_and_the_preset_command_do_not_reach_into_the_catalog():
+    """Issue #36: the measuring geometry and the process window are colorimetry's, the preset files the
+    presets' (swatch.presets.files); the finish specification, QC and ``swatch preset`` need no catalog."""
+    found = [f"{m} -> {t}" for m in MODULES if m.startswith("swatch.production") or m == "swatch.commands.preset"
+             for t, _, _ in GRAPH[m] if t.startswith("swatch.catalog")]
+    assert found == []
+
+
+def test_code_hash_follows_imports():
+    """Issue #36: the caches' code key (swatch.core.sources.code_hash) covers what a computation imports,
+    through package faces (PEP 562) and lazy imports: a tile's key covers the dispatcher and both engines,
+    a preset fit's the geometry the presets' models import (a hand list missed physics/geometry.py)."""
+    from swatch.core.sources import imported_modules
+
+    tiles = imported_modules("swatch.catalog.tiles")
+    assert {"swatch.render.dispatch", "swatch.render.request", "swatch.render.pointlight", "swatch.render.env_render",
+            "swatch.render.mitsuba.engine", "swatch.physics.optics"} <= set(tiles)
+    assert "swatch.physics.geometry" in imported_modules("swatch.catalog.presets")
+    assert "swatch.commands.render" not in tiles

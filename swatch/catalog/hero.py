@@ -26,8 +26,8 @@ from swatch.catalog.folder import remove_tree
 from swatch.catalog.layout import HEROES
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.safepath import is_regular_file
+from swatch.core.sources import code_hash
 from swatch.io.imageio import write_png
-from swatch.render import request as request_module
 from swatch.render.dispatch import ENGINES, engine_unavailable, engine_version
 from swatch.render.request import render_request
 
@@ -70,11 +70,7 @@ def hero_unavailable(spec) -> str | None:
 
 @functools.lru_cache(maxsize=1)
 def _code_hash() -> str:
-    eng = Path(request_module.__file__).resolve().parent / "mitsuba"  # the engine's files
-    h = hashlib.sha256()
-    for f in [*sorted(eng.glob("*.py")), Path(__file__).resolve()]:
-        h.update(f.name.encode() + b"\0" + f.read_bytes())
-    return h.hexdigest()
+    return code_hash(__name__)  # this module and what it imports: the request, the Mitsuba engine (lazily)
 
 
 def _lobe(spec):

@@ -63,25 +63,6 @@ def output_name(name, what: str) -> str:
     return plain_name(name, what)
 
 
-def preset_file_name(ident: str, fmt: str) -> str:
-    """A preset's file name in the catalog folder (in its ``presets/``).
-
-    Parameters
-    ----------
-    ident : str
-        The swatch id.
-    fmt : str
-        ``gltf``, ``blender`` or ``materialx``.
-
-    Returns
-    -------
-    str
-    """
-    return {"gltf": f"preset_{ident}.gltf", "blender": f"preset_{ident}_blender.py",
-            "materialx": f"preset_{ident}.mtlx", "mitsuba": f"preset_{ident}_mitsuba.xml",
-            "mitsuba_json": f"preset_{ident}_mitsuba.json"}[fmt]
-
-
 def subfolders_of(names) -> list[str]:
     """The subfolders output names pass through.
 

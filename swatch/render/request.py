@@ -7,8 +7,8 @@ progress callback and return a :class:`swatch.render.image.SwatchImage`; they re
 holds and check nothing again (tests/test_layers.py pins it). A series of thicknesses reuses one
 request (:meth:`RenderRequest.with_thickness` checks the new thickness alone).
 
-Nothing here imports Mitsuba: the checks of the ``mitsuba`` engine's size, samples and seed are plain
-arithmetic on :mod:`swatch.core.limits`.
+Nothing here imports Mitsuba: the checks of the ``mitsuba`` engine's size, samples, seed, window and
+exposure (:mod:`swatch.render.checks`) are plain arithmetic on :mod:`swatch.core.limits`.
 """
 from __future__ import annotations
 
@@ -20,19 +20,18 @@ from typing import Any, TypedDict, Unpack
 
 from swatch.colorimetry.colorimeter import Colorimeter, check_rgb_space
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_DISPLAY_EXPOSURE, MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
 from swatch.physics import microfacet
 from swatch.physics.finishes import Finish
 from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render import shading
+from swatch.render.checks import check_exposure, check_mitsuba_request, check_window_px
 from swatch.render.image import check_background, check_finish_lighting, check_size_px
 from swatch.render.lighting import Lighting, Sun, check_engine, lighting_for
 from swatch.render.metadata import coating_and_colorimeter
 from swatch.render.scene import Scene, check_shape, make_scene
 
-__all__ = ["RenderRequest", "RenderOptions", "Progress", "render_request", "check_spp", "check_seed",
-           "check_mitsuba_request", "check_window_px", "check_exposure"]
+__all__ = ["RenderRequest", "RenderOptions", "Progress", "render_request"]
 
 #: A progress callback: ``progress(done, total)`` after each pass (the Mitsuba engine's passes).
 Progress = Callable[[int, int], None]
@@ -44,7 +43,45 @@ _MITSUBA_SCENE_LIGHT_DEG = 45.0
 
 class RenderOptions(TypedDict, total=False):
     """The keyword options of :func:`render_request` and :func:`swatch.render.render_swatch` (each
-    described there)."""
+    described in full there; all optional).
+
+    Attributes
+    ----------
+    light_deg : float
+        Point light's polar angle, degrees from the normal (builtin).
+    roughness_alpha : float or (float, float)
+        GGX/Beckmann α (dimensionless), or (α_u, α_v) (mitsuba).
+    model, distribution, space : str
+        Intensity model, facet distribution, RGB primaries of the linear image.
+    coating, colorimeter
+        The film (:class:`swatch.physics.model.Coating`) and the colorimetry of the metadata's Lab.
+    workers : int or None
+        Threads of the point-light engine.
+    environment
+        The lighting (a name, a map's path, an Environment or a resolved Lighting; None: point light).
+    background : str or None
+        ``grey``, ``white`` or ``environment``.
+    view_deg, view_azimuth_deg : float
+        The camera's polar angle and azimuth, degrees.
+    mesh, finish
+        A mesh to render instead of the shape; a named surface finish.
+    engine : str
+        ``builtin`` or ``mitsuba``.
+    spp, seed : int
+        Mitsuba's samples per pixel and seed.
+    sun : Sun or None
+        The sun of ``environment="sun"`` (mitsuba).
+    exposure : float or None
+        Mitsuba's display exposure factor (1/64–64).
+    window_px : (int, int, int, int) or None
+        Mitsuba's film window, pixels.
+    variant : str or None
+        Mitsuba variant.
+    bsdf_override : dict or None
+        Another BSDF for Mitsuba (tests, benchmarks).
+    denoise : bool
+        Mitsuba: denoise (issue 37).
+    """
 
     light_deg: float
     roughness_alpha: float | tuple[float, float]
@@ -207,154 +244,6 @@ class RenderRequest:
             A copy holding the new thickness.
         """
         return dataclasses.replace(self, thickness_nm=float(check_thickness_nm(float(thickness_nm))))
-
-
-def _whole_number(value, what: str, low: int, high: int) -> int:
-    """``value`` as an int when it is a whole number from ``low`` to ``high``; else a SwatchError."""
-    try:
-        ok = float(value) == int(value)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not low <= int(value) <= high:
-        raise SwatchError(f"{what} must be a whole number from {low} to {high}, got {value!r}")
-    return int(value)
-
-
-def check_spp(spp) -> int:
-    """Samples per pixel, checked: a whole number from 1 to ``MAX_SPP``.
-
-    Parameters
-    ----------
-    spp : int
-        Samples per pixel of a Mitsuba render.
-
-    Returns
-    -------
-    int
-        ``spp`` as an int.
-
-    Raises
-    ------
-    SwatchError
-        Otherwise.
-    """
-    return _whole_number(spp, "samples per pixel", 1, MAX_SPP)
-
-
-def check_seed(seed) -> int:
-    """The sampler's seed, checked: a whole number from 0 to ``MAX_SEED``.
-
-    Parameters
-    ----------
-    seed : int
-        The Mitsuba sampler's seed (equal seeds give equal images).
-
-    Returns
-    -------
-    int
-        ``seed`` as an int.
-
-    Raises
-    ------
-    SwatchError
-        Otherwise.
-    """
-    return _whole_number(seed, "seed", 0, MAX_SEED)
-
-
-def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
-    """A Mitsuba render's size, samples and seed, checked before anything is loaded.
-
-    Parameters
-    ----------
-    size_px : int
-        Pixels per side, at most :data:`swatch.core.limits.MAX_MITSUBA_PX`.
-    spp : int
-        Samples per pixel (:func:`check_spp`).
-    seed : int
-        The sampler's seed (:func:`check_seed`).
-
-    Returns
-    -------
-    tuple of int
-        ``(size, spp, seed)``.
-
-    Raises
-    ------
-    SwatchError
-        One line, for a value out of range or size² × spp above ``MAX_MITSUBA_SAMPLES``.
-    """
-    try:
-        size = int(size_px)
-        ok = float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
-    spp = check_spp(spp)
-    seed = check_seed(seed)
-    if size * size * spp > MAX_MITSUBA_SAMPLES:
-        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
-                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower `spp` or `size_px`)")
-    return size, spp, seed
-
-
-def check_window_px(window_px, size: int) -> tuple[int, int, int, int] | None:
-    """A film window, checked: four whole numbers inside the ``size``² image, or None.
-
-    Parameters
-    ----------
-    window_px : (int, int, int, int) or None
-        ``(x, y, width, height)`` in pixels from the image's top-left corner.
-    size : int
-        The image's side, pixels.
-
-    Returns
-    -------
-    tuple of int or None
-        The window as ints.
-
-    Raises
-    ------
-    SwatchError
-        Not four whole numbers with the window inside the image (naming ```window_px```).
-    """
-    if window_px is None:
-        return None
-    try:
-        x, y, w, h = (int(v) for v in window_px)
-        ok = [float(v) for v in window_px] == [x, y, w, h] and x >= 0 and y >= 0 and w >= 1 and h >= 1
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or x + w > size or y + h > size:
-        raise SwatchError(f"window_px must be (x, y, width, height) in whole pixels inside the {size}x{size} "
-                          f"image, got {window_px!r}")
-    return x, y, w, h
-
-
-def check_exposure(exposure) -> float:
-    """A display exposure, checked: a finite factor from 1/``MAX_DISPLAY_EXPOSURE`` to ``MAX_DISPLAY_EXPOSURE``.
-
-    Parameters
-    ----------
-    exposure : float
-        Factor on the linear image before display encoding (1: the white diffuser is display white).
-
-    Returns
-    -------
-    float
-        ``exposure`` as a float.
-
-    Raises
-    ------
-    SwatchError
-        Out of range.
-    """
-    k = float(exposure)
-    if not (math.isfinite(k) and 1.0 / MAX_DISPLAY_EXPOSURE <= k <= MAX_DISPLAY_EXPOSURE):
-        raise SwatchError(f"display exposure must be from {1.0 / MAX_DISPLAY_EXPOSURE:g} to "
-                          f"{MAX_DISPLAY_EXPOSURE:g}, got {exposure!r}")
-    return k
 
 
 def _lobe(roughness_alpha, finish: Finish | None) -> tuple[float, ...]:

@@ -18,10 +18,10 @@ import pytest
 
 from swatch.catalog.context import catalog_context
 from swatch.catalog.explorer import explorer_data
-from swatch.catalog.records import process_window
 from swatch.catalog.spec import parse_spec
 from swatch.colorimetry.colorimeter import hex_to_Lab
 from swatch.colorimetry.tolerance import get_tolerance
+from swatch.colorimetry.window import process_window
 from swatch.fit.matching import judge_candidates, match_colour
 from swatch.physics.microfacet import D_ratio, ggx_reflectance_factor_cos
 

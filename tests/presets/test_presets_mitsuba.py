@@ -13,7 +13,8 @@ import colour
 import numpy as np
 import pytest
 
-from swatch.catalog.presets_mitsuba import mitsuba_presets, single_mitsuba_preset
+from swatch.catalog.presets_mitsuba import mitsuba_presets
+from swatch.presets.files import single_mitsuba_preset
 from swatch.colorimetry.colorimeter import delta_E_00
 from tests.mitsuba_setup import jit_of, mitsuba_variant
 

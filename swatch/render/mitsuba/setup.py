@@ -1,5 +1,5 @@
 """Setting Mitsuba 3 up: the system libLLVM its JIT needs, the variant and the one-line hint (a render's
-size, samples per pixel and seed are checked with the request: :mod:`swatch.render.request`).
+size, samples per pixel and seed are checked with the request: :mod:`swatch.render.checks`).
 
 Mitsuba's ``llvm_ad_*`` variants compile kernels with Dr.Jit's LLVM backend, which loads a
 system ``libLLVM`` through the LLVM C API at run time. On Debian the one that works with Mitsuba
