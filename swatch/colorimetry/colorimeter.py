@@ -236,6 +236,7 @@ class Colorimeter:
         Returns
         -------
         numpy.ndarray, shape (..., 3)
+            CIELAB (L*, a*, b*) under this colorimeter's illuminant and observer.
         """
         return self.Lab(self.XYZ(reflectance))
 
@@ -278,6 +279,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
+            The RGB primaries (and white, Bradford-adapted) of the output.
 
         Returns
         -------
@@ -300,6 +302,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
+            The RGB primaries and transfer function of the output.
 
         Returns
         -------
@@ -323,6 +326,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
+            Spectral reflectance factors (0–1) on this colorimeter's wavelength grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -339,6 +343,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
+            Spectral reflectance factors (0–1) on this colorimeter's wavelength grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -363,12 +368,16 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
     Parameters
     ----------
     wavelength_nm : array_like, shape (W,), nm
+        The spectra's wavelength grid, nm (evenly spaced; the CMFs and illuminant are interpolated onto it).
     illuminant : str
+        CIE illuminant name of colour-science (``D65``, ``D50``, ``A``, ``F11``, …): the light of the Lab values.
     observer : {"10", "2"}
+        Standard observer of the Lab values: CIE 1964 10° (the default) or CIE 1931 2°.
 
     Returns
     -------
     Colorimeter
+        Weights of the reflectance spectra to XYZ (Y = 100 for a perfect white), white point, and the 2° display colorimeter.
     """
     return _cached(tuple(np.asarray(wavelength_nm, dtype=float).tolist()), str(illuminant), str(observer))
 
@@ -403,6 +412,7 @@ def delta_E_00(Lab1, Lab2) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (...)
+        CIEDE2000 colour difference ΔE00 (dimensionless, kL = kC = kH = 1), the broadcast shape of the inputs.
     """
     return colour.difference.delta_E_CIE2000(np.asarray(Lab1), np.asarray(Lab2))
 
@@ -413,6 +423,7 @@ def Lab_to_LCh(Lab) -> np.ndarray:
     Parameters
     ----------
     Lab : array_like, shape (..., 3)
+        CIELAB colours (L* 0–100, a*, b*).
 
     Returns
     -------
@@ -483,6 +494,7 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3,)
+        The colour as (L*, a*, b*), float64.
     """
     # "60,5,30", "60, 5, 30" or "60 5 30" (as the catalog page takes it)
     t = str(text).strip()

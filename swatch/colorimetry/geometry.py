@@ -58,6 +58,7 @@ class Geometry:
         Returns
         -------
         float or None
+            None (the view opposite the light, azimuth light + 180°) or 0.0 (the light's side), degrees.
         """
         return None if self.view_side == "opposite" else 0.0
 
@@ -80,6 +81,7 @@ class Geometry:
         Returns
         -------
         dict
+            ``name``, ``light_deg``, ``view_deg``, ``view_side``, ``aspecular_deg`` (multi-angle) and ``theta_d_deg`` (degrees).
         """
         out = {"name": self.name, "light_deg": self.light_deg, "view_deg": self.view_deg,
                "view_side": self.view_side}
@@ -103,6 +105,7 @@ def geometry_name(light: float, aspecular: float) -> str:
     Returns
     -------
     str
+        ``45as15`` for a multi-angle geometry, ``45:0`` for a light/view pair (degrees, ``g`` format).
 
     Examples
     --------

@@ -78,5 +78,6 @@ def colour_names() -> tuple[str, ...]:
     Returns
     -------
     tuple of str
+        Every plain name the rules can give, in rule order.
     """
     return tuple(dict.fromkeys(r[0] for r in NAME_RULES))

@@ -98,6 +98,8 @@ class Tolerance:
         Returns
         -------
         str
+            One line for reports: ``<scheme> grade <grade>: <metric> ≤ <max>`` (e.g. ``csaj grade C: ΔE*ab ≤ 6.5``),
+            or the metric and its bound alone.
         """
         grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
         return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
@@ -123,6 +125,7 @@ class Tolerance:
         Returns
         -------
         dict
+            ``metric``, ``max``, ``scheme``, ``grade`` and ``description`` (JSON-ready).
         """
         return {"metric": self.metric, "max": self.max, "scheme": self.scheme, "grade": self.grade,
                 "description": self.description}
@@ -148,6 +151,7 @@ def schemes() -> list[str]:
     Returns
     -------
     list of str
+        The grading schemes of the table (``csaj``, …), sorted.
     """
     return sorted(_table())
 
@@ -214,6 +218,7 @@ def grade_bound(name: str, scheme: str = DEFAULT_SCHEME) -> float:
     Returns
     -------
     float
+        The grade's largest colour difference, in the scheme's own metric (ΔE*ab or ΔE2000).
 
     Raises
     ------
@@ -320,6 +325,7 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
     Returns
     -------
     Tolerance
+        The metric (``dEab`` or ``dE00``), its bound, and the scheme and grade it came from (if any).
 
     Raises
     ------
@@ -348,6 +354,7 @@ def parse_tolerance(text: str) -> Tolerance:
     Returns
     -------
     Tolerance
+        The metric (``dEab`` or ``dE00``), its bound, and the scheme and grade it came from (if any).
 
     Raises
     ------

@@ -59,7 +59,9 @@ def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search
     Parameters
     ----------
     coating : swatch.physics.model.Coating
+        The film on its substrate (wavelength grid, index scale, spread).
     cm : swatch.colorimetry.colorimeter.Colorimeter
+        The colorimetry the tolerance is judged in (illuminant, observer).
     d : numpy.ndarray, shape (N,)
         Nominal thicknesses, nm.
     g : swatch.colorimetry.geometry.Geometry

@@ -74,6 +74,7 @@ class Finish:
         Returns
         -------
         bool
+            True when α_u ≠ α_v (a brushed finish).
         """
         return self.alpha_u != self.alpha_v
 
@@ -141,6 +142,7 @@ def get_finish(name: str) -> Finish:
     Returns
     -------
     Finish
+        The named finish: its GGX α_u, α_v (dimensionless) and description.
 
     Raises
     ------

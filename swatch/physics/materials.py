@@ -216,6 +216,7 @@ def tables_dir() -> Path:
     Returns
     -------
     pathlib.Path
+        The package's ``tables/`` folder (optical constants, tolerance grades, processes).
 
     Raises
     ------

@@ -114,6 +114,7 @@ class Process:
         Returns
         -------
         str
+            The profile's name and, when overridden, what was changed (one line).
         """
         return self.name + (f", thickness spread{self.spread.text()}" if not self.spread.is_zero else "")
 
@@ -124,6 +125,7 @@ class Process:
         Returns
         -------
         bool
+            True when a growth rate (nm/V) is known, so voltages can be given.
         """
         return self.nm_per_V is not None
 
@@ -181,6 +183,7 @@ class Process:
         Returns
         -------
         swatch.physics.model.Coating
+            The film on the substrate on that grid, with the profile's index scale and thickness spread.
         """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
@@ -418,6 +421,7 @@ def load_process(name_or_path: str) -> Process:
     Returns
     -------
     Process
+        The profile: film, substrate, growth law (nm/V, offset nm, knee), index scale, roughness, spread, sources.
 
     Raises
     ------
@@ -447,6 +451,7 @@ def list_processes() -> list[Process]:
     Returns
     -------
     list of Process
+        The built-in profiles, by name.
     """
     return [load_process(n) for n in preset_names()]
 
@@ -465,6 +470,7 @@ def process_toml(p: Process, header: str = "") -> str:
     Parameters
     ----------
     p : Process
+        The profile to write.
     header : str, optional
         Lines written first as ``#`` comments.
 
