@@ -1,20 +1,22 @@
 """Colorimetry through colour-science: spectra -> XYZ -> CIELAB / LCh -> display RGB, and ΔE.
 
-A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its
-weights (W, 3) are obtained from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the
-method ``colour.sd_to_XYZ`` uses by default) applied to the unit impulses of the grid. Because
-that conversion is linear in the reflectance, ``R @ weights`` equals ``colour.sd_to_XYZ`` of any
-spectrum R on the grid, and many spectra convert in one matrix product.
+A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its weights (W, 3) are obtained
+from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the method ``colour.sd_to_XYZ`` uses by default)
+applied to the unit impulses of the grid. Because that conversion is linear in the reflectance, ``R @ weights`` equals
+``colour.sd_to_XYZ`` of any spectrum R on the grid, and many spectra convert in one matrix product. Scale: XYZ has
+Y = 100 for the perfect reflecting diffuser (colour-science's convention); CIELAB uses the illuminant's own white.
 
-Scale: XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's convention);
-CIELAB uses the illuminant's own white under the chosen observer.
+Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1), whatever observer the
+Lab numbers use: every RGB value comes from the spectrum through the colorimeter's
+:attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer; the colorimeter itself when it is
+already 2°). :meth:`Colorimeter.display_XYZ` gives those tristimulus values, :meth:`Colorimeter.rgb_linear` /
+:meth:`Colorimeter.display` take them, and :meth:`Colorimeter.reflectance_rgb` /
+:meth:`Colorimeter.reflectance_display` go from spectra.
 
-Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1),
-whatever observer the Lab numbers use: every RGB value comes from the spectrum through the
-colorimeter's :attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer;
-the colorimeter itself when it is already 2°). :meth:`Colorimeter.display_XYZ` gives those
-tristimulus values, :meth:`Colorimeter.rgb_linear` / :meth:`Colorimeter.display` take them, and
-:meth:`Colorimeter.reflectance_rgb` / :meth:`Colorimeter.reflectance_display` go from spectra.
+References
+----------
+CIE 015:2018, doi:10.25039/TR.015.2018 (observers, CIELAB, ΔE*ab); ASTM E308-22, doi:10.1520/E0308-22; Sharma, Wu
+and Dalal (2005), doi:10.1002/col.20070 (CIEDE2000); IEC 61966-2-1:1999 (sRGB); colour-science, doi:10.5281/zenodo.3757045.
 """
 from __future__ import annotations
 
@@ -28,21 +30,8 @@ import numpy as np
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_LAB_AB
 
-__all__ = [
-    "OBSERVERS",
-    "DISPLAY_OBSERVER",
-    "RGB_SPACES",
-    "check_rgb_space",
-    "Colorimeter",
-    "get_colorimeter",
-    "illuminant_names",
-    "delta_E_ab",
-    "delta_E_00",
-    "Lab_to_LCh",
-    "srgb_hex",
-    "hex_to_Lab",
-    "parse_Lab",
-]
+__all__ = ["OBSERVERS", "DISPLAY_OBSERVER", "RGB_SPACES", "check_rgb_space", "Colorimeter", "get_colorimeter",
+           "illuminant_names", "delta_E_ab", "delta_E_00", "Lab_to_LCh", "srgb_hex", "hex_to_Lab", "parse_Lab"]
 
 OBSERVERS = {
     "10": "CIE 1964 10 Degree Standard Observer",

@@ -6,6 +6,11 @@ colour difference the table's ``metric`` column names (both shipped schemes boun
 maximum (``dE00:2.0``, or ``{ metric = "dE00", max = 2.0 }`` in a catalog spec). Process
 windows, ``swatch match`` and ``swatch fit`` compare a colour difference computed in the
 tolerance's own metric with its bound; never one metric's number against another's bound.
+
+References
+----------
+CIE 015:2018, doi:10.25039/TR.015.2018 (ΔE*ab); G. Sharma, W. Wu and E. N. Dalal, Color Res. Appl. 30(1),
+21–30 (2005), doi:10.1002/col.20070 (CIEDE2000).
 """
 from __future__ import annotations
 

@@ -3,6 +3,11 @@
 A :class:`Coating` fixes the film and substrate materials and the wavelength grid; its methods
 give the spectral reflectance of the facets that mirror the light into the view (incidence angle
 ``theta_d`` on the half-vector facet, eq. 5) for arrays of thicknesses and geometries.
+
+References
+----------
+M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 2–5 and Table 2.
 """
 from __future__ import annotations
 

@@ -15,6 +15,13 @@ Conventions (the same as Byrnes' ``tmm`` package, our reference):
 Shapes: ``thickness_nm`` and ``incidence_deg`` broadcast together to a shape S; the index arrays
 are given on the wavelength grid (shape (W,)); results have shape ``S + (W,)``. Everything is
 float64 / complex128 and vectorised by broadcasting: no loops over thickness, angle or wavelength.
+
+References
+----------
+M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6 and §7.6 (Cambridge University Press, 1999),
+doi:10.1017/CBO9781139644181 (Fresnel coefficients, Airy summation of a thin film).
+S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016), doi:10.48550/arXiv.1603.02720 (tmm).
+M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 2–4.
 """
 from __future__ import annotations
 
@@ -308,15 +315,8 @@ class FilmAtAngles:
         return _sweep(self, thickness_start_nm, thickness_step_nm, count)
 
 
-def film_reflectance_cos(
-    thickness_nm,
-    cos_incidence,
-    wavelength_nm,
-    n_film,
-    n_substrate,
-    n_ambient: float = 1.0,
-    amplitudes: bool = False,
-) -> Reflectance:
+def film_reflectance_cos(thickness_nm, cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0,
+                         amplitudes: bool = False) -> Reflectance:
     """Airy reflectance of one film, with the incidence angle given by its cosine.
 
     Parameters
@@ -374,16 +374,8 @@ def _pole_form(a: np.ndarray | complex, b: np.ndarray) -> tuple[np.ndarray, np.n
     return K, z
 
 
-def film_reflectance_sweep(
-    thickness_start_nm: float,
-    thickness_step_nm: float,
-    count: int,
-    incidence_deg,
-    wavelength_nm,
-    n_film,
-    n_substrate,
-    n_ambient: float = 1.0,
-) -> Reflectance:
+def film_reflectance_sweep(thickness_start_nm: float, thickness_step_nm: float, count: int, incidence_deg, wavelength_nm,
+                           n_film, n_substrate, n_ambient: float = 1.0) -> Reflectance:
     """Reflectance over an evenly spaced thickness sweep ``start + step * j``, ``j < count``.
 
     It equals :func:`film_reflectance` on the same thicknesses to rounding, and is faster for
@@ -463,15 +455,8 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
     return Reflectance(R_s=R_s, R_p=R_p)
 
 
-def film_reflectance(
-    thickness_nm,
-    incidence_deg,
-    wavelength_nm,
-    n_film,
-    n_substrate,
-    n_ambient: float = 1.0,
-    amplitudes: bool = False,
-) -> Reflectance:
+def film_reflectance(thickness_nm, incidence_deg, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0,
+                     amplitudes: bool = False) -> Reflectance:
     """Airy reflectance (multiple reflections included) of ambient / film / substrate.
 
     Parameters

@@ -8,6 +8,10 @@ or the calibration that produced them (``[calibration]``, written by ``swatch ca
 
 A profile file is untrusted input: its size is capped before it is parsed, unknown keys are
 refused, every number is range-checked, and every error is one line naming the file.
+
+References
+----------
+M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the default profile: 50.8 nm at 25 V).
 """
 from __future__ import annotations
 

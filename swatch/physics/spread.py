@@ -17,6 +17,10 @@ reflectance evaluation.
 
 A zero spread is no averaging at all: callers keep the uniform film's code path, so its outputs
 stay byte-identical.
+
+References
+----------
+M. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030 (the film's non-uniformity).
 """
 from __future__ import annotations
 
