@@ -48,15 +48,8 @@ MAX_FUNCTION_IMPORTS = 10
 #: No library function takes more parameters than this (a parameter object where more belong together;
 #: the click commands in commands/ are excepted: a command's parameters are its options) (#36).
 MAX_PARAMETERS = 12
-#: Functions over MAX_PARAMETERS, each with its reason (to group; the list only shrinks).
-OVER_PARAMETER_CAP = {
-    "swatch.fit.lab_fit.fit_lab": "to group: film, substrate, film_index_scale, spread, wavelength_nm are a Coating "
-                                  "(with fit_spectra and fit_measurement, which forward them)",
-    "swatch.fit.matching.match_colour": "to group: the four angles are one measuring geometry; nm_per_V, grade and "
-                                        "scheme are superseded by judge_candidates(res, voltage_of, tolerance)",
-    "swatch.fit.calibration._result": "to group: the fit's outcome (fit, se, outlier, record, ranking, table) is one "
-                                      "object",
-}
+#: Functions over MAX_PARAMETERS, each with its reason (the list only shrinks; empty since #36).
+OVER_PARAMETER_CAP: dict[str, str] = {}
 #: The engines' render functions (swatch.render.dispatch.ENGINES): they render a checked
 #: swatch.render.request.RenderRequest and check none of its fields again (#36).
 ENGINE_FUNCTIONS = {
