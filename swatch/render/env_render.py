@@ -53,6 +53,7 @@ def check_env_size_px(size_px: int) -> int:
     Returns
     -------
     int
+        ``size_px`` as an int.
 
     Raises
     ------
@@ -161,15 +162,18 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     size : int
         Pixels per side.
     env : swatch.render.environment.Environment
+        The lighting (normalised: a white diffuser facing up reflects 1).
     roughness_alpha : float
         GGX α (ignored for an anisotropic finish).
     background : str
         ``grey``, ``white`` or ``environment``.
     finish : swatch.physics.finishes.Finish, optional
+        An anisotropic finish's lobe (brushed); None: the isotropic ``roughness_alpha``.
 
     Returns
     -------
     Prepared
+        The scene's thickness-independent gather (cached on ``scene_key``).
     """
 
     aniso = finish is not None and finish.anisotropic

@@ -81,6 +81,7 @@ class Sun:
         Returns
         -------
         bool
+            True when latitude and longitude are set.
         """
         return self.latitude_deg is not None
 
@@ -90,6 +91,7 @@ class Sun:
         Returns
         -------
         str
+            The sun and sky in words (angles, or place, date and time; turbidity).
         """
         if self.by_place:
             return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie) at latitude {self.latitude_deg:g}, longitude "
@@ -113,6 +115,7 @@ def check_sun(sun: Sun) -> Sun:
     Parameters
     ----------
     sun : Sun
+        The sun by angles or by place and time.
 
     Returns
     -------
@@ -287,6 +290,7 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
     Returns
     -------
     Lighting
+        The lighting checked for ``engine`` (reuse it across renders).
 
     Raises
     ------
