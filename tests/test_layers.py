@@ -444,3 +444,21 @@ def test_code_hash_follows_imports():
             "swatch.render.mitsuba.engine", "swatch.physics.optics"} <= set(tiles)
     assert "swatch.physics.geometry" in imported_modules("swatch.catalog.presets")
     assert "swatch.commands.render" not in tiles
+
+
+def test_the_render_command_parses_without_the_mitsuba_engine():
+    """Issue #36: ``swatch render`` imported ``Sun`` from the Mitsuba scene module while parsing; ``Sun`` lives in
+    swatch.render.lighting, and parsing the sun options (or printing --help) loads no swatch.render.mitsuba
+    module, nor Mitsuba or Dr.Jit."""
+    import subprocess
+    import sys
+
+    code = ("import sys, contextlib, io\n"
+            "from swatch.commands.render import _sun, render\n"
+            "sun = _sun(30.0, 10.0, None, None, None, None, None)\n"
+            "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+            "    render.main(['--help'], standalone_mode=True)\n"
+            "print(type(sun).__module__, sorted(m for m in sys.modules if m.split('.')[0] in ('mitsuba', 'drjit') "
+            "or m.startswith('swatch.render.mitsuba')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split(" ", 1)
+    assert out[0] == "swatch.render.lighting" and ast.literal_eval(out[1]) == []
