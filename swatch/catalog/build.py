@@ -76,9 +76,11 @@ class BuildResult:
     Attributes
     ----------
     out_dir : pathlib.Path
+        The catalog folder.
     noop : bool
         The catalog was up to date (nothing written).
     swatches, sheets : int
+        How many swatches and sheets the catalog has.
     rendered : int
         Tiles rendered (not from the cache).
     composed : int
@@ -175,6 +177,7 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: Progres
     Returns
     -------
     BuildResult
+        What the build did: no-op or not, counts of tiles rendered and sheets written, wall time (s), files.
     """
     t0 = time.perf_counter()
     say = log or (lambda msg: None)

@@ -50,6 +50,7 @@ def check_buildable(spec: CatalogSpec) -> CatalogContext:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------

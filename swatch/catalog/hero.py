@@ -45,10 +45,12 @@ def hero_name(rec: dict) -> str:
     Parameters
     ----------
     rec : dict
+        The swatch's record (its ``id``).
 
     Returns
     -------
     str
+        ``heroes/hero_<id>.png``.
     """
     return f"{HEROES}/hero_{rec['id']}.png"
 
@@ -59,10 +61,12 @@ def hero_unavailable(spec) -> str | None:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     str or None
+        Why not (Mitsuba missing, no usable libLLVM), or None when hero renders can be made.
     """
     why = engine_unavailable("mitsuba")
     return None if why is None else f"hero renders skipped: {why}"
@@ -85,11 +89,14 @@ def hero_key(spec, thickness_nm: float) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec. (film, finish, spread).
     thickness_nm : float
+        The swatch's film thickness, nm.
 
     Returns
     -------
     str
+        40 hex digits (the cache entry's name).
     """
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
            "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": HERO_SIZE_PX, "spp": HERO_SPP,
@@ -118,8 +125,11 @@ def hero_files(spec, records: list[dict], cache: Path,
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     records : list of dict
+        The swatches' records (``id``, ``thickness_nm``).
     cache : pathlib.Path
+        The catalog's build cache (untrusted: entries are checked before use).
     say : callable, optional
         Receives one line.
 
@@ -182,11 +192,14 @@ def prune_heroes(cache: Path, used: set[str]) -> None:
     Parameters
     ----------
     cache : pathlib.Path
+        The catalog's build cache.
     used : set of str
+        The cache entries the build used (kept).
 
     Returns
     -------
     None
+        Returns when the unused entries are removed.
     """
     for p in cache.glob("hero-*.png"):
         if p.name not in used:

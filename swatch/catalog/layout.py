@@ -35,12 +35,14 @@ def output_name(name, what: str) -> str:
     Parameters
     ----------
     name : object
+        A name read back from the catalog's metadata (untrusted).
     what : str
         Names the metadata in messages.
 
     Returns
     -------
     str
+        ``name``, checked.
 
     Raises
     ------
@@ -199,10 +201,12 @@ def sheet_count(manifest: dict) -> int:
     Parameters
     ----------
     manifest : dict
+        A catalog's manifest (its ``files``).
 
     Returns
     -------
     int
+        How many sheets (PNG) the manifest lists.
 
     Examples
     --------

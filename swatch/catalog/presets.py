@@ -57,12 +57,14 @@ def fit_key(spec, extra_angles) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     extra_angles : sequence of float
         The catalog's facet angles the fits weigh in, degrees.
 
     Returns
     -------
     str
+        32 hex digits (the cache entry's name).
     """
     # this module and every module it imports (the presets' models, the optics, the colorimetry), and the
     # three.js table the threejs model reads
@@ -132,6 +134,7 @@ def fit_format(spec, fmt: str):
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     fmt : str
         ``gltf``, ``blender`` or ``materialx``.
 
@@ -194,7 +197,9 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     records : list of dict
+        The swatches' records (JSON view; read only).
     cache : pathlib.Path or None
         The build cache (None: fit every time).
 

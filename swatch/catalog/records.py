@@ -137,10 +137,12 @@ def compute(ctx: CatalogContext) -> CatalogData:
     Parameters
     ----------
     ctx : swatch.catalog.context.CatalogContext
+        The build's context: the spec, wavelength grid, coating, colorimeters and tolerance.
 
     Returns
     -------
     CatalogData
+        Every swatch's spectra, colours, neighbours' ΔE, process window and typed record.
     """
 
     spec = ctx.spec
@@ -240,10 +242,13 @@ def process_json(spec) -> dict:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     dict
+        The catalog's process: profile name and origin, growth rate (nm/V), offset (nm), knee (V) if any,
+        film index scale, thickness spread, and the growth law in words.
     """
     knee = {} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}
     law = ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None
