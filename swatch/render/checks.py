@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import math
 
+from swatch.core.choices import SPECTRAL_VARIANTS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_DISPLAY_EXPOSURE, MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
 
-__all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure"]
+__all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure", "check_variant"]
 
 
 def _whole_number(value, what: str, low: int, high: int) -> int:
@@ -158,3 +159,28 @@ def check_exposure(exposure) -> float:
         raise SwatchError(f"display exposure must be from {1.0 / MAX_DISPLAY_EXPOSURE:g} to "
                           f"{MAX_DISPLAY_EXPOSURE:g}, got {exposure!r}")
     return k
+
+
+def check_variant(variant: str) -> str:
+    """A Mitsuba variant the plugin can run in (a spectral one).
+
+    Parameters
+    ----------
+    variant : str
+        A Mitsuba variant name (:data:`swatch.core.choices.SPECTRAL_VARIANTS`).
+
+    Returns
+    -------
+    str
+        ``variant`` (stripped).
+
+    Raises
+    ------
+    SwatchError
+        Naming the choices, for another variant.
+    """
+    key = str(variant).strip()
+    if key not in SPECTRAL_VARIANTS:
+        raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
+                          f"variant: {', '.join(SPECTRAL_VARIANTS)}")
+    return key

@@ -19,13 +19,14 @@ from dataclasses import dataclass
 from typing import Any, TypedDict, Unpack
 
 from swatch.colorimetry.colorimeter import Colorimeter, check_rgb_space
+from swatch.core.choices import DEFAULT_VARIANT
 from swatch.core.errors import SwatchError
 from swatch.physics import microfacet
 from swatch.physics.finishes import Finish
 from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render import shading
-from swatch.render.checks import check_exposure, check_mitsuba_request, check_window_px
+from swatch.render.checks import check_exposure, check_mitsuba_request, check_variant, check_window_px
 from swatch.render.image import check_background, check_finish_lighting, check_size_px
 from swatch.render.lighting import Lighting, Sun, check_engine, lighting_for
 from swatch.render.metadata import coating_and_colorimeter
@@ -172,7 +173,7 @@ class RenderRequest:
     window_px : (int, int, int, int) or None
         Mitsuba: ``(x, y, width, height)`` pixels of the image to render alone (film crop).
     variant : str or None
-        Mitsuba variant (None: :data:`swatch.render.mitsuba.setup.DEFAULT_VARIANT`).
+        Mitsuba variant (checked; default :data:`swatch.core.choices.DEFAULT_VARIANT`).
     bsdf_override : dict or None
         Mitsuba: another BSDF for the object (tests and benchmarks: Mitsuba's ``roughconductor``).
     denoise : bool
@@ -311,13 +312,14 @@ def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
                           "(or uniform lighting or a map for a grey or white background)")
     exposure = check_exposure(1.0 if o["exposure"] is None else o["exposure"])
     window = check_window_px(o["window_px"], size)
+    variant = check_variant(DEFAULT_VARIANT if o["variant"] is None else o["variant"])
     scene = make_scene(shape, _MITSUBA_SCENE_LIGHT_DEG, o["view_deg"], o["view_azimuth_deg"], o["mesh"])
     return RenderRequest(engine="mitsuba", thickness_nm=d, shape=shape, mesh=o["mesh"], size_px=size, scene=scene,
                          light_deg=_MITSUBA_SCENE_LIGHT_DEG, view_deg=_view(o["view_deg"]),
                          view_azimuth_deg=float(o["view_azimuth_deg"]), lobe=lobe, model=model,
                          distribution=distribution, space=space, background=background, lighting=light,
                          coating=coating, colorimeter=colorimeter, finish=o["finish"], workers=o["workers"], spp=spp,
-                         seed=seed, exposure=exposure, window_px=window, variant=o["variant"],
+                         seed=seed, exposure=exposure, window_px=window, variant=variant,
                          bsdf_override=o["bsdf_override"], denoise=bool(o["denoise"]))
 
 

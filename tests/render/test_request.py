@@ -74,3 +74,10 @@ def test_a_mitsuba_request_is_checked_without_loading_mitsuba():
             "sorted(m for m in sys.modules if m.split('.')[0] in ('mitsuba', 'drjit')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert out == ["mitsuba", "4", "grey", "1.0", "[]"]
+
+
+def test_a_mitsuba_request_checks_its_variant():
+    """The variant is checked with the request (swatch.render.checks.check_variant), not by the engine."""
+    with pytest.raises(SwatchError, match="spectral"):
+        render_request(80.0, "sphere", 16, engine="mitsuba", variant="llvm_ad_rgb")
+    assert render_request(80.0, "sphere", 16, engine="mitsuba", environment="uniform").variant == "llvm_ad_spectral"

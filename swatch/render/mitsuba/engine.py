@@ -83,7 +83,11 @@ def use_variant(variant: str = DEFAULT_VARIANT) -> str:
         When the variant cannot run here (no usable libLLVM for an ``llvm_*`` one), with what to install.
     """
 
-    variant = check_variant(variant)
+    return _set_variant(check_variant(variant))
+
+
+def _set_variant(variant: str) -> str:
+    """:func:`use_variant` of a variant already checked (a render request's)."""
     if variant.startswith("llvm"):
         path = os.environ.get(ENV_VAR)
         if not path:
@@ -302,8 +306,8 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
     coating, colorimeter, space, background = request.coating, request.colorimeter, request.space, request.background
     light, exposure, spread, bsdf_override = request.lighting, request.exposure, request.spread, request.bsdf_override
     film, substrate, film_index_scale = coating.film, coating.substrate, coating.film_index_scale
-    variant = DEFAULT_VARIANT if request.variant is None else request.variant
-    variant = use_variant(variant)
+    variant = DEFAULT_VARIANT if request.variant is None else request.variant  # (a request's is checked)
+    variant = _set_variant(variant)
 
     scene_geo = request.scene
     bsdf = {"type": PLUGIN_NAME, "thickness_nm": d, "film": film, "substrate": substrate,

@@ -15,7 +15,8 @@ import glob
 import os
 import re
 
-from swatch.core.errors import SwatchError
+from swatch.core.choices import DEFAULT_VARIANT, SPECTRAL_VARIANTS
+from swatch.render.checks import check_variant
 
 __all__ = ["ENV_VAR", "INSTALL_HINT", "SPECTRAL_VARIANTS", "DEFAULT_VARIANT", "find_libllvm", "configure_llvm", "llvm_major",
            "check_variant"]
@@ -24,9 +25,6 @@ ENV_VAR = "DRJIT_LIBLLVM_PATH"
 #: What to install when no usable libLLVM is found (one line, said by ``--engine mitsuba``).
 INSTALL_HINT = ("Mitsuba's LLVM backend needs libLLVM 19: on Debian/Ubuntu `apt-get install libllvm19` "
                 f"(then {ENV_VAR} is found automatically), or set {ENV_VAR} to a libLLVM.so of version 17-20")
-#: The variants the thin-film plugin runs in (it needs the sampled wavelengths).
-SPECTRAL_VARIANTS = ("llvm_ad_spectral", "scalar_spectral", "cuda_ad_spectral")
-DEFAULT_VARIANT = "llvm_ad_spectral"
 #: Oldest libLLVM major that Mitsuba 3.9's JIT runs with (14–16 fail on ``fminimum``).
 OLDEST_LLVM_MAJOR = 17
 _SEARCH = ("/usr/lib/x86_64-linux-gnu/libLLVM.so.*", "/usr/lib/x86_64-linux-gnu/libLLVM-*.so*",
@@ -86,27 +84,3 @@ def configure_llvm() -> str | None:
     if path is not None:
         os.environ[ENV_VAR] = path
     return path
-
-
-def check_variant(variant: str) -> str:
-    """A Mitsuba variant the plugin can run in (a spectral one).
-
-    Parameters
-    ----------
-    variant : str
-
-    Returns
-    -------
-    str
-        ``variant`` (stripped).
-
-    Raises
-    ------
-    SwatchError
-        Naming the choices, for another variant.
-    """
-    key = str(variant).strip()
-    if key not in SPECTRAL_VARIANTS:
-        raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
-                          f"variant: {', '.join(SPECTRAL_VARIANTS)}")
-    return key
