@@ -16,8 +16,8 @@ from benchmarks.timing import bench_spec, median_seconds
 def run() -> list[str]:
     import swatch  # noqa: F401
     from swatch.catalog import chips
-    from swatch.catalog.build import _catalog_header
     from swatch.catalog.context import catalog_context
+    from swatch.catalog.execute import catalog_header
     from swatch.catalog.exports import ase_bytes, cxf_bytes, metal_symbol
     from swatch.catalog.records import compute
     from swatch.catalog.spec import load_spec
@@ -26,7 +26,7 @@ def run() -> list[str]:
         spec_path = bench_spec(tmp)
         spec, _ = load_spec(spec_path)
         data = compute(catalog_context(spec))
-        header = _catalog_header(spec, data, spec_path.name)
+        header = catalog_header(spec, data, spec_path.name)
         (Path(tmp) / "chips").mkdir()  # the catalog folder's chips/ (the build makes it in its staging folder)
 
         def write_all():

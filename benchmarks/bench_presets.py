@@ -16,10 +16,11 @@ from benchmarks.timing import DEFAULT_SPEC, TINY
 
 
 def run() -> list[str]:
-    from swatch.catalog.presets import fit_format, roughness_factor, round_params
+    from swatch.catalog.presets import fit_format
     from swatch.catalog.spec import load_spec
     from swatch.physics.materials import load_material
     from swatch.presets import FORMAT_MODEL, PRESET_FORMATS
+    from swatch.presets.files import roughness_factor, round_params
     from swatch.presets.fit import FIT_ANGLES_DEG, _bare_metal_rgb, errors_delta_E_00, fit_presets
 
     spec, _ = load_spec(DEFAULT_SPEC)

@@ -9,7 +9,9 @@ The public API is listed in :data:`__all__` and loaded on first use (PEP 562), s
 
     >>> import swatch
     >>> coating = swatch.get_coating()                      # TiO2 on Ti, 380-780 nm
-    >>> cm = swatch.get_colorimeter(coating.wavelength_nm)  # D65, CIE 1931 2°
+    >>> cm = swatch.get_colorimeter(coating.wavelength_nm)  # default: D65, CIE 1964 10° (Lab)
+    >>> cm.illuminant, cm.observer                          # (display sRGB is always CIE 1931 2°)
+    ('D65', '10')
     >>> float(swatch.voltage_to_thickness_nm(25.0))         # the paper's growth law (nm)
     50.8
 
@@ -61,6 +63,8 @@ _API = {
     "read_coupons": "swatch.io.coupons",
     # renders
     "render_swatch": "swatch.render.dispatch",
+    "render_request": "swatch.render.request",
+    "RenderRequest": "swatch.render.request",
     "SwatchImage": "swatch.render.image",
     "angular_map": "swatch.render.angular",
     "AngularMap": "swatch.render.angular",

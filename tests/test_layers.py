@@ -32,14 +32,31 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 ALLOWED_FUNCTION_IMPORTS = {
     ("swatch.colorimetry.tolerance", "swatch.colorimetry.colorimeter"):
         "colour-science (seconds to import) only when a ΔE is computed: a no-op catalog rebuild parses tolerances",
-    ("swatch.catalog.build", "swatch.catalog.*"):
-        "the output stages (colour-science, OpenImageIO) load only after the fingerprint check: no-op rebuild ≤ 2 s",
-    ("swatch.catalog.build", "swatch.colorimetry.tolerance"): "as above (the header of a full build)",
+    ("swatch.catalog.build", "swatch.catalog.execute"):
+        "the one seam of a build (#36): the plan (fingerprint, up-to-date check) imports the execute side (the "
+        "stages: colour-science, OpenImageIO) once, after the no-op check: no-op rebuild ≤ 2 s",
     ("swatch.catalog.spec", "swatch.physics.model"):
         "the optics (0.1 s) only when a coating or a voltage is asked for: a no-op rebuild parses the spec without",
     ("swatch.physics.process", "swatch.physics.model"): "as above (a profile parses without the optics)",
     ("swatch.render.dispatch", "swatch.render.mitsuba.engine"):
         "Mitsuba and Dr.Jit (optional; a JIT on libLLVM, seconds to load) only for `engine='mitsuba'` (#23)",
+}
+
+#: At most this many function-level import statements in the library (outside commands/, the CLI and the
+#: package faces), all of them in ALLOWED_FUNCTION_IMPORTS (#36).
+MAX_FUNCTION_IMPORTS = 10
+#: No library function takes more parameters than this (a parameter object where more belong together;
+#: the click commands in commands/ are excepted: a command's parameters are its options) (#36).
+MAX_PARAMETERS = 12
+#: Functions over MAX_PARAMETERS, each with its reason (the list only shrinks; empty since #36).
+OVER_PARAMETER_CAP: dict[str, str] = {}
+#: The engines' render functions (swatch.render.dispatch.ENGINES): they render a checked
+#: swatch.render.request.RenderRequest and check none of its fields again (#36).
+ENGINE_FUNCTIONS = {
+    "swatch.render.dispatch": ("render_builtin",),
+    "swatch.render.pointlight": ("render_pointlight",),
+    "swatch.render.env_render": ("render_swatch_environment",),
+    "swatch.render.mitsuba.engine": ("render_mitsuba",),
 }
 
 MAX_TOP_LEVEL_MODULES = 8
@@ -263,7 +280,7 @@ def test_function_import_counts_are_in_the_graph():
     for t, _, f in GRAPH["swatch.catalog.build"]:
         graph[f].add(t)
     assert "swatch.catalog.spec" in graph[False]
-    assert "swatch.catalog.sheets" in graph[True]
+    assert "swatch.catalog.execute" in graph[True]
 
 
 def test_the_builtin_render_path_never_loads_mitsuba():
@@ -309,3 +326,139 @@ def test_no_test_module_imports_another_test_module():
             found += [f"{path.relative_to(tests)} -> {n}" for n in names
                       if n.split(".")[0] == "tests" and n.rsplit(".", 1)[-1].startswith("test_")]
     assert found == []
+
+
+def _function_imports() -> list[str]:
+    """Every function-level import statement in the library (outside the lazy zone), as "module:line"."""
+    found = []
+    for m, path in MODULES.items():
+        if _is_lazy_zone(m):
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for fn in ast.walk(tree):
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                found += [f"{m}:{n.lineno}" for n in ast.walk(fn) if isinstance(n, (ast.Import, ast.ImportFrom))]
+    return sorted(set(found))
+
+
+def test_few_function_level_imports_in_the_library():
+    """Issue #36: the deferred imports of the library are a handful of seams (the catalog build's plan →
+    execute, the optional Mitsuba engine, colour-science off the no-op rebuild), not one per stage."""
+    found = _function_imports()
+    assert len(found) <= MAX_FUNCTION_IMPORTS, found
+
+
+def test_no_dynamic_imports_outside_the_faces():
+    """Issue #36: no ``importlib.import_module``/``__import__`` in the library outside the package faces and the
+    CLI (a dynamic import is unseen by the import graph above: the hero renders reached the Mitsuba engine so)."""
+    found = []
+    for m, path in MODULES.items():
+        if _is_face(m) or m == "swatch.cli":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call):
+                f = node.func
+                name = f.attr if isinstance(f, ast.Attribute) else f.id if isinstance(f, ast.Name) else ""
+                if name in ("import_module", "__import__"):
+                    found.append(f"{m}:{node.lineno}")
+            elif ((isinstance(node, ast.Import) and any(a.name == "importlib" for a in node.names))
+                  or (isinstance(node, ast.ImportFrom) and node.module == "importlib"
+                      and any(a.name == "import_module" for a in node.names))):
+                found.append(f"{m}:{node.lineno}")
+    assert found == []
+
+
+def _parameter_count(fn: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
+    a = fn.args
+    names = [x.arg for x in (*a.posonlyargs, *a.args, *a.kwonlyargs) if x.arg not in ("self", "cls")]
+    return len(names) + (a.vararg is not None) + (a.kwarg is not None)
+
+
+def test_no_library_function_takes_more_than_12_parameters():
+    """Issue #36: a parameter object (swatch.render.request.RenderRequest, …) where more belong together;
+    click commands (commands/) are excepted."""
+    long = []
+    for m, path in MODULES.items():
+        if m.startswith("swatch.commands"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and _parameter_count(node) > MAX_PARAMETERS:
+                long.append(f"{m}.{node.name}")
+    assert set(long) - set(OVER_PARAMETER_CAP) == set()
+    assert set(OVER_PARAMETER_CAP) <= set(long), "a listed function is back under the cap: drop it from the list"
+
+
+def test_no_engine_re_validates_a_request_field():
+    """Issue #36: a render's inputs are checked once, by swatch.render.request.render_request; the engines'
+    render functions call no check (``check_*``), resolve no lighting, build no coating or scene, and raise
+    no SwatchError of their own about an input (what they raise comes from the scene: a sun below the horizon)."""
+    checks = {"resolve_lighting", "lighting_for", "coating_and_colorimeter", "make_scene", "render_request",
+              "check_finish_lighting", "get_coating", "get_colorimeter"}
+    found = []
+    for m, names in ENGINE_FUNCTIONS.items():
+        tree = ast.parse(MODULES[m].read_text(encoding="utf-8"))
+        fns = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
+        assert set(names) <= set(fns), (m, names)
+        for name in names:
+            for node in ast.walk(fns[name]):
+                if isinstance(node, ast.Call):
+                    f = node.func
+                    called = f.attr if isinstance(f, ast.Attribute) else f.id if isinstance(f, ast.Name) else ""
+                    if called.startswith("check_") or called in checks:
+                        found.append(f"{m}.{name} calls {called}")
+                elif isinstance(node, ast.Raise):
+                    found.append(f"{m}.{name} raises (line {node.lineno})")
+            args = [a.arg for a in fns[name].args.args]
+            assert args[0] == "request", (m, name, args)
+
+
+def test_the_engine_registry_covers_the_engine_choices():
+    """Issue #36: swatch.render.ENGINES has one engine per name of swatch.core.choices.ENGINES (the CLI's
+    ``--engine`` choices), each taking (request, progress)."""
+    import inspect
+
+    from swatch.core.choices import ENGINES as NAMES
+    from swatch.render import ENGINES
+
+    assert tuple(ENGINES) == tuple(NAMES)
+    for engine in ENGINES.values():
+        assert list(inspect.signature(engine).parameters) == ["request", "progress"]
+
+
+def test_production_and_the_preset_command_do_not_reach_into_the_catalog():
+    """Issue #36: the measuring geometry and the process window are colorimetry's, the preset files the
+    presets' (swatch.presets.files); the finish specification, QC and ``swatch preset`` need no catalog."""
+    found = [f"{m} -> {t}" for m in MODULES if m.startswith("swatch.production") or m == "swatch.commands.preset"
+             for t, _, _ in GRAPH[m] if t.startswith("swatch.catalog")]
+    assert found == []
+
+
+def test_code_hash_follows_imports():
+    """Issue #36: the caches' code key (swatch.core.sources.code_hash) covers what a computation imports,
+    through package faces (PEP 562) and lazy imports: a tile's key covers the dispatcher and both engines,
+    a preset fit's the geometry the presets' models import (a hand list missed physics/geometry.py)."""
+    from swatch.core.sources import imported_modules
+
+    tiles = imported_modules("swatch.catalog.tiles")
+    assert {"swatch.render.dispatch", "swatch.render.request", "swatch.render.pointlight", "swatch.render.env_render",
+            "swatch.render.mitsuba.engine", "swatch.physics.optics"} <= set(tiles)
+    assert "swatch.physics.geometry" in imported_modules("swatch.catalog.presets")
+    assert "swatch.commands.render" not in tiles
+
+
+def test_the_render_command_parses_without_the_mitsuba_engine():
+    """Issue #36: ``swatch render`` imported ``Sun`` from the Mitsuba scene module while parsing; ``Sun`` lives in
+    swatch.render.lighting, and parsing the sun options (or printing --help) loads no swatch.render.mitsuba
+    module, nor Mitsuba or Dr.Jit."""
+    import subprocess
+    import sys
+
+    code = ("import sys, contextlib, io\n"
+            "from swatch.commands.render import _sun, render\n"
+            "sun = _sun(30.0, 10.0, None, None, None, None, None)\n"
+            "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+            "    render.main(['--help'], standalone_mode=True)\n"
+            "print(type(sun).__module__, sorted(m for m in sys.modules if m.split('.')[0] in ('mitsuba', 'drjit') "
+            "or m.startswith('swatch.render.mitsuba')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split(" ", 1)
+    assert out[0] == "swatch.render.lighting" and ast.literal_eval(out[1]) == []

@@ -35,11 +35,11 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, suppress
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from swatch.catalog.fingerprint import FORMAT_VERSION, code_fingerprint, hash_json, slug
+from swatch.catalog.fingerprint import FORMAT_VERSION, code_fingerprint, hash_json
 from swatch.catalog.folder import (
     JOURNAL,
     MANIFEST,
@@ -56,17 +56,13 @@ from swatch.catalog.folder import (
 )
 from swatch.catalog.journal import commit, is_catalog, prepare_commit, recover, rollback
 from swatch.catalog.layout import SHEETS, make_subfolders, output_files, sheet_count
-from swatch.catalog.spec import CatalogSpec, load_spec, resolve_spec_path
+from swatch.catalog.spec import load_spec, resolve_spec_path
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
 from swatch.core.safepath import make_real_folder
 from swatch.core.sources import sha256_file
-from swatch.core.version import __version__
 
-if TYPE_CHECKING:
-    from swatch.catalog.context import CatalogContext
-
-__all__ = ["build_catalog", "check_buildable", "BuildResult", "ProgressBarFactory", "FORMAT_VERSION", "META_DIR"]
+__all__ = ["build_catalog", "BuildResult", "ProgressBarFactory", "FORMAT_VERSION", "META_DIR"]
 
 #: A progress-bar factory: ``factory(label, total)`` returns a context manager whose value has ``update(n)``
 #: (``click.progressbar``'s shape; the CLI passes one, the library draws nothing itself).
@@ -80,9 +76,11 @@ class BuildResult:
     Attributes
     ----------
     out_dir : pathlib.Path
+        The catalog folder.
     noop : bool
         The catalog was up to date (nothing written).
     swatches, sheets : int
+        How many swatches and sheets the catalog has.
     rendered : int
         Tiles rendered (not from the cache).
     composed : int
@@ -134,54 +132,6 @@ def _remove_first_build(out: Path, meta: Path) -> None:
 
 # -- the build -------------------------------------------------------------------------------
 
-def _catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
-    from swatch.catalog.records import PROCESS_STEP_NM, process_json
-    from swatch.colorimetry.tolerance import METRICS
-
-    tol = spec.tolerance
-    return {
-        "name": spec.name,
-        "description": spec.description,
-        "spec_file": spec_name,
-        "film": spec.film,
-        "substrate": spec.substrate,
-        "process": process_json(spec),
-        "illuminant": data.illuminant,
-        "observer": data.observer,
-        "observer_name": "1964 10°" if data.observer == "10" else "1931 2°",
-        "wavelength_nm": {"start": float(data.wavelength_nm[0]), "stop": float(data.wavelength_nm[-1]),
-                          "step": spec.wavelength_step_nm},
-        "model": "half-vector thin film (Fujii et al. 2019): Airy reflectance factor at theta_d",
-        "lab_definition": (
-            "CIELAB of the spectral reflectance factor R(theta_d) of the film on the half-vector facet, "
-            "theta_d = 1/2 arccos(l.v), under the illuminant and observer above (colour-science, ASTM E308); "
-            "no intensity or microfacet-distribution term"),
-        "srgb_definition": ("srgb_hex, chips and pictures: sRGB (IEC 61966-2-1) of the spectrum by CIE 1931 2° "
-                            "colorimetry under the illuminant above (Bradford-adapted to D65), whatever the "
-                            "observer of the Lab numbers"),
-        "Lab_D50_2_definition": "Lab_D50_2: CIELAB of the reference-geometry spectrum under D50, CIE 1931 2° "
-                                "(ICC / ISO 13655; what the ASE file holds)",
-        "reference_geometry": spec.reference.to_json(),
-        "multi_angle_geometries": [g.to_json() for g in spec.multi_angle],
-        "render": {"shapes": list(spec.shapes), "size_px": spec.size_px, "model": spec.model,
-                   "roughness": spec.roughness, "angular_map": spec.angular_map,
-                   **({"finish": spec.finish_spec.metadata()} if spec.finish_spec is not None else {})},
-        "tolerance": {"scheme": tol.scheme, "grade": tol.label, "metric": tol.metric, "max": tol.max,
-                      "metric_name": METRICS[tol.metric], "text": tol.text,
-                      "grade_description": tol.description,
-                      "note": (f"the bound on {METRICS[tol.metric]} (the metric the tolerance is defined in) "
-                               "between the colour at d±δ and at d, at the reference geometry"),
-                      "search_nm": spec.search_nm, "search_step_nm": PROCESS_STEP_NM},
-        "exports": {"cxf": f"{slug(spec.name)}.cxf", "ase": f"{slug(spec.name)}.ase",
-                    "ase_srgb": f"{slug(spec.name)}-srgb.ase"},
-        "swatch_version": _swatch_version(),
-    }
-
-
-def _swatch_version() -> str:
-    return __version__
-
-
 class _NoBar:
     """The bar of a build without progress reporting."""
 
@@ -228,6 +178,7 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: Progres
     Returns
     -------
     BuildResult
+        What the build did: no-op or not, counts of tiles rendered and sheets written, wall time (s), files.
     """
     t0 = time.perf_counter()
     say = log or (lambda msg: None)
@@ -279,36 +230,6 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
     return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
 
 
-def check_buildable(spec: CatalogSpec) -> CatalogContext:
-    """Refuse, without building, what the build would refuse beyond the spec parser (``catalog validate``
-    and the build run the same checks): the colorimetry, the explorer's thickness axes and the sheets'
-    memory; and build the catalog's context once.
-
-    Parameters
-    ----------
-    spec : swatch.catalog.spec.CatalogSpec
-
-    Returns
-    -------
-    swatch.catalog.context.CatalogContext
-        Grid, coating, colorimeters and tolerance, passed down to every stage.
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        An unknown illuminant, an explorer axis over its cap, or a sheet too big for the memory budget.
-    """
-    from swatch.catalog.context import catalog_context
-    from swatch.catalog.explorer import GRID_STEP_NM, MATCH_STEP_NM, thickness_axis
-    from swatch.catalog.sheets import plan_jobs
-
-    ctx = catalog_context(spec)
-    for step in (GRID_STEP_NM, MATCH_STEP_NM):
-        thickness_axis(spec.thickness_nm, step)
-    plan_jobs(spec, 1)
-    return ctx
-
-
 def _check_jobs(jobs) -> int:
     if jobs is None:
         return max(1, min(os.cpu_count() or 1, 8))
@@ -318,15 +239,14 @@ def _check_jobs(jobs) -> int:
 
 
 def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0) -> BuildResult:
-    from swatch.catalog import sheets as sheetmod
-    from swatch.catalog import tiles as tilemod
-    from swatch.catalog.csv_table import csv_bytes
-    from swatch.catalog.exports import ase_bytes, cxf_bytes
-    from swatch.catalog.records import compute
+    # The one seam between the plan (this module: fingerprint, up-to-date check) and the stages, which load
+    # colour-science and OpenImageIO: imported here, after the no-op check (tests/test_layers.py)
+    from swatch.catalog import execute
 
-    ctx = check_buildable(spec)  # (here, not before the no-op check: it imports colour-science)
-    data = compute(ctx)
-    header = _catalog_header(spec, data, spec_name)
+    sheetmod, tilemod = execute.sheetmod, execute.tilemod
+    ctx = execute.check_buildable(spec)
+    data = execute.compute(ctx)
+    header = execute.catalog_header(spec, data, spec_name)
     n = len(data.swatches)
     per = spec.per_sheet
     n_sheets = (n + per - 1) // per
@@ -336,9 +256,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     try:
         make_subfolders(staging)
         cache = cache_folder(meta)
-        from swatch.catalog.hero import catalog_heroes, prune_heroes
-
-        hero_out, hero_used, hero_entries = catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
+        hero_out, hero_used, hero_entries = execute.catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
         # 1. tiles (renders), from the cache or rendered in parallel: the pool starts on them (its workers
         # save them into the cache) before the presets are fitted here, so the fits overlap the renders
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
@@ -349,10 +267,8 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         preset_files: dict[str, bytes] = {}
         preset_entries: Sequence[dict | None] = [None] * n  # `[presets] enabled = false`: no fits, files, entries
         if spec.presets:
-            from swatch.catalog.presets import catalog_presets
-
-            preset_files, preset_entries = catalog_presets(spec, data.records, cache)  # fits cached
-        records = _final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
+            preset_files, preset_entries = execute.catalog_presets(spec, data.records, cache)  # fits cached
+        records = execute.final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
         rendered = tilemod.finish_renders(renders, len(missing),
                                           lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)
@@ -380,25 +296,22 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         # print chips, in the pool beside the sheets
         chip_jobs: list[Any] = []
         if spec.chips:
-            from swatch.catalog import chips as chipmod
-            from swatch.catalog.exports import metal_symbol
-
-            for args in chipmod.chip_batches(staging, header, data, records, metal_symbol(spec), spec.chip_size_mm,
-                                             spec.chip_dpi, jobs):
-                chip_jobs.append(pool.submit(chipmod.write_chips, *args) if pool is not None else args)
+            for args in execute.chipmod.chip_batches(staging, header, data, records, execute.metal_symbol(spec),
+                                                     spec.chip_size_mm, spec.chip_dpi, jobs):
+                chip_jobs.append(pool.submit(execute.chipmod.write_chips, *args) if pool is not None else args)
         # 3. data files, page and exports (meanwhile the pool composes the sheets)
         catalog_doc = {"format": "swatch-catalog", "format_version": FORMAT_VERSION, "catalog": header,
                        "sheets": [{k: v for k, v in sh.items() if k != "key"} for sh in sheet_list],
                        "swatches": records}
         outputs = {
             "catalog.json": (json.dumps(catalog_doc, indent=1, ensure_ascii=False, allow_nan=False) + "\n").encode(),
-            "catalog.csv": csv_bytes(spec, records, data.illuminant, data.observer),
-            header["exports"]["cxf"]: cxf_bytes(spec, data),
-            header["exports"]["ase"]: ase_bytes(spec, records, "lab"),
-            header["exports"]["ase_srgb"]: ase_bytes(spec, records, "srgb"),
+            "catalog.csv": execute.csv_bytes(spec, records, data.illuminant, data.observer),
+            header["exports"]["cxf"]: execute.cxf_bytes(spec, data),
+            header["exports"]["ase"]: execute.ase_bytes(spec, records, "lab"),
+            header["exports"]["ase_srgb"]: execute.ase_bytes(spec, records, "srgb"),
         }
         outputs.update(preset_files | hero_out)
-        outputs["index.html"] = _page(spec, data, catalog_doc, cache).encode("utf-8")
+        outputs["index.html"] = execute.page(spec, data, catalog_doc, cache).encode("utf-8")
         for name, blob in outputs.items():
             (staging / name).write_bytes(blob)
         with _progress("composing sheets", len(todo), progress) as bar:
@@ -410,7 +323,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
                 bar.update(1)
         composed = len(todo)
         chip_files = [f for job in chip_jobs
-                      for f in (job.result() if pool is not None else chipmod.write_chips(*job))]
+                      for f in (job.result() if pool is not None else execute.chipmod.write_chips(*job))]
         for name in list(outputs) + chip_files + [f for sh in sheet_list for f in (sh["png"], sh["exr"])
                                                   if f not in files]:
             p = staging / name
@@ -442,7 +355,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         for p in cache.glob("*.npz"):
             if p.name not in keep:
                 remove_tree(p)
-        prune_heroes(cache, hero_used)
+        execute.prune_heroes(cache, hero_used)
     except BaseException:
         with signals_held():  # the workers finish their piece, the staging folder goes: a second signal waits
             if pool is not None:
@@ -456,27 +369,3 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             pool.shutdown(wait=True)
     return BuildResult(out, False, n, n_sheets, rendered=rendered, composed=composed,
                        seconds=time.perf_counter() - t0, files=sorted(files))
-
-
-def _final_records(spec, data, preset_entries: Sequence[dict | None], hero_entries: list) -> list[dict]:
-    """The typed records with the stages' entries (print chip, presets, hero), serialised once."""
-    from swatch.catalog.chips import chip_names
-    from swatch.catalog.record import PrintChip
-
-    out = []
-    for swatch, rec, presets, hero in zip(data.swatches, data.records, preset_entries, hero_entries, strict=True):
-        chip = PrintChip(*chip_names(rec), spec.chip_size_mm, spec.chip_dpi) if spec.chips else None
-        out.append(replace(swatch, print_chip=chip, presets=presets, hero=hero).to_json())
-    return out
-
-
-def _page(spec, data, page_doc: dict, cache: Path | None = None) -> str:
-    """index.html with the explorer's colour table, the tiles' places in the sheets, P3 chips and the live
-    view's environment lighting (cached in ``cache``)."""
-    from swatch.catalog.explorer import COS_NODES, chip_colours, explorer_data, tile_rects
-    from swatch.catalog.explorer_env import environment_data_cached
-    from swatch.catalog.html import index_html
-
-    return index_html(page_doc, explorer_data(data.context), tile_rects(spec, page_doc["swatches"]),
-                      chip_colours(data), environment_data_cached(spec.roughness, COS_NODES, cache))
-

@@ -15,11 +15,14 @@ def chip_px(size_mm: float, dpi: float) -> int:
     Parameters
     ----------
     size_mm : float
+        Printed side of the chip, mm.
     dpi : float
+        Print resolution, dots per inch.
 
     Returns
     -------
     int
+        Pixels per side, rounded.
 
     Examples
     --------

@@ -48,6 +48,7 @@ def chip_names(rec: dict) -> tuple[str, str]:
     Returns
     -------
     (str, str)
+        ``chips/chip_<id>.png`` and ``chips/chip_<id>.tif``.
     """
     return f"{CHIPS}/chip_{rec['id']}.png", f"{CHIPS}/chip_{rec['id']}.tif"
 
@@ -126,10 +127,13 @@ def chip_batches(folder, header: dict, data, records: list[dict], metal: str, si
     records : list of dict
         The metadata, as catalog.json writes them.
     metal : str
+        The substrate's element symbol printed on the chips (``Ti``).
     size_mm : float
         The chip's side, mm.
     dpi : float
+        Print resolution, dots per inch.
     batches : int
+        How many groups to split the chips into (one per worker process).
 
     Returns
     -------
@@ -149,14 +153,19 @@ def write_chips(folder, header: dict, records: list[dict], values, metal: str, s
     Parameters
     ----------
     folder : path-like
+        The staging folder the chips are written into (its ``chips/``).
     header : dict
+        The catalog header (illuminant, observer, name) printed on the chips.
     records : list of dict
+        The swatches' records (JSON view) of this batch.
     values : numpy.ndarray of uint16, shape (N, 3)
         :func:`encoded_16bit`.
     metal : str
+        The substrate's element symbol (``Ti``).
     size_mm : float
         mm.
     dpi : float
+        Print resolution, dots per inch.
 
     Returns
     -------

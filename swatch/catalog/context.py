@@ -67,6 +67,7 @@ def catalog_context(spec: CatalogSpec) -> CatalogContext:
     Returns
     -------
     CatalogContext
+        The build's wavelength grid, coating, colorimeters and tolerance, made once.
 
     Raises
     ------

@@ -34,11 +34,14 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     illuminant, observer : str
+        The Lab columns' illuminant and observer (named in their headers).
 
     Returns
     -------
     list of str
+        The CSV's column names, in order.
     """
     cs = f"{illuminant}_{observer}"
     lab = [f"L_{cs}", f"a_{cs}", f"b_{cs}", f"C_{cs}", f"h_{cs}_deg"]
@@ -60,12 +63,16 @@ def csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     records : list of dict
+        The swatches' records (JSON view), in order.
     illuminant, observer : str
+        The Lab columns' illuminant and observer.
 
     Returns
     -------
     bytes
+        catalog.csv, UTF-8.
     """
     buf = io.StringIO(newline="")
     w = csv.writer(buf, lineterminator="\n")

@@ -329,7 +329,9 @@ def tile_rects(spec, records: list[dict]) -> dict:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec. (sheet layout).
     records : list of dict
+        The swatches' records (JSON view).
 
     Returns
     -------
@@ -360,6 +362,7 @@ def chip_colours(data: CatalogData) -> list[dict]:
     Parameters
     ----------
     data : swatch.catalog.records.CatalogData
+        The computed records.
 
     Returns
     -------

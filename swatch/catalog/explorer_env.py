@@ -56,7 +56,7 @@ from swatch.catalog.folder import read_cache_json, remove_tree
 from swatch.core.choices import LIGHTINGS
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
-from swatch.core.sources import package_dir, sha256_file
+from swatch.core.sources import code_hash
 from swatch.render import env_shading
 from swatch.render.environment import LEVELS, get_environment, levels
 
@@ -238,10 +238,7 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
 
 # -- the build cache ---------------------------------------------------------------------------
 def _key(roughness_alpha: float, cos_nodes: int) -> str:
-    pkg = package_dir()
-    files = ("render/env_shading.py", "render/environment.py", "render/octahedral.py", "render/hdri.py", "render/studio.py",
-             "physics/microfacet.py", "catalog/explorer_env.py")
-    code = {f: sha256_file(pkg / f) for f in files}
+    code = code_hash(__name__)  # this module and every module it imports
     blob = {"alpha": float(roughness_alpha), "nodes": int(cos_nodes), "code": code,
             "numpy": metadata.version("numpy")}
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]

@@ -48,10 +48,12 @@ def metal_symbol(spec: CatalogSpec) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     str
+        The element symbol (``Ti``, ``Nb``, ``Ta``).
     """
     return spec.substrate.split("-")[0]
 
@@ -65,10 +67,12 @@ def ase_name(rec: dict, metal: str = "Ti") -> str:
     rec : dict
         The record.
     metal : str
+        The substrate's element symbol.
 
     Returns
     -------
     str
+        The swatch's name: ID, metal, thickness (nm), voltage (V, in brackets) and colour name.
 
     Examples
     --------
@@ -93,7 +97,9 @@ def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> byt
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     records : list of dict
+        The swatches' records (JSON view).
     model : str
         ``"lab"``: CIELAB under D50, CIE 1931 2° at the reference geometry (``Lab_D50_2``, how Adobe
         applications read ASE Lab); ``"srgb"``: the records' sRGB hex codes as 0–1 floats.
@@ -101,6 +107,7 @@ def ase_bytes(spec: CatalogSpec, records: list[dict], model: str = "lab") -> byt
     Returns
     -------
     bytes
+        The Adobe Swatch Exchange file.
 
     Raises
     ------
@@ -139,7 +146,9 @@ def cxf_bytes(spec: CatalogSpec, data) -> bytes:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     data : swatch.catalog.records.CatalogData
+        The computed records (their spectra).
 
     Returns
     -------

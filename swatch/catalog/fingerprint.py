@@ -25,6 +25,7 @@ def hash_json(obj) -> str:
     Parameters
     ----------
     obj : object
+        A JSON-serialisable value.
 
     Returns
     -------
@@ -71,10 +72,12 @@ def slug(name: str) -> str:
     Parameters
     ----------
     name : str
+        The catalog's name.
 
     Returns
     -------
     str
+        The stem, e.g. ``titanium-20-300-nm``.
 
     Examples
     --------

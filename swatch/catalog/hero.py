@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import importlib
 import json
 from pathlib import Path
 
@@ -25,10 +24,12 @@ from PIL import Image
 
 from swatch.catalog.folder import remove_tree
 from swatch.catalog.layout import HEROES
-from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.safepath import is_regular_file
+from swatch.core.sources import code_hash
 from swatch.io.imageio import write_png
+from swatch.render.dispatch import ENGINES, engine_unavailable, engine_version
+from swatch.render.request import render_request
 
 __all__ = ["HERO_SIZE_PX", "HERO_SPP", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
            "prune_heroes"]
@@ -44,17 +45,14 @@ def hero_name(rec: dict) -> str:
     Parameters
     ----------
     rec : dict
+        The swatch's record (its ``id``).
 
     Returns
     -------
     str
+        ``heroes/hero_<id>.png``.
     """
     return f"{HEROES}/hero_{rec['id']}.png"
-
-
-@functools.lru_cache(maxsize=1)
-def _engine():
-    return importlib.import_module("swatch.render.mitsuba.engine")
 
 
 def hero_unavailable(spec) -> str | None:
@@ -63,28 +61,20 @@ def hero_unavailable(spec) -> str | None:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     str or None
+        Why not (Mitsuba missing, no usable libLLVM), or None when hero renders can be made.
     """
-    try:
-        eng = _engine()
-        eng.use_variant()
-    except ImportError as exc:
-        return f"hero renders skipped: Mitsuba is not installed ({exc.name}); pip install mitsuba (docs/mitsuba.md)"
-    except SwatchError as exc:
-        return f"hero renders skipped: {exc}"
-    return None
+    why = engine_unavailable("mitsuba")
+    return None if why is None else f"hero renders skipped: {why}"
 
 
 @functools.lru_cache(maxsize=1)
 def _code_hash() -> str:
-    eng = Path(_engine().__file__).resolve().parent
-    h = hashlib.sha256()
-    for f in [*sorted(eng.glob("*.py")), Path(__file__).resolve()]:
-        h.update(f.name.encode() + b"\0" + f.read_bytes())
-    return h.hexdigest()
+    return code_hash(__name__)  # this module and what it imports: the request, the Mitsuba engine (lazily)
 
 
 def _lobe(spec):
@@ -99,16 +89,19 @@ def hero_key(spec, thickness_nm: float) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec. (film, finish, spread).
     thickness_nm : float
+        The swatch's film thickness, nm.
 
     Returns
     -------
     str
+        40 hex digits (the cache entry's name).
     """
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
            "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": HERO_SIZE_PX, "spp": HERO_SPP,
            "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
-           "mitsuba": importlib.import_module("mitsuba").__version__, "code": _code_hash()}
+           "mitsuba": engine_version("mitsuba"), "code": _code_hash()}
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
 
@@ -132,8 +125,11 @@ def hero_files(spec, records: list[dict], cache: Path,
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     records : list of dict
+        The swatches' records (``id``, ``thickness_nm``).
     cache : pathlib.Path
+        The catalog's build cache (untrusted: entries are checked before use).
     say : callable, optional
         Receives one line.
 
@@ -147,8 +143,9 @@ def hero_files(spec, records: list[dict], cache: Path,
         if say is not None:
             say(why)
         return {}, set(), [None] * len(records)
-    eng = _engine()
-    light = eng.mitsuba_lighting("studio", None)
+    request = render_request(0.0, "sphere", HERO_SIZE_PX, engine="mitsuba", spp=HERO_SPP, seed=HERO_SEED,
+                             environment="studio", roughness_alpha=_lobe(spec),
+                             coating=spec.coating(None))  # film, substrate, index scale, spread
     files: dict[str, bytes] = {}
     used: set[str] = set()
     entries: list[dict | None] = []
@@ -159,18 +156,13 @@ def hero_files(spec, records: list[dict], cache: Path,
         path = cache / entry
         blob = _cached(path)
         if blob is None:
-            img = eng.render_swatch_mitsuba(d, shape="sphere", size_px=HERO_SIZE_PX, spp=HERO_SPP, seed=HERO_SEED,
-                                            lighting_name=light, roughness_alpha=_lobe(spec), film=spec.film,
-                                            substrate=spec.substrate, film_index_scale=spec.film_index_scale,
-                                            spread=spec.spread)
+            img = ENGINES["mitsuba"](request.with_thickness(d), None)
             meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
                                                  "thickness_nm") if k in img.metadata}
             meta["swatch"] = rec["id"]
             if spec.finish_spec is not None:
                 meta["finish"] = spec.finish_spec.label()
-            tmp = cache / f".{entry}.tmp.png"
-            write_png(tmp, np.ascontiguousarray(img.display_rgb[..., :3]), meta)
-            tmp.replace(path)
+            write_png(path, np.ascontiguousarray(img.display_rgb[..., :3]), meta)  # atomic
             blob = path.read_bytes()
         files[hero_name(rec)] = blob
         entries.append({"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
@@ -200,11 +192,14 @@ def prune_heroes(cache: Path, used: set[str]) -> None:
     Parameters
     ----------
     cache : pathlib.Path
+        The catalog's build cache.
     used : set of str
+        The cache entries the build used (kept).
 
     Returns
     -------
     None
+        Returns when the unused entries are removed.
     """
     for p in cache.glob("hero-*.png"):
         if p.name not in used:

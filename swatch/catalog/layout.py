@@ -35,12 +35,14 @@ def output_name(name, what: str) -> str:
     Parameters
     ----------
     name : object
+        A name read back from the catalog's metadata (untrusted).
     what : str
         Names the metadata in messages.
 
     Returns
     -------
     str
+        ``name``, checked.
 
     Raises
     ------
@@ -61,25 +63,6 @@ def output_name(name, what: str) -> str:
                           f"names of files directly inside the folder or in one of its folders "
                           f"{', '.join(SUBFOLDERS)} are allowed (no '..', no other folder)")
     return plain_name(name, what)
-
-
-def preset_file_name(ident: str, fmt: str) -> str:
-    """A preset's file name in the catalog folder (in its ``presets/``).
-
-    Parameters
-    ----------
-    ident : str
-        The swatch id.
-    fmt : str
-        ``gltf``, ``blender`` or ``materialx``.
-
-    Returns
-    -------
-    str
-    """
-    return {"gltf": f"preset_{ident}.gltf", "blender": f"preset_{ident}_blender.py",
-            "materialx": f"preset_{ident}.mtlx", "mitsuba": f"preset_{ident}_mitsuba.xml",
-            "mitsuba_json": f"preset_{ident}_mitsuba.json"}[fmt]
 
 
 def subfolders_of(names) -> list[str]:
@@ -218,10 +201,12 @@ def sheet_count(manifest: dict) -> int:
     Parameters
     ----------
     manifest : dict
+        A catalog's manifest (its ``files``).
 
     Returns
     -------
     int
+        How many sheets (PNG) the manifest lists.
 
     Examples
     --------

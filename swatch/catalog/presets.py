@@ -27,16 +27,18 @@ from pathlib import Path
 import numpy as np
 
 from swatch.catalog.folder import read_cache_json, remove_tree
-from swatch.catalog.layout import PRESETS, preset_file_name
+from swatch.catalog.layout import PRESETS
 from swatch.catalog.presets_mitsuba import mitsuba_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.fileio import atomic_write_text
-from swatch.core.sources import package_dir, sha256_file
-from swatch.presets import FORMAT_MODEL, PRESET_FORMATS, anisotropy, materialx, mitsuba_bsdf, write
+from swatch.core.sources import code_hash, package_dir
+from swatch.presets import FORMAT_MODEL, PRESET_FORMATS, materialx, mitsuba_bsdf
+from swatch.presets.files import GEOMETRY_45_0, preset_bytes, roughness_factor, round_params
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, fit_presets
+from swatch.presets.naming import preset_file_name
 from swatch.presets.spectral import rgb_to_Lab
 
-__all__ = ["catalog_presets", "single_preset", "round_params", "roughness_factor", "ERROR_KEYS"]
+__all__ = ["catalog_presets", "ERROR_KEYS"]
 
 #: catalog.json key of each format's headline error: max ΔE2000 over mirror geometries 0–60° in the
 #: renderer the preset targets (``_45``: 0–45°). glTF: what three.js r187 shows (``threejs_*``);
@@ -48,55 +50,6 @@ FIGURE_MODELS = {"threejs": "threejs", "gltf": "gltf", "blender": "cycles", "mat
                  "openpbr": "openpbr"}
 #: Which figures each format's record carries (key prefixes).
 FORMAT_FIGURES = {"gltf": ("threejs", "gltf"), "blender": ("blender",), "materialx": ("materialx", "openpbr")}
-#: The catalog's reference geometry 45:0 as (facet angle, the angle the model is evaluated at):
-#: three.js evaluates the film at N·V (0°), the others at the half vector (22.5°).
-GEOMETRY_45_0 = {"threejs": (22.5, 0.0), "gltf": (22.5, 22.5), "cycles": (22.5, 22.5), "openpbr": (22.5, 22.5),
-                 "materialx": (22.5, 22.5)}
-_DIGITS = (3, 4, 4, 4, 4)  # thickness nm, IOR, base R G B, as written
-
-
-def round_params(params) -> np.ndarray:
-    """The fitted parameters as the files carry them (the errors are computed from these): thickness to
-    0.001 nm, film IOR and base colour (linear Rec.709) to 1e-4.
-
-    Parameters
-    ----------
-    params : array_like, shape (..., 5)
-        (thickness nm, IOR, R, G, B).
-
-    Returns
-    -------
-    numpy.ndarray, shape (..., 5)
-
-    Examples
-    --------
-    >>> round_params([150.12345, 2.123456, 0.5, 0.25, 0.125]).tolist()
-    [150.123, 2.1235, 0.5, 0.25, 0.125]
-    """
-    p = np.asarray(params, dtype=np.float64)
-    return np.stack([np.round(p[..., i], nd) for i, nd in enumerate(_DIGITS)], axis=-1)
-
-
-def roughness_factor(alpha: float) -> float:
-    """The glTF / Blender / OpenPBR roughness for a GGX α (α = roughness²).
-
-    Parameters
-    ----------
-    alpha : float
-
-    Returns
-    -------
-    float
-        To 1e-4.
-
-    Examples
-    --------
-    >>> roughness_factor(0.09)
-    0.3
-    """
-    return round(float(np.sqrt(alpha)), 4)
-
-
 def fit_key(spec, extra_angles) -> str:
     """Content hash of everything a catalog's preset fits depend on (the presets' and the optics' code, the
     three.js table, the spec's materials, thicknesses, geometries and roughness, library versions).
@@ -104,23 +57,18 @@ def fit_key(spec, extra_angles) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     extra_angles : sequence of float
         The catalog's facet angles the fits weigh in, degrees.
 
     Returns
     -------
     str
+        32 hex digits (the cache entry's name).
     """
-    pkg = package_dir()
-    code = {p.name: sha256_file(p) for p in sorted((pkg / "presets").glob("*.py"))}
-    modules = (("optics", "physics/optics.py"),
-               ("model", "physics/model.py"),
-               ("spread", "physics/spread.py"),
-               ("materials", "physics/materials.py"),
-               ("colorimetry", "colorimetry/colorimeter.py"))
-    for m, f in modules:
-        code[m] = sha256_file(pkg / f)
-    code["threejs_dfg_lut"] = sha256_file(pkg / "tables" / "renderers" / "threejs_dfg_lut.csv")
+    # this module and every module it imports (the presets' models, the optics, the colorimetry), and the
+    # three.js table the threejs model reads
+    code = code_hash(__name__, extra=(package_dir() / "tables" / "renderers" / "threejs_dfg_lut.csv",))
     blob = {"d": [float(x) for x in spec.thickness_nm], "per_sheet": spec.per_sheet, "film": spec.film,
             "roughness": float(spec.roughness),
             "film_index_scale": spec.film_index_scale, **spec.spread.metadata(),
@@ -186,6 +134,7 @@ def fit_format(spec, fmt: str):
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     fmt : str
         ``gltf``, ``blender`` or ``materialx``.
 
@@ -227,58 +176,6 @@ def _fits(spec, cache: Path | None) -> dict:
     return out
 
 
-def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE: float, thickness_nm: float,
-                 extension_dE: float | None = None, finish=None) -> bytes:
-    """One preset file's bytes.
-
-    Parameters
-    ----------
-    fmt : str
-        ``gltf``, ``blender`` or ``materialx``.
-    ident, title : str
-    params : array_like, shape (5,)
-        Rounded parameters (:func:`round_params`).
-    alpha : float
-        GGX α of the finish.
-    max_dE : float
-        The largest ΔE2000 over 0–60° in the targeted renderer (D65, CIE 1931 2°).
-    thickness_nm : float
-    extension_dE : float, optional
-        glTF: the same under the extension's reference model.
-    finish : swatch.physics.finishes.Finish, optional
-        Named; when anisotropic (brushed), written as each format's anisotropy
-        (:mod:`swatch.presets.anisotropy`).
-
-    Returns
-    -------
-    bytes
-    """
-
-    rough = roughness_factor(alpha)
-    aniso = None
-    if finish is not None and finish.anisotropic:
-        solve = {"gltf": anisotropy.gltf_anisotropy, "blender": anisotropy.blender_anisotropy,
-                 "materialx": anisotropy.openpbr_anisotropy}[fmt]
-        rough, aniso = solve(finish.alpha_u, finish.alpha_v)
-    named = "" if finish is None else f"; finish {finish.label()}"
-    if fmt == "gltf":
-        info = {"thickness_nm": thickness_nm, "threejs_max_delta_E_00": round(max_dE, 2),
-                "renderer": "three.js r187 (direct light; the film is evaluated at N.V)",
-                "illuminant": "D65", "observer": "2", "mirror_angles_deg": [0, 60]}
-        if extension_dE is not None:
-            info["extension_max_delta_E_00"] = round(extension_dE, 2)
-        if finish is not None:
-            info["finish"] = finish.label()
-        return write.gltf_bytes(title, params, rough, extras={"swatch": info}, anisotropy=aniso)
-    if fmt == "blender":
-        note = (f"oxide {thickness_nm:g} nm; max ΔE2000 {max_dE:.2f} over mirror angles 0–60° "
-                "as Cycles renders it with GGX (D65, CIE 1931 2°)") + named
-        return write.blender_bytes(title, params, rough, preset_file_name(ident, fmt), note, anisotropy=aniso)
-    note = (f"oxide {thickness_nm:g} nm; fitted to MaterialX 1.39.5's GLSL (mx_fresnel_airy); max ΔE2000 "
-            f"{max_dE:.2f} over mirror angles 0-60° (D65, CIE 1931 2°); other OpenPBR renderers not checked") + named
-    return write.materialx_bytes(title, params, rough, note, anisotropy=aniso)
-
-
 #: What each figure prefix is measured in, for the record's ``conditions``.
 RENDERERS = {
     "threejs": "three.js r187 MeshPhysicalMaterial via GLTFLoader, direct light, relative to a white metal",
@@ -300,7 +197,9 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     records : list of dict
+        The swatches' records (JSON view; read only).
     cache : pathlib.Path or None
         The build cache (None: fit every time).
 
@@ -339,41 +238,3 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
     return files | exact_files, entries
 
 
-def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,
-                  roughness_alpha: float, spread=None, finish=None) -> tuple[bytes, str]:
-    """One thickness's preset in ``fmt``, fitted to its exact colour (``swatch preset``).
-
-    Parameters
-    ----------
-    thickness_nm : float
-    fmt : str
-    film, substrate : str
-    film_index_scale : float
-    roughness_alpha : float
-        GGX α.
-    spread : swatch.physics.spread.ThicknessSpread, optional
-    finish : swatch.physics.finishes.Finish, optional
-
-    Returns
-    -------
-    (bytes, str)
-        The file's bytes and a line saying what was fitted and its largest ΔE2000 (D65, CIE 1931 2°).
-    """
-
-    d = np.array([float(thickness_nm)])
-    model = FORMAT_MODEL[fmt]
-    rough = roughness_factor(roughness_alpha)
-    facet, at = GEOMETRY_45_0[model]
-    fit = fit_presets(d, model, (facet,), film, substrate, film_index_scale, None, spread, rough, (at,))
-    params = round_params(fit.params)
-    dE = errors_delta_E_00(model, params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale, spread, rough)[0]
-    ext = (float(errors_delta_E_00("gltf", params, d, FIT_ANGLES_DEG, film, substrate, film_index_scale,
-                                   spread).max())
-           if model == "threejs" else None)
-    data = preset_bytes(fmt, f"{d[0]:g}nm", f"anodised {d[0]:g} nm", params[0], roughness_alpha, float(dE.max()),
-                        float(d[0]), ext, finish)
-    p = params[0]
-    summary = (f"{model} model, thickness {p[0]:g} nm, film IOR {p[1]:g}, base colour {p[2]:g} {p[3]:g} {p[4]:g} "
-               f"(linear Rec.709); max ΔE2000 {dE.max():.2f} at 0–60°, {dE[FIT_ANGLES_DEG <= 45].max():.2f} at "
-               f"0–45° (D65, 2°)") + ("" if finish is None else f"; finish {finish.label()}")
-    return data, summary

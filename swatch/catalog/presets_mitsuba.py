@@ -6,49 +6,11 @@ catalog's own model. ``swatch preset --format mitsuba`` writes the same pair for
 """
 from __future__ import annotations
 
-from swatch.catalog.layout import PRESETS, preset_file_name
-from swatch.physics.spread import NO_SPREAD
-from swatch.presets import mitsuba_bsdf
+from swatch.catalog.layout import PRESETS
+from swatch.presets.files import finish_alphas, mitsuba_files
+from swatch.presets.naming import preset_file_name
 
-__all__ = ["finish_alphas", "mitsuba_presets", "single_mitsuba_preset"]
-
-
-def finish_alphas(alpha: float, finish) -> tuple[float, ...]:
-    """The GGX α of a preset: the finish's (two when anisotropic: along, across the grain) or ``alpha``.
-
-    Parameters
-    ----------
-    alpha : float
-        The isotropic α without a finish.
-    finish : swatch.physics.finishes.Finish or None
-
-    Returns
-    -------
-    tuple of float
-        One or two α.
-    """
-    if finish is not None and finish.anisotropic:
-        return (float(finish.alpha_u), float(finish.alpha_v))
-    return (float(finish.alpha_u if finish is not None else alpha),)
-
-
-def _mitsuba_files(ident: str, thickness_nm: float, film: str, substrate: str, film_index_scale: float,
-                   alphas: tuple[float, ...], spread, info: dict) -> dict[str, bytes]:
-    bsdf = mitsuba_bsdf.bsdf_dict(thickness_nm, film, substrate, film_index_scale, alphas, spread, ident=ident)
-    rough = (f"GGX alpha {alphas[0]:g}" if len(alphas) == 1
-             else f"GGX alpha_u {alphas[0]:g} along dp/du (the grain), alpha_v {alphas[1]:g} across")
-    xml_name = preset_file_name(ident, "mitsuba")
-    comment = [f"Mitsuba {mitsuba_bsdf.MITSUBA_VERSION} preset written by swatch (anodic-swatch): {info['title']}",
-               f"oxide {thickness_nm:g} nm{spread.text()}: {film} on {substrate}, film index scale "
-               f"{film_index_scale:g}, {rough}, Smith height-correlated shadowing.",
-               "Exact: swatch's anodic_film BSDF evaluates the catalog's own model (Airy film with the tables'",
-               "complex dispersive indices on the half-vector facet, per sampled wavelength); nothing is fitted.",
-               "Register the plugin first (Python, a spectral variant):",
-               f"    {mitsuba_bsdf.REGISTER}",
-               f"then mi.load_file(\"{xml_name}\"), or in a scene: <include filename=\"{xml_name}\"/> and",
-               f"<ref id=\"{mitsuba_bsdf.preset_id(ident)}\"/> inside a shape."]
-    return {xml_name: mitsuba_bsdf.mitsuba_xml_bytes(bsdf, comment),
-            preset_file_name(ident, "mitsuba_json"): mitsuba_bsdf.mitsuba_json_bytes(bsdf, info)}
+__all__ = ["mitsuba_presets"]
 
 
 def mitsuba_presets(spec, records: list[dict]) -> tuple[dict[str, bytes], list[dict]]:
@@ -82,7 +44,7 @@ def mitsuba_presets(spec, records: list[dict]) -> tuple[dict[str, bytes], list[d
                                                             "geometry 45:0 (the catalog's reference)"}
         if spec.finish_spec is not None:
             info["finish"] = spec.finish_spec.label()
-        written = _mitsuba_files(rec["id"], float(rec["thickness_nm"]), spec.film, spec.substrate,
+        written = mitsuba_files(rec["id"], float(rec["thickness_nm"]), spec.film, spec.substrate,
                                  spec.film_index_scale, alphas, spec.spread, info)
         files |= {f"{PRESETS}/{name}": blob for name, blob in written.items()}
         entries.append({"mitsuba": f"{PRESETS}/{preset_file_name(rec['id'], 'mitsuba')}",
@@ -90,42 +52,3 @@ def mitsuba_presets(spec, records: list[dict]) -> tuple[dict[str, bytes], list[d
     return files, entries
 
 
-def single_mitsuba_preset(thickness_nm: float, film: str, substrate: str, film_index_scale: float,
-                          roughness_alpha: float, spread=None, finish=None) -> tuple[dict[str, bytes], str]:
-    """One thickness's exact Mitsuba presets (``swatch preset --format mitsuba``).
-
-    Parameters
-    ----------
-    thickness_nm : float
-        Film thickness, nm.
-    film, substrate : str
-        Table names.
-    film_index_scale : float
-        The process's film index scale.
-    roughness_alpha : float
-        GGX α (a finish's replaces it).
-    spread : swatch.physics.spread.ThicknessSpread, optional
-        The film's thickness spread; None: uniform.
-    finish : swatch.physics.finishes.Finish, optional
-
-    Returns
-    -------
-    files : dict
-        File name -> bytes (the XML and the JSON).
-    summary : str
-        A line saying what they hold.
-    """
-    d = float(thickness_nm)
-    ident = f"{d:g}nm"
-    spread = NO_SPREAD if spread is None else spread
-    alphas = finish_alphas(roughness_alpha, finish)
-    info = {"title": f"anodised {d:g} nm", "thickness_nm": d, "film": film, "substrate": substrate,
-            "film_index_scale": film_index_scale, **spread.metadata(),
-            "model": "exact: swatch's half-vector Airy model (nothing fitted)"}
-    if finish is not None:
-        info["finish"] = finish.label()
-    files = _mitsuba_files(ident, d, film, substrate, film_index_scale, alphas, spread, info)
-    summary = (f"Mitsuba {mitsuba_bsdf.MITSUBA_VERSION} anodic_film BSDF (exact, nothing fitted), thickness {d:g} nm"
-               f"{spread.text()}, {film} on {substrate}; XML and JSON (register the plugin: import swatch.mitsuba; "
-               "swatch.mitsuba.register())")
-    return files, summary

@@ -26,19 +26,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch.catalog.context import CatalogContext
-from swatch.catalog.geometry import Geometry
 from swatch.catalog.layout import SHEETS
 from swatch.catalog.record import Neighbours, ProcessWindowEntry, SwatchRecord
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, delta_E_ab, srgb_hex
 from swatch.colorimetry.names import NEUTRAL_CHROMA, colour_name
-from swatch.colorimetry.tolerance import delta_E
-from swatch.core.limits import MAX_THICKNESS_NM
+from swatch.colorimetry.window import PROCESS_STEP_NM, geometry_reflectance, process_window, window_voltage_V
 
 __all__ = ["CatalogData", "compute", "hue_family", "process_json", "process_window", "window_voltage_V",
            "PROCESS_STEP_NM", "HUE_FAMILIES"]
-
-#: Grid step of the process-window search (the crossing is then interpolated linearly).
-PROCESS_STEP_NM = 0.05
 
 #: CIELAB hue-angle families (degrees, [start, end)); chroma below NEUTRAL_CHROMA is "neutral"
 #: (80 nm of TiO2, C* 7.6, is a near-grey, not "cyan"), and pale yellow-greens (C* below
@@ -53,7 +48,6 @@ HUE_FAMILIES = (
     ("purple", 290.0, 345.0),
 )
 PALE_STRAW_CHROMA = 35.0
-_CHUNK = 8
 
 
 def hue_family(chroma: float, hue_deg: float) -> str:
@@ -137,110 +131,18 @@ class CatalogData:
         return [s.to_json() for s in self.swatches]
 
 
-def _geometry_R(coating, d, g: Geometry) -> np.ndarray:
-    refl, _ = coating.half_vector(d, g.light_deg, g.view_deg, 0.0, g.view_azimuth_deg)
-    return refl.R
-
-
-def process_window(coating, cm, d: np.ndarray, g: Geometry, bound: float, search_nm: float, metric: str = "dEab"):
-    """The process window of nominal thicknesses: the largest deviations keeping the colour within the bound.
-
-    ΔE(Lab(d ± δ), Lab(d)) in ``metric`` on a δ grid of :data:`PROCESS_STEP_NM` up to ``search_nm``;
-    the edge is the first grid crossing of ``bound``, interpolated linearly. ``capped`` means no
-    crossing within the search (or, below, before zero thickness): the window is then the search
-    limit (or ``d`` itself).
-
-    Parameters
-    ----------
-    coating : swatch.physics.model.Coating
-    cm : swatch.colorimetry.colorimeter.Colorimeter
-    d : numpy.ndarray, shape (N,)
-        Nominal thicknesses, nm.
-    g : swatch.catalog.geometry.Geometry
-        The geometry the colour is judged at.
-    bound : float
-        The tolerance, in ``metric``.
-    search_nm : float
-        nm.
-    metric : str
-        ``dEab`` or ``dE00`` (:data:`swatch.colorimetry.tolerance.METRICS`).
-
-    Returns
-    -------
-    (numpy.ndarray, numpy.ndarray, numpy.ndarray, numpy.ndarray)
-        minus_nm, plus_nm, minus_capped, plus_capped, each shape (N,).
-    """
-
-    if d.size > _CHUNK:  # bound the memory of the (N, K, W) spectra
-        parts = [process_window(coating, cm, d[i:i + _CHUNK], g, bound, search_nm, metric)
-                 for i in range(0, d.size, _CHUNK)]
-        return tuple(np.concatenate([p[j] for p in parts]) for j in range(4))
-    n_steps = round(search_nm / PROCESS_STEP_NM)
-    delta = PROCESS_STEP_NM * np.arange(n_steps + 1)  # (K,), delta[0] = 0
-    Lab0 = cm.Lab(cm.XYZ(_geometry_R(coating, d, g)))  # (N, 3)
-    out = []
-    for sign in (-1.0, +1.0):
-        dd = d[:, None] + sign * delta[None, :]  # (N, K)
-        valid = (dd >= 0.0) & (dd <= MAX_THICKNESS_NM)
-        Lab = cm.Lab(cm.XYZ(_geometry_R(coating, np.clip(dd, 0.0, MAX_THICKNESS_NM), g)))  # (N, K, 3)
-        dE = delta_E(metric, Lab, np.broadcast_to(Lab0[:, None, :], Lab.shape))  # (N, K)
-        dE = np.where(valid, dE, np.inf)  # leaving the physical range ends the window
-        over = dE > bound
-        has = over.any(axis=1)
-        k = np.where(has, over.argmax(axis=1), n_steps)  # first index outside
-        kk = np.maximum(k, 1)
-        rows = np.arange(d.size)
-        e0 = dE[rows, kk - 1]
-        e1 = dE[rows, kk]
-        finite = np.isfinite(e1)
-        frac = np.where(finite & (e1 > e0), (bound - e0) / np.where(e1 > e0, e1 - e0, 1.0), 0.0)
-        edge = delta[kk - 1] + np.clip(frac, 0.0, 1.0) * PROCESS_STEP_NM
-        edge = np.where(has, edge, delta[-1])
-        capped = ~has | ~finite  # no crossing in the search, or stopped by zero thickness
-        if sign < 0:
-            edge = np.where(~finite, np.minimum(delta[kk - 1], d), edge)
-            edge = np.minimum(edge, d)
-        out += [edge, capped]
-    return out[0], out[2], out[1], out[3]
-
-
-def window_voltage_V(voltage_of, thickness_nm, minus_nm, plus_nm):
-    """The process window in volts: the voltage steps from the nominal to the window's edges.
-
-    The one definition for the catalog and ``swatch spec``: through the process profile's own growth
-    law (``voltage_of``: :meth:`swatch.catalog.spec.CatalogSpec.voltage_of` or
-    :meth:`swatch.physics.process.Process.voltage_V`, one slope or two with a knee), so a window
-    above or across the knee is converted at the slope(s) it spans.
-
-    Parameters
-    ----------
-    voltage_of : callable
-        Thickness (nm, array) → voltage (V, same shape), or None without a growth rate.
-    thickness_nm, minus_nm, plus_nm : array_like, one shape (N,)
-        Nominal thicknesses and the window's extents below and above them, nm.
-
-    Returns
-    -------
-    (numpy.ndarray, numpy.ndarray) or None
-        ``V(d) − V(d − minus)`` and ``V(d + plus) − V(d)``, V, shape (N,); None without a rate.
-    """
-    d = np.asarray(thickness_nm, dtype=np.float64)
-    v0 = voltage_of(d)
-    if v0 is None:
-        return None
-    return v0 - voltage_of(d - np.asarray(minus_nm)), voltage_of(d + np.asarray(plus_nm)) - v0
-
-
 def compute(ctx: CatalogContext) -> CatalogData:
     """All the numbers of a catalog, vectorised over thicknesses and geometries.
 
     Parameters
     ----------
     ctx : swatch.catalog.context.CatalogContext
+        The build's context: the spec, wavelength grid, coating, colorimeters and tolerance.
 
     Returns
     -------
     CatalogData
+        Every swatch's spectra, colours, neighbours' ΔE, process window and typed record.
     """
 
     spec = ctx.spec
@@ -252,7 +154,7 @@ def compute(ctx: CatalogContext) -> CatalogData:
     if volts is None:  # the process has no growth rate: thicknesses only
         volts = np.full(n, np.nan)
 
-    R = _geometry_R(coating, d, spec.reference)
+    R = geometry_reflectance(coating, d, spec.reference)
     XYZ = cm.XYZ(R)
     Lab = cm.Lab(XYZ)
     LCh = Lab_to_LCh(Lab)
@@ -263,7 +165,7 @@ def compute(ctx: CatalogContext) -> CatalogData:
     hexes = [str(h) for h in np.atleast_1d(srgb_hex(enc))]
 
     G = len(spec.multi_angle)
-    multi_R = np.stack([_geometry_R(coating, d, g) for g in spec.multi_angle]) if G else np.zeros((0, n, wl.size))
+    multi_R = np.stack([geometry_reflectance(coating, d, g) for g in spec.multi_angle]) if G else np.zeros((0, n, wl.size))
     multi_XYZ = cm.XYZ(multi_R)
     multi_Lab = cm.Lab(multi_XYZ) if G else np.zeros((0, n, 3))
     multi_LCh = Lab_to_LCh(multi_Lab) if G else np.zeros((0, n, 3))
@@ -340,10 +242,13 @@ def process_json(spec) -> dict:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     dict
+        The catalog's process: profile name and origin, growth rate (nm/V), offset (nm), knee (V) if any,
+        film index scale, thickness spread, and the growth law in words.
     """
     knee = {} if spec.knee_V is None else {"knee_V": spec.knee_V, "nm_per_V_above_knee": spec.nm_per_V_above_knee}
     law = ("none: thicknesses only (the profile has no growth rate)" if spec.nm_per_V is None

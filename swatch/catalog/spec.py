@@ -16,9 +16,9 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
-from swatch.catalog.geometry import DEFAULT_ASPECULAR_DEG, Geometry, geometry_name
 from swatch.catalog.spec_checks import SpecChecker, spec_material, spec_process, spec_range
 from swatch.colorimetry import tolerance
+from swatch.colorimetry.geometry import DEFAULT_ASPECULAR_DEG, Geometry, geometry_name
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.core.choices import FINISHES, MODELS, SHAPES
 from swatch.core.errors import SwatchError
@@ -61,9 +61,9 @@ class CatalogSpec:
     illuminant, observer : str
         The colorimetry (``observer`` ``"2"`` or ``"10"``); ``wavelength_step_nm`` 1, 5 or 10 nm (ASTM E308).
     wavelength_step_nm : float
-    reference : swatch.catalog.geometry.Geometry
+    reference : swatch.colorimetry.geometry.Geometry
         The reference geometry (default 45:0).
-    multi_angle : tuple of swatch.catalog.geometry.Geometry
+    multi_angle : tuple of swatch.colorimetry.geometry.Geometry
     shapes, size_px, model, roughness, angular_map, finish, hero
         The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
     scheme, grade : str or None

@@ -30,7 +30,7 @@ from swatch.colorimetry.colorimeter import Colorimeter
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.procguard import exit_with, ignore_interrupts, start_forkserver_ignoring_interrupts
 from swatch.core.safepath import is_regular_file
-from swatch.core.sources import package_dir, source_files
+from swatch.core.sources import code_hash
 from swatch.physics.finishes import get_finish
 from swatch.physics.model import Coating
 from swatch.render import render_swatch
@@ -87,13 +87,8 @@ def lighting_caption(spec: CatalogSpec) -> str:
 
 @functools.lru_cache(maxsize=1)
 def _engine_code_hash() -> str:
-    """Hash of the engine modules (every module outside catalog/, presets/ and commands/) and this
-    file: a tile depends on all of them."""
-    pkg = package_dir()
-    h = hashlib.sha256()
-    for f in [*source_files(exclude=("catalog", "presets", "commands")), Path(__file__).resolve()]:
-        h.update(f.relative_to(pkg).as_posix().encode() + b"\0" + f.read_bytes())
-    return h.hexdigest()
+    """Hash of the code a tile's renders run: this module and every module it imports (the engines)."""
+    return code_hash(__name__)
 
 
 def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:

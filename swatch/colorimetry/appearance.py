@@ -1,4 +1,9 @@
-"""Thickness → colour: the half-vector spectrum of each thickness at one geometry, in colour terms."""
+"""Thickness → colour: the half-vector spectrum of each thickness at one geometry, in colour terms.
+
+References
+----------
+CIE 015:2018, Colorimetry, 4th ed., doi:10.25039/TR.015.2018 (CIELAB, LCh).
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass

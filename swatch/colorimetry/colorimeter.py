@@ -1,20 +1,22 @@
 """Colorimetry through colour-science: spectra -> XYZ -> CIELAB / LCh -> display RGB, and ΔE.
 
-A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its
-weights (W, 3) are obtained from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the
-method ``colour.sd_to_XYZ`` uses by default) applied to the unit impulses of the grid. Because
-that conversion is linear in the reflectance, ``R @ weights`` equals ``colour.sd_to_XYZ`` of any
-spectrum R on the grid, and many spectra convert in one matrix product.
+A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its weights (W, 3) are obtained
+from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the method ``colour.sd_to_XYZ`` uses by default)
+applied to the unit impulses of the grid. Because that conversion is linear in the reflectance, ``R @ weights`` equals
+``colour.sd_to_XYZ`` of any spectrum R on the grid, and many spectra convert in one matrix product. Scale: XYZ has
+Y = 100 for the perfect reflecting diffuser (colour-science's convention); CIELAB uses the illuminant's own white.
 
-Scale: XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's convention);
-CIELAB uses the illuminant's own white under the chosen observer.
+Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1), whatever observer the
+Lab numbers use: every RGB value comes from the spectrum through the colorimeter's
+:attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer; the colorimeter itself when it is
+already 2°). :meth:`Colorimeter.display_XYZ` gives those tristimulus values, :meth:`Colorimeter.rgb_linear` /
+:meth:`Colorimeter.display` take them, and :meth:`Colorimeter.reflectance_rgb` /
+:meth:`Colorimeter.reflectance_display` go from spectra.
 
-Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1),
-whatever observer the Lab numbers use: every RGB value comes from the spectrum through the
-colorimeter's :attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer;
-the colorimeter itself when it is already 2°). :meth:`Colorimeter.display_XYZ` gives those
-tristimulus values, :meth:`Colorimeter.rgb_linear` / :meth:`Colorimeter.display` take them, and
-:meth:`Colorimeter.reflectance_rgb` / :meth:`Colorimeter.reflectance_display` go from spectra.
+References
+----------
+CIE 015:2018, doi:10.25039/TR.015.2018 (observers, CIELAB, ΔE*ab); ASTM E308-22, doi:10.1520/E0308-22; Sharma, Wu
+and Dalal (2005), doi:10.1002/col.20070 (CIEDE2000); IEC 61966-2-1:1999 (sRGB); colour-science, doi:10.5281/zenodo.3757045.
 """
 from __future__ import annotations
 
@@ -28,21 +30,8 @@ import numpy as np
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_LAB_AB
 
-__all__ = [
-    "OBSERVERS",
-    "DISPLAY_OBSERVER",
-    "RGB_SPACES",
-    "check_rgb_space",
-    "Colorimeter",
-    "get_colorimeter",
-    "illuminant_names",
-    "delta_E_ab",
-    "delta_E_00",
-    "Lab_to_LCh",
-    "srgb_hex",
-    "hex_to_Lab",
-    "parse_Lab",
-]
+__all__ = ["OBSERVERS", "DISPLAY_OBSERVER", "RGB_SPACES", "check_rgb_space", "Colorimeter", "get_colorimeter",
+           "illuminant_names", "delta_E_ab", "delta_E_00", "Lab_to_LCh", "srgb_hex", "hex_to_Lab", "parse_Lab"]
 
 OBSERVERS = {
     "10": "CIE 1964 10 Degree Standard Observer",
@@ -236,6 +225,7 @@ class Colorimeter:
         Returns
         -------
         numpy.ndarray, shape (..., 3)
+            CIELAB (L*, a*, b*) under this colorimeter's illuminant and observer.
         """
         return self.Lab(self.XYZ(reflectance))
 
@@ -278,6 +268,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
+            The RGB primaries (and white, Bradford-adapted) of the output.
 
         Returns
         -------
@@ -300,6 +291,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
+            The RGB primaries and transfer function of the output.
 
         Returns
         -------
@@ -323,6 +315,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
+            Spectral reflectance factors (0–1) on this colorimeter's wavelength grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -339,6 +332,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
+            Spectral reflectance factors (0–1) on this colorimeter's wavelength grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -363,12 +357,16 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
     Parameters
     ----------
     wavelength_nm : array_like, shape (W,), nm
+        The spectra's wavelength grid, nm (evenly spaced; the CMFs and illuminant are interpolated onto it).
     illuminant : str
+        CIE illuminant name of colour-science (``D65``, ``D50``, ``A``, ``F11``, …): the light of the Lab values.
     observer : {"10", "2"}
+        Standard observer of the Lab values: CIE 1964 10° (the default) or CIE 1931 2°.
 
     Returns
     -------
     Colorimeter
+        Weights of the reflectance spectra to XYZ (Y = 100 for a perfect white), white point, and the 2° display colorimeter.
     """
     return _cached(tuple(np.asarray(wavelength_nm, dtype=float).tolist()), str(illuminant), str(observer))
 
@@ -403,6 +401,7 @@ def delta_E_00(Lab1, Lab2) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (...)
+        CIEDE2000 colour difference ΔE00 (dimensionless, kL = kC = kH = 1), the broadcast shape of the inputs.
     """
     return colour.difference.delta_E_CIE2000(np.asarray(Lab1), np.asarray(Lab2))
 
@@ -413,6 +412,7 @@ def Lab_to_LCh(Lab) -> np.ndarray:
     Parameters
     ----------
     Lab : array_like, shape (..., 3)
+        CIELAB colours (L* 0–100, a*, b*).
 
     Returns
     -------
@@ -483,6 +483,7 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3,)
+        The colour as (L*, a*, b*), float64.
     """
     # "60,5,30", "60, 5, 30" or "60 5 30" (as the catalog page takes it)
     t = str(text).strip()

@@ -18,6 +18,10 @@ One vocabulary: the sheets' labels, the page (cards, its colour filter, the live
 the ASE swatch names all say these names (issue 21: the sheets said "yellow" for straw and "red" for
 plum). ``catalog.json`` and ``catalog.csv`` carry the name as ``colour_name``, beside ``hue_family``,
 the coarse CIELAB hue-angle class (:data:`swatch.catalog.records.HUE_FAMILIES`) kept for data users.
+
+References
+----------
+CIE 015:2018, Colorimetry, 4th ed., doi:10.25039/TR.015.2018 (CIELAB L*, C*ab, h_ab).
 """
 from __future__ import annotations
 
@@ -85,5 +89,6 @@ def colour_names() -> tuple[str, ...]:
     Returns
     -------
     tuple of str
+        Every plain name the rules can give, in rule order.
     """
     return tuple(dict.fromkeys(r[0] for r in NAME_RULES))

@@ -6,6 +6,11 @@ colour difference the table's ``metric`` column names (both shipped schemes boun
 maximum (``dE00:2.0``, or ``{ metric = "dE00", max = 2.0 }`` in a catalog spec). Process
 windows, ``swatch match`` and ``swatch fit`` compare a colour difference computed in the
 tolerance's own metric with its bound; never one metric's number against another's bound.
+
+References
+----------
+CIE 015:2018, doi:10.25039/TR.015.2018 (ΔE*ab); G. Sharma, W. Wu and E. N. Dalal, Color Res. Appl. 30(1),
+21–30 (2005), doi:10.1002/col.20070 (CIEDE2000).
 """
 from __future__ import annotations
 
@@ -98,6 +103,8 @@ class Tolerance:
         Returns
         -------
         str
+            One line for reports: ``<scheme> grade <grade>: <metric> ≤ <max>`` (e.g. ``csaj grade C: ΔE*ab ≤ 6.5``),
+            or the metric and its bound alone.
         """
         grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
         return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
@@ -123,6 +130,7 @@ class Tolerance:
         Returns
         -------
         dict
+            ``metric``, ``max``, ``scheme``, ``grade`` and ``description`` (JSON-ready).
         """
         return {"metric": self.metric, "max": self.max, "scheme": self.scheme, "grade": self.grade,
                 "description": self.description}
@@ -148,6 +156,7 @@ def schemes() -> list[str]:
     Returns
     -------
     list of str
+        The grading schemes of the table (``csaj``, …), sorted.
     """
     return sorted(_table())
 
@@ -214,6 +223,7 @@ def grade_bound(name: str, scheme: str = DEFAULT_SCHEME) -> float:
     Returns
     -------
     float
+        The grade's largest colour difference, in the scheme's own metric (ΔE*ab or ΔE2000).
 
     Raises
     ------
@@ -320,6 +330,7 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
     Returns
     -------
     Tolerance
+        The metric (``dEab`` or ``dE00``), its bound, and the scheme and grade it came from (if any).
 
     Raises
     ------
@@ -348,6 +359,7 @@ def parse_tolerance(text: str) -> Tolerance:
     Returns
     -------
     Tolerance
+        The metric (``dEab`` or ``dE00``), its bound, and the scheme and grade it came from (if any).
 
     Raises
     ------

@@ -47,7 +47,7 @@ def build(spec, out, jobs, quiet):
 @click.argument("spec")
 def validate(spec):
     """Check a catalog spec (a file or a bundled name) and summarise it (nothing is written)."""
-    from swatch.catalog.build import check_buildable
+    from swatch.catalog.execute import check_buildable
     from swatch.catalog.layout import layout_summary
     from swatch.catalog.spec import load_spec, resolve_spec_path, spec_summary
 

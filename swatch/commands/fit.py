@@ -150,8 +150,7 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     target = parse_Lab(lab, "--lab") if lab is not None else hex_to_document_Lab(hex_code, cm)
     res = match_colour(target, coating, cm, light, view, light_azimuth, view_azimuth,
                        thickness_range=parse_pair(thickness_range, "--range"), step_nm=step, top=top,
-                       nm_per_V=proc.nm_per_V or DEFAULT_NM_PER_V, grade=grade, scheme=scheme,
-                       match_lightness=match_lightness)
+                       grade=f"{scheme}:{grade}", match_lightness=match_lightness)
     judge_candidates(res, proc.voltage_V, tol)
     out = res.to_dict()
     out["process"] = proc.metadata()

@@ -31,13 +31,12 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, rough
     import math
     from pathlib import Path
 
-    from swatch.catalog.layout import preset_file_name
-    from swatch.catalog.presets import single_preset
-    from swatch.catalog.presets_mitsuba import single_mitsuba_preset
     from swatch.commands.common import resolve_process, resolve_thickness
     from swatch.core.errors import SwatchError
     from swatch.core.fileio import atomic_write_bytes, check_new, check_writable_dir
     from swatch.physics.finishes import finish_or_roughness
+    from swatch.presets.files import single_mitsuba_preset, single_preset
+    from swatch.presets.naming import preset_file_name
 
     finish = finish_or_roughness(finish_name, roughness)
     if roughness is not None and not math.isfinite(roughness):

@@ -147,12 +147,12 @@ def _sun_options(f):
 
 
 def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
-    """The :class:`swatch.render.mitsuba.scene.Sun` of the sun options, or None when none is given (checked later)."""
+    """The :class:`swatch.render.lighting.Sun` of the sun options, or None when none is given (checked later)."""
     if all(v is None for v in (elevation, azimuth, place, date, time, timezone, turbidity)):
         return None
     import re
 
-    from swatch.render.mitsuba.scene import Sun
+    from swatch.render.lighting import Sun
 
     kw: dict = {"turbidity": 3.0 if turbidity is None else turbidity, "azimuth_deg": azimuth or 0.0}
     if place is None:
@@ -216,53 +216,38 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch.core.fileio import check_new, check_writable_dir
     from swatch.io import imageio
     from swatch.io.pngmeta import image_xmp
-    from swatch.physics import geometry
     from swatch.physics.finishes import finish_or_roughness
-    from swatch.render import render_swatch
-    from swatch.render.image import check_finish_lighting, check_size_px
-    from swatch.render.lighting import resolve_lighting
+    from swatch.render import ENGINES
+    from swatch.render.lighting import default_environment
     from swatch.render.mesh import load_mesh
     from swatch.render.metadata import file_stems, with_voltage
+    from swatch.render.request import render_request
 
     finish = finish_or_roughness(finish_name, roughness)
     roughness = finish.roughness_alpha if finish is not None else _roughness(roughness, process)
     sun = _sun(sun_elevation, sun_azimuth, sun_place, sun_date, sun_time, sun_timezone, turbidity)
-    mitsuba = engine == "mitsuba"
-    if mitsuba:
-        if model != "microfacet":
-            raise SwatchError("the mitsuba engine renders the microfacet model; drop --model paper")
-        if str(illuminant).strip().upper() != "D65":
-            raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use --illuminant D65")
-        from swatch.render.mitsuba.setup import check_mitsuba_request
-
-        check_mitsuba_request(size_px, spp, seed)
-    elif sun is not None or (environment or "").strip().lower() == "sun":
-        raise SwatchError("sun and sky lighting is the mitsuba engine's; add --engine mitsuba")
-    else:
-        background = background or "grey"
-        check_size_px(size_px)
-        geometry.check_polar_deg(light_deg, "light_deg")
-    light = resolve_lighting(environment, engine, sun, model, distribution, None if mitsuba else size_px, background,
-                             view_deg, view_azimuth_deg)
-    if not mitsuba:
-        check_finish_lighting(finish, light.environment, model, distribution, size_px)
     mesh = None if mesh_file is None else load_mesh(mesh_file)
     shape = "mesh" if mesh is not None else shape
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
+    # every input checked once, before anything is written (a series reuses the request and its lighting)
+    request = render_request(d[0], shape, size_px, light_deg=light_deg, roughness_alpha=roughness, model=model,
+                             coating=coating, colorimeter=cm, space=space, distribution=distribution,
+                             environment=default_environment(engine, model, distribution) if environment is None
+                             else environment, background=background, view_deg=view_deg,
+                             view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine, spp=spp,
+                             seed=seed, sun=sun)
+    mitsuba = request.engine == "mitsuba"
     stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
-    # builtin: every input is checked; mitsuba: the first render checks the rest (the scene) before anything is written
+    # builtin: every input is checked; mitsuba: the first render checks the scene (the sun above the horizon)
     out = None if mitsuba else check_writable_dir(out_dir)
     written = []
     items = list(range(d.size))  # mitsuba: a bar of passes per render instead
     with nullcontext(items) if mitsuba else _iterate(items, f"{shape} swatches") as it:
         for i in it:
             with PassBar(f"mitsuba {shape}") if mitsuba else nullcontext() as passes:
-                img = render_swatch(d[i], shape, size_px, light_deg, roughness, model, coating, cm, space,
-                                    distribution, environment=light, background=background, view_deg=view_deg,
-                                    view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine,
-                                    spp=spp, seed=seed, progress=passes)
+                img = ENGINES[request.engine](request.with_thickness(d[i]), passes)
             out = out or check_writable_dir(out_dir)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")

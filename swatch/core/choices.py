@@ -63,3 +63,7 @@ DEFAULT_THICKNESS_RANGE_NM = (0.0, 400.0)
 DEFAULT_FIT_STEP_NM = 1.0
 DEFAULT_MATCH_STEP_NM = 0.1
 DEFAULT_EXCLUDE_MIRROR_DEG = 10.0
+
+#: The Mitsuba variants the thin-film plugin runs in (it needs the sampled wavelengths), and the default.
+SPECTRAL_VARIANTS = ("llvm_ad_spectral", "scalar_spectral", "cuda_ad_spectral")
+DEFAULT_VARIANT = "llvm_ad_spectral"

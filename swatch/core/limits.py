@@ -22,7 +22,8 @@ __all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MA
            "MAX_INSTRUMENT_SAMPLES",
            "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
            "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
-           "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX"]
+           "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX", "MIN_FILM_INDEX_SCALE", "MAX_FILM_INDEX_SCALE",
+           "MAX_DISPLAY_EXPOSURE"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -90,6 +91,12 @@ MIN_ENV_RENDER_PX = 8
 #: Smallest microfacet roughness alpha: below it alpha² underflows in the distributions' terms
 #: (1e-300 gave NaN pixels); 0.001 is already a mirror at any render size.
 MIN_ROUGHNESS_ALPHA = 1e-3
+#: Range of a film's real-index factor (a process profile's ``film_index_scale``, the Mitsuba plugin's
+#: property): a deposited oxide's index is within ±50 % of the tabulated film's (dimensionless).
+MIN_FILM_INDEX_SCALE = 0.5
+MAX_FILM_INDEX_SCALE = 1.5
+#: Largest display exposure factor of a render's PNG (and 1/it the smallest): 6 stops either way.
+MAX_DISPLAY_EXPOSURE = 64.0
 #: Largest angular map, in cells × wavelengths: its spectral array (8 bytes a sample) and the
 #: spectral EXR (4) stay near 0.6 GB within MAX_RUN_BYTES (e.g. 700 × 700 cells at 81 wavelengths).
 MAX_ANGULAR_SAMPLES = 40_000_000

@@ -376,12 +376,15 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
         raise SwatchError(f"{coupons.source}: these coupons do not determine the growth rate and offset "
                           "(too few coupons for the parameters); add coupons at other voltages")
     se = dict(zip(fit.free, np.sqrt(np.maximum(np.diag(cov), 0.0)), strict=True))
-    return _result(coupons, base, name, fit, se, outlier, record, ranking, fixed, table, starts, cm, cos_d,
-                   Lab_m, light_deg, view_deg)
+    return _result(coupons, base, name, (fit, se, outlier, record, ranking, table, starts), fixed, cm, cos_d, Lab_m,
+                   (light_deg, view_deg))
 
 
-def _result(coupons, base, name, fit, se, outlier, record, ranking, fixed, table, starts, cm, cos_d, Lab_m,
-            light_deg, view_deg) -> Calibration:
+def _result(coupons, base, name, winner: tuple, fixed, cm, cos_d, Lab_m, geometry_deg: tuple) -> Calibration:
+    """The calibration of the winning pair: ``winner`` is (model fit, standard errors, outliers, the selection's
+    record, the pairs' ranking, the pair's table, the search's starts); ``geometry_deg`` (light, view)."""
+    fit, se, outlier, record, ranking, table, starts = winner
+    light_deg, view_deg = geometry_deg
     x = fit.X
     s = float(x[2])
     knee = "knee" in fit.free

@@ -17,8 +17,7 @@ from swatch.fit.result import (
 )
 from swatch.fit.search import check_search_range, curvature_sigma, multimodal_search
 from swatch.io.measurements import LabMeasurement
-from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
-from swatch.physics.model import get_coating
+from swatch.physics.model import Coating, get_coating
 
 __all__ = ["fit_lab"]
 
@@ -38,19 +37,15 @@ def _scaled_Lab(XYZ: np.ndarray, Y_meas: np.ndarray, scale: str, cm: Colorimeter
 
 def fit_lab(
     measurement: LabMeasurement,
-    film: str = DEFAULT_FILM,
-    substrate: str = DEFAULT_SUBSTRATE,
+    coating: Coating | None = None,
     *,
     scale: str = "energy",
     exclude_mirror_deg: float = DEFAULT_EXCLUDE_MIRROR_DEG,
     thickness_range=DEFAULT_THICKNESS_RANGE_NM,
     step_nm: float = DEFAULT_FIT_STEP_NM,
-    wavelength_nm=None,
     illuminant: str = "D65",
     observer: str = "10",
     scheme: str = DEFAULT_SCHEME,
-    film_index_scale: float = 1.0,
-    spread=None,
 ) -> FitResult:
     """Thickness from CIELAB measurements: least squares in ΔE2000 (see the module docstring).
 
@@ -58,8 +53,9 @@ def fit_lab(
     ----------
     measurement : LabMeasurement
         CIELAB per geometry, with the illuminant and observer they were measured under.
-    film, substrate : str
-        Optical table names.
+    coating : swatch.physics.model.Coating, optional
+        The film model: film and substrate tables, the film's index scale, its thickness spread (the model's
+        colours are averaged over it) and the wavelength grid of the colours, nm (default: TiO2 on Ti, 5 nm).
     scale : {"energy", "lsq", "global", "none"}
         The intensity correction applied to the model's spectra before their colour is compared.
     exclude_mirror_deg : float
@@ -68,16 +64,10 @@ def fit_lab(
         Search range, nm.
     step_nm : float
         Step of the global search, nm.
-    wavelength_nm : array_like or None
-        The model's wavelength grid, nm.
     illuminant, observer : str
         The conditions of the Lab values (e.g. ``D65``, ``10``).
     scheme : str
         Grading scheme of the fit's grade (judged in its own metric).
-    film_index_scale : float
-        A process profile's scale of the film's real index.
-    spread : ThicknessSpread or None
-        The film's thickness spread (the model's colours are averaged over it).
 
     Returns
     -------
@@ -89,7 +79,7 @@ def fit_lab(
     """
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
-    coating = get_coating(film, substrate, wavelength_nm, film_index_scale, spread)
+    coating = get_coating() if coating is None else coating
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
     cos_d, theta_d, mirror = geometry_arrays(measurement)
     used = used_geometries(mirror, exclude_mirror_deg)

@@ -107,9 +107,7 @@ def match_colour(
     thickness_range=DEFAULT_THICKNESS_RANGE_NM,
     step_nm: float = DEFAULT_MATCH_STEP_NM,
     top: int = 5,
-    nm_per_V: float = DEFAULT_NM_PER_V,
     grade: str = "C",
-    scheme: str = DEFAULT_SCHEME,
     match_lightness: bool = False,
 ) -> MatchResult:
     """Thicknesses whose colour at one geometry is closest to ``target_Lab`` (ranked by ΔE2000).
@@ -130,10 +128,11 @@ def match_colour(
         Search step, nm.
     top : int
         How many candidates to return.
-    nm_per_V : float
-        Growth rate for the candidates' voltages, nm/V.
-    grade, scheme : str
-        The tolerance the candidates are judged against (in its own metric).
+    grade : str
+        The tolerance grade the candidates are judged against: a grade of the default scheme (``C``), or
+        ``scheme:grade`` (``csaj:B``, ``nbs:trace``). Voltages are by the paper's titanium growth law
+        (:data:`swatch.physics.growth.DEFAULT_NM_PER_V`); :func:`judge_candidates` sets them, and the
+        verdicts, by a process and a tolerance in its own metric.
     match_lightness : bool
         Scale the simulated colour so its Y equals the target's (compare hue and chroma only, for
         targets of unknown lightness such as photographs).
@@ -148,6 +147,7 @@ def match_colour(
         raise SwatchError("target Lab must be finite with L in [0, 100]")
     if not (isinstance(top, int) and 1 <= top <= 100):
         raise SwatchError("`top` must be an integer from 1 to 100")
+    scheme, grade = grade.split(":", 1) if ":" in str(grade) else (DEFAULT_SCHEME, grade)
     bound = grade_bound(grade, scheme)
     coating = coating or get_coating()
     cm = colorimeter or get_colorimeter(coating.wavelength_nm)
@@ -182,7 +182,7 @@ def match_colour(
     Lab = np.atleast_2d(Lab_of(model_reflectance(coating, d, cos_d)))
     dE00 = np.atleast_1d(delta_E_00(Lab, target))
     dEab = np.atleast_1d(delta_E_ab(Lab, target))
-    volts = thickness_to_voltage_V(d, nm_per_V)
+    volts = thickness_to_voltage_V(d, DEFAULT_NM_PER_V)
     cands: list[dict[str, Any]] = [
         {
             "thickness_nm": float(d[i]),

@@ -258,7 +258,9 @@ def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, 
     """
 
     if isinstance(measurement, LabMeasurement):
-        return fit_lab(measurement, film, substrate, wavelength_nm=wavelength_nm, **options)
+        coating = get_coating(film, substrate, wavelength_nm, options.pop("film_index_scale", 1.0),
+                              options.pop("spread", None))
+        return fit_lab(measurement, coating, **options)
     if grid_given:
         raise SwatchError(f"{source or measurement.source}: `wavelength_nm` applies to CIELAB files; a spectral fit "
                           "uses the measured wavelengths (crop the file to change them)")

@@ -27,6 +27,10 @@ means, and what it is based on:
 The brushing direction on a render: the plate's x axis (left–right in the image), the
 cylinder's axis and, for the sphere and meshes, the vertical (+y) projected onto the surface
 (x where the surface faces up); see :func:`brush_tangent`.
+
+References
+----------
+B. Walter et al., EGSR 2007, doi:10.2312/EGWR/EGSR07/195-206 (GGX); E. Heitz, JCGT 3(2) (2014) (Smith Λ).
 """
 from __future__ import annotations
 
@@ -75,6 +79,7 @@ class Finish:
         Returns
         -------
         bool
+            True when α_u ≠ α_v (a brushed finish).
         """
         return self.alpha_u != self.alpha_v
 
@@ -142,6 +147,7 @@ def get_finish(name: str) -> Finish:
     Returns
     -------
     Finish
+        The named finish: its GGX α_u, α_v (dimensionless) and description.
 
     Raises
     ------

@@ -8,6 +8,12 @@ the mirror direction.
 The half vector ``h = (l + v) / |l + v|`` is the normal of the microfacets that mirror the light
 into the view. The incidence angle on those facets is ``theta_d = 1/2 arccos(l . v)``; in plane
 it equals ``(theta_l + theta_v) / 2``.
+
+References
+----------
+M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 5 (θ_d on the half-vector facet).
+S. M. Rusinkiewicz, "A new change of variables for efficient BRDF representation", EGWR 1998,
+doi:10.1007/978-3-7091-6453-2_2 (half-vector and difference angles).
 """
 from __future__ import annotations
 

@@ -34,10 +34,12 @@ def check_growth_rate(nm_per_V: float) -> float:
     Parameters
     ----------
     nm_per_V : float
+        Growth rate of the oxide, nm of film per volt of anodising voltage.
 
     Returns
     -------
     float
+        The rate, nm/V.
 
     Raises
     ------

@@ -15,6 +15,10 @@ interpolation reproduces every table point exactly, never overshoots (so ``k`` s
 ``>= 0``) and is adequate because all tables are sampled much more finely than the
 spectral structure that matters for interference colours.  It never extrapolates:
 a wavelength outside the table raises :class:`~swatch.core.errors.SwatchError`.
+
+References
+----------
+Each table's own reference and DOI are in its header (``# doi:``) and in :attr:`Material.doi`.
 """
 
 from __future__ import annotations
@@ -216,6 +220,7 @@ def tables_dir() -> Path:
     Returns
     -------
     pathlib.Path
+        The package's ``tables/`` folder (optical constants, tolerance grades, processes).
 
     Raises
     ------

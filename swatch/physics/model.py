@@ -3,6 +3,11 @@
 A :class:`Coating` fixes the film and substrate materials and the wavelength grid; its methods
 give the spectral reflectance of the facets that mirror the light into the view (incidence angle
 ``theta_d`` on the half-vector facet, eq. 5) for arrays of thicknesses and geometries.
+
+References
+----------
+M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 2–5 and Table 2.
 """
 from __future__ import annotations
 
@@ -13,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_THICKNESS_NM
+from swatch.core.limits import MAX_FILM_INDEX_SCALE, MAX_THICKNESS_NM, MIN_FILM_INDEX_SCALE
 from swatch.physics import geometry, optics
 from swatch.physics.materials import (
     DEFAULT_FILM,
@@ -386,7 +391,7 @@ def get_coating(film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE, wa
         For an unknown table, a table of the wrong role, a grid outside a table, or a scale out of range.
     """
     scale = float(film_index_scale)
-    if not (math.isfinite(scale) and 0.5 <= scale <= 1.5):
-        raise SwatchError("film index scale must be from 0.5 to 1.5")
+    if not (math.isfinite(scale) and MIN_FILM_INDEX_SCALE <= scale <= MAX_FILM_INDEX_SCALE):
+        raise SwatchError(f"film index scale must be from {MIN_FILM_INDEX_SCALE:g} to {MAX_FILM_INDEX_SCALE:g}")
     wl = DEFAULT_WAVELENGTHS_NM if wavelength_nm is None else np.asarray(wavelength_nm, dtype=np.float64)
     return _coating(film, substrate, tuple(wl.tolist()), scale, spread or NO_SPREAD)

@@ -45,9 +45,11 @@ def stack_reflectance(
     n_layers : sequence of array_like, complex, shape (W,) or scalar
         The films' indices, in the same order.
     n_substrate : array_like, complex, shape (W,) or scalar
+        Complex refractive index n + ik of the substrate (the metal) per wavelength.
     incidence_deg : array_like, degrees
         Incidence angles in [0, 90).
     wavelength_nm : array_like, shape (W,), nm
+        Vacuum wavelengths, nm.
     n_ambient : float
         Real index of the ambient medium.
 

@@ -15,6 +15,13 @@ Conventions (the same as Byrnes' ``tmm`` package, our reference):
 Shapes: ``thickness_nm`` and ``incidence_deg`` broadcast together to a shape S; the index arrays
 are given on the wavelength grid (shape (W,)); results have shape ``S + (W,)``. Everything is
 float64 / complex128 and vectorised by broadcasting: no loops over thickness, angle or wavelength.
+
+References
+----------
+M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6 and §7.6 (Cambridge University Press, 1999),
+doi:10.1017/CBO9781139644181 (Fresnel coefficients, Airy summation of a thin film).
+S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016), doi:10.48550/arXiv.1603.02720 (tmm).
+M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 2–4.
 """
 from __future__ import annotations
 
@@ -76,6 +83,7 @@ def layer_q(n_layer: np.ndarray, kx: np.ndarray) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, complex128, the broadcast shape
+        q = n cos θ of the layer (complex; the refracted angle by Snell's law with complex indices).
     """
     q = np.sqrt(np.asarray(n_layer, dtype=np.complex128) ** 2 - np.asarray(kx) ** 2)
     # The principal root already has Re q >= 0; a negative-zero imaginary part of the radicand
@@ -136,6 +144,7 @@ def check_film_geometry(thickness_nm: np.ndarray, incidence_deg: np.ndarray) -> 
     Parameters
     ----------
     thickness_nm, incidence_deg : numpy.ndarray
+        Film thicknesses (nm) and incidence angles in the ambient medium (degrees from the normal).
 
     Raises
     ------
@@ -154,6 +163,7 @@ def check_wavelengths(wavelength_nm) -> np.ndarray:
     Parameters
     ----------
     wavelength_nm : array_like
+        Vacuum wavelengths, nm (finite and positive).
 
     Returns
     -------
@@ -226,6 +236,7 @@ class FilmAtAngles:
         Returns
         -------
         numpy.ndarray, complex128, shape S + (W,)
+            exp(2iβ), β = 2π d n cos θ / λ: the film's round-trip phase and absorption per wavelength (dimensionless).
         """
         d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
         phi = d * self.k4.real
@@ -304,15 +315,8 @@ class FilmAtAngles:
         return _sweep(self, thickness_start_nm, thickness_step_nm, count)
 
 
-def film_reflectance_cos(
-    thickness_nm,
-    cos_incidence,
-    wavelength_nm,
-    n_film,
-    n_substrate,
-    n_ambient: float = 1.0,
-    amplitudes: bool = False,
-) -> Reflectance:
+def film_reflectance_cos(thickness_nm, cos_incidence, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0,
+                         amplitudes: bool = False) -> Reflectance:
     """Airy reflectance of one film, with the incidence angle given by its cosine.
 
     Parameters
@@ -322,6 +326,7 @@ def film_reflectance_cos(
     cos_incidence : array_like
         Cosine of the incidence angle, in (0, 1]; broadcasts with ``thickness_nm`` to S.
     wavelength_nm : array_like, shape (W,), nm
+        Vacuum wavelengths, nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float
@@ -369,16 +374,8 @@ def _pole_form(a: np.ndarray | complex, b: np.ndarray) -> tuple[np.ndarray, np.n
     return K, z
 
 
-def film_reflectance_sweep(
-    thickness_start_nm: float,
-    thickness_step_nm: float,
-    count: int,
-    incidence_deg,
-    wavelength_nm,
-    n_film,
-    n_substrate,
-    n_ambient: float = 1.0,
-) -> Reflectance:
+def film_reflectance_sweep(thickness_start_nm: float, thickness_step_nm: float, count: int, incidence_deg, wavelength_nm,
+                           n_film, n_substrate, n_ambient: float = 1.0) -> Reflectance:
     """Reflectance over an evenly spaced thickness sweep ``start + step * j``, ``j < count``.
 
     It equals :func:`film_reflectance` on the same thicknesses to rounding, and is faster for
@@ -401,6 +398,7 @@ def film_reflectance_sweep(
     incidence_deg : array_like, shape A, degrees
         Incidence angles in [0, 90).
     wavelength_nm : array_like, shape (W,), nm
+        Vacuum wavelengths, nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float
@@ -457,15 +455,8 @@ def _sweep(film: FilmAtAngles, thickness_start_nm: float, thickness_step_nm: flo
     return Reflectance(R_s=R_s, R_p=R_p)
 
 
-def film_reflectance(
-    thickness_nm,
-    incidence_deg,
-    wavelength_nm,
-    n_film,
-    n_substrate,
-    n_ambient: float = 1.0,
-    amplitudes: bool = False,
-) -> Reflectance:
+def film_reflectance(thickness_nm, incidence_deg, wavelength_nm, n_film, n_substrate, n_ambient: float = 1.0,
+                     amplitudes: bool = False) -> Reflectance:
     """Airy reflectance (multiple reflections included) of ambient / film / substrate.
 
     Parameters
@@ -476,6 +467,7 @@ def film_reflectance(
         Incidence angles from the surface normal, in [0, 90); broadcast with ``thickness_nm``
         to S.
     wavelength_nm : array_like, shape (W,), nm
+        Vacuum wavelengths, nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float

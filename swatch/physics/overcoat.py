@@ -76,6 +76,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         str
+            The anodic film's optical table name.
         """
         return self.base.film
 
@@ -86,6 +87,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         str
+            The metal's optical table name.
         """
         return self.base.substrate
 
@@ -96,6 +98,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         numpy.ndarray
+            The wavelength grid of the indices, nm, shape (W,).
         """
         return self.base.wavelength_nm
 
@@ -106,6 +109,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         swatch.physics.spread.ThicknessSpread
+            The anodic film's thickness spread (absolute nm and relative parts).
         """
         return self.base.spread
 
@@ -226,6 +230,7 @@ def overcoat_json(coating) -> dict:
     Parameters
     ----------
     coating : Coating or OvercoatedCoating
+        The film (and the clear layers on it, if any).
 
     Returns
     -------
@@ -244,6 +249,7 @@ def overcoat_text(coating) -> str:
     Parameters
     ----------
     coating : Coating or OvercoatedCoating
+        The film (and the clear layers on it, if any).
 
     Returns
     -------

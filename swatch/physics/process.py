@@ -8,6 +8,10 @@ or the calibration that produced them (``[calibration]``, written by ``swatch ca
 
 A profile file is untrusted input: its size is capped before it is parsed, unknown keys are
 refused, every number is range-checked, and every error is one line naming the file.
+
+References
+----------
+M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the default profile: 50.8 nm at 25 V).
 """
 from __future__ import annotations
 
@@ -21,12 +25,14 @@ from typing import TYPE_CHECKING
 
 from swatch.core.errors import SwatchError
 from swatch.core.limits import (
+    MAX_FILM_INDEX_SCALE,
     MAX_PROFILE_BYTES,
     MAX_PROFILE_NAME_CHARS,
     MAX_PROFILE_TEXT_CHARS,
     MAX_SPREAD_FRACTION,
     MAX_SPREAD_NM,
     MAX_VOLTAGE_V,
+    MIN_FILM_INDEX_SCALE,
     read_capped,
 )
 from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
@@ -42,7 +48,7 @@ __all__ = ["DEFAULT_PROCESS", "Process", "load_process", "list_processes", "pres
 DEFAULT_PROCESS = "titanium-fujii2019"
 RATE_RANGE = (0.1, 10.0)  # nm per volt
 OFFSET_RANGE = (-50.0, 100.0)  # nm at 0 V
-SCALE_RANGE = (0.5, 1.5)
+SCALE_RANGE = (MIN_FILM_INDEX_SCALE, MAX_FILM_INDEX_SCALE)  # dimensionless (swatch.core.limits)
 _TOP_KEYS = ("name", "description", "film", "substrate", "nm_per_V", "offset_nm", "film_index_scale", "roughness",
              "spread_nm", "spread_fraction", "knee_V", "nm_per_V_above_knee", "sources", "calibration")
 _SOURCE_KEYS = ("nm_per_V", "offset_nm", "film_index_scale", "roughness", "film", "substrate", "spread_nm",
@@ -112,6 +118,7 @@ class Process:
         Returns
         -------
         str
+            The profile's name and, when overridden, what was changed (one line).
         """
         return self.name + (f", thickness spread{self.spread.text()}" if not self.spread.is_zero else "")
 
@@ -122,6 +129,7 @@ class Process:
         Returns
         -------
         bool
+            True when a growth rate (nm/V) is known, so voltages can be given.
         """
         return self.nm_per_V is not None
 
@@ -179,6 +187,7 @@ class Process:
         Returns
         -------
         swatch.physics.model.Coating
+            The film on the substrate on that grid, with the profile's index scale and thickness spread.
         """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
@@ -416,6 +425,7 @@ def load_process(name_or_path: str) -> Process:
     Returns
     -------
     Process
+        The profile: film, substrate, growth law (nm/V, offset nm, knee), index scale, roughness, spread, sources.
 
     Raises
     ------
@@ -445,6 +455,7 @@ def list_processes() -> list[Process]:
     Returns
     -------
     list of Process
+        The built-in profiles, by name.
     """
     return [load_process(n) for n in preset_names()]
 
@@ -463,6 +474,7 @@ def process_toml(p: Process, header: str = "") -> str:
     Parameters
     ----------
     p : Process
+        The profile to write.
     header : str, optional
         Lines written first as ``#`` comments.
 

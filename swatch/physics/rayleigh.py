@@ -4,6 +4,10 @@ A surface scatters off the mirror direction (the microfacet / half-vector pictur
 height variation exceeds ``h = λ / (8 cos θ)``; below it, it is a mirror with colour only near the
 specular direction. The paper's blue sample (Ra 268 nm) is rough: ``h`` spans 47.5–195 nm over
 380–780 nm and 0–60°.
+
+References
+----------
+M. Fujii et al. (2019), §2, doi:10.14923/transinfj.2018JDP7030.
 """
 from __future__ import annotations
 

@@ -17,6 +17,10 @@ reflectance evaluation.
 
 A zero spread is no averaging at all: callers keep the uniform film's code path, so its outputs
 stay byte-identical.
+
+References
+----------
+M. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030 (the film's non-uniformity).
 """
 from __future__ import annotations
 
@@ -82,6 +86,7 @@ class ThicknessSpread:
         Returns
         -------
         bool
+            True when both parts are 0 (a uniform film).
         """
         return self.spread_nm == 0.0 and self.spread_fraction == 0.0
 
@@ -132,6 +137,7 @@ def parse_spread(text: str | None) -> ThicknessSpread | None:
     Returns
     -------
     ThicknessSpread or None
+        The spread (σ = spread_nm + spread_fraction × d, nm), or None for an empty text.
 
     Raises
     ------
@@ -158,6 +164,7 @@ def spread_sigma_nm(thickness_nm, spread: ThicknessSpread) -> np.ndarray:
     thickness_nm : array_like
         Mean thicknesses, nm, any shape.
     spread : ThicknessSpread
+        The film's thickness non-uniformity (absolute nm and relative parts).
 
     Returns
     -------
@@ -218,6 +225,7 @@ def spread_average(reflect: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]
     thickness_nm : array_like, nm
         Mean thicknesses ≥ 0.
     spread : ThicknessSpread
+        The film's thickness non-uniformity (absolute nm and relative parts).
     n_film_max : float
         Largest real film index on the grid (sets the node count).
     wavelength_min_nm : float

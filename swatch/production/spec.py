@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from swatch.catalog.geometry import DEFAULT_ASPECULAR_DEG, Geometry
-from swatch.catalog.records import process_window, window_voltage_V
 from swatch.colorimetry.colorimeter import Lab_to_LCh, delta_E_00, get_colorimeter, srgb_hex
+from swatch.colorimetry.geometry import DEFAULT_ASPECULAR_DEG, Geometry
 from swatch.colorimetry.observers import HEX_CONVENTION, document_Lab_display
 from swatch.colorimetry.tolerance import Tolerance
+from swatch.colorimetry.window import process_window, window_voltage_V
 from swatch.core.errors import SwatchError
 from swatch.core.version import __version__
 from swatch.fit.matching import match_colour
@@ -55,7 +55,7 @@ def multi_angle_geometries(light_deg: float = 45.0, aspecular_deg=DEFAULT_ASPECU
 
     Returns
     -------
-    tuple of swatch.catalog.geometry.Geometry
+    tuple of swatch.colorimetry.geometry.Geometry
         One per aspecular angle, named ``<light>as<aspecular>``.
 
     Examples

@@ -34,6 +34,7 @@ def check_angular_size(n_light: int, n_view: int, n_wavelengths: int) -> None:
     Returns
     -------
     None
+        Returns only when the map fits the memory cap.
 
     Raises
     ------
@@ -67,9 +68,11 @@ class AngularMap:
     display_rgb : numpy.ndarray, uint8, shape (L, V, 3)
         Display sRGB with ``exposure`` applied.
     exposure : float
+        Display exposure factor applied to the linear map for the PNG.
     spectral : numpy.ndarray, shape (L, V, W)
         Reflectance factor per wavelength.
     wavelength_nm : numpy.ndarray, shape (W,)
+        The spectra's wavelength grid, nm.
     metadata : dict
         What the files written from the map record about it.
     """
@@ -111,6 +114,7 @@ def angular_map(thickness_nm: float, light_deg=DEFAULT_ANGLES_DEG, view_deg=DEFA
     roughness_alpha : float
         GGX/Beckmann alpha (microfacet model).
     distribution : {"ggx", "beckmann"}
+        The microfacet normal distribution of the microfacet model.
     space : {"srgb", "acescg"}
         Primaries of ``linear_rgb``.
 

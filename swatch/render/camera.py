@@ -19,10 +19,12 @@ def unit(v) -> np.ndarray:
     Parameters
     ----------
     v : array_like, shape (3,)
+        A nonzero 3-vector.
 
     Returns
     -------
     numpy.ndarray, shape (3,)
+        ``v`` scaled to length 1 (float64).
 
     Examples
     --------
@@ -40,6 +42,7 @@ class Camera:
     Attributes
     ----------
     position : numpy.ndarray, shape (3,)
+        The eye, in scene units (the object fits the unit sphere).
     right, up, forward : numpy.ndarray, shape (3,)
         Orthonormal frame.
     cx, cy : float
@@ -63,10 +66,12 @@ class Camera:
         Parameters
         ----------
         position, target, world_up : array_like, shape (3,)
+            The eye, the point looked at (scene units) and the direction that is up in the image.
 
         Returns
         -------
         Camera
+            A pinhole camera looking from ``position`` at ``target``.
         """
         pos = np.asarray(position, dtype=np.float64)
         fwd = unit(np.asarray(target, dtype=np.float64) - pos)
@@ -80,11 +85,14 @@ class Camera:
         Parameters
         ----------
         points : array_like, shape (N, 3)
+            Points of the object (scene units) that must be in view.
         fill : float
+            Fraction of the image side the points span (0–1).
 
         Returns
         -------
         Camera
+            The same camera with its field of view narrowed to frame the points.
         """
         q = np.asarray(points, dtype=np.float64) - self.position
         z = q @ self.forward
@@ -105,10 +113,13 @@ class Camera:
         size : int
             Image side, pixels.
         dtype : numpy dtype
+            Precision of the returned arrays (float32 for renders).
 
         Returns
         -------
         (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+            ``(u, w, inv)``: the rays' coordinates in the image plane (at unit distance) and 1/|(u, w, 1)|, the
+            broadcast shape of ``x`` and ``y``.
         """
         s = 2.0 * self.half / size
         u = np.asarray(x, dtype=dtype) * dtype(s) + dtype(self.cx - self.half)
@@ -124,10 +135,12 @@ class Camera:
         u, w, inv : numpy.ndarray
             From :meth:`window`.
         vec : array_like, shape (3,)
+            A direction in scene coordinates.
 
         Returns
         -------
         numpy.ndarray
+            The dot product of each ray's unit direction with ``vec`` (the window's shape).
         """
         t = inv.dtype.type
         vec = np.asarray(vec, dtype=np.float64)
@@ -141,7 +154,9 @@ class Camera:
         x, y : array_like
             Pixels.
         size : int
+            Image side, pixels.
         dtype : numpy dtype
+            Precision of the returned arrays.
 
         Returns
         -------

@@ -1,91 +1,191 @@
-"""The render layer's one entry point: :func:`render_swatch` checks a render request once and hands it
-to an engine.
+"""The render layer's one entry point: :func:`render_swatch` checks a render request once
+(:func:`swatch.render.request.render_request`) and hands it to an engine of :data:`ENGINES`.
 
 Engines
 -------
-``builtin`` (the default) is the table-lookup renderer of this package: :mod:`swatch.render.pointlight`
-for one directional light, :mod:`swatch.render.env_render` when an environment lights the swatch.
-``mitsuba`` is Mitsuba 3's spectral path tracer with the exact thin-film BSDF
-(:mod:`swatch.render.mitsuba.engine`), imported only when it is asked for (Mitsuba and Dr.Jit are an
-optional dependency that takes seconds to load). The lighting of either is resolved once
-(:func:`swatch.render.lighting.resolve_lighting`) into one :class:`swatch.render.lighting.Lighting`.
-Every engine returns a :class:`swatch.render.image.SwatchImage`. How a further engine plugs in is
-described in docs/DEVNOTES.md.
+An engine is a function ``engine(request, progress) -> SwatchImage`` of a checked
+:class:`swatch.render.request.RenderRequest` and an optional ``progress(done, total)`` callback; it
+renders what the request holds and checks nothing again. :data:`ENGINES` maps a name to it:
+
+``builtin`` (the default) is the table-lookup renderer of this package (:func:`render_builtin`):
+:mod:`swatch.render.pointlight` for one directional light, :mod:`swatch.render.env_render` when an
+environment lights the swatch. ``mitsuba`` is Mitsuba 3's spectral path tracer with the exact thin-film
+BSDF (:func:`swatch.render.mitsuba.engine.render_mitsuba`), imported only when it is asked for (Mitsuba
+and Dr.Jit are an optional dependency that takes seconds to load). A further engine (a GPU variant, a
+denoising step) is one entry here and one builder in :mod:`swatch.render.request` (docs/DEVNOTES.md).
 """
 from __future__ import annotations
 
-from swatch.colorimetry.colorimeter import check_rgb_space
+from collections.abc import Callable
+from typing import Unpack
+
 from swatch.core.errors import SwatchError
-from swatch.physics import microfacet
-from swatch.physics.model import check_thickness_nm
-from swatch.render import env_render, shading
-from swatch.render.image import SwatchImage, check_background, check_finish_lighting, check_size_px, finish_meta
-from swatch.render.lighting import Sun, check_engine, resolve_lighting
-from swatch.render.metadata import coating_and_colorimeter, common_metadata
+from swatch.core.version import __version__
+from swatch.render import env_render
+from swatch.render.image import SwatchImage, finish_meta
+from swatch.render.metadata import common_metadata
 from swatch.render.pointlight import render_pointlight
-from swatch.render.scene import check_shape, make_scene
+from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
-__all__ = ["DISPATCHED_ENGINES", "render_swatch"]
+__all__ = ["ENGINES", "Engine", "render_builtin", "render_swatch", "engine_unavailable", "engine_version"]
 
-#: Engines :func:`render_swatch` runs (of :data:`swatch.core.choices.ENGINES`; ``mitsuba`` is reached
-#: through :mod:`swatch.render.mitsuba.engine` for now).
-DISPATCHED_ENGINES = ("builtin",)
+#: An engine: a checked request and an optional progress callback in, a :class:`SwatchImage` out.
+Engine = Callable[[RenderRequest, Progress | None], SwatchImage]
 
 
-def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg: float = 45.0,
-                  roughness_alpha: float = 0.3, model: str = "microfacet", coating=None, colorimeter=None,
-                  space: str = "srgb", distribution: str = "ggx", workers: int | None = None,
-                  environment=None, background: str | None = None, view_deg: float | None = None,
-                  view_azimuth_deg: float = 0.0, mesh=None, finish=None, engine: str = "builtin",
-                  spp: int = 64, seed: int = 0, sun: Sun | None = None, progress=None) -> SwatchImage:
-    """Render one swatch with an engine (builtin: :mod:`swatch.render.pointlight` and
-    :mod:`swatch.render.env_render` for scene, units and exposure; mitsuba:
-    :mod:`swatch.render.mitsuba.engine`).
+def render_builtin(request: RenderRequest, progress: Progress | None = None) -> SwatchImage:
+    """The ``builtin`` engine: one directional light (:mod:`swatch.render.pointlight`) or an environment
+    (:mod:`swatch.render.env_render`), by the request's lighting.
+
+    Parameters
+    ----------
+    request : swatch.render.request.RenderRequest
+        A request built for ``engine="builtin"``.
+    progress : callable(done, total), optional
+        Unused (the built-in engine renders in one pass).
+
+    Returns
+    -------
+    SwatchImage
+        ``linear_rgb`` (H, W, 3) float32 scene-referred linear RGB in ``request.space``, premultiplied by the
+        ``coverage`` (H, W); ``display_rgb`` (H, W, 3) uint8 sRGB, exposure applied and composited on the
+        background; ``metadata``.
+    """
+    meta = common_metadata(request.thickness_nm, request.coating, request.colorimeter, request.model,
+                           request.distribution, request.roughness_alpha)
+    if request.lighting.environment is not None:
+        return env_render.render_swatch_environment(request, meta | finish_meta(request.finish))
+    img = render_pointlight(request, meta)
+    img.metadata |= finish_meta(request.finish)
+    return img
+
+
+def _render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> SwatchImage:
+    """The ``mitsuba`` engine, imported on first use (:func:`swatch.render.mitsuba.engine.render_mitsuba`)."""
+    return _mitsuba_engine().render_mitsuba(request, progress)
+
+
+def _mitsuba_engine():
+    """The Mitsuba engine's module (Mitsuba and Dr.Jit load here, once, only when asked for)."""
+    from swatch.render.mitsuba import engine
+
+    return engine
+
+
+def engine_unavailable(engine: str) -> str | None:
+    """Why an engine cannot render here (one line: what to install), or None when it can.
+
+    Parameters
+    ----------
+    engine : str
+        A name of :data:`ENGINES`.
+
+    Returns
+    -------
+    str or None
+        The reason (Mitsuba not installed, no usable libLLVM for its JIT), or None.
+    """
+    if engine == "builtin":
+        return None
+    try:
+        _mitsuba_engine().use_variant()
+    except ImportError as exc:
+        return f"Mitsuba is not installed ({exc.name}); pip install mitsuba (docs/mitsuba.md)"
+    except SwatchError as exc:
+        return str(exc)
+    return None
+
+
+def engine_version(engine: str) -> str:
+    """The version of the renderer behind an engine (cache keys of its renders).
+
+    Parameters
+    ----------
+    engine : str
+        A name of :data:`ENGINES`.
+
+    Returns
+    -------
+    str
+        swatch's version for ``builtin``, Mitsuba's for ``mitsuba``.
+    """
+    if engine == "builtin":
+        return __version__
+    return str(_mitsuba_engine().mi.__version__)
+
+
+#: The engines by name (the keys are :data:`swatch.core.choices.ENGINES`).
+ENGINES: dict[str, Engine] = {"builtin": render_builtin, "mitsuba": _render_mitsuba}
+
+
+def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress: Progress | None = None,
+                  **options: Unpack[RenderOptions]) -> SwatchImage:
+    """Render one swatch: the request checked once (:func:`swatch.render.request.render_request`), then
+    rendered by its engine (:data:`ENGINES`).
 
     Parameters
     ----------
     thickness_nm : float
-        Oxide thickness (nm).
+        Oxide film thickness, nm (0 to :data:`swatch.core.limits.MAX_THICKNESS_NM`).
     shape : str
-        ``plate``, ``cylinder`` or ``sphere`` (:data:`swatch.core.choices.SHAPES`); ``"mesh"`` with ``mesh``.
+        ``flat``, ``cylinder`` or ``sphere`` (:data:`swatch.core.choices.SHAPES`); ``"mesh"`` with ``mesh``.
     size_px : int
-        Image size, pixels per side.
-    light_deg : float
-        Polar angle of the builtin engine's point light (degrees from the normal).
-    roughness_alpha : float
-        Microfacet roughness α (GGX or Beckmann).
-    model, distribution : str
-        The intensity model (``microfacet`` or the paper's) and the facet distribution.
-    coating, colorimeter
-        A :class:`swatch.physics.model.Coating` and a :class:`swatch.colorimetry.colorimeter.Colorimeter`
-        (defaults: TiO2 on Ti, D65 and CIE 1931 2°).
-    space : str
-        RGB space of ``linear_rgb``: ``srgb`` or ``acescg``.
-    workers : int, optional
-        Threads for the point-light engine.
-    environment
-        The lighting: a :class:`swatch.render.lighting.Lighting` resolved for ``engine`` (reuse one
-        across thicknesses), or what :func:`swatch.render.lighting.resolve_lighting` takes (a name, a
-        map's path, an :class:`swatch.render.environment.Environment`). None: builtin's point light,
-        mitsuba's studio.
-    background : str, optional
-        ``grey``, ``white`` or (with an environment) ``environment``; default grey (mitsuba under
-        studio and sun: environment, the only choice there).
-    view_deg, view_azimuth_deg : float
-        The camera (:func:`swatch.render.scene.make_scene`; degrees).
-    mesh
-        A :class:`swatch.render.mesh.MeshShape` rendered instead of ``shape`` (which is then ``"mesh"``).
-    finish
-        A :class:`swatch.physics.finishes.Finish`: its roughness replaces ``roughness_alpha``; an
-        anisotropic one (brushed) is rendered under an environment only.
-    engine : str
-        ``builtin`` or ``mitsuba`` (:data:`swatch.core.choices.ENGINES`).
-    spp, seed : int
-        mitsuba: samples per pixel and the seed (the same values give byte-identical images).
-    sun : swatch.render.lighting.Sun, optional
-        mitsuba: the sun of ``environment="sun"``.
+        Image side, pixels (builtin: 1 to ``MAX_SIZE_PX``, under an environment ``MIN_ENV_RENDER_PX`` to
+        ``MAX_ENV_RENDER_PX``; mitsuba: to ``MAX_MITSUBA_PX``).
     progress : callable(done, total), optional
         mitsuba: called after each pass with the passes done and their number.
+    **options
+        The request's keywords (:class:`swatch.render.request.RenderOptions`):
+
+        light_deg : float
+            Polar angle of the builtin engine's point light, degrees from the normal (default 45).
+        roughness_alpha : float or (float, float)
+            Microfacet roughness α (GGX or Beckmann), dimensionless, 0.001 to 1 (default 0.3); mitsuba also
+            takes (α_u, α_v).
+        model, distribution : str
+            The intensity model (``microfacet``, the default, or ``paper``) and the facet normal distribution
+            (``ggx``, the default, or ``beckmann``).
+        coating, colorimeter
+            A :class:`swatch.physics.model.Coating` (film, substrate, index scale, thickness spread) and a
+            :class:`swatch.colorimetry.colorimeter.Colorimeter` (defaults: TiO2 on Ti; D65 and the CIE 1964
+            10° observer, the colorimeter's default).
+        space : str
+            RGB primaries of ``linear_rgb``: ``srgb`` (default) or ``acescg``.
+        workers : int, optional
+            Threads of the point-light engine.
+        environment
+            The lighting: a :class:`swatch.render.lighting.Lighting` resolved for ``engine`` (reuse one
+            across thicknesses), or what :func:`swatch.render.lighting.resolve_lighting` takes (a name, a
+            map's path, an :class:`swatch.render.environment.Environment`). None: builtin's point light,
+            mitsuba's studio.
+        background : str, optional
+            ``grey``, ``white`` or (with an environment) ``environment``; default grey (mitsuba under
+            studio and sun: environment, the only choice there).
+        view_deg, view_azimuth_deg : float
+            The camera's polar angle from the normal and azimuth about it, degrees
+            (:func:`swatch.render.scene.make_scene`; default: the shape's view, azimuth 0).
+        mesh
+            A :class:`swatch.render.mesh.MeshShape` rendered instead of ``shape`` (which is then ``"mesh"``).
+        finish
+            A :class:`swatch.physics.finishes.Finish`: its roughness replaces ``roughness_alpha``; an
+            anisotropic one (brushed) is rendered under an environment only by the builtin engine.
+        engine : str
+            ``builtin`` (default) or ``mitsuba`` (:data:`swatch.core.choices.ENGINES`).
+        spp, seed : int
+            mitsuba: samples per pixel (default 64) and the seed (default 0; the same values give
+            byte-identical images).
+        sun : swatch.render.lighting.Sun, optional
+            mitsuba: the sun of ``environment="sun"``.
+        exposure : float, optional
+            mitsuba: display exposure of the PNG, 1/64 to 64 (default 1: the white diffuser is display white).
+        window_px : (int, int, int, int), optional
+            mitsuba: ``(x, y, width, height)`` pixels of the image to render alone (the image returned).
+        variant : str, optional
+            mitsuba: the Mitsuba variant (default ``llvm_ad_spectral``).
+        bsdf_override : dict, optional
+            mitsuba: another BSDF for the object (tests and benchmarks).
+        denoise : bool
+            mitsuba: denoise the image (issue 37; default True).
 
     Returns
     -------
@@ -93,57 +193,11 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         ``linear_rgb`` (H, W, 3) float32 scene-referred linear RGB in ``space``, premultiplied by the
         ``coverage`` (H, W); ``display_rgb`` (H, W, 3) uint8 sRGB, exposure applied and composited on
         the background; ``metadata``.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        For an input out of range, naming its parameter (before anything is rendered).
     """
-    engine = check_engine(engine)
-    d = float(check_thickness_nm(float(thickness_nm)))
-    shape = "mesh" if mesh is not None else check_shape(shape)
-    if engine == "mitsuba":
-        return _render_mitsuba(d, shape, size_px, roughness_alpha, model, coating, colorimeter, space, distribution,
-                               environment, background, view_deg, view_azimuth_deg, mesh, finish, spp, seed, sun,
-                               progress)
-    size = check_size_px(size_px)
-    if finish is not None:
-        roughness_alpha = finish.roughness_alpha
-        check_finish_lighting(finish, environment, model, distribution, size)
-    model = shading.check_model(model)
-    roughness_alpha = microfacet.check_roughness_alpha(roughness_alpha)
-    distribution = microfacet.check_distribution(distribution)
-    space = check_rgb_space(space)
-    coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
-    background = check_background("grey" if background is None else background)
-    light = resolve_lighting("none" if environment is None else environment, "builtin", sun, model, distribution,
-                             size, background, view_deg, view_azimuth_deg)
-    scene = make_scene(shape, light_deg, view_deg, view_azimuth_deg, mesh)
-    meta = common_metadata(d, coating, colorimeter, model, distribution, roughness_alpha)
-    if light.environment is not None:
-        return env_render.render_swatch_environment(
-            d, scene, light.environment, shape=shape, size=size, background=background,
-            roughness_alpha=roughness_alpha, coating=coating, colorimeter=colorimeter, space=space,
-            meta=meta | finish_meta(finish), camera=(light_deg, view_deg, view_azimuth_deg), finish=finish)
-    img = render_pointlight(d, shape, scene, size, background, roughness_alpha, model, distribution, coating,
-                            colorimeter, space, meta, light_deg, workers, mesh)
-    img.metadata |= finish_meta(finish)
-    return img
-
-
-def _render_mitsuba(d: float, shape: str, size_px, roughness_alpha, model, coating, colorimeter, space, distribution,
-                    environment, background, view_deg, view_azimuth_deg, mesh, finish, spp, seed, sun,
-                    progress) -> SwatchImage:
-    """The ``mitsuba`` branch of :func:`render_swatch` (thickness and shape checked there)."""
-    from swatch.render.mitsuba.engine import render_swatch_mitsuba  # Mitsuba loads only when asked for
-
-    if model != "microfacet":
-        raise SwatchError("the mitsuba engine renders the microfacet model; use `model='microfacet'`")
-    if finish is not None:
-        lobe = (finish.alpha_u, finish.alpha_v) if finish.anisotropic else finish.roughness_alpha
-    else:
-        lobe = microfacet.check_roughness_alpha(roughness_alpha)
-    coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
-    if getattr(coating, "overcoats", ()):
-        raise SwatchError("the mitsuba engine renders one film on the metal; drop the overcoats")
-    light = resolve_lighting(environment, "mitsuba", sun, view_deg=view_deg, view_azimuth_deg=view_azimuth_deg)
-    img = render_swatch_mitsuba(d, shape, size_px, spp, seed, light, None, lobe, distribution, coating.film,
-                                coating.substrate, coating.film_index_scale, coating, colorimeter, space, background,
-                                view_deg, view_azimuth_deg, mesh, progress=progress, spread=coating.spread)
-    img.metadata |= finish_meta(finish)
-    return img
+    request = render_request(thickness_nm, shape, size_px, **options)
+    return ENGINES[request.engine](request, progress)

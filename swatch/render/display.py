@@ -94,6 +94,7 @@ def display_encode(linear_srgb, exposure: float = 1.0, background=None, out=None
     Returns
     -------
     numpy.ndarray of uint8, shape (..., 3)
+        Display sRGB, 8 bits (exposure, background and shoulder applied).
 
     Examples
     --------
@@ -170,11 +171,14 @@ def display_encode_hue(linear_srgb, exposure: float = 1.0) -> np.ndarray:
     Parameters
     ----------
     linear_srgb : array_like, shape (..., 3)
+        Scene-referred linear sRGB (1.0 = display white before exposure).
     exposure : float
+        Factor on the linear values before encoding.
 
     Returns
     -------
     numpy.ndarray of uint8, shape (..., 3)
+        Display sRGB, 8 bits, the hue kept where a channel would clip.
 
     Examples
     --------

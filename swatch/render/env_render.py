@@ -53,6 +53,7 @@ def check_env_size_px(size_px: int) -> int:
     Returns
     -------
     int
+        ``size_px`` as an int.
 
     Raises
     ------
@@ -206,15 +207,18 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     size : int
         Pixels per side.
     env : swatch.render.environment.Environment
+        The lighting (normalised: a white diffuser facing up reflects 1).
     roughness_alpha : float
         GGX α (ignored for an anisotropic finish).
     background : str
         ``grey``, ``white`` or ``environment``.
     finish : swatch.physics.finishes.Finish, optional
+        An anisotropic finish's lobe (brushed); None: the isotropic ``roughness_alpha``.
 
     Returns
     -------
     Prepared
+        The scene's thickness-independent gather (cached on ``scene_key``).
     """
 
     aniso = finish is not None and finish.anisotropic
@@ -384,46 +388,31 @@ def render_environment(prep: Prepared, f_table_srgb: np.ndarray, background: str
 F_TABLE_NODES = 257
 
 
-def render_swatch_environment(d: float, scene, env: envmod.Environment, *, shape: str, size: int, background: str,
-                              roughness_alpha: float, coating, colorimeter, space: str, meta: dict, camera: tuple,
-                              finish=None) -> SwatchImage:
-    """The environment engine of :func:`swatch.render.dispatch.render_swatch`.
+def render_swatch_environment(request, meta: dict) -> SwatchImage:
+    """The environment engine of :func:`swatch.render.dispatch.render_builtin` (the request checked).
 
-    The lighting comes resolved and checked by the caller
-    (:func:`swatch.render.lighting.resolve_lighting`: GGX microfacet, the environment renderer's size
-    range), and the background checked; nothing is loaded here.
+    The lighting comes resolved and checked in the request (:func:`swatch.render.lighting.resolve_lighting`:
+    GGX microfacet, the environment renderer's size range), and the background checked; nothing is loaded here.
 
     Parameters
     ----------
-    d : float
-        Film thickness, nm (checked by the dispatcher).
-    scene : swatch.render.scene.Scene
-    env : swatch.render.environment.Environment
-        The lighting (the resolved :attr:`swatch.render.lighting.Lighting.environment`).
-    shape : str
-        The shape's name (``mesh`` for a mesh).
-    size : int
-        Pixels per side.
-    background : str
-        ``grey``, ``white`` or ``environment``.
-    roughness_alpha : float
-        GGX α.
-    coating, colorimeter
-        The film and the colorimetry.
-    space : str
-        RGB space of ``linear_rgb``.
+    request : swatch.render.request.RenderRequest
+        The render: thickness, shape and scene, size, background, α, coating, colorimeter, space, the
+        camera (keys the prepared scene), the finish, and ``lighting.environment`` (the map).
     meta : dict
         The common metadata (:func:`swatch.render.metadata.common_metadata`).
-    camera : tuple
-        ``(light_deg, view_deg, view_azimuth_deg)``, degrees (keys the prepared scene).
-    finish : swatch.physics.finishes.Finish, optional
 
     Returns
     -------
     swatch.render.image.SwatchImage
         Exposure 1 (the white diffuser under the same environment is display white).
     """
-    light_deg, view_deg, view_azimuth_deg = camera
+    d, scene, env, shape, size = (request.thickness_nm, request.scene, request.lighting.environment, request.shape,
+                                  request.size_px)
+    background, roughness_alpha, coating, colorimeter = (request.background, request.roughness_alpha,
+                                                         request.coating, request.colorimeter)
+    space, finish = request.space, request.finish
+    light_deg, view_deg, view_azimuth_deg = request.light_deg, request.view_deg, request.view_azimuth_deg
     scene_key = (getattr(scene.shape, "key", shape), float(light_deg), None if view_deg is None else float(view_deg), float(view_azimuth_deg))
     prep = prepared(scene, scene_key, size, env, roughness_alpha, background, finish)
     tab = shading.facet_colour_table(d, coating, colorimeter, F_TABLE_NODES, (0.0, 1.0)).to_rgb(colorimeter, "srgb")

@@ -80,6 +80,7 @@ def fibonacci_lattice(n: int) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     n : int
+        Number of directions.
 
     Returns
     -------
@@ -180,6 +181,7 @@ def sample_set(roughness_alpha: float, n: int = SAMPLES) -> SampleSet:
     Returns
     -------
     SampleSet
+        The fixed GGX visible-normal samples per view bin and their weights (cached per α).
     """
     return SampleSet(microfacet.check_roughness_alpha(roughness_alpha), int(n))
 
@@ -221,6 +223,7 @@ def albedo_matrix(samples, k: int) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (M, K)
+        Directional albedo per view bin (M) and F-table node (K), dimensionless (≤ 1).
     """
     key = ("albedo", int(k))
     if key not in samples.cache:
@@ -246,6 +249,7 @@ def directional_albedo(samples, f_table) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (M, 3)
+        Directional albedo per view bin, linear RGB (≤ 1).
     """
     f_table = np.asarray(f_table, dtype=np.float64)
     return albedo_matrix(samples, f_table.shape[0]) @ f_table
@@ -267,6 +271,7 @@ def band_weights(samples, f_table) -> np.ndarray:
     Returns
     -------
     numpy.ndarray of float32, shape (M, N, 3)
+        Each sample's weight per view bin: its F (linear RGB) times the lobe's estimator weight.
     """
     a = samples.w[..., None] * _lookup_table(f_table, samples.cos_d)
     level = directional_albedo(samples, f_table)
@@ -325,6 +330,8 @@ def level_table(samples, maps) -> np.ndarray:
     Returns
     -------
     numpy.ndarray of float32, shape (M, N, 5)
+        Per view bin and sample: the local direction (3), the blur level's texel resolution and its offset in
+        ``maps`` (texels).
     """
     k = maps.level_for(samples.sigma_deg)
     return np.concatenate([samples.l, maps.res[k][..., None].astype(np.float32),
@@ -375,13 +382,16 @@ def combine(E, j, weights) -> np.ndarray:
     Parameters
     ----------
     E : numpy.ndarray, shape (P, N, 3)
+        Gathered environment radiance per shading point and sample (linear RGB).
     j : numpy.ndarray of int, shape (P,)
+        Each point's view bin.
     weights : numpy.ndarray, shape (M, N, 3)
         :func:`band_weights`.
 
     Returns
     -------
     numpy.ndarray of float32, shape (P, 3)
+        Reflected radiance, linear RGB (1.0 = a white diffuser facing up under the map).
     """
     out = np.empty((E.shape[0], 3), dtype=np.float32)
     for a in range(0, E.shape[0], CHUNK):
@@ -403,6 +413,7 @@ def shade(n, v, maps, samples: SampleSet, weights) -> np.ndarray:
     Returns
     -------
     numpy.ndarray of float32, shape (P, 3)
+        Reflected radiance, linear RGB (1.0 = a white diffuser facing up under the map).
     """
     table = level_table(samples, maps)
     n = np.asarray(n, dtype=np.float32).reshape(-1, 3)
@@ -425,15 +436,18 @@ def shade_reference(n, v, env, roughness_alpha: float, f_table, samples: int = D
     n, v : array_like, shape (P, 3)
     env : swatch.render.environment.Environment
     roughness_alpha : float
+        GGX α, dimensionless.
     f_table : array_like, shape (K, 3)
         ``F``'s linear RGB over cos θ_d in [0, 1].
     samples : int
+        Samples per point of the brute-force estimate.
     chunk : int
         Pixels per chunk.
 
     Returns
     -------
     numpy.ndarray, shape (P, 3)
+        Reflected radiance, linear RGB, in the renderer's unit.
     """
     n = np.asarray(n, dtype=np.float64).reshape(-1, 3)
     v = np.asarray(v, dtype=np.float64).reshape(-1, 3)

@@ -97,6 +97,7 @@ class Environment:
         Returns
         -------
         int
+            Side of the octahedral map, texels.
         """
         return int(self.radiance.shape[0])
 
@@ -107,6 +108,7 @@ class Environment:
         Returns
         -------
         bool
+            True for a map of one radiance everywhere (``uniform``).
         """
         r = self.radiance.reshape(-1, 3)
         return bool(np.all(r == r[0]))

@@ -56,6 +56,7 @@ class SwatchImage:
         Returns
         -------
         numpy.ndarray, shape (H, W, 4)
+            Linear RGB premultiplied by coverage, and the coverage as alpha (float32).
         """
         return np.concatenate([self.linear_rgb, self.coverage[..., None]], axis=-1)
 
@@ -71,6 +72,7 @@ def check_size_px(size_px) -> int:
     Returns
     -------
     int
+        ``size_px`` as an int.
 
     Raises
     ------
@@ -97,6 +99,7 @@ def check_background(name: str) -> str:
     Parameters
     ----------
     name : str
+        ``grey``, ``white`` or ``environment`` (:data:`swatch.core.choices.BACKGROUNDS`).
 
     Returns
     -------
@@ -151,10 +154,12 @@ def mesh_metadata(mesh) -> dict:
     Parameters
     ----------
     mesh : swatch.render.mesh.MeshShape or None
+        The rendered mesh, or None for a built-in shape.
 
     Returns
     -------
     dict
+        ``{"mesh": {...}}`` or ``{}``.
     """
     if mesh is None:
         return {}
@@ -172,14 +177,18 @@ def check_finish_lighting(finish, environment, model: str, distribution: str, si
     Parameters
     ----------
     finish : swatch.physics.finishes.Finish or None
+        The named finish (None: nothing to check).
     environment : object or None
         The environment (None: the point light).
     model, distribution : str
+        The intensity model and facet distribution of the render.
     size_px : int
+        Image side, pixels.
 
     Returns
     -------
     None
+        Returns only when the finish can be rendered so.
 
     Raises
     ------
@@ -202,9 +211,11 @@ def finish_meta(finish) -> dict:
     Parameters
     ----------
     finish : swatch.physics.finishes.Finish or None
+        The render's named finish, if any.
 
     Returns
     -------
     dict
+        ``{"finish": {...}}`` (name, α_u, α_v, basis) or ``{}``.
     """
     return {} if finish is None else {"finish": finish.metadata()}

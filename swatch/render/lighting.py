@@ -32,7 +32,8 @@ from swatch.render.env_render import check_env_size_px
 from swatch.render.environment import Environment, get_environment
 from swatch.render.hdri import read_equirect
 
-__all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine"]
+__all__ = ["Sun", "check_sun", "Lighting", "resolve_lighting", "check_engine", "default_environment",
+           "lighting_for"]
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,7 @@ class Sun:
         Returns
         -------
         bool
+            True when latitude and longitude are set.
         """
         return self.latitude_deg is not None
 
@@ -89,6 +91,7 @@ class Sun:
         Returns
         -------
         str
+            The sun and sky in words (angles, or place, date and time; turbidity).
         """
         if self.by_place:
             return (f"sun and sky (Mitsuba sunsky, Hosek-Wilkie) at latitude {self.latitude_deg:g}, longitude "
@@ -112,6 +115,7 @@ def check_sun(sun: Sun) -> Sun:
     Parameters
     ----------
     sun : Sun
+        The sun by angles or by place and time.
 
     Returns
     -------
@@ -143,6 +147,26 @@ def check_sun(sun: Sun) -> Sun:
     else:
         _finite_in(sun.elevation_deg, 0.0, 90.0, "sun elevation", " deg above the horizon")
     return sun
+
+
+def default_environment(engine: str, model: str = "microfacet", distribution: str = "ggx") -> str:
+    """The lighting an engine renders when none is named (``swatch render`` without ``--environment``).
+
+    Parameters
+    ----------
+    engine : str
+        ``builtin`` or ``mitsuba``.
+    model, distribution : str
+        The intensity model and facet distribution (the built-in engine's environments need GGX microfacet).
+
+    Returns
+    -------
+    str
+        ``studio`` (mitsuba; builtin with the GGX microfacet model), else ``none`` (the point light).
+    """
+    if engine == "mitsuba" or (model, distribution) == ("microfacet", "ggx"):
+        return "studio"
+    return "none"
 
 
 def check_engine(engine: str) -> str:
@@ -199,14 +223,14 @@ class Lighting:
     hdri: np.ndarray | None = None
 
 
-def _builtin(environment, model: str, distribution: str, size_px, background, view_deg, view_azimuth_deg) -> Lighting:
+def _builtin(environment, model: str, distribution: str, size_px, background) -> Lighting:
     if isinstance(environment, Environment):
         env: Environment | None = environment
     else:
         if environment is None:
-            environment = "studio" if (model, distribution) == ("microfacet", "ggx") else "none"
+            environment = default_environment("builtin", model, distribution)
         if str(environment).strip().lower() == "sun":
-            raise SwatchError("sun and sky lighting is the mitsuba engine's; use `engine='mitsuba'`")
+            raise SwatchError("sun and sky lighting is the mitsuba engine's; add `engine='mitsuba'`")
         env = get_environment(environment)
     if env is not None and (model != "microfacet" or distribution != "ggx"):
         raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
@@ -266,6 +290,7 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
     Returns
     -------
     Lighting
+        The lighting checked for ``engine`` (reuse it across renders).
 
     Raises
     ------
@@ -273,15 +298,36 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
         For an unknown name, an unusable map, a sun out of range, or a lighting the engine cannot render.
     """
     engine = check_engine(engine)
+    if not isinstance(environment, Lighting):
+        if view_deg is not None:
+            geometry.check_polar_deg(view_deg, "view_deg")
+        geometry.check_azimuth_deg(view_azimuth_deg, "view_azimuth_deg")
+    return lighting_for(environment, engine, sun, model, distribution, size_px, background)
+
+
+def lighting_for(environment, engine: str, sun: Sun | None = None, model: str = "microfacet",
+                 distribution: str = "ggx", size_px: int | None = None, background: str | None = None) -> Lighting:
+    """:func:`resolve_lighting` for an ``engine`` name already checked (:func:`check_engine`), the camera
+    checked elsewhere (the render request checks each once; its scene checks the camera).
+
+    Parameters
+    ----------
+    environment, sun, model, distribution, size_px, background
+        As :func:`resolve_lighting`.
+    engine : str
+        ``builtin`` or ``mitsuba``, lower case.
+
+    Returns
+    -------
+    Lighting
+        The lighting resolved for ``engine``.
+    """
     if isinstance(environment, Lighting):
         if environment.engine != engine:
             raise SwatchError(f"this lighting was resolved for the {environment.engine} engine, not {engine}")
         return environment
-    if view_deg is not None:
-        geometry.check_polar_deg(view_deg, "view_deg")
-    geometry.check_azimuth_deg(view_azimuth_deg, "view_azimuth_deg")
     if engine == "mitsuba":
         return _mitsuba(environment, sun)
     if sun is not None:
-        raise SwatchError("sun and sky lighting is the mitsuba engine's; use `engine='mitsuba'`")
-    return _builtin(environment, model, distribution, size_px, background, view_deg, view_azimuth_deg)
+        raise SwatchError("sun and sky lighting is the mitsuba engine's; add `engine='mitsuba'`")
+    return _builtin(environment, model, distribution, size_px, background)

@@ -53,10 +53,12 @@ def file_stem(kind: str, thickness_nm: float) -> str:
     kind : str
         The shape or ``angular``.
     thickness_nm : float
+        Film thickness, nm.
 
     Returns
     -------
     str
+        ``<kind>_<d>nm`` with the thickness zero-padded to sort (``flat_050.8nm``).
 
     Examples
     --------
@@ -72,12 +74,14 @@ def file_stems(kind: str, thickness_nm) -> list[str]:
     Parameters
     ----------
     kind : str
+        The file's kind (a shape name, ``angular``, ``mesh``).
     thickness_nm : array_like
         nm.
 
     Returns
     -------
     list of str
+        One stem per thickness, distinct.
 
     Raises
     ------
@@ -96,13 +100,16 @@ def reference_Lab(thickness_nm: float, coating, colorimeter) -> np.ndarray:
     Parameters
     ----------
     thickness_nm : float
+        Film thickness, nm.
     coating : swatch.physics.model.Coating
+        The film on its substrate.
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter
         Illuminant and observer of the result.
 
     Returns
     -------
     numpy.ndarray, shape (3,)
+        CIELAB at the reference geometry 45:0 under the colorimeter's illuminant and observer.
     """
     refl, _ = coating.half_vector(float(thickness_nm), *REFERENCE_GEOMETRY)
     return colorimeter.Lab(colorimeter.XYZ(refl.R))
@@ -119,7 +126,9 @@ def common_metadata(d: float, coating, colorimeter, model: str, distribution: st
     d : float
         Oxide thickness, nm.
     coating : swatch.physics.model.Coating
+        The film on its substrate (names, index scale, spread).
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+        Illuminant and observer of the reference Lab.
     model, distribution : str
         The shading model and microfacet distribution.
     roughness_alpha : float
@@ -128,6 +137,8 @@ def common_metadata(d: float, coating, colorimeter, model: str, distribution: st
     Returns
     -------
     dict
+        The metadata every render carries: thickness, film, substrate, illuminant, observers, model, distribution,
+        roughness, the reference geometry's CIELAB, software.
     """
 
     return {
@@ -152,6 +163,7 @@ def voltage_note(proc, given: bool, known: bool) -> str:
     Parameters
     ----------
     proc : swatch.physics.process.Process
+        The process profile (its growth law).
     given : bool
         The user gave the voltage (the thickness came from it).
     known : bool
@@ -160,6 +172,7 @@ def voltage_note(proc, given: bool, known: bool) -> str:
     Returns
     -------
     str
+        How the voltage in the metadata was obtained (given, from the growth law, or unknown).
     """
     law = (f"{proc.nm_per_V:g} nm/V + {proc.offset_nm:g} nm (process {proc.label})" if proc.has_growth_law
            else f"process {proc.label}")
@@ -180,10 +193,12 @@ def with_voltage(meta: dict, voltage_V: float, note: str, proc) -> dict:
     note : str
         :func:`voltage_note`.
     proc : swatch.physics.process.Process
+        The process profile (recorded in the metadata).
 
     Returns
     -------
     dict
+        ``meta`` with ``voltage_V`` (V, or None), its note and the process.
     """
     volts = {"voltage_V": round(float(voltage_V), 6) if np.isfinite(voltage_V) else None, "voltage_note": note}
     out: dict = {}

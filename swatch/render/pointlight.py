@@ -22,11 +22,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from swatch.core.errors import SwatchError
 from swatch.physics import microfacet
 from swatch.render import shading
 from swatch.render.display import BACKGROUND_LINEAR, display_encode, exposure
 from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, edge_pixels, mesh_metadata
+from swatch.render.request import RenderRequest
 from swatch.render.scene import Scene
 
 __all__ = ["render_pointlight", "render_scene"]
@@ -173,46 +173,27 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
     return rgb, coverage, display, float(k), rule, (c0, c1)
 
 
-def render_pointlight(d: float, shape: str, scene: Scene, size: int, background: str, roughness_alpha: float,
-                      model: str, distribution: str, coating, colorimeter, space: str, meta: dict,
-                      light_deg: float, workers: int | None = None, mesh=None) -> SwatchImage:
-    """The point-light engine of :func:`swatch.render.dispatch.render_swatch` (inputs already checked there).
+def render_pointlight(request: RenderRequest, meta: dict) -> SwatchImage:
+    """The point-light engine of :func:`swatch.render.dispatch.render_builtin` (the request checked).
 
     Parameters
     ----------
-    d : float
-        Oxide thickness, nm.
-    shape : str
-        The shape's name (for the metadata).
-    scene : swatch.render.scene.Scene
-    size : int
-        Image side, pixels.
-    background : str
-        ``grey`` or ``white`` (``environment`` is refused: there is none).
-    roughness_alpha : float
-    model, distribution : str
-    coating : swatch.physics.model.Coating
-    colorimeter : swatch.colorimetry.colorimeter.Colorimeter
-    space : str
-        The RGB space of the linear output.
+    request : swatch.render.request.RenderRequest
+        The render (thickness, shape and scene, size, background, lobe, model, distribution, coating,
+        colorimeter, space, light angle, threads), checked by :func:`swatch.render.request.render_request`.
     meta : dict
         The common metadata (:func:`swatch.render.metadata.common_metadata`).
-    light_deg : float
-        The light's polar angle, degrees.
-    workers : int, optional
-    mesh : swatch.render.mesh.MeshShape, optional
 
     Returns
     -------
     swatch.render.image.SwatchImage
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        ``background="environment"``.
+        Linear RGB premultiplied by coverage, scene-referred (1.0 = a white diffuser lit by the same light
+        at normal incidence), its coverage, display sRGB and the fitted exposure.
     """
-    if background == "environment":
-        raise SwatchError("background 'environment' needs an environment; use grey or white with the point light")
+    d, shape, scene, size, background = (request.thickness_nm, request.shape, request.scene, request.size_px,
+                                         request.background)
+    model, distribution, coating, colorimeter = request.model, request.distribution, request.coating, request.colorimeter
+    space, light_deg, roughness_alpha = request.space, request.light_deg, request.roughness_alpha
     bg_linear = BACKGROUND_LINEAR if background == "grey" else BACKGROUND_WHITE
 
     def table(c0, c1, sp=space):
@@ -220,7 +201,7 @@ def render_pointlight(d: float, shape: str, scene: Scene, size: int, background:
 
     display_table = None if space == "srgb" else (lambda c0, c1: table(c0, c1, "srgb"))
     rgb, coverage, display, k, rule, crange = render_scene(scene, table, size, model, roughness_alpha, distribution,
-                                                           display_table, workers, bg_linear)
+                                                           display_table, request.workers, bg_linear)
 
     meta = dict(meta)
     meta.update({
@@ -236,10 +217,10 @@ def render_pointlight(d: float, shape: str, scene: Scene, size: int, background:
         "exposure_rule": rule,
         "cos_theta_d_range": [round(crange[0], 6), round(crange[1], 6)],
         "lighting": f"one directional light at {float(light_deg):g} deg (the illuminant's spectrum)"
-                    + ("; the mesh shadows it (shadow rays)" if mesh is not None else ""),
+                    + ("; the mesh shadows it (shadow rays)" if request.mesh is not None else ""),
         "display": f"sRGB-encoded PNG: linear x exposure, composited on {background} ({bg_linear:g}), "
                    "shoulder above 0.8",
         "wavelength_grid_nm": f"{coating.wavelength_nm[0]:g}:{coating.wavelength_nm[-1]:g}:{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
-    return SwatchImage(rgb, coverage, display, meta | mesh_metadata(mesh), float(k))
+    return SwatchImage(rgb, coverage, display, meta | mesh_metadata(request.mesh), float(k))
 

@@ -43,10 +43,12 @@ def check_shape(shape: str) -> str:
     Parameters
     ----------
     shape : str
+        A shape name (:data:`swatch.core.choices.SHAPES`; case and spaces ignored).
 
     Returns
     -------
     str
+        The name, lower case.
 
     Raises
     ------
@@ -413,6 +415,7 @@ def make_scene(shape: str, light_deg: float, view_deg: float | None = None, view
     Returns
     -------
     Scene
+        Camera (framing the object), shape and the point light's direction.
 
     Raises
     ------

@@ -60,6 +60,7 @@ def check_model(model: str) -> str:
     Returns
     -------
     str
+        The model's name, lower case.
 
     Raises
     ------
@@ -112,6 +113,7 @@ class FacetColourTable:
         Returns
         -------
         int
+            Number of cos θ_d nodes.
         """
         return int(self.cos_d.size)
 
@@ -122,6 +124,7 @@ class FacetColourTable:
         Returns
         -------
         float
+            The table's first cos θ_d.
         """
         return float(self.cos_d[0])
 
@@ -132,6 +135,7 @@ class FacetColourTable:
         Returns
         -------
         float
+            The table's last cos θ_d.
         """
         return float(self.cos_d[-1])
 
@@ -165,6 +169,7 @@ class FacetColourTable:
         Parameters
         ----------
         cos_d : array_like, shape S
+            Cosines of the incidence angle on the facet.
 
         Returns
         -------
@@ -180,10 +185,12 @@ class FacetColourTable:
         Parameters
         ----------
         factor : int
+            Nodes per original interval.
 
         Returns
         -------
         FacetColourTable
+            The table linearly interpolated onto ``factor`` times as many nodes.
         """
         n = (self.nodes - 1) * int(factor) + 1
         grid = np.linspace(self.c0, self.c1, n)
@@ -204,6 +211,7 @@ class FacetColourTable:
         space : str
             An RGB space (``srgb``, ``display-p3``, ``rec2020`` …).
         dtype : numpy dtype
+            Precision of the returned table.
 
         Returns
         -------
@@ -229,10 +237,12 @@ class FacetColourTable:
         Parameters
         ----------
         dtype : numpy dtype
+            Precision of the returned table.
 
         Returns
         -------
         FacetColourTable
+            The same table in ``dtype``.
         """
         return FacetColourTable(self.thickness_nm, self.cos_d, self.values.astype(dtype), kind=self.kind,
                            display_XYZ=self.display_XYZ)
@@ -250,7 +260,9 @@ def facet_colour_table(thickness_nm: float, coating, colorimeter, nodes: int = T
     thickness_nm : float
         Oxide thickness, nm.
     coating : swatch.physics.model.Coating
+        The film on its substrate.
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+        Illuminant and observer of the XYZ table.
     nodes : int
         At least 2.
     cos_range : (float, float)
@@ -259,6 +271,7 @@ def facet_colour_table(thickness_nm: float, coating, colorimeter, nodes: int = T
     Returns
     -------
     FacetColourTable
+        XYZ of the film's reflectance over cos θ_d (one thickness), for lookups.
 
     Raises
     ------
@@ -354,6 +367,7 @@ def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness_a
     Returns
     -------
     numpy.ndarray
+        The intensity factor s (dimensionless; zero where unlit or unseen), the broadcast shape.
 
     References
     ----------

@@ -108,9 +108,9 @@ def test_cards_flag_out_of_gamut_chips_and_carry_p3():
     data = compute(catalog_context(spec))
     chips = chip_colours(data)
     recs = data.records
-    from swatch.catalog.build import _catalog_header
+    from swatch.catalog.execute import catalog_header
 
-    doc = {"catalog": _catalog_header(spec, data, "titanium.toml"), "sheets": [], "swatches": recs}
+    doc = {"catalog": catalog_header(spec, data, "titanium.toml"), "sheets": [], "swatches": recs}
     page = index_html(doc, chips=chips)
     out = [r for r in recs if not r["in_srgb_gamut"]]
     assert out, "the default catalog has colours outside sRGB (170–180 nm)"

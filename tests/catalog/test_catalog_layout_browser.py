@@ -177,8 +177,8 @@ def _require_pdftotext() -> str:
 def default_page(tmp_path_factory):
     """index.html of the default catalog (catalog/titanium.toml, 57 swatches) without its renders: the
     cards keep their size (the renders are CSS sprites of the sheets, sized in the page)."""
-    from swatch.catalog.build import _catalog_header
     from swatch.catalog.context import catalog_context
+    from swatch.catalog.execute import catalog_header
     from swatch.catalog.explorer import chip_colours, explorer_data, tile_rects
     from swatch.catalog.html import index_html
     from swatch.catalog.records import compute
@@ -187,7 +187,7 @@ def default_page(tmp_path_factory):
     require_chromium()
     spec, _ = load_spec(ROOT / "catalog" / "titanium.toml")
     data = compute(catalog_context(spec))
-    header = _catalog_header(spec, data, "titanium.toml")
+    header = catalog_header(spec, data, "titanium.toml")
     doc = {"catalog": header, "sheets": [], "swatches": data.records}
     out = tmp_path_factory.mktemp("default-page")
     (out / "index.html").write_text(index_html(doc, explorer_data(data.context),

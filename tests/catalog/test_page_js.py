@@ -18,10 +18,10 @@ import pytest
 
 from swatch.catalog.context import catalog_context
 from swatch.catalog.explorer import explorer_data
-from swatch.catalog.records import process_window
 from swatch.catalog.spec import parse_spec
 from swatch.colorimetry.observers import hex_to_document_Lab
 from swatch.colorimetry.tolerance import get_tolerance
+from swatch.colorimetry.window import process_window
 from swatch.fit.matching import judge_candidates, match_colour
 from swatch.physics.microfacet import D_ratio, ggx_reflectance_factor_cos
 
@@ -87,6 +87,25 @@ def _search_fixture() -> dict:
     return {"table": table, "range_nm": [lo, hi], "match": matches, "window": windows, "ggx": ggx}
 
 
+def _growth_fixture() -> list[dict]:
+    """swatch.physics.growth's answers (one slope with an offset; two slopes with a knee), for colour.js's
+    voltageOf / thicknessOf, the page's one growth law (#36)."""
+    from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
+
+    laws = [{"nm_per_V": 2.032, "offset_nm": 3.0, "knee_V": None, "nm_per_V_above_knee": None},
+            {"nm_per_V": 2.5, "offset_nm": 0.0, "knee_V": 40.0, "nm_per_V_above_knee": 1.2}]
+    out = []
+    for law in laws:
+        volts = np.linspace(0.0, 120.0, 25)
+        knee = {} if law["knee_V"] is None else {"knee_V": law["knee_V"],
+                                                 "nm_per_V_above_knee": law["nm_per_V_above_knee"]}
+        d = voltage_to_thickness_nm(volts, law["nm_per_V"], law["offset_nm"], **knee)
+        back = thickness_to_voltage_V(d, law["nm_per_V"], law["offset_nm"], **knee)
+        out.append({"law": law, "voltage_V": volts.tolist(), "thickness_nm": np.asarray(d).tolist(),
+                    "voltage_back_V": np.asarray(back).tolist()})
+    return out
+
+
 @pytest.mark.slow  # 6.5 s: the small catalog's table and the Python matches and windows of the fixture
 def test_page_colorimetry_passes_node_test(tmp_path):
     node = _node()
@@ -99,12 +118,12 @@ def test_page_colorimetry_passes_node_test(tmp_path):
     fixture = tmp_path / "fixture.json"
     fixture.write_text(json.dumps({"delta_E_00": [[a.tolist(), b.tolist(), float(d)]
                                                   for a, b, d in zip(lab1, lab2, want, strict=True)],
-                                   **_search_fixture()}), encoding="utf-8")
+                                   "growth": _growth_fixture(), **_search_fixture()}), encoding="utf-8")
     tests = sorted(str(p) for p in (ROOT / "tests" / "js").glob("*.test.mjs"))
     run = subprocess.run([node, "--test", *tests], capture_output=True,
                          text=True, timeout=120, env={**os.environ, "SWATCH_JS_FIXTURE": str(fixture)})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
-    assert "# pass 15" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
+    assert "# pass 16" in run.stdout and "# skipped 0" in run.stdout, run.stdout[-1500:]
 
 
 def test_page_script_comments_name_code_that_exists():
@@ -146,3 +165,14 @@ def test_ggx_is_written_once_in_the_page_javascript():
         assert (len(hits) > 0) == (path.name == "microfacet.js"), (path.name, hits)
     view = (web / "view.js").read_text(encoding="utf-8")
     assert "${GGX_GLSL}" in view and "ggxReflectanceFactorCos(cl, cv, ch, alpha)" in view and "ggxDRatio(" in view
+
+
+def test_the_growth_law_is_written_once_in_the_page_javascript():
+    """Issue 36: page.js and colour.js both wrote the two-slope growth law; now colour.js alone (voltageOf,
+    thicknessOf: swatch.physics.growth's law, checked against it by the node test above) and page.js calls it."""
+    web = ROOT / "swatch" / "catalog" / "web"
+    for path in sorted(web.glob("*.js")):
+        hits = path.read_text(encoding="utf-8").count("nm_per_V_above_knee")
+        assert (hits > 0) == (path.name == "colour.js"), (path.name, hits)
+    page = (web / "page.js").read_text(encoding="utf-8")
+    assert "voltageOf(cat.catalog.process, d)" in page and "thicknessOf(cat.catalog.process, v)" in page

@@ -62,3 +62,16 @@ test("the shaders' sRGB encoding without pow stays within 0.004/255 of IEC 61966
   // the GLSL the live view compiles carries the same coefficients
   for (const k of vm.runInContext("SRGB_ENCODE_FIT", ctx)) assert.ok(vm.runInContext("SRGB_ENCODE_GLSL", ctx).includes("(" + k.toFixed(9) + ")"), String(k));
 });
+
+test("the growth law (voltageOf, thicknessOf) is swatch.physics.growth's, one slope or two", {skip: !process.env.SWATCH_JS_FIXTURE}, () => {
+  const fx = JSON.parse(readFileSync(process.env.SWATCH_JS_FIXTURE, "utf8"));
+  assert.equal(fx.growth.length, 2);
+  for (const {law, voltage_V, thickness_nm, voltage_back_V} of fx.growth) {
+    voltage_V.forEach((v, i) => {
+      assert.ok(Math.abs(ctx.thicknessOf(law, v) - thickness_nm[i]) <= 1e-9, `thicknessOf(${v})`);
+      assert.ok(Math.abs(ctx.voltageOf(law, thickness_nm[i]) - voltage_back_V[i]) <= 1e-9, `voltageOf(${thickness_nm[i]})`);
+    });
+  }
+  assert.equal(ctx.voltageOf({nm_per_V: null, offset_nm: 0}, 50), null);
+  assert.ok(Number.isNaN(ctx.thicknessOf({nm_per_V: null, offset_nm: 0}, 20)));
+});

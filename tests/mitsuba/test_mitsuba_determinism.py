@@ -105,8 +105,7 @@ def test_the_dispatcher_renders_what_the_engine_renders(mi):
     light = resolve_lighting("uniform", "mitsuba")
     a = render_swatch(60.0, "sphere", 48, roughness_alpha=0.2, coating=coating, environment=light,
                       engine="mitsuba", spp=4, seed=1)
-    b = render_swatch_mitsuba(60.0, "sphere", 48, 4, 1, light, roughness_alpha=0.2, film_index_scale=0.9,
-                              coating=coating)
+    b = render_swatch_mitsuba(60.0, "sphere", 48, 4, 1, light, roughness_alpha=0.2, coating=coating)
     assert _digest(a) == _digest(b)
     assert a.metadata == b.metadata
     assert "index scale 0.9" in a.metadata["bsdf"]

@@ -173,7 +173,7 @@ def test_fit_uses_the_profiles_film_index_scale(tmp_path):
     light, view = np.array([45.0, 30.0, 60.0]), np.array([0.0, 10.0, 20.0])
     R, _ = coat.half_vector(120.0, light, view)
     m = LabMeasurement("x", light, view, np.zeros(3), np.full(3, 180.0), cm.Lab(cm.XYZ(R.R)))
-    scaled = fit_lab(m, "TiO2-Siefke", "Ti-Johnson", wavelength_nm=wl, film_index_scale=0.9, scale="none")
-    plain = fit_lab(m, "TiO2-Siefke", "Ti-Johnson", wavelength_nm=wl, scale="none")
+    scaled = fit_lab(m, get_coating("TiO2-Siefke", "Ti-Johnson", wl, film_index_scale=0.9), scale="none")
+    plain = fit_lab(m, get_coating("TiO2-Siefke", "Ti-Johnson", wl), scale="none")
     assert scaled.thickness_nm == pytest.approx(120.0, abs=0.2)
     assert abs(plain.thickness_nm - 120.0) > 5.0

@@ -262,4 +262,4 @@ def test_fits_use_the_spread_of_the_profile():
     assert with_spread.mean_delta_E_00 < 0.1 < uniform.mean_delta_E_00
     cm = get_colorimeter(coating.wavelength_nm)
     lab = LabMeasurement("lab", light, view, np.zeros_like(light), np.full_like(light, 180.0), cm.Lab(cm.XYZ(R)))
-    assert fit_lab(lab, spread=spread, exclude_mirror_deg=0).thickness_nm == pytest.approx(260.0, abs=0.3)
+    assert fit_lab(lab, get_coating(spread=spread), exclude_mirror_deg=0).thickness_nm == pytest.approx(260.0, abs=0.3)

@@ -13,8 +13,9 @@ import colour
 import numpy as np
 import pytest
 
-from swatch.catalog.presets_mitsuba import mitsuba_presets, single_mitsuba_preset
+from swatch.catalog.presets_mitsuba import mitsuba_presets
 from swatch.colorimetry.colorimeter import delta_E_00
+from swatch.presets.files import single_mitsuba_preset
 from tests.mitsuba_setup import jit_of, mitsuba_variant
 
 MIRROR_DEG = (0.0, 15.0, 30.0, 45.0, 60.0)

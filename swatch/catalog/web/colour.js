@@ -26,10 +26,19 @@ function mulRow(v, M) { // row vector (3) times 3x3 matrix (rows)
           v[0] * M[0][2] + v[1] * M[1][2] + v[2] * M[2][2]];
 }
 
-function voltageOf(T, d) { // the voltage growing d by the table's growth law (two slopes with a knee, or one)
-  if (T.nm_per_V === null) return null;
-  const x = d - T.offset_nm, knee = T.knee_V ?? null;
-  return knee === null || x <= T.nm_per_V * knee ? x / T.nm_per_V : knee + (x - T.nm_per_V * knee) / T.nm_per_V_above_knee;
+// The page's one growth law (swatch.physics.growth): thickness_nm = offset_nm + nm_per_V * voltage_V, or two slopes
+// continuous at knee_V (nm_per_V up to the knee, nm_per_V_above_knee above). P: the catalog's process (or the
+// colour table, which carries the same keys); no voltages without a rate (nm_per_V null).
+function voltageOf(P, d) { // the voltage growing d (nm), V; null without a rate
+  if (P.nm_per_V == null) return null;
+  const x = d - P.offset_nm, knee = P.knee_V ?? null;
+  return knee === null || x <= P.nm_per_V * knee ? x / P.nm_per_V : knee + (x - P.nm_per_V * knee) / P.nm_per_V_above_knee;
+}
+function thicknessOf(P, v) { // the thickness grown at v volts, nm; NaN without a rate
+  if (P.nm_per_V == null) return NaN;
+  const knee = P.knee_V ?? null;
+  return knee === null ? P.offset_nm + v * P.nm_per_V
+    : P.offset_nm + P.nm_per_V * Math.min(v, knee) + P.nm_per_V_above_knee * Math.max(v - knee, 0);
 }
 
 // sRGB encoding (IEC 61966-2-1) without pow, for the live view's shaders: above the linear toe a minimax fit

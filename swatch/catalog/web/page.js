@@ -12,14 +12,10 @@ const fmt = (x, n) => (x === null || x === undefined || !Number.isFinite(Number(
 const HEX = /^#[0-9a-f]{6}$/i;
 const ref = cat.catalog.reference_geometry;
 const geoms = cat.catalog.multi_angle_geometries;
-// the catalog's process profile: thickness_nm = offset_nm + nm_per_V * voltage_V (no voltages without a rate);
-// a two-slope law has knee_V and nm_per_V_above_knee (nm_per_V up to the knee; continuous at it)
-const growth = cat.catalog.process.nm_per_V, offsetNm = cat.catalog.process.offset_nm;
-const kneeV = cat.catalog.process.knee_V ?? null, aboveKnee = cat.catalog.process.nm_per_V_above_knee ?? null;
-const toV = (d) => growth === null ? null : (kneeV === null || d - offsetNm <= growth * kneeV
-  ? (d - offsetNm) / growth : kneeV + (d - offsetNm - growth * kneeV) / aboveKnee);
-const fromV = (v) => growth === null ? NaN : (kneeV === null ? offsetNm + v * growth
-  : offsetNm + growth * Math.min(v, kneeV) + aboveKnee * Math.max(v - kneeV, 0));
+// the catalog's process profile's growth law (colour.js: voltageOf, thicknessOf; no voltages without a rate)
+const growth = cat.catalog.process.nm_per_V;
+const toV = (d) => voltageOf(cat.catalog.process, d);
+const fromV = (v) => thicknessOf(cat.catalog.process, v);
 // the tolerance, judged in its own metric (a CSAJ grade bounds ΔE*ab)
 const tol = cat.catalog.tolerance, bound = tol.max;
 function el(tag, cls, text) {

@@ -58,7 +58,7 @@ import numpy as np
 
 from swatch.core.choices import DISTRIBUTIONS
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_THICKNESS_NM
+from swatch.core.limits import MAX_FILM_INDEX_SCALE, MAX_THICKNESS_NM, MIN_FILM_INDEX_SCALE, MIN_ROUGHNESS_ALPHA
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
 from swatch.physics.spread import SIGMA_CAP_OF_THICKNESS, ThicknessSpread, node_count, spread_nodes
 from swatch.render.mitsuba.film import airy_reflectance
@@ -123,7 +123,7 @@ def check_parameters(thickness_nm: float, film_index_scale: float, distribution:
     thickness_nm : float
         Film thickness, nm, from 0 to ``MAX_THICKNESS_NM``.
     film_index_scale : float
-        From 0.5 to 1.5.
+        Factor on the film's real index, ``MIN_FILM_INDEX_SCALE`` to ``MAX_FILM_INDEX_SCALE`` (0.5–1.5).
     distribution, shadowing : str
         One of :data:`swatch.core.choices.DISTRIBUTIONS`, one of :data:`SHADOWING`.
 
@@ -134,8 +134,9 @@ def check_parameters(thickness_nm: float, film_index_scale: float, distribution:
     """
     if not (math.isfinite(thickness_nm) and 0.0 <= thickness_nm <= MAX_THICKNESS_NM):
         raise SwatchError(f"anodic_film: thickness_nm must be from 0 to {MAX_THICKNESS_NM:g}, got {thickness_nm!r}")
-    if not (math.isfinite(film_index_scale) and 0.5 <= film_index_scale <= 1.5):
-        raise SwatchError(f"anodic_film: film_index_scale must be from 0.5 to 1.5, got {film_index_scale!r}")
+    if not (math.isfinite(film_index_scale) and MIN_FILM_INDEX_SCALE <= film_index_scale <= MAX_FILM_INDEX_SCALE):
+        raise SwatchError(f"anodic_film: film_index_scale must be from {MIN_FILM_INDEX_SCALE:g} to "
+                          f"{MAX_FILM_INDEX_SCALE:g}, got {film_index_scale!r}")
     if distribution not in DISTRIBUTIONS:
         raise SwatchError(f"anodic_film: distribution must be one of {', '.join(DISTRIBUTIONS)}, got {distribution!r}")
     if shadowing not in SHADOWING:
@@ -178,8 +179,9 @@ def _define_class():
                 self.alpha_v = self.alpha_u
                 alphas = [] if a is None else [a]
             for a in alphas:
-                if not (math.isfinite(a) and 1e-4 <= a <= 1.0):
-                    raise SwatchError(f"anodic_film: roughness alpha must be from 0.0001 to 1, got {a!r}")
+                if not (math.isfinite(a) and MIN_ROUGHNESS_ALPHA <= a <= 1.0):
+                    raise SwatchError(f"anodic_film: roughness alpha must be from {MIN_ROUGHNESS_ALPHA:g} to 1, "
+                                      f"got {a!r}")
             self.tables = index_tables(film, substrate, scale)
             try:
                 self.spread = ThicknessSpread(float(props.get("spread_nm", 0.0)),

@@ -20,42 +20,36 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable
+from typing import Unpack
 
 import colour
 import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from swatch.colorimetry.colorimeter import RGB_SPACES, check_rgb_space
-from swatch.core.choices import BACKGROUNDS, DISTRIBUTIONS
+from swatch.colorimetry.colorimeter import RGB_SPACES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_PASS_LANES
 from swatch.core.procguard import raise_if_signalled
-from swatch.physics import microfacet
 from swatch.physics.finishes import brush_axis
-from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
-from swatch.physics.model import check_thickness_nm
-from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
-from swatch.render.image import SwatchImage, mesh_metadata
+from swatch.render.image import SwatchImage, finish_meta, mesh_metadata
 from swatch.render.lighting import Lighting, Sun, resolve_lighting
-from swatch.render.metadata import coating_and_colorimeter, common_metadata
-from swatch.render.mitsuba.bsdf import PLUGIN_NAME, check_parameters, register
+from swatch.render.metadata import common_metadata
+from swatch.render.mitsuba.bsdf import PLUGIN_NAME, register
 from swatch.render.mitsuba.scene import camera_dict, jit_float, lighting, load_scene, object_shapes
 from swatch.render.mitsuba.setup import (
     DEFAULT_VARIANT,
     ENV_VAR,
     INSTALL_HINT,
     OLDEST_LLVM_MAJOR,
-    check_mitsuba_request,
     check_variant,
     llvm_major,
 )
-from swatch.render.scene import check_shape, make_scene
+from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
 __all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "mitsuba_lighting",
-           "render_swatch_mitsuba", "Lighting"]
+           "render_swatch_mitsuba", "render_mitsuba", "Lighting"]
 
 PATH_BOUNCES = 12
 #: Sun and sky: 1.0 = a white diffuser facing up under the reference sun (45° elevation, azimuth 0,
@@ -89,7 +83,11 @@ def use_variant(variant: str = DEFAULT_VARIANT) -> str:
         When the variant cannot run here (no usable libLLVM for an ``llvm_*`` one), with what to install.
     """
 
-    variant = check_variant(variant)
+    return _set_variant(check_variant(variant))
+
+
+def _set_variant(variant: str) -> str:
+    """:func:`use_variant` of a variant already checked (a render request's)."""
     if variant.startswith("llvm"):
         path = os.environ.get(ENV_VAR)
         if not path:
@@ -239,42 +237,21 @@ def _floor_y(shape: str, mesh) -> float:
     return float(mesh.points()[:, 1].min())
 
 
-def _check_window(window_px, size: int) -> tuple[int, int, int, int] | None:
-    """``window_px`` as four whole numbers inside the ``size``² image, or None."""
-    if window_px is None:
-        return None
-    try:
-        x, y, w, h = (int(v) for v in window_px)
-        ok = [float(v) for v in window_px] == [x, y, w, h] and x >= 0 and y >= 0 and w >= 1 and h >= 1
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or x + w > size or y + h > size:
-        raise SwatchError(f"window_px must be (x, y, width, height) in whole pixels inside the {size}x{size} "
-                          f"image, got {window_px!r}")
-    return x, y, w, h
-
-
 def _pass_seeds(seed: int, passes: int) -> list[int]:
     return [int((seed * 2654435761 + 97 * i + 1) % (2**32)) for i in range(passes)]
 
 
-def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: int = 256, spp: int = 64,
-                          seed: int = 0, lighting_name: str | Lighting | None = "studio", sun: Sun | None = None,
-                          roughness_alpha: float | tuple[float, float] = 0.3, distribution: str = "ggx",
-                          film: str = DEFAULT_FILM, substrate: str = DEFAULT_SUBSTRATE,
-                          film_index_scale: float = 1.0, coating=None, colorimeter=None, space: str = "srgb",
-                          background: str | None = None, view_deg: float | None = None,
-                          view_azimuth_deg: float = 0.0, mesh=None, variant: str = DEFAULT_VARIANT,
-                          progress: Callable[[int, int], None] | None = None,
-                          bsdf_override: dict | None = None, exposure: float = 1.0,
-                          spread: ThicknessSpread | None = None,
-                          window_px: tuple[int, int, int, int] | None = None) -> SwatchImage:
-    """Render one swatch with Mitsuba (module documentation): the public function of the engine.
+def render_swatch_mitsuba(  # type: ignore[misc]  # spp and seed: named here, options of render_swatch
+        thickness_nm: float, shape: str = "sphere", size_px: int = 256, spp: int = 64, seed: int = 0,
+        lighting_name: str | Lighting | None = "studio", progress: Progress | None = None,
+        **options: Unpack[RenderOptions]) -> SwatchImage:
+    """Render one swatch with Mitsuba (module documentation): ``render_swatch(..., engine="mitsuba")`` with
+    this engine's defaults (a 256 px sphere at 64 spp in the studio).
 
     Parameters
     ----------
-    thickness_nm : float, nm
-        Film thickness, 0 to :data:`swatch.core.limits.MAX_THICKNESS_NM`.
+    thickness_nm : float
+        Film thickness, nm, 0 to :data:`swatch.core.limits.MAX_THICKNESS_NM`.
     shape : str
         ``flat``, ``cylinder`` or ``sphere`` (ignored with ``mesh``).
     size_px, spp, seed : int
@@ -283,80 +260,56 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
     lighting_name : str or Lighting
         ``studio``, ``sun``, ``uniform``, an .exr/.hdr path, or a :class:`Lighting` from
         :func:`resolve_lighting` (reuse it across thicknesses: the map is read once).
-    sun : Sun, optional
-        The sun of ``sun`` lighting (default: 45° elevation, azimuth 0, turbidity 3).
-    roughness_alpha : float or (float, float)
-        Isotropic α, or (α_u, α_v) for an anisotropic (brushed) finish, each in (0, 1].
-    distribution : str
-        ``ggx`` or ``beckmann``.
-    film, substrate, film_index_scale
-        Table names and the film's real-index factor (a process profile's).
-    coating, colorimeter
-        Used for the metadata's reference Lab (default: the default grid, D65, 10°).
-    space : str
-        RGB primaries of ``linear_rgb``: ``srgb`` or ``acescg``.
-    background : str, optional
-        ``environment`` (the scene as photographed, opaque; the default and the only choice for
-        studio and sun), ``grey`` or ``white`` (uniform and maps: the object alone, premultiplied).
-    view_deg, view_azimuth_deg : float
-        The camera, as in :func:`swatch.render.scene.make_scene`.
-    mesh : swatch.render.mesh.MeshShape, optional
-    variant : str
-        Mitsuba variant (spectral), default ``llvm_ad_spectral``.
     progress : callable(done, total), optional
         Called after each pass with the passes done and their number (the CLI draws its bar from it:
         :class:`swatch.commands.progress.PassBar`).
-    bsdf_override : dict, optional
-        Another BSDF for the object (tests and benchmarks: Mitsuba's own ``roughconductor``).
-    spread : swatch.physics.spread.ThicknessSpread, optional
-        The film's thickness spread (a process profile's): the plugin averages its Airy reflectance
-        over the same normal distribution and Gauss–Hermite nodes as the built-in model (issue 19).
-        Default: the coating's (none for the default coating).
-    exposure : float
-        Display exposure of the PNG (the EXR keeps the scene values), 1/64 to 64; default 1 (the white
-        diffuser is display white). The sun is far brighter than a studio: about 0.3 keeps sunlit metal
-        out of the shoulder.
-    window_px : (int, int, int, int), optional
-        ``(x, y, width, height)`` in pixels from the top-left corner: render only that window of the
-        ``size_px``² image (Mitsuba's film crop: the same camera and pixels, the cost of the window alone),
-        e.g. a patch's centre at many samples. The image returned is the window.
+    **options
+        The other keywords of :func:`swatch.render.render_swatch` (``roughness_alpha``, ``coating``,
+        ``sun``, ``window_px``, ``exposure``, ``bsdf_override``, …).
 
     Returns
     -------
     swatch.render.SwatchImage
         ``linear_rgb`` (H, W, 3) float32 (module units), ``coverage`` (H, W), ``display_rgb`` uint8, metadata.
     """
+    request = render_request(thickness_nm, shape, size_px, engine="mitsuba", spp=spp, seed=seed,
+                             environment=lighting_name, **options)
+    return render_mitsuba(request, progress)
 
-    d = float(check_thickness_nm(float(thickness_nm)))
-    shape = "mesh" if mesh is not None else check_shape(shape)
-    size, spp, seed = check_mitsuba_request(size_px, spp, seed)
-    window = _check_window(window_px, size)
-    if distribution not in DISTRIBUTIONS:
-        raise SwatchError(f"unknown distribution {distribution!r}; use one of {', '.join(DISTRIBUTIONS)}")
-    alphas = tuple(roughness_alpha) if isinstance(roughness_alpha, tuple | list) else (roughness_alpha,)
-    if len(alphas) not in (1, 2):
-        raise SwatchError("roughness is one alpha or (alpha_u, alpha_v)")
-    alphas = tuple(microfacet.check_roughness_alpha(a) for a in alphas)
-    check_parameters(d, float(film_index_scale), distribution, "correlated")
-    space = check_rgb_space(space)
-    light = resolve_lighting(lighting_name, "mitsuba", sun)
-    photo_only = light.kind in ("studio", "sun")
-    background = ("environment" if photo_only else "grey") if background is None else str(background).lower()
-    if background not in BACKGROUNDS:
-        raise SwatchError(f"unknown background {background!r}; use one of {', '.join(BACKGROUNDS)}")
-    if photo_only and background != "environment":
-        raise SwatchError(f"{light.kind} lighting shows its set behind the object; use `background='environment'` "
-                          "(or uniform lighting or a map for a grey or white background)")
-    exposure = float(exposure)
-    if not (math.isfinite(exposure) and 1.0 / 64.0 <= exposure <= 64.0):
-        raise SwatchError(f"display exposure must be from {1.0 / 64.0:g} to 64, got {exposure!r}")
-    coating, colorimeter = coating_and_colorimeter(coating, colorimeter)
-    spread = getattr(coating, "spread", NO_SPREAD) if spread is None else spread
-    if getattr(colorimeter, "illuminant", "D65") not in ("D65", None):
-        raise SwatchError("the mitsuba engine renders under D65 light (its emitters and film); use `illuminant='D65'`")
-    variant = use_variant(variant)
 
-    scene_geo = make_scene("sphere" if shape == "mesh" else shape, 45.0, view_deg, view_azimuth_deg, mesh)
+def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> SwatchImage:
+    """The ``mitsuba`` engine of :data:`swatch.render.dispatch.ENGINES`: render a checked request.
+
+    Parameters
+    ----------
+    request : swatch.render.request.RenderRequest
+        A request built for ``engine="mitsuba"`` (:func:`swatch.render.request.render_request`): the
+        thickness, shape or mesh and camera, size, spp, seed, lobe (α or α_u, α_v), distribution, coating
+        (film, substrate, index scale, thickness spread), colorimeter, space, background, lighting,
+        exposure, film window, variant.
+    progress : callable(done, total), optional
+        Called after each pass with the passes done and their number.
+
+    Returns
+    -------
+    swatch.render.SwatchImage
+        ``linear_rgb`` (H, W, 3) float32 (module units), ``coverage`` (H, W), ``display_rgb`` uint8, metadata
+        (the finish's entry too).
+
+    Raises
+    ------
+    SwatchError
+        When the variant cannot run here, or the sun is below the horizon.
+    """
+    d, shape, size, spp, seed = request.thickness_nm, request.shape, request.size_px, request.spp, request.seed
+    mesh, window, alphas, distribution = request.mesh, request.window_px, request.lobe, request.distribution
+    coating, colorimeter, space, background = request.coating, request.colorimeter, request.space, request.background
+    light, exposure, spread, bsdf_override = request.lighting, request.exposure, request.spread, request.bsdf_override
+    film, substrate, film_index_scale = coating.film, coating.substrate, coating.film_index_scale
+    variant = DEFAULT_VARIANT if request.variant is None else request.variant  # (a request's is checked)
+    variant = _set_variant(variant)
+
+    scene_geo = request.scene
     bsdf = {"type": PLUGIN_NAME, "thickness_nm": d, "film": film, "substrate": substrate,
             "film_index_scale": float(film_index_scale), "distribution": distribution}
     if not spread.is_zero:
@@ -453,4 +406,5 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         meta["roughness_alpha_uv"] = [alphas[0], alphas[1]]
     if window is not None:
         meta["window_px"] = list(window)
-    return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh), exposure)
+    return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh) | finish_meta(request.finish),
+                       exposure)

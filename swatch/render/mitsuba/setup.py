@@ -1,5 +1,5 @@
-"""Setting Mitsuba 3 up: the system libLLVM its JIT needs, the variant, the one-line hint, and the
-checks of a render request (size, samples per pixel, seed) made before a scene is built.
+"""Setting Mitsuba 3 up: the system libLLVM its JIT needs, the variant and the one-line hint (a render's
+size, samples per pixel and seed are checked with the request: :mod:`swatch.render.checks`).
 
 Mitsuba's ``llvm_ad_*`` variants compile kernels with Dr.Jit's LLVM backend, which loads a
 system ``libLLVM`` through the LLVM C API at run time. On Debian the one that works with Mitsuba
@@ -15,19 +15,16 @@ import glob
 import os
 import re
 
-from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
+from swatch.core.choices import DEFAULT_VARIANT, SPECTRAL_VARIANTS
+from swatch.render.checks import check_variant
 
 __all__ = ["ENV_VAR", "INSTALL_HINT", "SPECTRAL_VARIANTS", "DEFAULT_VARIANT", "find_libllvm", "configure_llvm", "llvm_major",
-           "check_variant", "check_spp", "check_seed", "check_mitsuba_request"]
+           "check_variant"]
 
 ENV_VAR = "DRJIT_LIBLLVM_PATH"
 #: What to install when no usable libLLVM is found (one line, said by ``--engine mitsuba``).
 INSTALL_HINT = ("Mitsuba's LLVM backend needs libLLVM 19: on Debian/Ubuntu `apt-get install libllvm19` "
                 f"(then {ENV_VAR} is found automatically), or set {ENV_VAR} to a libLLVM.so of version 17-20")
-#: The variants the thin-film plugin runs in (it needs the sampled wavelengths).
-SPECTRAL_VARIANTS = ("llvm_ad_spectral", "scalar_spectral", "cuda_ad_spectral")
-DEFAULT_VARIANT = "llvm_ad_spectral"
 #: Oldest libLLVM major that Mitsuba 3.9's JIT runs with (14–16 fail on ``fminimum``).
 OLDEST_LLVM_MAJOR = 17
 _SEARCH = ("/usr/lib/x86_64-linux-gnu/libLLVM.so.*", "/usr/lib/x86_64-linux-gnu/libLLVM-*.so*",
@@ -87,113 +84,3 @@ def configure_llvm() -> str | None:
     if path is not None:
         os.environ[ENV_VAR] = path
     return path
-
-
-def check_variant(variant: str) -> str:
-    """A Mitsuba variant the plugin can run in (a spectral one).
-
-    Parameters
-    ----------
-    variant : str
-
-    Returns
-    -------
-    str
-        ``variant`` (stripped).
-
-    Raises
-    ------
-    SwatchError
-        Naming the choices, for another variant.
-    """
-    key = str(variant).strip()
-    if key not in SPECTRAL_VARIANTS:
-        raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
-                          f"variant: {', '.join(SPECTRAL_VARIANTS)}")
-    return key
-
-
-def _whole_number(value, what: str, low: int, high: int) -> int:
-    """``value`` as an int when it is a whole number from ``low`` to ``high``; else a SwatchError."""
-    try:
-        ok = float(value) == int(value)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok or not low <= int(value) <= high:
-        raise SwatchError(f"{what} must be a whole number from {low} to {high}, got {value!r}")
-    return int(value)
-
-
-def check_spp(spp) -> int:
-    """Samples per pixel, checked: a whole number from 1 to ``MAX_SPP``.
-
-    Parameters
-    ----------
-    spp : int
-
-    Returns
-    -------
-    int
-
-    Raises
-    ------
-    SwatchError
-        Otherwise.
-    """
-    return _whole_number(spp, "samples per pixel", 1, MAX_SPP)
-
-
-def check_seed(seed) -> int:
-    """The sampler's seed, checked: a whole number from 0 to ``MAX_SEED``.
-
-    Parameters
-    ----------
-    seed : int
-
-    Returns
-    -------
-    int
-
-    Raises
-    ------
-    SwatchError
-        Otherwise.
-    """
-    return _whole_number(seed, "seed", 0, MAX_SEED)
-
-
-def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
-    """A Mitsuba render's size, samples and seed, checked before anything is loaded.
-
-    Parameters
-    ----------
-    size_px : int
-        Pixels per side, at most :data:`swatch.core.limits.MAX_MITSUBA_PX`.
-    spp : int
-        Samples per pixel (:func:`check_spp`).
-    seed : int
-        (:func:`check_seed`).
-
-    Returns
-    -------
-    tuple of int
-        ``(size, spp, seed)``.
-
-    Raises
-    ------
-    SwatchError
-        One line, for a value out of range or size² × spp above ``MAX_MITSUBA_SAMPLES``.
-    """
-    try:
-        size = int(size_px)
-        ok = float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
-    spp = check_spp(spp)
-    seed = check_seed(seed)
-    if size * size * spp > MAX_MITSUBA_SAMPLES:
-        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
-                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower `spp` or `size_px`)")
-    return size, spp, seed

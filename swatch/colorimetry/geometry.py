@@ -1,7 +1,15 @@
-"""A catalog's measuring geometries: in-plane light/view pairs, the reference and the multi-angle set.
+"""Measuring geometries: in-plane light/view pairs, the reference and the multi-angle set.
 
 Multi-angle geometries are named ``<light>as<aspecular>`` (ASTM E2194 / E2539); the reference one
-``<light>:<view>``. Used by the spec parser, the records and the finish specification.
+``<light>:<view>``. Used by the catalog's spec parser and records, the finish specification and QC.
+
+References
+----------
+ASTM E2194-14, Standard Practice for Multiangle Color Measurement of Metal Flake Pigmented Materials,
+doi:10.1520/E2194-14.
+ASTM E2539-14, Standard Practice for Multiangle Color Measurement of Interference Pigments,
+doi:10.1520/E2539-14.
+M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D(2), 2019, doi:10.14923/transinfj.2018JDP7030, eq. 5 (θ_d).
 """
 from __future__ import annotations
 
@@ -50,6 +58,7 @@ class Geometry:
         Returns
         -------
         float or None
+            None (the view opposite the light, azimuth light + 180°) or 0.0 (the light's side), degrees.
         """
         return None if self.view_side == "opposite" else 0.0
 
@@ -72,6 +81,7 @@ class Geometry:
         Returns
         -------
         dict
+            ``name``, ``light_deg``, ``view_deg``, ``view_side``, ``aspecular_deg`` (multi-angle) and ``theta_d_deg`` (degrees).
         """
         out = {"name": self.name, "light_deg": self.light_deg, "view_deg": self.view_deg,
                "view_side": self.view_side}
@@ -95,6 +105,7 @@ def geometry_name(light: float, aspecular: float) -> str:
     Returns
     -------
     str
+        ``45as15`` for a multi-angle geometry, ``45:0`` for a light/view pair (degrees, ``g`` format).
 
     Examples
     --------

@@ -1,0 +1,186 @@
+"""Checks of a path-traced render's sampling options (size, samples per pixel, seed, film window, display
+exposure): plain arithmetic on :mod:`swatch.core.limits`, made by :func:`swatch.render.request.render_request`
+before Mitsuba is loaded.
+"""
+from __future__ import annotations
+
+import math
+
+from swatch.core.choices import SPECTRAL_VARIANTS
+from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_DISPLAY_EXPOSURE, MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
+
+__all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure", "check_variant"]
+
+
+def _whole_number(value, what: str, low: int, high: int) -> int:
+    """``value`` as an int when it is a whole number from ``low`` to ``high``; else a SwatchError."""
+    try:
+        ok = float(value) == int(value)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or not low <= int(value) <= high:
+        raise SwatchError(f"{what} must be a whole number from {low} to {high}, got {value!r}")
+    return int(value)
+
+
+def check_spp(spp) -> int:
+    """Samples per pixel, checked: a whole number from 1 to ``MAX_SPP``.
+
+    Parameters
+    ----------
+    spp : int
+        Samples per pixel of a Mitsuba render.
+
+    Returns
+    -------
+    int
+        ``spp`` as an int.
+
+    Raises
+    ------
+    SwatchError
+        Otherwise.
+    """
+    return _whole_number(spp, "samples per pixel", 1, MAX_SPP)
+
+
+def check_seed(seed) -> int:
+    """The sampler's seed, checked: a whole number from 0 to ``MAX_SEED``.
+
+    Parameters
+    ----------
+    seed : int
+        The Mitsuba sampler's seed (equal seeds give equal images).
+
+    Returns
+    -------
+    int
+        ``seed`` as an int.
+
+    Raises
+    ------
+    SwatchError
+        Otherwise.
+    """
+    return _whole_number(seed, "seed", 0, MAX_SEED)
+
+
+def check_mitsuba_request(size_px, spp, seed) -> tuple[int, int, int]:
+    """A Mitsuba render's size, samples and seed, checked before anything is loaded.
+
+    Parameters
+    ----------
+    size_px : int
+        Pixels per side, at most :data:`swatch.core.limits.MAX_MITSUBA_PX`.
+    spp : int
+        Samples per pixel (:func:`check_spp`).
+    seed : int
+        The sampler's seed (:func:`check_seed`).
+
+    Returns
+    -------
+    tuple of int
+        ``(size, spp, seed)``.
+
+    Raises
+    ------
+    SwatchError
+        One line, for a value out of range or size² × spp above ``MAX_MITSUBA_SAMPLES``.
+    """
+    try:
+        size = int(size_px)
+        ok = float(size_px) == size and 1 <= size <= MAX_MITSUBA_PX
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise SwatchError(f"image size must be a whole number of pixels from 1 to {MAX_MITSUBA_PX}, got {size_px!r}")
+    spp = check_spp(spp)
+    seed = check_seed(seed)
+    if size * size * spp > MAX_MITSUBA_SAMPLES:
+        raise SwatchError(f"{size}x{size} at {spp} spp is {size * size * spp:.3g} samples; a Mitsuba render is at "
+                          f"most {MAX_MITSUBA_SAMPLES:.3g} (lower `spp` or `size_px`)")
+    return size, spp, seed
+
+
+def check_window_px(window_px, size: int) -> tuple[int, int, int, int] | None:
+    """A film window, checked: four whole numbers inside the ``size``² image, or None.
+
+    Parameters
+    ----------
+    window_px : (int, int, int, int) or None
+        ``(x, y, width, height)`` in pixels from the image's top-left corner.
+    size : int
+        The image's side, pixels.
+
+    Returns
+    -------
+    tuple of int or None
+        The window as ints.
+
+    Raises
+    ------
+    SwatchError
+        Not four whole numbers with the window inside the image (naming ```window_px```).
+    """
+    if window_px is None:
+        return None
+    try:
+        x, y, w, h = (int(v) for v in window_px)
+        ok = [float(v) for v in window_px] == [x, y, w, h] and x >= 0 and y >= 0 and w >= 1 and h >= 1
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or x + w > size or y + h > size:
+        raise SwatchError(f"window_px must be (x, y, width, height) in whole pixels inside the {size}x{size} "
+                          f"image, got {window_px!r}")
+    return x, y, w, h
+
+
+def check_exposure(exposure) -> float:
+    """A display exposure, checked: a finite factor from 1/``MAX_DISPLAY_EXPOSURE`` to ``MAX_DISPLAY_EXPOSURE``.
+
+    Parameters
+    ----------
+    exposure : float
+        Factor on the linear image before display encoding (1: the white diffuser is display white).
+
+    Returns
+    -------
+    float
+        ``exposure`` as a float.
+
+    Raises
+    ------
+    SwatchError
+        Out of range.
+    """
+    k = float(exposure)
+    if not (math.isfinite(k) and 1.0 / MAX_DISPLAY_EXPOSURE <= k <= MAX_DISPLAY_EXPOSURE):
+        raise SwatchError(f"display exposure must be from {1.0 / MAX_DISPLAY_EXPOSURE:g} to "
+                          f"{MAX_DISPLAY_EXPOSURE:g}, got {exposure!r}")
+    return k
+
+
+def check_variant(variant: str) -> str:
+    """A Mitsuba variant the plugin can run in (a spectral one).
+
+    Parameters
+    ----------
+    variant : str
+        A Mitsuba variant name (:data:`swatch.core.choices.SPECTRAL_VARIANTS`).
+
+    Returns
+    -------
+    str
+        ``variant`` (stripped).
+
+    Raises
+    ------
+    SwatchError
+        Naming the choices, for another variant.
+    """
+    key = str(variant).strip()
+    if key not in SPECTRAL_VARIANTS:
+        raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
+                          f"variant: {', '.join(SPECTRAL_VARIANTS)}")
+    return key
