@@ -74,6 +74,7 @@ class Finish:
         Returns
         -------
         bool
+            True for a brushed lobe (``alpha_u != alpha_v``), False for an isotropic one.
         """
         return self.alpha_u != self.alpha_v
 
@@ -141,6 +142,7 @@ def get_finish(name: str) -> Finish:
     Returns
     -------
     Finish
+        The finish's name, GGX ``alpha_u`` / ``alpha_v`` (dimensionless, along / across the grain) and description.
 
     Raises
     ------

@@ -43,6 +43,7 @@ def check_polar_deg(angle_deg, what: str) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, float64, the shape of ``angle_deg``
+        The angles as given, degrees from the normal, each in [0, 90).
 
     Raises
     ------
@@ -69,6 +70,7 @@ def check_azimuth_deg(azimuth_deg, what: str) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, float64, the shape of ``azimuth_deg``
+        The azimuths as given, degrees (not wrapped).
 
     Raises
     ------
@@ -92,6 +94,7 @@ def check_light_view_deg(light_deg, view_deg) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     (numpy.ndarray, numpy.ndarray), float64, the shapes of the inputs
+        ``(light_deg, view_deg)`` as given, degrees from the normal, each in [0, 90).
     """
     return check_polar_deg(light_deg, "light_deg"), check_polar_deg(view_deg, "view_deg")
 

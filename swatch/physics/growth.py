@@ -34,10 +34,12 @@ def check_growth_rate(nm_per_V: float) -> float:
     Parameters
     ----------
     nm_per_V : float
+        Anodic growth rate, nm of oxide per volt.
 
     Returns
     -------
     float
+        The rate as a float, nm/V, in [0.1, 10].
 
     Raises
     ------

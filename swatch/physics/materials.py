@@ -216,6 +216,7 @@ def tables_dir() -> Path:
     Returns
     -------
     pathlib.Path
+        The absolute path of the ``tables/`` folder found (it has an ``optical/`` subfolder).
 
     Raises
     ------

@@ -180,6 +180,7 @@ def D(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
+        The microfacet distribution (Walter et al. 2007); checked by :func:`check_distribution`.
 
     Returns
     -------
@@ -199,6 +200,7 @@ def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.nd
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
+        The microfacet distribution whose exact ``Λ`` is used (Heitz 2014).
 
     Returns
     -------
@@ -229,6 +231,7 @@ def G1(cos_theta, cos_h_omega, roughness_alpha, distribution: str = "ggx") -> np
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
+        The microfacet distribution whose ``Λ`` is used.
 
     Returns
     -------
@@ -252,6 +255,7 @@ def G(cos_l, cos_v, cos_hl, cos_hv, roughness_alpha, distribution: str = "ggx", 
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
+        The microfacet distribution whose ``Λ`` is used.
     correlated : bool
         Height-correlated ``1 / (1 + Λl + Λv)`` (default; Heitz 2014, eq. 99) or the separable
         product ``G1(l) G1(v)``.
@@ -337,6 +341,7 @@ def D_ratio(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
+        The microfacet distribution.
 
     Returns
     -------
@@ -362,6 +367,7 @@ def brdf_scale(cos_l, cos_v, cos_h, cos_d, roughness_alpha, distribution: str = 
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
+        The microfacet distribution of ``D`` and of Smith's ``Λ``.
     correlated : bool
         Height-correlated (default) or separable Smith G.
 

@@ -45,9 +45,11 @@ def stack_reflectance(
     n_layers : sequence of array_like, complex, shape (W,) or scalar
         The films' indices, in the same order.
     n_substrate : array_like, complex, shape (W,) or scalar
+        The substrate's (metal's) index ``n + i k`` (k ≥ 0) on the grid.
     incidence_deg : array_like, degrees
         Incidence angles in [0, 90).
     wavelength_nm : array_like, shape (W,), nm
+        The wavelength grid, positive nm (checked by :func:`swatch.physics.optics.check_wavelengths`).
     n_ambient : float
         Real index of the ambient medium.
 

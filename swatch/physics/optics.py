@@ -76,6 +76,7 @@ def layer_q(n_layer: np.ndarray, kx: np.ndarray) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, complex128, the broadcast shape
+        ``q = n cos θ`` in the layer (dimensionless), on the forward-wave branch.
     """
     q = np.sqrt(np.asarray(n_layer, dtype=np.complex128) ** 2 - np.asarray(kx) ** 2)
     # The principal root already has Re q >= 0; a negative-zero imaginary part of the radicand
@@ -136,6 +137,7 @@ def check_film_geometry(thickness_nm: np.ndarray, incidence_deg: np.ndarray) -> 
     Parameters
     ----------
     thickness_nm, incidence_deg : numpy.ndarray
+        Film thicknesses (nm) and incidence angles (degrees from the normal), any shapes.
 
     Raises
     ------
@@ -154,6 +156,7 @@ def check_wavelengths(wavelength_nm) -> np.ndarray:
     Parameters
     ----------
     wavelength_nm : array_like
+        The wavelength grid, nm, one dimension.
 
     Returns
     -------
@@ -226,6 +229,7 @@ class FilmAtAngles:
         Returns
         -------
         numpy.ndarray, complex128, shape S + (W,)
+            ``E = exp(i k4 d)`` per thickness and wavelength (dimensionless; ``|E| ≤ 1``, < 1 in an absorbing film).
         """
         d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
         phi = d * self.k4.real
@@ -322,6 +326,7 @@ def film_reflectance_cos(
     cos_incidence : array_like
         Cosine of the incidence angle, in (0, 1]; broadcasts with ``thickness_nm`` to S.
     wavelength_nm : array_like, shape (W,), nm
+        The wavelength grid, positive nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float
@@ -401,6 +406,7 @@ def film_reflectance_sweep(
     incidence_deg : array_like, shape A, degrees
         Incidence angles in [0, 90).
     wavelength_nm : array_like, shape (W,), nm
+        The wavelength grid, positive nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float
@@ -476,6 +482,7 @@ def film_reflectance(
         Incidence angles from the surface normal, in [0, 90); broadcast with ``thickness_nm``
         to S.
     wavelength_nm : array_like, shape (W,), nm
+        The wavelength grid, positive nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float

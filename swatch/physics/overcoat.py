@@ -76,6 +76,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         str
+            The base coating's film (oxide) material name, as ``swatch.physics.materials.load_material`` takes it.
         """
         return self.base.film
 
@@ -86,6 +87,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         str
+            The base coating's substrate (metal) material name, as ``swatch.physics.materials.load_material`` takes it.
         """
         return self.base.substrate
 
@@ -96,6 +98,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         numpy.ndarray
+            The base coating's wavelength grid, nm, shape (W,).
         """
         return self.base.wavelength_nm
 
@@ -106,6 +109,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         swatch.physics.spread.ThicknessSpread
+            The base coating's oxide thickness spread (σ in nm and as a fraction); the overcoats' own are uniform.
         """
         return self.base.spread
 
@@ -226,6 +230,7 @@ def overcoat_json(coating) -> dict:
     Parameters
     ----------
     coating : Coating or OvercoatedCoating
+        A coating; a plain :class:`~swatch.physics.model.Coating` has no overcoats.
 
     Returns
     -------
@@ -244,6 +249,7 @@ def overcoat_text(coating) -> str:
     Parameters
     ----------
     coating : Coating or OvercoatedCoating
+        A coating; a plain :class:`~swatch.physics.model.Coating` has no overcoats.
 
     Returns
     -------

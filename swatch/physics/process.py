@@ -112,6 +112,7 @@ class Process:
         Returns
         -------
         str
+            ``name``, followed by ``", thickness spread …"`` when the spread is not zero.
         """
         return self.name + (f", thickness spread{self.spread.text()}" if not self.spread.is_zero else "")
 
@@ -122,6 +123,7 @@ class Process:
         Returns
         -------
         bool
+            True when ``nm_per_V`` is set, False otherwise.
         """
         return self.nm_per_V is not None
 
@@ -179,6 +181,8 @@ class Process:
         Returns
         -------
         swatch.physics.model.Coating
+            Film and substrate indices on the grid (the film's real index scaled by ``film_index_scale``),
+            with the profile's thickness spread.
         """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
@@ -416,6 +420,7 @@ def load_process(name_or_path: str) -> Process:
     Returns
     -------
     Process
+        The profile, every field range-checked; ``origin`` says ``"preset"`` or the file's name.
 
     Raises
     ------
@@ -445,6 +450,7 @@ def list_processes() -> list[Process]:
     Returns
     -------
     list of Process
+        One profile per preset ``.toml``, sorted by name.
     """
     return [load_process(n) for n in preset_names()]
 
@@ -463,6 +469,7 @@ def process_toml(p: Process, header: str = "") -> str:
     Parameters
     ----------
     p : Process
+        The profile to write.
     header : str, optional
         Lines written first as ``#`` comments.
 

@@ -82,6 +82,7 @@ class ThicknessSpread:
         Returns
         -------
         bool
+            True when ``spread_nm`` and ``spread_fraction`` are both 0.
         """
         return self.spread_nm == 0.0 and self.spread_fraction == 0.0
 
@@ -132,6 +133,7 @@ def parse_spread(text: str | None) -> ThicknessSpread | None:
     Returns
     -------
     ThicknessSpread or None
+        The spread (``spread_nm`` in nm, ``spread_fraction`` dimensionless), or None when ``text`` is None.
 
     Raises
     ------
@@ -158,6 +160,7 @@ def spread_sigma_nm(thickness_nm, spread: ThicknessSpread) -> np.ndarray:
     thickness_nm : array_like
         Mean thicknesses, nm, any shape.
     spread : ThicknessSpread
+        The thickness spread: ``spread_nm`` (nm) and ``spread_fraction`` (of the mean thickness).
 
     Returns
     -------
@@ -218,6 +221,7 @@ def spread_average(reflect: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]
     thickness_nm : array_like, nm
         Mean thicknesses ≥ 0.
     spread : ThicknessSpread
+        The thickness spread: ``spread_nm`` (nm) and ``spread_fraction`` (of the mean thickness).
     n_film_max : float
         Largest real film index on the grid (sets the node count).
     wavelength_min_nm : float
