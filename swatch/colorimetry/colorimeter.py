@@ -236,6 +236,7 @@ class Colorimeter:
         Returns
         -------
         numpy.ndarray, shape (..., 3)
+            L*, a*, b* under this colorimeter's illuminant and observer.
         """
         return self.Lab(self.XYZ(reflectance))
 
@@ -278,6 +279,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
+            The RGB space (its primaries and white; the default is sRGB), case-insensitive.
 
         Returns
         -------
@@ -300,6 +302,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
+            The RGB space (its primaries, white and transfer function; the default is sRGB), case-insensitive.
 
         Returns
         -------
@@ -323,6 +326,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
+            Reflectance factors (0–1) on the colorimeter's grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -339,6 +343,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
+            Reflectance factors (0–1) on the colorimeter's grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -363,12 +368,17 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
     Parameters
     ----------
     wavelength_nm : array_like, shape (W,), nm
+        The wavelength grid: an even 1, 5, 10 or 20 nm grid inside the observer's range (as :class:`Colorimeter`).
     illuminant : str
+        A colour-science illuminant name (D65, D50, A, FL2, ...), case-insensitive.
     observer : {"10", "2"}
+        CIE 1964 10° (the default) or CIE 1931 2° standard observer, for XYZ and Lab; display RGB is
+        always computed with the 2° observer (:attr:`Colorimeter.display_colorimeter`).
 
     Returns
     -------
     Colorimeter
+        The colorimeter of this grid, illuminant and observer (cached: an equal request returns it again).
     """
     return _cached(tuple(np.asarray(wavelength_nm, dtype=float).tolist()), str(illuminant), str(observer))
 
@@ -403,6 +413,7 @@ def delta_E_00(Lab1, Lab2) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (...)
+        ΔE00, dimensionless (CIEDE2000 with k_L = k_C = k_H = 1).
     """
     return colour.difference.delta_E_CIE2000(np.asarray(Lab1), np.asarray(Lab2))
 
@@ -413,6 +424,7 @@ def Lab_to_LCh(Lab) -> np.ndarray:
     Parameters
     ----------
     Lab : array_like, shape (..., 3)
+        CIELAB values L*, a*, b*.
 
     Returns
     -------
@@ -483,6 +495,7 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3,)
+        L*, a*, b* as float64 (L* in [0, 100], a* and b* within ±``MAX_LAB_AB``).
     """
     # "60,5,30", "60, 5, 30" or "60 5 30" (as the catalog page takes it)
     t = str(text).strip()

@@ -85,5 +85,6 @@ def colour_names() -> tuple[str, ...]:
     Returns
     -------
     tuple of str
+        The colour names (``"silver blue"``, ``"blue"`` …), each once.
     """
     return tuple(dict.fromkeys(r[0] for r in NAME_RULES))

@@ -56,10 +56,12 @@ def parse_hex(hex_code: str) -> np.ndarray:
     Parameters
     ----------
     hex_code : str
+        Six hex digits ``RRGGBB``, optionally after ``#``, any case.
 
     Returns
     -------
     numpy.ndarray, shape (3,)
+        The sRGB-encoded (non-linear) R, G, B, each in [0, 1] (the byte value / 255).
 
     Raises
     ------
@@ -167,7 +169,9 @@ def document_Lab_display(Lab, cm: Colorimeter, space: str = "srgb") -> tuple[np.
     Lab : array_like, shape (..., 3)
         CIELAB under ``cm``'s illuminant and observer.
     cm : swatch.colorimetry.colorimeter.Colorimeter
+        The document's colorimeter (its grid, illuminant and observer): the Lab's own.
     space : {"srgb", "display-p3", "acescg"}
+        The display RGB space (default sRGB).
 
     Returns
     -------
@@ -188,10 +192,12 @@ def hex_display(hex_code: str) -> str:
     Parameters
     ----------
     hex_code : str
+        Six hex digits ``RRGGBB``, optionally after ``#``, any case.
 
     Returns
     -------
     str
+        ``#`` and the six digits in lower case (``#1f4e9a``).
     """
     parse_hex(hex_code)
     return "#" + str(hex_code).strip().lstrip("#").lower()

@@ -64,7 +64,7 @@ class Tolerance:
     max : float
         The largest difference that passes, in ``metric`` units.
     scheme, grade : str or None
-        The grading scheme (``CSAJ``, ``NBS``) and grade (``AAA`` … ``E``) when it is a named grade.
+        The grading scheme (``csaj``, ``nbs``: lower case) and grade (``AAA`` … ``E``) when it is a named grade.
     description : str
         The grade's wording (e.g. what a viewer perceives at that difference).
 
@@ -98,6 +98,7 @@ class Tolerance:
         Returns
         -------
         str
+            e.g. ``"csaj grade B: CIE 1976 ΔE*ab ≤ 3.2"`` or ``"CIEDE2000 ΔE00 ≤ 2"``.
         """
         grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
         return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
@@ -123,6 +124,7 @@ class Tolerance:
         Returns
         -------
         dict
+            ``{"metric", "max", "scheme", "grade", "description"}``; ``scheme``, ``grade`` are None for a written one.
         """
         return {"metric": self.metric, "max": self.max, "scheme": self.scheme, "grade": self.grade,
                 "description": self.description}
@@ -148,6 +150,7 @@ def schemes() -> list[str]:
     Returns
     -------
     list of str
+        The scheme names, lower case, in alphabetical order.
     """
     return sorted(_table())
 
@@ -214,6 +217,7 @@ def grade_bound(name: str, scheme: str = DEFAULT_SCHEME) -> float:
     Returns
     -------
     float
+        The grade's ``max``: the largest colour difference that passes, in the scheme's metric units.
 
     Raises
     ------
@@ -241,6 +245,8 @@ def grade_for(delta_E, scheme: str = DEFAULT_SCHEME):
     Returns
     -------
     str, or numpy.ndarray of str (dtype object) of the shape of ``delta_E``
+        The grade name(s) (``"B"`` …), or ``"beyond"`` where ``delta_E`` exceeds the loosest grade's bound;
+        a str for a scalar ``delta_E``.
 
     Raises
     ------
@@ -311,7 +317,7 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
     Parameters
     ----------
     scheme, grade : str or None
-        A grading scheme of ``tables/tolerance_grades.csv`` (``CSAJ``, ``NBS``) and one of its grades.
+        A grading scheme of ``tables/tolerance_grades.csv`` (``csaj``, ``nbs``: lower case) and one of its grades.
     metric : str or None
         A colour-difference metric (``dEab``, ``dE00`` …) for a written tolerance.
     max : float or None
@@ -320,6 +326,8 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
     Returns
     -------
     Tolerance
+        The named grade's metric and bound (default: the ``csaj`` scheme's grade C), or the written
+        ``metric`` and ``max``.
 
     Raises
     ------
@@ -348,6 +356,7 @@ def parse_tolerance(text: str) -> Tolerance:
     Returns
     -------
     Tolerance
+        The written tolerance (``metric``, ``max``) or the named grade (``scheme``, ``grade``, its metric and bound).
 
     Raises
     ------
