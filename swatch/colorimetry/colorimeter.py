@@ -15,6 +15,19 @@ colorimeter's :attr:`Colorimeter.display_colorimeter` (same grid and illuminant,
 the colorimeter itself when it is already 2°). :meth:`Colorimeter.display_XYZ` gives those
 tristimulus values, :meth:`Colorimeter.rgb_linear` / :meth:`Colorimeter.display` take them, and
 :meth:`Colorimeter.reflectance_rgb` / :meth:`Colorimeter.reflectance_display` go from spectra.
+
+References
+----------
+.. [1] CIE 015:2018, *Colorimetry*, 4th ed., International Commission on Illumination, Vienna (2018),
+   doi:10.25039/TR.015.2018; observers, illuminants, CIELAB.
+.. [2] ASTM E308, *Standard Practice for Computing the Colors of Objects by Using the CIE System*; the weights.
+.. [3] IEC 61966-2-1:1999, *Multimedia systems and equipment — Colour measurement and management — Default RGB
+   colour space — sRGB*; sRGB on CIE 1931 2°.
+.. [4] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes,
+   supplementary test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005),
+   doi:10.1002/col.20070; ΔE00.
+.. [5] T. Mansencal et al., *Colour* (colour-science), https://www.colour-science.org: the package that computes
+   every colorimetric table and conversion here.
 """
 from __future__ import annotations
 

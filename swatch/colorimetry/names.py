@@ -18,6 +18,11 @@ One vocabulary: the sheets' labels, the page (cards, its colour filter, the live
 the ASE swatch names all say these names (issue 21: the sheets said "yellow" for straw and "red" for
 plum). ``catalog.json`` and ``catalog.csv`` carry the name as ``colour_name``, beside ``hue_family``,
 the coarse CIELAB hue-angle class (:data:`swatch.catalog.records.HUE_FAMILIES`) kept for data users.
+
+References
+----------
+.. [1] CIE 015:2018, *Colorimetry*, 4th ed., International Commission on Illumination, Vienna (2018),
+   doi:10.25039/TR.015.2018; CIELAB and LCh(ab).
 """
 from __future__ import annotations
 

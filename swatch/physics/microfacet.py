@@ -28,6 +28,16 @@ Conventions
   is never below the separable product, which counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with
   ``correlated=False``. Both conserve energy: with ``F = 1`` the directional albedo
   ``∫ f cos θ_l dω_l`` is ≤ 1 at every view angle (the furnace test in tests/physics/test_microfacet.py).
+
+References
+----------
+.. [1] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
+   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206; GGX, the
+   normalisation of ``D``.
+.. [2] E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", Journal of Computer
+   Graphics Techniques 3(2) (2014), https://jcgt.org/published/0003/02/03/ (no DOI); Smith's ``Λ``, eq. 99.
+.. [3] E. Heitz, "Sampling the GGX Distribution of Visible Normals", Journal of Computer Graphics Techniques
+   7(4) (2018), https://jcgt.org/published/0007/04/01/ (no DOI); visible-normal sampling.
 """
 from __future__ import annotations
 

@@ -3,6 +3,13 @@
 A :class:`Coating` fixes the film and substrate materials and the wavelength grid; its methods
 give the spectral reflectance of the facets that mirror the light into the view (incidence angle
 ``theta_d`` on the half-vector facet, eq. 5) for arrays of thicknesses and geometries.
+
+References
+----------
+.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
+   eqs. 2–5, the half-vector model; Table 2.
+.. [2] M. Born and E. Wolf, *Principles of Optics*, 7th (expanded) ed., Cambridge University Press (1999); §1.6.
 """
 from __future__ import annotations
 

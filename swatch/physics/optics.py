@@ -15,6 +15,18 @@ Conventions (the same as Byrnes' ``tmm`` package, our reference):
 Shapes: ``thickness_nm`` and ``incidence_deg`` broadcast together to a shape S; the index arrays
 are given on the wavelength grid (shape (W,)); results have shape ``S + (W,)``. Everything is
 float64 / complex128 and vectorised by broadcasting: no loops over thickness, angle or wavelength.
+
+References
+----------
+.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th (expanded) ed., Cambridge University Press (1999); §1.6,
+   Airy's formula for one film.
+.. [2] O. S. Heavens, *Optical Properties of Thin Solid Films*, Butterworths, London (1955); Dover reprint
+   (1965).
+.. [3] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of the ``tmm``
+   package, the independent reference the tests compare with.
+.. [4] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
+   eqs. 2–4.
 """
 from __future__ import annotations
 

@@ -8,6 +8,12 @@ or the calibration that produced them (``[calibration]``, written by ``swatch ca
 
 A profile file is untrusted input: its size is capped before it is parsed, unknown keys are
 refused, every number is range-checked, and every error is one line naming the file.
+
+References
+----------
+.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
+   Table 2, the ``titanium-fujii2019`` preset.
 """
 from __future__ import annotations
 

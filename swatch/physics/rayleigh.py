@@ -4,6 +4,14 @@ A surface scatters off the mirror direction (the microfacet / half-vector pictur
 height variation exceeds ``h = λ / (8 cos θ)``; below it, it is a mirror with colour only near the
 specular direction. The paper's blue sample (Ra 268 nm) is rough: ``h`` spans 47.5–195 nm over
 380–780 nm and 0–60°.
+
+References
+----------
+.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2,
+   the Rayleigh criterion applied to the blue sample.
+.. [2] P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough Surfaces*, Pergamon
+   (1963); the Rayleigh criterion.
 """
 from __future__ import annotations
 

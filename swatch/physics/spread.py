@@ -17,6 +17,12 @@ reflectance evaluation.
 
 A zero spread is no averaging at all: callers keep the uniform film's code path, so its outputs
 stay byte-identical.
+
+References
+----------
+.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
+   §2.3 and Fig. 7, the non-uniform film.
 """
 from __future__ import annotations
 
