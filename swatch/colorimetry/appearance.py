@@ -2,7 +2,7 @@
 
 References
 ----------
-.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
    Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
    eqs. 2–5.
 .. [2] CIE 015:2018, *Colorimetry*, 4th ed., International Commission on Illumination, Vienna (2018),

@@ -24,7 +24,7 @@ References
    (1965).
 .. [3] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of the ``tmm``
    package, the independent reference the tests compare with.
-.. [4] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+.. [4] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
    Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
    eqs. 2–4.
 """

@@ -11,7 +11,7 @@ refused, every number is range-checked, and every error is one line naming the f
 
 References
 ----------
-.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
    Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
    Table 2, the ``titanium-fujii2019`` preset.
 """

@@ -20,7 +20,7 @@ stay byte-identical.
 
 References
 ----------
-.. [1] M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
    Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
    §2.3 and Fig. 7, the non-uniform film.
 """
@@ -67,7 +67,7 @@ class ThicknessSpread:
 
     References
     ----------
-    M. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030.
+    H. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030.
     """
 
     spread_nm: float = 0.0
