@@ -127,6 +127,6 @@ def test_science_modules_cite_only_checked_dois():
     cited = set()
     for sub in CITING:
         for path in sorted((ROOT / "swatch" / sub).glob("*.py")):
-            cited |= {d.rstrip(".,;)") for d in re.findall(r"doi:(\S+)", path.read_text(encoding="utf-8"))}
+            cited |= {d.rstrip(".,;:)") for d in re.findall(r"doi:(\S+)", path.read_text(encoding="utf-8"))}
     assert cited - KNOWN_DOIS == set()
     assert {"10.14923/transinfj.2018JDP7030", "10.25039/TR.015.2018", "10.1002/col.20070"} <= cited

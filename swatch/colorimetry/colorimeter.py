@@ -1,33 +1,22 @@
 """Colorimetry through colour-science: spectra -> XYZ -> CIELAB / LCh -> display RGB, and ΔE.
 
-A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its
-weights (W, 3) are obtained from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the
-method ``colour.sd_to_XYZ`` uses by default) applied to the unit impulses of the grid. Because
-that conversion is linear in the reflectance, ``R @ weights`` equals ``colour.sd_to_XYZ`` of any
-spectrum R on the grid, and many spectra convert in one matrix product.
+A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its weights (W, 3) come from
+colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, ``colour.sd_to_XYZ``'s default method) on the grid's unit
+impulses; the conversion being linear, ``R @ weights`` equals ``colour.sd_to_XYZ`` of any spectrum R on the grid.
+XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's scale); CIELAB uses the illuminant's own
+white under the chosen observer.
 
-Scale: XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's convention);
-CIELAB uses the illuminant's own white under the chosen observer.
-
-Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1),
-whatever observer the Lab numbers use: every RGB value comes from the spectrum through the
-colorimeter's :attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer;
-the colorimeter itself when it is already 2°). :meth:`Colorimeter.display_XYZ` gives those
-tristimulus values, :meth:`Colorimeter.rgb_linear` / :meth:`Colorimeter.display` take them, and
-:meth:`Colorimeter.reflectance_rgb` / :meth:`Colorimeter.reflectance_display` go from spectra.
+Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1), whatever observer
+the Lab numbers use: every RGB value comes from the spectrum through :attr:`Colorimeter.display_colorimeter` (same
+grid and illuminant, 2°: :meth:`~Colorimeter.display_XYZ`, then :meth:`~Colorimeter.display`).
 
 References
 ----------
-.. [1] CIE 015:2018, *Colorimetry*, 4th ed., International Commission on Illumination, Vienna (2018),
-   doi:10.25039/TR.015.2018; observers, illuminants, CIELAB.
-.. [2] ASTM E308, *Standard Practice for Computing the Colors of Objects by Using the CIE System*; the weights.
-.. [3] IEC 61966-2-1:1999, *Multimedia systems and equipment — Colour measurement and management — Default RGB
-   colour space — sRGB*; sRGB on CIE 1931 2°.
-.. [4] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes,
-   supplementary test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005),
-   doi:10.1002/col.20070; ΔE00.
-.. [5] T. Mansencal et al., *Colour* (colour-science), https://www.colour-science.org: the package that computes
-   every colorimetric table and conversion here.
+.. [1] CIE 015:2018, *Colorimetry*, 4th ed. (2018), doi:10.25039/TR.015.2018: observers, illuminants, CIELAB.
+.. [2] ASTM E308, *Standard Practice for Computing the Colors of Objects by Using the CIE System*: the weights.
+.. [3] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*: sRGB on CIE 1931 2°.
+.. [4] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
+   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070.
 """
 from __future__ import annotations
 
@@ -135,8 +124,7 @@ class Colorimeter:
     Parameters
     ----------
     wavelength_nm : array_like, shape (W,), nm
-        An even 1, 5, 10 or 20 nm grid of at least 6 samples inside the observer's range
-        (ASTM E308).
+        An even 1, 5, 10 or 20 nm grid of at least 6 samples inside the observer's range (ASTM E308).
     illuminant : str
         A colour-science illuminant name (D65, D50, A, FL2, ...), case-insensitive.
     observer : {"10", "2"}
@@ -283,9 +271,7 @@ class Colorimeter:
         return self.display_colorimeter.XYZ(reflectance)
 
     def rgb_linear(self, XYZ_2, space: str = "srgb") -> np.ndarray:
-        """Linear RGB in ``space`` from CIE 1931 2° tristimulus values.
-
-        The illuminant's 2° white is adapted to the space's white with the Bradford transform.
+        """Linear RGB in ``space`` from CIE 1931 2° XYZ, the illuminant's white adapted to the space's (Bradford).
 
         Parameters
         ----------
@@ -362,10 +348,8 @@ class Colorimeter:
 
         Returns
         -------
-        encoded : numpy.ndarray, shape (..., 3)
-            Encoded and clipped to [0, 1].
-        in_gamut : numpy.ndarray, shape (...,)
-            bool.
+        encoded, in_gamut : numpy.ndarray, shape (..., 3) and (...)
+            As :meth:`display`: encoded RGB clipped to [0, 1], and bool flags.
         """
         return self.display(self.display_XYZ(reflectance), space)
 
@@ -380,13 +364,9 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
 
     Parameters
     ----------
-    wavelength_nm : array_like, shape (W,), nm
-        The wavelength grid: an even 1, 5, 10 or 20 nm grid inside the observer's range (as :class:`Colorimeter`).
-    illuminant : str
-        A colour-science illuminant name (D65, D50, A, FL2, ...), case-insensitive.
-    observer : {"10", "2"}
-        CIE 1964 10° (the default) or CIE 1931 2° standard observer, for XYZ and Lab; display RGB is
-        always computed with the 2° observer (:attr:`Colorimeter.display_colorimeter`).
+    wavelength_nm, illuminant, observer
+        As :class:`Colorimeter`: the grid (nm), an illuminant name, ``"10"`` (CIE 1964 10°, the default) or
+        ``"2"`` (CIE 1931 2°) for XYZ and Lab; display RGB is always 2° (:attr:`Colorimeter.display_colorimeter`).
 
     Returns
     -------
@@ -399,8 +379,7 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
 def delta_E_ab(Lab1, Lab2) -> np.ndarray:
     """CIE 1976 colour difference ΔE*ab (the paper's eq. 6), by colour-science.
 
-    Calls ``colour.difference.delta_E_CIE1976``, the function ``colour.delta_E(method="CIE 1976")``
-    dispatches to, without the dispatch (the fits call this in their inner loop).
+    Calls ``colour.difference.delta_E_CIE1976`` directly, without ``colour.delta_E``'s dispatch (the fits' inner loop).
 
     Parameters
     ----------
@@ -470,9 +449,6 @@ def srgb_hex(encoded_rgb) -> np.ndarray | str:
 def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     """CIELAB of an sRGB hex colour under the colorimeter's illuminant and the CIE 1931 2° observer.
 
-    sRGB is defined on 2° colorimetry, and a hex code carries no spectrum, so its 10° Lab is not
-    defined.
-
     Parameters
     ----------
     hex_code : str
@@ -483,7 +459,7 @@ def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3,)
-        L*, a*, b* (2° observer).
+        L*, a*, b* (2° observer: sRGB is defined on it, and a hex code has no spectrum, so no 10° Lab).
     """
     h = hex_code.strip().lstrip("#")
     if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):

@@ -9,15 +9,13 @@ tolerance's own metric with its bound; never one metric's number against another
 
 References
 ----------
-.. [1] Colour Science Association of Japan, *Handbook of Color Science* (新編色彩科学ハンドブック), 2nd ed., University of
-   Tokyo Press (1998): the ``csaj`` grades.
+.. [1] Colour Science Association of Japan, *Handbook of Color Science* (新編色彩科学ハンドブック), 2nd ed.,
+   University of Tokyo Press (1998): the ``csaj`` grades.
 .. [2] D. B. Judd and G. Wyszecki, *Color in Business, Science and Industry*, 3rd ed., Wiley (1975): the ``nbs``
    terms.
-.. [3] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes,
-   supplementary test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005),
-   doi:10.1002/col.20070; ΔE00.
-.. [4] CIE 015:2018, *Colorimetry*, 4th ed., International Commission on Illumination, Vienna (2018),
-   doi:10.25039/TR.015.2018; ΔE*ab.
+.. [3] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
+   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070; ΔE00.
+.. [4] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; ΔE*ab.
 """
 from __future__ import annotations
 

@@ -19,14 +19,13 @@ a wavelength outside the table raises :class:`~swatch.core.errors.SwatchError`.
 References
 ----------
 .. [1] M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data 11, 94 (2024),
-   doi:10.1038/s41597-023-02898-2 (every table; the other tables' own references are in tables/README.md
-   and each file's header).
-.. [2] P. B. Johnson and R. W. Christy, "Optical constants of transition metals: Ti, V, Cr, Mn, Fe, Co, Ni,
-   and Pd", Phys. Rev. B 9, 5056–5070 (1974), doi:10.1103/PhysRevB.9.5056 (``Ti-Johnson``, the default
-   substrate).
+   doi:10.1038/s41597-023-02898-2 (every table; the other tables' own references are in tables/README.md and each
+   file's header).
+.. [2] P. B. Johnson and R. W. Christy, "Optical constants of transition metals: Ti, V, Cr, Mn, Fe, Co, Ni, and Pd",
+   Phys. Rev. B 9, 5056–5070 (1974), doi:10.1103/PhysRevB.9.5056 (``Ti-Johnson``, the default substrate).
 .. [3] T. Siefke et al., "Materials pushing the application limits of wire grid polarizers further into the deep
-   ultraviolet spectral range", Adv. Opt. Mater. 4, 1780–1786 (2016), doi:10.1002/adom.201600250
-   (``TiO2-Siefke``, the default film).
+   ultraviolet spectral range", Adv. Opt. Mater. 4, 1780–1786 (2016), doi:10.1002/adom.201600250 (``TiO2-Siefke``, the
+   default film).
 """
 
 from __future__ import annotations

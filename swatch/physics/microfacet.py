@@ -1,43 +1,34 @@
 """Microfacet distributions and shadowing–masking: the wavelength-independent part of the BRDF.
 
 The microfacet thin-film BRDF (the paper's "future work") is
-
-    f(l, v, λ) = D(h) G(l, v) F(λ; d, θ_d) / (4 cos θ_l cos θ_v),
-
-with ``h = (l + v)/|l + v|`` the half vector, ``θ_d`` the incidence angle on the facet
-(``cos θ_d = h·l``) and ``F`` the Airy thin-film reflectance of :mod:`swatch.physics.optics`. ``D`` and
-``G`` are scalars (no wavelength): this module computes them and the BRDF scale
-``D G / (4 cos θ_l cos θ_v)``.
+``f(l, v, λ) = D(h) G(l, v) F(λ; d, θ_d) / (4 cos θ_l cos θ_v)``, with ``h = (l + v)/|l + v|`` the half vector,
+``θ_d`` the incidence angle on the facet (``cos θ_d = h·l``) and ``F`` the Airy thin-film reflectance of
+:mod:`swatch.physics.optics`. ``D`` and ``G`` are scalars (no wavelength): this module computes them and the BRDF
+scale ``D G / (4 cos θ_l cos θ_v)``.
 
 Conventions
 -----------
 * All functions take cosines (and plain arrays), are vectorised by broadcasting and never loop.
-* ``roughness_alpha`` is the usual roughness parameter ``α`` (GGX/Trowbridge–Reitz ``α``,
-  Beckmann RMS slope ``m = α``); valid range (0, 1]. (``alpha`` alone is never the
-  roughness in swatch; the CLI option and the metadata key are ``roughness``.)
-* ``D`` is normalised so that ``∫ D(h) (n·h) dω_h = 1`` over the hemisphere (Walter et al. 2007,
-  "Microfacet models for refraction through rough surfaces").
-* Shadowing–masking is Smith's, with the exact Λ of each distribution (Heitz 2014, "Understanding
-  the masking-shadowing function in microfacet-based BRDFs"):
+* ``roughness_alpha`` is the usual roughness parameter ``α`` (GGX/Trowbridge–Reitz ``α``, Beckmann RMS slope
+  ``m = α``), in (0, 1]; ``alpha`` alone is never the roughness in swatch (the CLI option and metadata key: ``roughness``).
+* ``D`` is normalised so that ``∫ D(h) (n·h) dω_h = 1`` over the hemisphere (Walter et al. 2007 [1]_).
+* Shadowing–masking is Smith's, with the exact Λ of each distribution (Heitz 2014 [2]_):
 
   - GGX:      ``Λ(θ) = (−1 + sqrt(1 + α² tan²θ)) / 2``;
   - Beckmann: ``Λ(θ) = (erf(a) − 1)/2 + exp(−a²) / (2 a sqrt(π))``, ``a = 1/(α tan θ)``.
 
   ``G1 = χ⁺(h·v)/(1 + Λ(v))``. The joint term ``G`` is **height-correlated** by default,
-  ``G = χ⁺(h·l) χ⁺(h·v) / (1 + Λ(l) + Λ(v))`` (Heitz 2014, eq. 99: the more accurate form; it
-  is never below the separable product, which counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with
-  ``correlated=False``. Both conserve energy: with ``F = 1`` the directional albedo
-  ``∫ f cos θ_l dω_l`` is ≤ 1 at every view angle (the furnace test in tests/physics/test_microfacet.py).
+  ``G = χ⁺(h·l) χ⁺(h·v) / (1 + Λ(l) + Λ(v))`` (Heitz 2014, eq. 99: the more accurate form; it is never below the
+  separable product, which counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with
+  ``correlated=False``. Both conserve energy: with ``F = 1`` the directional albedo ``∫ f cos θ_l dω_l`` is ≤ 1 at
+  every view angle (the furnace test in tests/physics/test_microfacet.py).
 
 References
 ----------
 .. [1] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
-   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206; GGX, the
-   normalisation of ``D``.
+   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206.
 .. [2] E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", Journal of Computer
-   Graphics Techniques 3(2) (2014), https://jcgt.org/published/0003/02/03/ (no DOI); Smith's ``Λ``, eq. 99.
-.. [3] E. Heitz, "Sampling the GGX Distribution of Visible Normals", Journal of Computer Graphics Techniques
-   7(4) (2018), https://jcgt.org/published/0007/04/01/ (no DOI); visible-normal sampling.
+   Graphics Techniques 3(2) (2014), https://jcgt.org/published/0003/02/03/.
 """
 from __future__ import annotations
 

@@ -6,10 +6,10 @@ give the spectral reflectance of the facets that mirror the light into the view 
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
-   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
-   eqs. 2–5, the half-vector model; Table 2.
-.. [2] M. Born and E. Wolf, *Principles of Optics*, 7th (expanded) ed., Cambridge University Press (1999); §1.6.
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eqs. 2–5, the half-vector model;
+   Table 2.
+.. [2] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999); §1.6.
 """
 from __future__ import annotations
 

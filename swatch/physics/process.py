@@ -6,14 +6,13 @@ scale (multiplies the real part of the film's index: an anodic film's density di
 tabulated film's), optionally a render roughness, and the source of every number (``[sources]``),
 or the calibration that produced them (``[calibration]``, written by ``swatch calibrate``).
 
-A profile file is untrusted input: its size is capped before it is parsed, unknown keys are
-refused, every number is range-checked, and every error is one line naming the file.
+A profile file is untrusted input: its size is capped before it is parsed, unknown keys are refused, every number
+is range-checked, and every error is one line naming the file.
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
-   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
-   Table 2, the ``titanium-fujii2019`` preset.
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030: Table 2, titanium-fujii2019.
 """
 from __future__ import annotations
 

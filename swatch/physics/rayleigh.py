@@ -7,11 +7,11 @@ specular direction. The paper's blue sample (Ra 268 nm) is rough: ``h`` spans 47
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
-   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2,
-   the Rayleigh criterion applied to the blue sample.
-.. [2] P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough Surfaces*, Pergamon
-   (1963); the Rayleigh criterion.
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2, the Rayleigh criterion applied to
+   the blue sample.
+.. [2] P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough Surfaces*, Pergamon (1963);
+   the Rayleigh criterion.
 """
 from __future__ import annotations
 

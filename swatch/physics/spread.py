@@ -20,9 +20,8 @@ stay byte-identical.
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
-   Structure", IEICE Trans. Inf. & Syst. (Japanese ed.) J102-D (2019), doi:10.14923/transinfj.2018JDP7030;
-   §2.3 and Fig. 7, the non-uniform film.
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2.3 and Fig. 7, the non-uniform film.
 """
 from __future__ import annotations
 
