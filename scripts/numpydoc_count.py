@@ -11,8 +11,16 @@ A click command or group (``@click.command()``, ``@<group>.command()``, ``@click
 has a docstring: that docstring is its ``--help`` text (a numpydoc block would print there), and its
 parameters are documented by its options' ``help=`` (tests/commands/test_flags.py checks every option has one).
 
+An entry is *bare* (issue 36) when a ``Parameters``, ``Other Parameters``, ``Returns``, ``Yields`` or
+``Attributes`` entry gives only a name and/or a type (``thickness_nm : float``, ``numpy.ndarray``) with no
+indented line under it saying what the value means, its unit and shape (a ``Returns`` of ``None`` needs
+none). ``--bare`` counts them in every
+docstring of the package (public or private functions, classes, methods) and lists them for one subpackage.
+
     python3 scripts/numpydoc_count.py                 # the figures per subpackage
     python3 scripts/numpydoc_count.py --missing io    # the names still without, in swatch/io/
+    python3 scripts/numpydoc_count.py --bare          # bare entries / entries, per subpackage and section
+    python3 scripts/numpydoc_count.py --bare physics  # the bare entries in swatch/physics/, file:line
 """
 from __future__ import annotations
 
@@ -24,6 +32,8 @@ from pathlib import Path
 PKG = Path(__file__).resolve().parent.parent / "swatch"
 SUBPACKAGES = ("render", "fit", "io", "catalog", "production", "report", "presets", "physics", "colorimetry",
                "core", "commands")
+ENTRY_SECTIONS = ("Parameters", "Other Parameters", "Returns", "Yields", "Attributes")
+_DASHES = re.compile(r"^\s*-{3,}\s*$")
 SECTION = re.compile(r"^\s*(Parameters|Returns|Yields|Raises|Attributes|Examples|Other Parameters)\s*\n\s*-{3,}\s*$",
                      re.M)
 
@@ -84,10 +94,88 @@ def items(sub: str):
                         yield f"{mod}.{node.name}.{m.name}", _function_ok(m)
 
 
+def _indent(line: str) -> int:
+    return len(line) - len(line.lstrip())
+
+
+def doc_entries(doc: str | None):
+    """(section, entry line, described) of every entry in the entry sections of one (cleaned) docstring.
+
+    A section is a header line underlined with dashes; it runs to the next such header. Its entries are
+    its lines at the header's indentation; an entry is described when the next non-blank line is indented
+    deeper than the entry.
+    """
+    lines = (doc or "").splitlines()
+    heads = [i for i in range(len(lines) - 1)
+             if lines[i].strip() and _DASHES.match(lines[i + 1]) and not _DASHES.match(lines[i])]
+    for k, h in enumerate(heads):
+        section = lines[h].strip()
+        if section not in ENTRY_SECTIONS:
+            continue
+        base = _indent(lines[h])
+        body = lines[h + 2:heads[k + 1] if k + 1 < len(heads) else len(lines)]
+        for j, line in enumerate(body):
+            if not line.strip() or _indent(line) != base:
+                continue
+            after = next((m for m in body[j + 1:] if m.strip()), None)
+            described = after is not None and _indent(after) > base
+            yield section, line.strip(), described or (section == "Returns" and line.strip() == "None")
+
+
+def bare_entries(sub: str):
+    """(``path:line``, qualified name, section, entry) of every bare entry in ``swatch/<sub>/``'s docstrings."""
+    for path in sorted((PKG / sub).rglob("*.py")):
+        rel = path.relative_to(PKG.parent).as_posix()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                for section, entry, described in doc_entries(ast.get_docstring(node)):
+                    if not described:
+                        yield f"{rel}:{node.lineno}", node.name, section, entry
+
+
+def entry_counts(sub: str) -> dict[str, tuple[int, int]]:
+    """Per entry section: (bare entries, all entries) in ``swatch/<sub>/``'s docstrings."""
+    out: dict[str, tuple[int, int]] = {}
+    for path in sorted((PKG / sub).rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                for section, _, described in doc_entries(ast.get_docstring(node)):
+                    bare, total = out.get(section, (0, 0))
+                    out[section] = (bare + (not described), total + 1)
+    return out
+
+
+def _bare_report(sub: str | None) -> int:
+    if sub:
+        found = list(bare_entries(sub))
+        for where, name, section, entry in found:
+            print(f"{where}  {name}  {section}: {entry}")
+        print(f"{len(found)} bare entries in swatch/{sub}/")
+        return 0
+    sums: dict[str, list[int]] = {}
+    print(f"{'':12s} " + "  ".join(f"{s:>16s}" for s in ENTRY_SECTIONS) + "   (bare / entries)")
+    for s in SUBPACKAGES:
+        got = entry_counts(s)
+        cells = []
+        for sec in ENTRY_SECTIONS:
+            b, t = got.get(sec, (0, 0))
+            acc = sums.setdefault(sec, [0, 0])
+            acc[0], acc[1] = acc[0] + b, acc[1] + t
+            cells.append(f"{b:>7d} / {t:<6d}")
+        print(f"{s:12s} " + "  ".join(cells))
+    print(f"{'all':12s} " + "  ".join(f"{b:>7d} / {t:<6d}" for b, t in (sums[sec] for sec in ENTRY_SECTIONS)))
+    print("bare: " + ", ".join(f"{sec} {100 * b / t:.1f} %" for sec, (b, t) in sums.items() if t))
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--missing", metavar="SUBPACKAGE", help="list the items without numpydoc in one subpackage")
+    ap.add_argument("--bare", metavar="SUBPACKAGE", nargs="?", const="",
+                    help="count the entries with only a name/type and no description; with a subpackage, list them")
     args = ap.parse_args()
+    if args.bare is not None:
+        return _bare_report(args.bare)
     if args.missing:
         for name, ok in items(args.missing):
             if not ok:

@@ -9,9 +9,9 @@ The public API is listed in :data:`__all__` and loaded on first use (PEP 562), s
 
     >>> import swatch
     >>> coating = swatch.get_coating()                      # TiO2 on Ti, 380-780 nm
-    >>> cm = swatch.get_colorimeter(coating.wavelength_nm)  # default: D65, CIE 1964 10° (Lab)
-    >>> cm.illuminant, cm.observer                          # (display sRGB is always CIE 1931 2°)
-    ('D65', '10')
+    >>> cm = swatch.get_colorimeter(coating.wavelength_nm)  # D65, CIE 1964 10° for XYZ and Lab
+    >>> cm.observer, cm.display_colorimeter.observer       # display sRGB: CIE 1931 2°, always
+    ('10', '2')
     >>> float(swatch.voltage_to_thickness_nm(25.0))         # the paper's growth law (nm)
     50.8
 

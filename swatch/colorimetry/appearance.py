@@ -2,7 +2,10 @@
 
 References
 ----------
-CIE 015:2018, Colorimetry, 4th ed., doi:10.25039/TR.015.2018 (CIELAB, LCh).
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eqs. 2–5.
+.. [2] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; CIELAB, LCh.
+.. [3] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*; sRGB.
 """
 from __future__ import annotations
 

@@ -1,22 +1,22 @@
 """Colorimetry through colour-science: spectra -> XYZ -> CIELAB / LCh -> display RGB, and ΔE.
 
-A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its weights (W, 3) are obtained
-from colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, the method ``colour.sd_to_XYZ`` uses by default)
-applied to the unit impulses of the grid. Because that conversion is linear in the reflectance, ``R @ weights`` equals
-``colour.sd_to_XYZ`` of any spectrum R on the grid, and many spectra convert in one matrix product. Scale: XYZ has
-Y = 100 for the perfect reflecting diffuser (colour-science's convention); CIELAB uses the illuminant's own white.
+A :class:`Colorimeter` is built once for a wavelength grid, illuminant and observer. Its weights (W, 3) come from
+colour-science itself: ``colour.msds_to_XYZ`` (ASTM E308, ``colour.sd_to_XYZ``'s default method) on the grid's unit
+impulses; the conversion being linear, ``R @ weights`` equals ``colour.sd_to_XYZ`` of any spectrum R on the grid.
+XYZ has Y = 100 for the perfect reflecting diffuser (colour-science's scale); CIELAB uses the illuminant's own
+white under the chosen observer.
 
-Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1), whatever observer the
-Lab numbers use: every RGB value comes from the spectrum through the colorimeter's
-:attr:`Colorimeter.display_colorimeter` (same grid and illuminant, 2° observer; the colorimeter itself when it is
-already 2°). :meth:`Colorimeter.display_XYZ` gives those tristimulus values, :meth:`Colorimeter.rgb_linear` /
-:meth:`Colorimeter.display` take them, and :meth:`Colorimeter.reflectance_rgb` /
-:meth:`Colorimeter.reflectance_display` go from spectra.
+Display RGB (sRGB, Display P3, ACEScg) is defined on CIE 1931 2° colorimetry (IEC 61966-2-1), whatever observer
+the Lab numbers use: every RGB value comes from the spectrum through :attr:`Colorimeter.display_colorimeter` (same
+grid and illuminant, 2°: :meth:`~Colorimeter.display_XYZ`, then :meth:`~Colorimeter.display`).
 
 References
 ----------
-CIE 015:2018, doi:10.25039/TR.015.2018 (observers, CIELAB, ΔE*ab); ASTM E308-22, doi:10.1520/E0308-22; Sharma, Wu
-and Dalal (2005), doi:10.1002/col.20070 (CIEDE2000); IEC 61966-2-1:1999 (sRGB); colour-science, doi:10.5281/zenodo.3757045.
+.. [1] CIE 015:2018, *Colorimetry*, 4th ed. (2018), doi:10.25039/TR.015.2018: observers, illuminants, CIELAB.
+.. [2] ASTM E308, *Standard Practice for Computing the Colors of Objects by Using the CIE System*: the weights.
+.. [3] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*: sRGB on CIE 1931 2°.
+.. [4] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
+   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070.
 """
 from __future__ import annotations
 
@@ -111,8 +111,7 @@ class Colorimeter:
     Parameters
     ----------
     wavelength_nm : array_like, shape (W,), nm
-        An even 1, 5, 10 or 20 nm grid of at least 6 samples inside the observer's range
-        (ASTM E308).
+        An even 1, 5, 10 or 20 nm grid of at least 6 samples inside the observer's range (ASTM E308).
     illuminant : str
         A colour-science illuminant name (D65, D50, A, FL2, ...), case-insensitive.
     observer : {"10", "2"}
@@ -225,7 +224,7 @@ class Colorimeter:
         Returns
         -------
         numpy.ndarray, shape (..., 3)
-            CIELAB (L*, a*, b*) under this colorimeter's illuminant and observer.
+            L*, a*, b* under this colorimeter's illuminant and observer.
         """
         return self.Lab(self.XYZ(reflectance))
 
@@ -259,16 +258,14 @@ class Colorimeter:
         return self.display_colorimeter.XYZ(reflectance)
 
     def rgb_linear(self, XYZ_2, space: str = "srgb") -> np.ndarray:
-        """Linear RGB in ``space`` from CIE 1931 2° tristimulus values.
-
-        The illuminant's 2° white is adapted to the space's white with the Bradford transform.
+        """Linear RGB in ``space`` from CIE 1931 2° XYZ, the illuminant's white adapted to the space's (Bradford).
 
         Parameters
         ----------
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
-            The RGB primaries (and white, Bradford-adapted) of the output.
+            The RGB space (its primaries and white; the default is sRGB), case-insensitive.
 
         Returns
         -------
@@ -291,7 +288,7 @@ class Colorimeter:
         XYZ_2 : array_like, shape (..., 3)
             CIE 1931 2° XYZ (:meth:`display_XYZ`), Y = 100 for the white.
         space : {"srgb", "display-p3", "acescg"}
-            The RGB primaries and transfer function of the output.
+            The RGB space (its primaries, white and transfer function; the default is sRGB), case-insensitive.
 
         Returns
         -------
@@ -315,7 +312,7 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
-            Spectral reflectance factors (0–1) on this colorimeter's wavelength grid.
+            Reflectance factors (0–1) on the colorimeter's grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
@@ -332,16 +329,14 @@ class Colorimeter:
         Parameters
         ----------
         reflectance : array_like, shape (..., W)
-            Spectral reflectance factors (0–1) on this colorimeter's wavelength grid.
+            Reflectance factors (0–1) on the colorimeter's grid.
         space : str, optional
             ``srgb``, ``display-p3`` or ``acescg``.
 
         Returns
         -------
-        encoded : numpy.ndarray, shape (..., 3)
-            Encoded and clipped to [0, 1].
-        in_gamut : numpy.ndarray, shape (...,)
-            bool.
+        encoded, in_gamut : numpy.ndarray, shape (..., 3) and (...)
+            As :meth:`display`: encoded RGB clipped to [0, 1], and bool flags.
         """
         return self.display(self.display_XYZ(reflectance), space)
 
@@ -356,17 +351,14 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
 
     Parameters
     ----------
-    wavelength_nm : array_like, shape (W,), nm
-        The spectra's wavelength grid, nm (evenly spaced; the CMFs and illuminant are interpolated onto it).
-    illuminant : str
-        CIE illuminant name of colour-science (``D65``, ``D50``, ``A``, ``F11``, …): the light of the Lab values.
-    observer : {"10", "2"}
-        Standard observer of the Lab values: CIE 1964 10° (the default) or CIE 1931 2°.
+    wavelength_nm, illuminant, observer
+        As :class:`Colorimeter`: the grid (nm), an illuminant name, ``"10"`` (CIE 1964 10°, the default) or
+        ``"2"`` (CIE 1931 2°) for XYZ and Lab; display RGB is always 2° (:attr:`Colorimeter.display_colorimeter`).
 
     Returns
     -------
     Colorimeter
-        Weights of the reflectance spectra to XYZ (Y = 100 for a perfect white), white point, and the 2° display colorimeter.
+        The colorimeter of this grid, illuminant and observer (cached: an equal request returns it again).
     """
     return _cached(tuple(np.asarray(wavelength_nm, dtype=float).tolist()), str(illuminant), str(observer))
 
@@ -374,8 +366,7 @@ def get_colorimeter(wavelength_nm, illuminant: str = "D65", observer="10") -> Co
 def delta_E_ab(Lab1, Lab2) -> np.ndarray:
     """CIE 1976 colour difference ΔE*ab (the paper's eq. 6), by colour-science.
 
-    Calls ``colour.difference.delta_E_CIE1976``, the function ``colour.delta_E(method="CIE 1976")``
-    dispatches to, without the dispatch (the fits call this in their inner loop).
+    Calls ``colour.difference.delta_E_CIE1976`` directly, without ``colour.delta_E``'s dispatch (the fits' inner loop).
 
     Parameters
     ----------
@@ -401,7 +392,7 @@ def delta_E_00(Lab1, Lab2) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (...)
-        CIEDE2000 colour difference ΔE00 (dimensionless, kL = kC = kH = 1), the broadcast shape of the inputs.
+        ΔE00, dimensionless (CIEDE2000 with k_L = k_C = k_H = 1).
     """
     return colour.difference.delta_E_CIE2000(np.asarray(Lab1), np.asarray(Lab2))
 
@@ -412,7 +403,7 @@ def Lab_to_LCh(Lab) -> np.ndarray:
     Parameters
     ----------
     Lab : array_like, shape (..., 3)
-        CIELAB colours (L* 0–100, a*, b*).
+        CIELAB values L*, a*, b*.
 
     Returns
     -------
@@ -445,9 +436,6 @@ def srgb_hex(encoded_rgb) -> np.ndarray | str:
 def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     """CIELAB of an sRGB hex colour under the colorimeter's illuminant and the CIE 1931 2° observer.
 
-    sRGB is defined on 2° colorimetry, and a hex code carries no spectrum, so its 10° Lab is not
-    defined.
-
     Parameters
     ----------
     hex_code : str
@@ -458,7 +446,7 @@ def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3,)
-        L*, a*, b* (2° observer).
+        L*, a*, b* (2° observer: sRGB is defined on it, and a hex code has no spectrum, so no 10° Lab).
     """
     h = hex_code.strip().lstrip("#")
     if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
@@ -483,7 +471,7 @@ def parse_Lab(text: str, what: str = "Lab") -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (3,)
-        The colour as (L*, a*, b*), float64.
+        L*, a*, b* as float64 (L* in [0, 100], a* and b* within ±``MAX_LAB_AB``).
     """
     # "60,5,30", "60, 5, 30" or "60 5 30" (as the catalog page takes it)
     t = str(text).strip()

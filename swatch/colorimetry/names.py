@@ -21,7 +21,7 @@ the coarse CIELAB hue-angle class (:data:`swatch.catalog.records.HUE_FAMILIES`) 
 
 References
 ----------
-CIE 015:2018, Colorimetry, 4th ed., doi:10.25039/TR.015.2018 (CIELAB L*, C*ab, h_ab).
+.. [1] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; CIELAB and LCh(ab).
 """
 from __future__ import annotations
 
@@ -89,6 +89,6 @@ def colour_names() -> tuple[str, ...]:
     Returns
     -------
     tuple of str
-        Every plain name the rules can give, in rule order.
+        The colour names (``"silver blue"``, ``"blue"`` …), each once.
     """
     return tuple(dict.fromkeys(r[0] for r in NAME_RULES))

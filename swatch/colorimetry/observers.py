@@ -25,6 +25,14 @@ member of that family with the given tristimulus values under any illuminant and
 It is a convention (a colour without a spectrum has no value under another observer); its size is
 the observer metamerism of a smooth surface, typically below 1 ΔE00 for the colours of anodised
 titanium. Every document says it uses it (:data:`HEX_CONVENTION`).
+
+References
+----------
+.. [1] J. Meng, F. Simon, J. Hanika and C. Dachsbacher, "Physically Meaningful Rendering using Tristimulus Colours",
+   Computer Graphics Forum 34(4), 31–40 (2015), doi:10.1111/cgf.12676; the smoothest reflectance.
+.. [2] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*; sRGB on CIE 1931 2° under D65.
+.. [3] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; the CIE 1931 2° and CIE
+   1964 10° observers.
 """
 from __future__ import annotations
 
@@ -56,10 +64,12 @@ def parse_hex(hex_code: str) -> np.ndarray:
     Parameters
     ----------
     hex_code : str
+        Six hex digits ``RRGGBB``, optionally after ``#``, any case.
 
     Returns
     -------
     numpy.ndarray, shape (3,)
+        The sRGB-encoded (non-linear) R, G, B, each in [0, 1] (the byte value / 255).
 
     Raises
     ------
@@ -167,7 +177,9 @@ def document_Lab_display(Lab, cm: Colorimeter, space: str = "srgb") -> tuple[np.
     Lab : array_like, shape (..., 3)
         CIELAB under ``cm``'s illuminant and observer.
     cm : swatch.colorimetry.colorimeter.Colorimeter
+        The document's colorimeter (its grid, illuminant and observer): the Lab's own.
     space : {"srgb", "display-p3", "acescg"}
+        The display RGB space (default sRGB).
 
     Returns
     -------
@@ -188,10 +200,12 @@ def hex_display(hex_code: str) -> str:
     Parameters
     ----------
     hex_code : str
+        Six hex digits ``RRGGBB``, optionally after ``#``, any case.
 
     Returns
     -------
     str
+        ``#`` and the six digits in lower case (``#1f4e9a``).
     """
     parse_hex(hex_code)
     return "#" + str(hex_code).strip().lstrip("#").lower()

@@ -9,8 +9,13 @@ tolerance's own metric with its bound; never one metric's number against another
 
 References
 ----------
-CIE 015:2018, doi:10.25039/TR.015.2018 (ΔE*ab); G. Sharma, W. Wu and E. N. Dalal, Color Res. Appl. 30(1),
-21–30 (2005), doi:10.1002/col.20070 (CIEDE2000).
+.. [1] Colour Science Association of Japan, *Handbook of Color Science* (新編色彩科学ハンドブック), 2nd ed.,
+   University of Tokyo Press (1998): the ``csaj`` grades.
+.. [2] D. B. Judd and G. Wyszecki, *Color in Business, Science and Industry*, 3rd ed., Wiley (1975): the ``nbs``
+   terms.
+.. [3] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
+   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070; ΔE00.
+.. [4] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; ΔE*ab.
 """
 from __future__ import annotations
 
@@ -69,7 +74,7 @@ class Tolerance:
     max : float
         The largest difference that passes, in ``metric`` units.
     scheme, grade : str or None
-        The grading scheme (``CSAJ``, ``NBS``) and grade (``AAA`` … ``E``) when it is a named grade.
+        The grading scheme (``csaj``, ``nbs``: lower case) and grade (``AAA`` … ``E``) when it is a named grade.
     description : str
         The grade's wording (e.g. what a viewer perceives at that difference).
 
@@ -103,8 +108,7 @@ class Tolerance:
         Returns
         -------
         str
-            One line for reports: ``<scheme> grade <grade>: <metric> ≤ <max>`` (e.g. ``csaj grade C: ΔE*ab ≤ 6.5``),
-            or the metric and its bound alone.
+            e.g. ``"csaj grade B: CIE 1976 ΔE*ab ≤ 3.2"`` or ``"CIEDE2000 ΔE00 ≤ 2"``.
         """
         grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
         return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
@@ -130,7 +134,7 @@ class Tolerance:
         Returns
         -------
         dict
-            ``metric``, ``max``, ``scheme``, ``grade`` and ``description`` (JSON-ready).
+            ``{"metric", "max", "scheme", "grade", "description"}``; ``scheme``, ``grade`` are None for a written one.
         """
         return {"metric": self.metric, "max": self.max, "scheme": self.scheme, "grade": self.grade,
                 "description": self.description}
@@ -156,7 +160,7 @@ def schemes() -> list[str]:
     Returns
     -------
     list of str
-        The grading schemes of the table (``csaj``, …), sorted.
+        The scheme names, lower case, in alphabetical order.
     """
     return sorted(_table())
 
@@ -223,7 +227,7 @@ def grade_bound(name: str, scheme: str = DEFAULT_SCHEME) -> float:
     Returns
     -------
     float
-        The grade's largest colour difference, in the scheme's own metric (ΔE*ab or ΔE2000).
+        The grade's ``max``: the largest colour difference that passes, in the scheme's metric units.
 
     Raises
     ------
@@ -251,6 +255,8 @@ def grade_for(delta_E, scheme: str = DEFAULT_SCHEME):
     Returns
     -------
     str, or numpy.ndarray of str (dtype object) of the shape of ``delta_E``
+        The grade name(s) (``"B"`` …), or ``"beyond"`` where ``delta_E`` exceeds the loosest grade's bound;
+        a str for a scalar ``delta_E``.
 
     Raises
     ------
@@ -321,7 +327,7 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
     Parameters
     ----------
     scheme, grade : str or None
-        A grading scheme of ``tables/tolerance_grades.csv`` (``CSAJ``, ``NBS``) and one of its grades.
+        A grading scheme of ``tables/tolerance_grades.csv`` (``csaj``, ``nbs``: lower case) and one of its grades.
     metric : str or None
         A colour-difference metric (``dEab``, ``dE00`` …) for a written tolerance.
     max : float or None
@@ -330,7 +336,8 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
     Returns
     -------
     Tolerance
-        The metric (``dEab`` or ``dE00``), its bound, and the scheme and grade it came from (if any).
+        The named grade's metric and bound (default: the ``csaj`` scheme's grade C), or the written
+        ``metric`` and ``max``.
 
     Raises
     ------
@@ -359,7 +366,7 @@ def parse_tolerance(text: str) -> Tolerance:
     Returns
     -------
     Tolerance
-        The metric (``dEab`` or ``dE00``), its bound, and the scheme and grade it came from (if any).
+        The written tolerance (``metric``, ``max``) or the named grade (``scheme``, ``grade``, its metric and bound).
 
     Raises
     ------

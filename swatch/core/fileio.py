@@ -33,6 +33,7 @@ def check_writable_dir(path, create: bool = True) -> Path:
     Returns
     -------
     pathlib.Path
+        ``Path(path)``, an existing writable folder (not resolved).
 
     Raises
     ------
@@ -68,6 +69,7 @@ def check_creatable_dir(path) -> Path:
     Returns
     -------
     pathlib.Path
+        ``Path(path)`` (not resolved); nothing is created.
 
     Raises
     ------
@@ -124,16 +126,17 @@ def check_new(paths, force: bool) -> None:
 class atomic_path:  # noqa: N801  (used like a function: `with atomic_path(p) as tmp`)
     """Context manager giving a temporary path next to ``path``; renamed onto it on success.
 
+    On an exception the temporary file is removed and ``path`` is left as it was. Used as::
+
+        with atomic_path("out.exr") as tmp:  # write tmp with any library
+            write(tmp)
+
     Parameters
     ----------
     path : str or os.PathLike
         The final file; its folder must exist.
     suffix : str or None
         The temporary file's extension (default: ``path``'s, so that writers choose the format by it).
-
-    >>> with atomic_path("out.exr") as tmp:  # write tmp with any library
-    ...     write(tmp)
-    On an exception the temporary file is removed and ``path`` is left as it was.
     """
 
     def __init__(self, path, suffix: str | None = None):
@@ -270,7 +273,9 @@ def atomic_write_bytes(path, data: bytes) -> Path:
     Parameters
     ----------
     path : str or os.PathLike
+        The file to write; its folder must exist.
     data : bytes
+        The file's whole content.
 
     Returns
     -------
@@ -288,7 +293,9 @@ def atomic_write_text(path, text: str) -> Path:
     Parameters
     ----------
     path : str or os.PathLike
+        The file to write; its folder must exist.
     text : str
+        The file's whole content, encoded as UTF-8 (no byte-order mark; newlines as given).
 
     Returns
     -------

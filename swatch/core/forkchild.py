@@ -23,6 +23,7 @@ def build_alive() -> bool:
     Returns
     -------
     bool
+        True while ``BUILD_PID`` exists and is not a zombie (also when it cannot be examined); False otherwise.
     """
     try:
         os.kill(BUILD_PID, 0)

@@ -208,6 +208,7 @@ def read_capped(path, limit: int, what: str) -> bytes:
     Parameters
     ----------
     path : str or os.PathLike
+        The file to read (a regular file or a device; a pipe or socket is refused).
     limit : int
         Largest size allowed, bytes.
     what : str
@@ -216,6 +217,7 @@ def read_capped(path, limit: int, what: str) -> bytes:
     Returns
     -------
     bytes
+        The file's content, at most ``limit`` bytes.
 
     Raises
     ------
@@ -249,6 +251,7 @@ def read_text_capped(path, limit: int, what: str, kind: str, source: str | None 
     Parameters
     ----------
     path : str or os.PathLike
+        The user's file to read.
     limit : int
         Largest size allowed, bytes.
     what, kind : str
@@ -261,6 +264,7 @@ def read_text_capped(path, limit: int, what: str, kind: str, source: str | None 
     Returns
     -------
     str
+        The text decoded with ``encoding`` (the default drops a leading byte-order mark); newlines as in the file.
 
     Raises
     ------

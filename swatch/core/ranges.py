@@ -97,6 +97,7 @@ def parse_pair(text: str, what: str) -> tuple[float, float]:
     Returns
     -------
     (float, float)
+        ``(A, B)`` as given, in the option's unit (nm for a thickness range).
 
     Raises
     ------

@@ -57,12 +57,14 @@ def real_folder(path, what: str) -> Path:
     Parameters
     ----------
     path : str or os.PathLike
+        The folder to check.
     what : str
         What the folder is, for the message.
 
     Returns
     -------
     pathlib.Path
+        ``Path(path)`` (not resolved): absent, or a real folder.
 
     Raises
     ------
@@ -88,6 +90,7 @@ def is_regular_file(path) -> bool:
     Parameters
     ----------
     path : str or os.PathLike
+        The path to examine; a symbolic link is not followed.
 
     Returns
     -------
@@ -115,6 +118,7 @@ def make_real_folder(path, what: str) -> Path:
     Returns
     -------
     pathlib.Path
+        ``Path(path)`` (not resolved), a real folder that now exists.
 
     Raises
     ------
@@ -136,6 +140,7 @@ def inside(path, folder, what: str) -> Path:
     Parameters
     ----------
     path, folder : str or os.PathLike
+        The path to check and the folder it must stay inside; links are resolved in both.
     what : str
         What ``path`` is, for the message.
 
@@ -162,6 +167,7 @@ def entry_kind(path) -> str | None:
     Parameters
     ----------
     path : str or os.PathLike
+        The path to examine; a symbolic link is reported as ``link``, not followed.
 
     Returns
     -------

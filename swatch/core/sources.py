@@ -19,6 +19,7 @@ def package_dir() -> Path:
     Returns
     -------
     pathlib.Path
+        The absolute, resolved path of the ``swatch`` package folder (the one this module is in).
     """
     return Path(__file__).resolve().parent.parent
 

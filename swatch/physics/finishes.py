@@ -30,7 +30,13 @@ cylinder's axis and, for the sphere and meshes, the vertical (+y) projected onto
 
 References
 ----------
-B. Walter et al., EGSR 2007, doi:10.2312/EGWR/EGSR07/195-206 (GGX); E. Heitz, JCGT 3(2) (2014) (Smith Λ).
+.. [1] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
+   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206; GGX.
+.. [2] P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough Surfaces*, Pergamon (1963);
+   RMS slope of a Gaussian surface.
+.. [3] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2.2, the oxide following the metal's
+   relief.
 """
 from __future__ import annotations
 
@@ -79,7 +85,7 @@ class Finish:
         Returns
         -------
         bool
-            True when α_u ≠ α_v (a brushed finish).
+            True for a brushed lobe (``alpha_u != alpha_v``), False for an isotropic one.
         """
         return self.alpha_u != self.alpha_v
 
@@ -147,7 +153,7 @@ def get_finish(name: str) -> Finish:
     Returns
     -------
     Finish
-        The named finish: its GGX α_u, α_v (dimensionless) and description.
+        The finish's name, GGX ``alpha_u`` / ``alpha_v`` (dimensionless, along / across the grain) and description.
 
     Raises
     ------

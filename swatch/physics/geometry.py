@@ -11,9 +11,11 @@ it equals ``(theta_l + theta_v) / 2``.
 
 References
 ----------
-M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 5 (θ_d on the half-vector facet).
-S. M. Rusinkiewicz, "A new change of variables for efficient BRDF representation", EGWR 1998,
-doi:10.1007/978-3-7091-6453-2_2 (half-vector and difference angles).
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eq. 5, the incidence angle on the
+   half-vector facet.
+.. [2] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
+   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206; the half vector.
 """
 from __future__ import annotations
 
@@ -49,6 +51,7 @@ def check_polar_deg(angle_deg, what: str) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, float64, the shape of ``angle_deg``
+        The angles as given, degrees from the normal, each in [0, 90).
 
     Raises
     ------
@@ -75,6 +78,7 @@ def check_azimuth_deg(azimuth_deg, what: str) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, float64, the shape of ``azimuth_deg``
+        The azimuths as given, degrees (not wrapped).
 
     Raises
     ------
@@ -98,6 +102,7 @@ def check_light_view_deg(light_deg, view_deg) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     (numpy.ndarray, numpy.ndarray), float64, the shapes of the inputs
+        ``(light_deg, view_deg)`` as given, degrees from the normal, each in [0, 90).
     """
     return check_polar_deg(light_deg, "light_deg"), check_polar_deg(view_deg, "view_deg")
 

@@ -6,9 +6,8 @@ spec use it at import time, and every caller computes the law the same way (:fun
 
 References
 ----------
-M. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine
-Structure", IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030 (Table 2:
-50.8 nm at 25 V).
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; Table 2: 50.8 nm at 25 V.
 """
 from __future__ import annotations
 
@@ -34,12 +33,12 @@ def check_growth_rate(nm_per_V: float) -> float:
     Parameters
     ----------
     nm_per_V : float
-        Growth rate of the oxide, nm of film per volt of anodising voltage.
+        Anodic growth rate, nm of oxide per volt.
 
     Returns
     -------
     float
-        The rate, nm/V.
+        The rate as a float, nm/V, in [0.1, 10].
 
     Raises
     ------

@@ -18,7 +18,14 @@ a wavelength outside the table raises :class:`~swatch.core.errors.SwatchError`.
 
 References
 ----------
-Each table's own reference and DOI are in its header (``# doi:``) and in :attr:`Material.doi`.
+.. [1] M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data 11, 94 (2024),
+   doi:10.1038/s41597-023-02898-2 (every table; the other tables' own references are in tables/README.md and each
+   file's header).
+.. [2] P. B. Johnson and R. W. Christy, "Optical constants of transition metals: Ti, V, Cr, Mn, Fe, Co, Ni, and Pd",
+   Phys. Rev. B 9, 5056–5070 (1974), doi:10.1103/PhysRevB.9.5056 (``Ti-Johnson``, the default substrate).
+.. [3] T. Siefke et al., "Materials pushing the application limits of wire grid polarizers further into the deep
+   ultraviolet spectral range", Adv. Opt. Mater. 4, 1780–1786 (2016), doi:10.1002/adom.201600250 (``TiO2-Siefke``, the
+   default film).
 """
 
 from __future__ import annotations
@@ -220,7 +227,7 @@ def tables_dir() -> Path:
     Returns
     -------
     pathlib.Path
-        The package's ``tables/`` folder (optical constants, tolerance grades, processes).
+        The absolute path of the ``tables/`` folder found (it has an ``optical/`` subfolder).
 
     Raises
     ------

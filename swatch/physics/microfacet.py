@@ -1,35 +1,34 @@
 """Microfacet distributions and shadowing–masking: the wavelength-independent part of the BRDF.
 
 The microfacet thin-film BRDF (the paper's "future work") is
-
-    f(l, v, λ) = D(h) G(l, v) F(λ; d, θ_d) / (4 cos θ_l cos θ_v),
-
-with ``h = (l + v)/|l + v|`` the half vector, ``θ_d`` the incidence angle on the facet (``cos θ_d = h·l``) and ``F``
-the Airy thin-film reflectance of :mod:`swatch.physics.optics`. ``D`` and ``G`` are scalars (no wavelength): this
-module computes them and the BRDF scale ``D G / (4 cos θ_l cos θ_v)``.
+``f(l, v, λ) = D(h) G(l, v) F(λ; d, θ_d) / (4 cos θ_l cos θ_v)``, with ``h = (l + v)/|l + v|`` the half vector,
+``θ_d`` the incidence angle on the facet (``cos θ_d = h·l``) and ``F`` the Airy thin-film reflectance of
+:mod:`swatch.physics.optics`. ``D`` and ``G`` are scalars (no wavelength): this module computes them and the BRDF
+scale ``D G / (4 cos θ_l cos θ_v)``.
 
 Conventions
 -----------
 * All functions take cosines (and plain arrays), are vectorised by broadcasting and never loop.
 * ``roughness_alpha`` is the usual roughness parameter ``α`` (GGX/Trowbridge–Reitz ``α``, Beckmann RMS slope
-  ``m = α``); valid range [MIN_ROUGHNESS_ALPHA, 1]. (``alpha`` alone is never the roughness in swatch; the CLI
-  option and the metadata key are ``roughness``.)
-* ``D`` is normalised so that ``∫ D(h) (n·h) dω_h = 1`` over the hemisphere (Walter et al. 2007).
-* Shadowing–masking is Smith's, with the exact Λ of each distribution (Heitz 2014):
+  ``m = α``), in (0, 1]; ``alpha`` alone is never the roughness in swatch (the CLI option and metadata key: ``roughness``).
+* ``D`` is normalised so that ``∫ D(h) (n·h) dω_h = 1`` over the hemisphere (Walter et al. 2007 [1]_).
+* Shadowing–masking is Smith's, with the exact Λ of each distribution (Heitz 2014 [2]_):
 
   - GGX:      ``Λ(θ) = (−1 + sqrt(1 + α² tan²θ)) / 2``;
   - Beckmann: ``Λ(θ) = (erf(a) − 1)/2 + exp(−a²) / (2 a sqrt(π))``, ``a = 1/(α tan θ)``.
 
-  ``G1 = χ⁺(h·v)/(1 + Λ(v))``. The joint term ``G`` is **height-correlated** by default, ``G = χ⁺(h·l) χ⁺(h·v) /
-  (1 + Λ(l) + Λ(v))`` (Heitz 2014, eq. 99: the more accurate form; it is never below the separable product, which
-  counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with ``correlated=False``. Both conserve
-  energy: with ``F = 1`` the directional albedo ``∫ f cos θ_l dω_l`` is ≤ 1 at every view angle (the furnace test).
+  ``G1 = χ⁺(h·v)/(1 + Λ(v))``. The joint term ``G`` is **height-correlated** by default,
+  ``G = χ⁺(h·l) χ⁺(h·v) / (1 + Λ(l) + Λ(v))`` (Heitz 2014, eq. 99: the more accurate form; it is never below the
+  separable product, which counts the correlated shadowing twice), or **separable** ``G = G1(l) G1(v)`` with
+  ``correlated=False``. Both conserve energy: with ``F = 1`` the directional albedo ``∫ f cos θ_l dω_l`` is ≤ 1 at
+  every view angle (the furnace test in tests/physics/test_microfacet.py).
 
 References
 ----------
-B. Walter, S. R. Marschner, H. Li, K. E. Torrance, "Microfacet models for refraction through rough surfaces", EGSR
-2007, doi:10.2312/EGWR/EGSR07/195-206. E. Heitz, "Understanding the masking-shadowing function in microfacet-based
-BRDFs", JCGT 3(2), 48–107 (2014), https://jcgt.org/published/0003/02/03/.
+.. [1] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
+   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206.
+.. [2] E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", Journal of Computer
+   Graphics Techniques 3(2) (2014), https://jcgt.org/published/0003/02/03/.
 """
 from __future__ import annotations
 
@@ -182,7 +181,7 @@ def D(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
-        The microfacet normal distribution (Trowbridge–Reitz/GGX or Beckmann).
+        The microfacet distribution (Walter et al. 2007); checked by :func:`check_distribution`.
 
     Returns
     -------
@@ -202,7 +201,7 @@ def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.nd
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
-        The microfacet normal distribution (Trowbridge–Reitz/GGX or Beckmann).
+        The microfacet distribution whose exact ``Λ`` is used (Heitz 2014).
 
     Returns
     -------
@@ -233,7 +232,7 @@ def G1(cos_theta, cos_h_omega, roughness_alpha, distribution: str = "ggx") -> np
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
-        The microfacet normal distribution (Trowbridge–Reitz/GGX or Beckmann).
+        The microfacet distribution whose ``Λ`` is used.
 
     Returns
     -------
@@ -257,7 +256,7 @@ def G(cos_l, cos_v, cos_hl, cos_hv, roughness_alpha, distribution: str = "ggx", 
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
-        The microfacet normal distribution (Trowbridge–Reitz/GGX or Beckmann).
+        The microfacet distribution whose ``Λ`` is used.
     correlated : bool
         Height-correlated ``1 / (1 + Λl + Λv)`` (default; Heitz 2014, eq. 99) or the separable
         product ``G1(l) G1(v)``.
@@ -343,7 +342,7 @@ def D_ratio(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
-        The microfacet normal distribution (Trowbridge–Reitz/GGX or Beckmann).
+        The microfacet distribution.
 
     Returns
     -------
@@ -369,7 +368,7 @@ def brdf_scale(cos_l, cos_v, cos_h, cos_d, roughness_alpha, distribution: str = 
     roughness_alpha : float
         ``α`` in (0, 1] (GGX α, Beckmann RMS slope).
     distribution : {"ggx", "beckmann"}
-        The microfacet normal distribution (Trowbridge–Reitz/GGX or Beckmann).
+        The microfacet distribution of ``D`` and of Smith's ``Λ``.
     correlated : bool
         Height-correlated (default) or separable Smith G.
 

@@ -5,9 +5,10 @@ Airy's formula (:func:`swatch.physics.optics.film_reflectance`).
 
 References
 ----------
-M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6.2–1.6.5 (the characteristic matrix of a
-stratified medium). S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016), the
-formulation of ``tmm``, against which tests/physics/test_optics.py checks this.
+.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999); §1.6.2–1.6.5, the
+   characteristic matrix of a stratified medium.
+.. [2] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of the ``tmm``
+   package, the independent reference the tests compare with.
 """
 from __future__ import annotations
 
@@ -45,11 +46,11 @@ def stack_reflectance(
     n_layers : sequence of array_like, complex, shape (W,) or scalar
         The films' indices, in the same order.
     n_substrate : array_like, complex, shape (W,) or scalar
-        Complex refractive index n + ik of the substrate (the metal) per wavelength.
+        The substrate's (metal's) index ``n + i k`` (k ≥ 0) on the grid.
     incidence_deg : array_like, degrees
         Incidence angles in [0, 90).
     wavelength_nm : array_like, shape (W,), nm
-        Vacuum wavelengths, nm.
+        The wavelength grid, positive nm (checked by :func:`swatch.physics.optics.check_wavelengths`).
     n_ambient : float
         Real index of the ambient medium.
 

@@ -3,25 +3,25 @@
 Conventions (the same as Byrnes' ``tmm`` package, our reference):
 
 * complex refractive index ``n + i k`` with ``k >= 0`` for absorption (fields ``exp(i (k z - w t))``);
-* in a layer j, ``q_j = n_j cos(theta_j) = sqrt(n_j**2 - (n_0 sin theta_0)**2)`` (complex Snell's law),
-  on the branch whose wave decays (or, when lossless, travels) away from the interface:
-  ``Im q > 0``, or ``Im q == 0`` and ``Re q > 0``;
+* in a layer j, ``q_j = n_j cos(theta_j) = sqrt(n_j**2 - (n_0 sin theta_0)**2)`` (complex Snell's law), on the
+  branch whose wave decays (or, when lossless, travels) away from the interface: ``Im q > 0``, or ``Im q == 0``
+  and ``Re q > 0``;
 * Fresnel amplitudes ``r_s = (q_i - q_j) / (q_i + q_j)`` and
   ``r_p = (n_j**2 q_i - n_i**2 q_j) / (n_j**2 q_i + n_i**2 q_j)``
   (equal to tmm's ``(n_j cos th_i - n_i cos th_j) / (n_j cos th_i + n_i cos th_j)``);
-* one-way phase in a film of thickness d: ``delta = 2 pi d q / lambda``; the paper's eq. 3 is the
-  round-trip phase ``2 delta``.
+* one-way phase in a film of thickness d: ``delta = 2 pi d q / lambda``; the paper's eq. 3 is ``2 delta``.
 
-Shapes: ``thickness_nm`` and ``incidence_deg`` broadcast together to a shape S; the index arrays
-are given on the wavelength grid (shape (W,)); results have shape ``S + (W,)``. Everything is
-float64 / complex128 and vectorised by broadcasting: no loops over thickness, angle or wavelength.
+Shapes: ``thickness_nm`` and ``incidence_deg`` broadcast together to a shape S; the index arrays are given on the
+wavelength grid (shape (W,)); results have shape ``S + (W,)``. Everything is float64 / complex128 and vectorised
+by broadcasting: no loops over thickness, angle or wavelength.
 
 References
 ----------
-M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6 and §7.6 (Cambridge University Press, 1999),
-doi:10.1017/CBO9781139644181 (Fresnel coefficients, Airy summation of a thin film).
-S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016), doi:10.48550/arXiv.1603.02720 (tmm).
-M. Fujii et al., IEICE Trans. Inf. & Syst. J102-D(2) (2019), doi:10.14923/transinfj.2018JDP7030, eq. 2–4.
+.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999): §1.6, Airy's formula.
+.. [2] O. S. Heavens, *Optical Properties of Thin Solid Films*, Butterworths, London (1955); Dover reprint (1965).
+.. [3] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of ``tmm``, our reference.
+.. [4] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eqs. 2–4.
 """
 from __future__ import annotations
 
@@ -83,7 +83,7 @@ def layer_q(n_layer: np.ndarray, kx: np.ndarray) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, complex128, the broadcast shape
-        q = n cos θ of the layer (complex; the refracted angle by Snell's law with complex indices).
+        ``q = n cos θ`` in the layer (dimensionless), on the forward-wave branch.
     """
     q = np.sqrt(np.asarray(n_layer, dtype=np.complex128) ** 2 - np.asarray(kx) ** 2)
     # The principal root already has Re q >= 0; a negative-zero imaginary part of the radicand
@@ -144,7 +144,7 @@ def check_film_geometry(thickness_nm: np.ndarray, incidence_deg: np.ndarray) -> 
     Parameters
     ----------
     thickness_nm, incidence_deg : numpy.ndarray
-        Film thicknesses (nm) and incidence angles in the ambient medium (degrees from the normal).
+        Film thicknesses (nm) and incidence angles (degrees from the normal), any shapes.
 
     Raises
     ------
@@ -163,7 +163,7 @@ def check_wavelengths(wavelength_nm) -> np.ndarray:
     Parameters
     ----------
     wavelength_nm : array_like
-        Vacuum wavelengths, nm (finite and positive).
+        The wavelength grid, nm, one dimension.
 
     Returns
     -------
@@ -185,10 +185,9 @@ class FilmAtAngles:
 
     ``R = |r01 + r12 E|^2 / |1 + r01 r12 E|^2 = K |E - z_num|^2 / |E - z_den|^2``
 
-    (:func:`_pole_form`). The differences ``E - z`` are formed before taking moduli, so the
-    cancellation near total reflection (grazing incidence, ``|r01 r12| -> 1``) keeps its
-    relative precision. Used by :func:`film_reflectance_cos`, :func:`film_reflectance_sweep`
-    and the thickness fitter.
+    (:func:`_pole_form`). The differences ``E - z`` are formed before taking moduli, so the cancellation near total
+    reflection (grazing incidence, ``|r01 r12| -> 1``) keeps its relative precision. Used by
+    :func:`film_reflectance_cos`, :func:`film_reflectance_sweep` and the thickness fitter.
 
     Parameters
     ----------
@@ -236,7 +235,7 @@ class FilmAtAngles:
         Returns
         -------
         numpy.ndarray, complex128, shape S + (W,)
-            exp(2iβ), β = 2π d n cos θ / λ: the film's round-trip phase and absorption per wavelength (dimensionless).
+            ``E = exp(i k4 d)`` per thickness and wavelength (dimensionless; ``|E| ≤ 1``, < 1 in an absorbing film).
         """
         d = np.asarray(thickness_nm, dtype=np.float64)[..., None]
         phi = d * self.k4.real
@@ -325,12 +324,8 @@ def film_reflectance_cos(thickness_nm, cos_incidence, wavelength_nm, n_film, n_s
         Film thicknesses ≥ 0.
     cos_incidence : array_like
         Cosine of the incidence angle, in (0, 1]; broadcasts with ``thickness_nm`` to S.
-    wavelength_nm : array_like, shape (W,), nm
-        Vacuum wavelengths, nm.
-    n_film, n_substrate : array_like, complex, shape (W,) or scalar
-        Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
-    n_ambient : float
-        Real index of the ambient medium (1.0: air).
+    wavelength_nm, n_film, n_substrate, n_ambient
+        As :class:`FilmAtAngles`: the grid (nm, shape (W,)), the film's and substrate's ``n + i k`` on it, the ambient's n.
     amplitudes : bool
         Also return the complex ``r_s``, ``r_p``.
 
@@ -397,12 +392,8 @@ def film_reflectance_sweep(thickness_start_nm: float, thickness_step_nm: float, 
         Number of thicknesses, ≥ 1.
     incidence_deg : array_like, shape A, degrees
         Incidence angles in [0, 90).
-    wavelength_nm : array_like, shape (W,), nm
-        Vacuum wavelengths, nm.
-    n_film, n_substrate : array_like, complex, shape (W,) or scalar
-        Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
-    n_ambient : float
-        Real index of the ambient medium (1.0: air).
+    wavelength_nm, n_film, n_substrate, n_ambient
+        As :class:`FilmAtAngles`: the grid (nm, shape (W,)), the film's and substrate's ``n + i k`` on it, the ambient's n.
 
     Returns
     -------
@@ -464,10 +455,9 @@ def film_reflectance(thickness_nm, incidence_deg, wavelength_nm, n_film, n_subst
     thickness_nm : array_like, nm
         Film thicknesses ≥ 0.
     incidence_deg : array_like, degrees
-        Incidence angles from the surface normal, in [0, 90); broadcast with ``thickness_nm``
-        to S.
+        Incidence angles from the surface normal, in [0, 90); broadcast with ``thickness_nm`` to S.
     wavelength_nm : array_like, shape (W,), nm
-        Vacuum wavelengths, nm.
+        The wavelength grid, positive nm.
     n_film, n_substrate : array_like, complex, shape (W,) or scalar
         Refractive indices ``n + i k`` (k ≥ 0) of the film and the substrate on the grid.
     n_ambient : float

@@ -6,7 +6,10 @@ fixed, and the half-vector model (:class:`swatch.physics.model.HalfVector`) appl
 
 References
 ----------
-M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6.5 (stratified media, the characteristic matrix).
+.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999); §1.6.5, stratified
+   media, the characteristic matrix.
+.. [2] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of the ``tmm``
+   package, the independent reference the tests compare with.
 """
 from __future__ import annotations
 
@@ -76,7 +79,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         str
-            The anodic film's optical table name.
+            The base coating's film (oxide) material name, as ``swatch.physics.materials.load_material`` takes it.
         """
         return self.base.film
 
@@ -87,7 +90,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         str
-            The metal's optical table name.
+            The base coating's substrate (metal) material name, as ``swatch.physics.materials.load_material`` takes it.
         """
         return self.base.substrate
 
@@ -98,7 +101,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         numpy.ndarray
-            The wavelength grid of the indices, nm, shape (W,).
+            The base coating's wavelength grid, nm, shape (W,).
         """
         return self.base.wavelength_nm
 
@@ -109,7 +112,7 @@ class OvercoatedCoating(HalfVector):
         Returns
         -------
         swatch.physics.spread.ThicknessSpread
-            The anodic film's thickness spread (absolute nm and relative parts).
+            The base coating's oxide thickness spread (σ in nm and as a fraction); the overcoats' own are uniform.
         """
         return self.base.spread
 
@@ -230,7 +233,7 @@ def overcoat_json(coating) -> dict:
     Parameters
     ----------
     coating : Coating or OvercoatedCoating
-        The film (and the clear layers on it, if any).
+        A coating; a plain :class:`~swatch.physics.model.Coating` has no overcoats.
 
     Returns
     -------
@@ -249,7 +252,7 @@ def overcoat_text(coating) -> str:
     Parameters
     ----------
     coating : Coating or OvercoatedCoating
-        The film (and the clear layers on it, if any).
+        A coating; a plain :class:`~swatch.physics.model.Coating` has no overcoats.
 
     Returns
     -------

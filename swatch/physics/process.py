@@ -6,12 +6,13 @@ scale (multiplies the real part of the film's index: an anodic film's density di
 tabulated film's), optionally a render roughness, and the source of every number (``[sources]``),
 or the calibration that produced them (``[calibration]``, written by ``swatch calibrate``).
 
-A profile file is untrusted input: its size is capped before it is parsed, unknown keys are
-refused, every number is range-checked, and every error is one line naming the file.
+A profile file is untrusted input: its size is capped before it is parsed, unknown keys are refused, every number
+is range-checked, and every error is one line naming the file.
 
 References
 ----------
-M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the default profile: 50.8 nm at 25 V).
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030: Table 2, titanium-fujii2019.
 """
 from __future__ import annotations
 
@@ -118,7 +119,7 @@ class Process:
         Returns
         -------
         str
-            The profile's name and, when overridden, what was changed (one line).
+            ``name``, followed by ``", thickness spread …"`` when the spread is not zero.
         """
         return self.name + (f", thickness spread{self.spread.text()}" if not self.spread.is_zero else "")
 
@@ -129,7 +130,7 @@ class Process:
         Returns
         -------
         bool
-            True when a growth rate (nm/V) is known, so voltages can be given.
+            True when ``nm_per_V`` is set, False otherwise.
         """
         return self.nm_per_V is not None
 
@@ -187,7 +188,8 @@ class Process:
         Returns
         -------
         swatch.physics.model.Coating
-            The film on the substrate on that grid, with the profile's index scale and thickness spread.
+            Film and substrate indices on the grid (the film's real index scaled by ``film_index_scale``),
+            with the profile's thickness spread.
         """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
@@ -425,7 +427,7 @@ def load_process(name_or_path: str) -> Process:
     Returns
     -------
     Process
-        The profile: film, substrate, growth law (nm/V, offset nm, knee), index scale, roughness, spread, sources.
+        The profile, every field range-checked; ``origin`` says ``"preset"`` or the file's name.
 
     Raises
     ------
@@ -455,7 +457,7 @@ def list_processes() -> list[Process]:
     Returns
     -------
     list of Process
-        The built-in profiles, by name.
+        One profile per preset ``.toml``, sorted by name.
     """
     return [load_process(n) for n in preset_names()]
 

@@ -20,7 +20,8 @@ stay byte-identical.
 
 References
 ----------
-M. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030 (the film's non-uniformity).
+.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
+   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2.3 and Fig. 7, the non-uniform film.
 """
 from __future__ import annotations
 
@@ -65,7 +66,7 @@ class ThicknessSpread:
 
     References
     ----------
-    M. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030.
+    H. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030.
     """
 
     spread_nm: float = 0.0
@@ -86,7 +87,7 @@ class ThicknessSpread:
         Returns
         -------
         bool
-            True when both parts are 0 (a uniform film).
+            True when ``spread_nm`` and ``spread_fraction`` are both 0.
         """
         return self.spread_nm == 0.0 and self.spread_fraction == 0.0
 
@@ -137,7 +138,7 @@ def parse_spread(text: str | None) -> ThicknessSpread | None:
     Returns
     -------
     ThicknessSpread or None
-        The spread (σ = spread_nm + spread_fraction × d, nm), or None for an empty text.
+        The spread (``spread_nm`` in nm, ``spread_fraction`` dimensionless), or None when ``text`` is None.
 
     Raises
     ------
@@ -164,7 +165,7 @@ def spread_sigma_nm(thickness_nm, spread: ThicknessSpread) -> np.ndarray:
     thickness_nm : array_like
         Mean thicknesses, nm, any shape.
     spread : ThicknessSpread
-        The film's thickness non-uniformity (absolute nm and relative parts).
+        The thickness spread: ``spread_nm`` (nm) and ``spread_fraction`` (of the mean thickness).
 
     Returns
     -------
@@ -225,7 +226,7 @@ def spread_average(reflect: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]
     thickness_nm : array_like, nm
         Mean thicknesses ≥ 0.
     spread : ThicknessSpread
-        The film's thickness non-uniformity (absolute nm and relative parts).
+        The thickness spread: ``spread_nm`` (nm) and ``spread_fraction`` (of the mean thickness).
     n_film_max : float
         Largest real film index on the grid (sets the node count).
     wavelength_min_nm : float

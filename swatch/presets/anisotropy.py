@@ -79,6 +79,7 @@ def openpbr_anisotropy(alpha_u: float, alpha_v: float) -> tuple[float, dict]:
     Returns
     -------
     specular_roughness : float
+        OpenPBR ``specular_roughness`` (0–1), from which OpenPBR's anisotropy mapping gives back ``alpha_u``, ``alpha_v``.
     inputs : dict
         ``{"specular_roughness_anisotropy"}``.
     """

@@ -128,7 +128,9 @@ def exact_Lab(thickness_nm, angles_deg, film: str | None = None, substrate: str 
     film, substrate : str, optional
         Table names (default TiO2 on Ti).
     film_index_scale : float, optional
+        Factor on the film's real refractive index (a process profile's; default 1, the table as it is).
     spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread (σ in nm and as a fraction); the colour is averaged over it. None: uniform.
 
     Returns
     -------
@@ -154,7 +156,9 @@ def errors_delta_E_00(model: str, params, thickness_nm, angles_deg=FIT_ANGLES_DE
     Parameters
     ----------
     model : str
+        The renderer's model, one of :data:`MODELS`.
     params : array_like, shape (N, 5)
+        Each swatch's preset ``(thickness_nm, film_ior, base R, G, B)`` (base linear Rec.709), as :func:`model_Lab`.
     thickness_nm : array_like, shape (N,)
         The swatches' thicknesses, nm.
     angles_deg : array_like, shape (A,), optional
@@ -350,11 +354,18 @@ def fit_presets(thickness_nm, model: str, extra_angles_deg=(), film: str | None 
     extra_angles_deg : sequence of float, optional
         The catalog's geometries as facet angles, degrees.
     film, substrate : str, optional
+        Film and substrate table names (default TiO2 on Ti), as :func:`exact_Lab`.
     film_index_scale : float, optional
+        Factor on the film's real refractive index for the exact colour (default 1).
     groups : array_like, shape (N,), optional
+        Integer group of each swatch (the catalog's sheet); continuity couples swatches of one group only.
+        None: one group.
     spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread the exact colour is averaged over; None: uniform.
     roughness : float, optional
+        The glTF ``roughnessFactor`` (0–1) the ``threejs`` model is evaluated with; other models ignore it.
     extra_model_angles_deg : sequence of float, optional
+        Where the model is evaluated for each of ``extra_angles_deg``, degrees (same length; default the same angles).
 
     Returns
     -------

@@ -49,7 +49,9 @@ def hoffman_schlick(cos_theta, F0, F82, F90=1.0, exponent: float = 5.0):
     F0, F82 : array_like
         Reflectance at normal incidence and the F82 tint (per channel).
     F90 : array_like, optional
+        Reflectance at grazing incidence (per channel, 0–1; default 1).
     exponent : float, optional
+        The Schlick exponent (default 5, as ``open_pbr_surface`` uses).
 
     Returns
     -------
@@ -164,6 +166,7 @@ def displayed_fresnel(cos_theta, thickness_nm, film_ior, base_color, roughness, 
     roughness : float
         ``specular_roughness``.
     specular_color : array_like, optional
+        ``specular_color``, the F82 tint (``color82``; per channel, 0–1; default 1, white).
     cos_nv : array_like, optional
         N·V.
 

@@ -56,6 +56,7 @@ def preset_id(ident: str) -> str:
     Returns
     -------
     str
+        ``"swatch_"`` and ``ident``, every character other than a letter, digit, ``_`` or ``-`` replaced by ``_``.
 
     Examples
     --------

@@ -150,6 +150,7 @@ def rgb_to_xyz_matrix() -> tuple[np.ndarray, np.ndarray]:
     matrix : numpy.ndarray, shape (3, 3)
         XYZ = matrix @ RGB.
     white_xy : numpy.ndarray, shape (2,)
+        The sRGB white point (D65) as CIE 1931 xy chromaticity.
     """
 
     space = colour.RGB_COLOURSPACES["sRGB"]
@@ -167,6 +168,7 @@ def rgb_to_Lab(rgb) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (..., 3)
+        L*, a*, b* under D65 and the CIE 1931 2° observer (white: L* = 100).
 
     Examples
     --------

@@ -89,6 +89,8 @@ def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None, 
     extras : dict, optional
         The material's ``extras`` (what it was fitted to).
     anisotropy : dict, optional
+        The ``KHR_materials_anisotropy`` object of a brushed finish
+        (:func:`swatch.presets.anisotropy.gltf_anisotropy`); None: isotropic, no tangents.
 
     Returns
     -------
@@ -176,12 +178,18 @@ def blender_bytes(name: str, params, roughness: float, file_name: str, note: str
     Parameters
     ----------
     name : str
+        The material's name.
     params : array_like, shape (5,)
+        ``(thickness_nm, film_ior, base R, G, B)`` (base linear Rec.709, 0–1).
     roughness : float
+        The Principled BSDF ``Roughness`` (0–1).
     file_name : str
         The script's own file name (for its usage line).
     note : str, optional
+        What the preset was fitted to, written in the script's header comment (default: ``see catalog.json``).
     anisotropy : dict, optional
+        The Principled inputs ``Anisotropic`` and ``Anisotropic Rotation`` of a brushed finish
+        (:func:`swatch.presets.anisotropy.blender_anisotropy`); None: isotropic.
 
     Returns
     -------
@@ -213,11 +221,16 @@ def materialx_bytes(name: str, params, roughness: float, note: str = "", anisotr
     Parameters
     ----------
     name : str
+        The material's name (made a valid MaterialX name).
     params : array_like, shape (5,)
+        ``(thickness_nm, film_ior, base R, G, B)`` (base linear Rec.709, 0–1); written as ``thin_film_thickness`` in µm.
     roughness : float
         ``specular_roughness``.
     note : str, optional
+        What the preset was fitted to and its error, written as the material's doc string.
     anisotropy : dict, optional
+        ``{"specular_roughness_anisotropy": ...}`` of a brushed finish
+        (:func:`swatch.presets.anisotropy.openpbr_anisotropy`); None: isotropic.
 
     Returns
     -------

@@ -68,6 +68,8 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
     Returns
     -------
     numpy.ndarray of uint8, shape (H, W, 3)
+        The figure as display sRGB, 8 bits per channel; H and W are its height and width in pixels (the
+        height grows with the coupon count; not the wavelength count W above).
     """
 
     n = cal.voltage_V.size
@@ -152,6 +154,7 @@ def report_figure(cal: Calibration) -> np.ndarray:
     Returns
     -------
     numpy.ndarray of uint8, shape (H, W, 3)
+        The figure as display sRGB, 8 bits per channel (see :func:`calibration_figure`).
     """
     p = cal.process
     assert cal.cm is not None, "calibrate() gives a colorimeter"
@@ -181,6 +184,7 @@ def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
     Returns
     -------
     list of str
+        The report's lines, without line ends.
     """
     lines = []
     u = d["uncertainty"]

@@ -55,6 +55,8 @@ def colour_table_text(rows: list[dict], coating, cm, light: float, view: float, 
     Returns
     -------
     list of str
+        A ``#`` header line (materials, geometry, illuminant and observer), a column header, then one line per
+        row; no line ends.
     """
 
     lines = [f"# {coating.film} on {coating.substrate}{overcoat_text(coating)}; light {light:g}°, view {view:g}° "
@@ -111,6 +113,7 @@ def material_text(m, wl: np.ndarray, nk: np.ndarray) -> list[str]:
     Returns
     -------
     list of str
+        Two ``#`` lines (reference, DOI and licence), a column header, then ``wavelength_nm n k`` per wavelength.
     """
     lines = [f"# {m.name} ({m.role}): {' '.join(m.reference.split())}", f"# doi:{m.doi}; {m.license}",
              f"{'wavelength_nm':>13} {'n':>9} {'k':>9}"]
@@ -130,6 +133,8 @@ def materials_json(mats, defaults: tuple[str, ...]) -> list[dict]:
     Returns
     -------
     list of dict
+        One dict per table: ``name``, ``role``, ``formula``, ``reference``, ``doi``, ``wavelength_range_nm`` ([lo, hi],
+        nm) and ``default`` (bool).
     """
     return [{"name": m.name, "role": m.role, "formula": m.formula, "reference": m.reference, "doi": m.doi,
              "wavelength_range_nm": list(m.wavelength_range_nm), "default": m.name in defaults} for m in mats]

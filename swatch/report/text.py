@@ -384,6 +384,7 @@ def match_text(res: MatchResult, target_hex: str | None, thickness_range: str, c
     Returns
     -------
     list of str
+        The lines to print, without line ends.
     """
     lines = []
     L, a, b = res.target_Lab
