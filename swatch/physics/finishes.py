@@ -380,12 +380,14 @@ def tilt_normals(normals, tangents, slope) -> np.ndarray:
     Parameters
     ----------
     normals, tangents : array_like, shape (P, 3)
+        Unit surface normals and unit brushing tangents (perpendicular to them), one per point.
     slope : array_like, shape (P,)
         tan of the tilt (:func:`hairline_slope`).
 
     Returns
     -------
     numpy.ndarray, float32, shape (P, 3)
+        The tilted unit normals.
     """
     n = np.asarray(normals, dtype=np.float32).reshape(-1, 3)
     t = np.asarray(tangents, dtype=np.float32).reshape(-1, 3)

@@ -1,13 +1,13 @@
 """Process profiles: what one anodising line does, as numbers with their sources.
 
-A profile (TOML; presets in ``tables/processes/``, format in docs/processes.md) names the film and
-substrate tables, the growth law ``thickness_nm = offset_nm + nm_per_V × voltage_V``, a film index
-scale (multiplies the real part of the film's index: an anodic film's density differs from any
-tabulated film's), optionally a render roughness, and the source of every number (``[sources]``),
-or the calibration that produced them (``[calibration]``, written by ``swatch calibrate``).
+A profile (TOML; presets in ``tables/processes/``, format in docs/processes.md) names the film and substrate tables,
+the growth law ``thickness_nm = offset_nm + nm_per_V × voltage_V``, a film index scale (multiplies the real part of
+the film's index: an anodic film's density differs from any tabulated film's), optionally a render roughness, and
+the source of every number (``[sources]``), or the calibration that produced them (``[calibration]``, written by
+``swatch calibrate``).
 
-A profile file is untrusted input: its size is capped before it is parsed, unknown keys are refused, every number
-is range-checked, and every error is one line naming the file.
+A profile file is untrusted input: its size is capped before it is parsed, unknown keys are refused, every number is
+range-checked, and every error is one line naming the file.
 
 References
 ----------
@@ -73,8 +73,7 @@ class Process:
     film, substrate : str
         Optical table names of the oxide and the metal.
     nm_per_V : float or None
-        Growth rate, nm per volt (up to ``knee_V`` with a two-slope law); None when no rate is
-        known (optics-only profiles: niobium, tantalum).
+        Growth rate, nm/V (up to ``knee_V`` in a two-slope law); None when none is known (niobium, tantalum).
     offset_nm : float
         Thickness at 0 V, nm.
     film_index_scale : float
@@ -421,8 +420,7 @@ def load_process(name_or_path: str) -> Process:
     Parameters
     ----------
     name_or_path : str
-        A preset's name (``titanium-fujii2019`` …) or the path of a profile ``.toml`` (untrusted:
-        size-capped, unknown keys refused, every number range-checked).
+        A preset's name (``titanium-fujii2019`` …) or a profile ``.toml``'s path (untrusted: capped, checked).
 
     Returns
     -------

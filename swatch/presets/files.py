@@ -34,6 +34,7 @@ def round_params(params) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (..., 5)
+        (thickness nm, IOR, R, G, B), rounded as written.
 
     Examples
     --------
@@ -50,6 +51,7 @@ def roughness_factor(alpha: float) -> float:
     Parameters
     ----------
     alpha : float
+        GGX α (dimensionless, > 0).
 
     Returns
     -------
@@ -73,6 +75,7 @@ def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE:
     fmt : str
         ``gltf``, ``blender`` or ``materialx``.
     ident, title : str
+        The swatch's id (``S001``, ``50.8nm``; in file names) and the material's display title.
     params : array_like, shape (5,)
         Rounded parameters (:func:`round_params`).
     alpha : float
@@ -80,6 +83,7 @@ def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE:
     max_dE : float
         The largest ΔE2000 over 0–60° in the targeted renderer (D65, CIE 1931 2°).
     thickness_nm : float
+        Film thickness, nm (written in the file's notes).
     extension_dE : float, optional
         glTF: the same under the extension's reference model.
     finish : swatch.physics.finishes.Finish, optional
@@ -89,6 +93,7 @@ def preset_bytes(fmt: str, ident: str, title: str, params, alpha: float, max_dE:
     Returns
     -------
     bytes
+        The file's content (UTF-8 text), byte-identical for the same inputs.
     """
 
     rough = roughness_factor(alpha)
@@ -123,13 +128,19 @@ def single_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film
     Parameters
     ----------
     thickness_nm : float
+        Film thickness, nm.
     fmt : str
+        Preset format (``gltf``, ``blender``, ``materialx``; a key of :data:`swatch.presets.FORMAT_MODEL`).
     film, substrate : str
+        Optical table names.
     film_index_scale : float
+        Factor on the film's real index (dimensionless).
     roughness_alpha : float
         GGX α.
     spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread; None: uniform.
     finish : swatch.physics.finishes.Finish, optional
+        Named finish; when anisotropic (brushed), written as the format's anisotropy.
 
     Returns
     -------
@@ -164,6 +175,7 @@ def finish_alphas(alpha: float, finish) -> tuple[float, ...]:
     alpha : float
         The isotropic α without a finish.
     finish : swatch.physics.finishes.Finish or None
+        The named finish, whose α replace ``alpha``; None: none.
 
     Returns
     -------
@@ -235,6 +247,7 @@ def single_mitsuba_preset(thickness_nm: float, film: str, substrate: str, film_i
     spread : swatch.physics.spread.ThicknessSpread, optional
         The film's thickness spread; None: uniform.
     finish : swatch.physics.finishes.Finish, optional
+        Named finish; its α (two when brushed) replace ``roughness_alpha``.
 
     Returns
     -------
