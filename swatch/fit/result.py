@@ -403,7 +403,7 @@ def delta_e_grid(result: FitResult, which: str = "delta_E_ab"):
 
     References
     ----------
-    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, Fig. 12.
+    H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, Fig. 12.
     """
     values = getattr(result, which)
     dphi = np.mod(result.view_azimuth_deg - result.light_azimuth_deg, 360.0)

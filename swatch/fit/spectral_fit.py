@@ -155,7 +155,7 @@ def fit_spectra(
 
     References
     ----------
-    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 (intensity correction) and Table 2.
+    H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 (intensity correction) and Table 2.
     """
     scale = check_scale(scale)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
@@ -254,7 +254,7 @@ def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, 
 
     References
     ----------
-    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 and Table 2.
+    H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 and Table 2.
     """
 
     if isinstance(measurement, LabMeasurement):

@@ -148,7 +148,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
         coating, colorimeter
             A :class:`swatch.physics.model.Coating` (film, substrate, index scale, thickness spread) and a
             :class:`swatch.colorimetry.colorimeter.Colorimeter` (defaults: TiO2 on Ti; D65 and the CIE 1964
-            10° observer, the colorimeter's default).
+            10° observer for the metadata's XYZ and Lab, the colorimeter's default); the image's display
+            sRGB always comes from the CIE 1931 2° observer.
         space : str
             RGB primaries of ``linear_rgb``: ``srgb`` (default) or ``acescg``.
         workers : int, optional

@@ -55,7 +55,8 @@ class RenderOptions(TypedDict, total=False):
     model, distribution, space : str
         Intensity model, facet distribution, RGB primaries of the linear image.
     coating, colorimeter
-        The film (:class:`swatch.physics.model.Coating`) and the colorimetry of the metadata's Lab.
+        The film (:class:`swatch.physics.model.Coating`) and the colorimetry of the metadata's Lab
+        (default D65, CIE 1964 10°); the image's display sRGB always uses CIE 1931 2°.
     workers : int or None
         Threads of the point-light engine.
     environment
@@ -159,7 +160,8 @@ class RenderRequest:
     coating : swatch.physics.model.Coating
         Film, substrate, index scale, thickness spread and wavelength grid.
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter
-        Illuminant and observer of the metadata's Lab (and the built-in engine's colour).
+        Illuminant and observer of the metadata's Lab (default D65, CIE 1964 10°) and the built-in engine's
+        illuminant; display sRGB always from CIE 1931 2°.
     finish : swatch.physics.finishes.Finish or None
         A named surface finish (its lobe is ``lobe``); recorded in the metadata.
     workers : int or None

@@ -280,7 +280,7 @@ def facet_colour_table(thickness_nm: float, coating, colorimeter, nodes: int = T
 
     References
     ----------
-    M. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the half-vector model, eqs. 2–5).
+    H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the half-vector model, eqs. 2–5).
 
     Examples
     --------
