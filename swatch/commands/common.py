@@ -90,11 +90,14 @@ def resolve_process(process: str | None, film: str | None = None, substrate: str
     process : str or None
         A preset's name or a profile's path; None: the default profile.
     film, substrate : str or None
+        ``--film`` / ``--substrate``: optical table names replacing the profile's; None keeps them.
     nm_per_volt : float or None
+        ``--nm-per-volt``: a growth rate replacing the profile's, nm/V; None keeps it.
 
     Returns
     -------
     swatch.physics.process.Process
+        The profile with the overrides (and ``--spread``) applied; its ``origin`` says what was overridden.
 
     Raises
     ------
@@ -142,6 +145,7 @@ def resolve_thickness(thickness: str | None, voltage: str | None, proc, multiple
     thickness, voltage : str or None
         The options' text (exactly one given).
     proc : swatch.physics.process.Process
+        The anodising line's profile, whose growth law turns voltages (V) into thicknesses (nm).
     multiple : bool
         Whether a range is allowed.
 
@@ -214,6 +218,7 @@ def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
     Parameters
     ----------
     proc : swatch.physics.process.Process
+        The anodising line's profile (film, substrate, index scale, thickness spread).
     wavelengths : str, optional
         ``--wavelengths`` (START:STOP:STEP, nm).
     overcoats : sequence of str, optional
@@ -222,6 +227,7 @@ def resolve_coating(proc, wavelengths: str = "380:780:5", overcoats=()):
     Returns
     -------
     swatch.physics.model.Coating or swatch.physics.overcoat.OvercoatedCoating
+        The film on its substrate on the wavelength grid (nm); overcoated when ``overcoats`` are given.
 
     Raises
     ------
@@ -347,6 +353,8 @@ def instrument_request(percent=None):
     Returns
     -------
     swatch.io.instruments.Request
+        Light/view angles (degrees), illuminant, observer and unit of the command, with ``given`` naming
+        those the user set (``geometry``, ``illuminant``, ``observer``).
     """
     from click.core import ParameterSource
 

@@ -64,6 +64,8 @@ def speak_flags(message: str) -> str:
     Returns
     -------
     str
+        The same line with each backquoted name (or ``name=value``) of :data:`PARAMETER_FLAGS` replaced by its
+        command-line option; other backquoted text kept.
 
     Examples
     --------

@@ -169,6 +169,7 @@ def film_at_angles(coating: Coating, cos_u: np.ndarray, wl_index: np.ndarray | N
     Returns
     -------
     swatch.physics.optics.FilmAtAngles
+        The film at the U facet angles on the (sub-)grid, ready to evaluate any number of thicknesses.
     """
     sel = slice(None) if wl_index is None else wl_index
     return optics.FilmAtAngles(cos_u, coating.wavelength_nm[sel], coating.n_film[sel], coating.n_substrate[sel])
@@ -230,6 +231,7 @@ def sweep_curve(objective, coating: Coating, start: float, step: float, count: i
     Returns
     -------
     numpy.ndarray, shape (count,)
+        The objective at thicknesses ``start + i * step`` nm, i = 0 … count − 1.
 
     Raises
     ------

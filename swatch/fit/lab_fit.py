@@ -72,6 +72,8 @@ def fit_lab(
     Returns
     -------
     FitResult
+        ``thickness_nm`` and its uncertainty, nm, the residual (mean squared ΔE2000), the next minima, and
+        the per-geometry Lab and ΔE under ``illuminant`` / ``observer`` with the grade.
 
     References
     ----------

@@ -68,6 +68,7 @@ class MatchResult:
         Returns
         -------
         bool
+            True when at least one candidate's colour difference is within the grade's bound.
         """
         return any(c["within_grade"] for c in self.candidates)
 

@@ -242,6 +242,7 @@ def interp_rows(x_new: np.ndarray, x: np.ndarray, Y: np.ndarray) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (G, W')
+        Each row of ``Y`` at ``x_new``.
     """
     i1 = np.clip(np.searchsorted(x, x_new, side="right"), 1, x.size - 1)
     i0 = i1 - 1
@@ -289,6 +290,7 @@ def used_geometries(mirror: np.ndarray, exclude_mirror_deg: float) -> np.ndarray
     Returns
     -------
     numpy.ndarray of bool, shape (G,)
+        True for a geometry the fit uses.
 
     Raises
     ------

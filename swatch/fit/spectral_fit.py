@@ -147,6 +147,8 @@ def fit_spectra(
     Returns
     -------
     swatch.fit.result.FitResult
+        ``thickness_nm`` and its uncertainty, nm, the residual (mean squared error of reflectance fractions),
+        the next minima, and the per-geometry Lab and ΔE under ``illuminant`` / ``observer`` with the grade.
 
     Raises
     ------
@@ -240,6 +242,7 @@ def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, 
         The model's grid for CIELAB measurements, nm. Spectra are fitted on their own wavelengths:
         a grid the user gave (``grid_given``) is refused for them, naming ``source``.
     grid_given : bool
+        Whether the user gave ``wavelength_nm`` (refused for spectra).
     source : str or None
         How to name the grid's origin in a refusal (the CLI passes its flag).
     **options

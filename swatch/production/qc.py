@@ -274,6 +274,7 @@ def not_a_thickness_error(residual: float, metric: str, bound: float, d_fit: flo
     Returns
     -------
     str
+        One sentence: the residual, why no voltage explains it, and what to check instead.
     """
     return (f"not a thickness error: the best-fit thickness {d_fit:.1f} nm still leaves {metric} {residual:.2f} "
             f"between the part and the model (more than the tolerance, {bound:g}), so no voltage explains it; "

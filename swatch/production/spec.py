@@ -86,6 +86,7 @@ def voltage_basis(proc) -> dict:
     Parameters
     ----------
     proc : swatch.physics.process.Process
+        The anodising line's profile (its growth rate, origin and calibration).
 
     Returns
     -------
