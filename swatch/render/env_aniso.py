@@ -138,6 +138,7 @@ def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
     maps : swatch.render.octahedral.LevelMaps
         The environment's blurred levels.
     samples : AnisoSampleSet
+        The anisotropic lobe's fixed samples per view bin (:func:`aniso_sample_set`).
     table : numpy.ndarray
         :func:`swatch.render.env_shading.level_table` of ``samples`` on ``maps``.
 
@@ -180,6 +181,7 @@ def combine_aniso(E, j, mix, weights) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (P, 3)
+        Reflected radiance, linear RGB (1.0 = a white diffuser facing up under the map).
     """
     r = combine(E, j, weights).reshape(4, -1, 3)
     return np.einsum("qp,qpc->pc", mix, r)
@@ -191,15 +193,20 @@ def shade_aniso(n, v, maps, samples: AnisoSampleSet, weights, tangent) -> np.nda
     Parameters
     ----------
     n, v : array_like, shape (P, 3)
+        Unit normals and views (towards the camera).
     maps : swatch.render.octahedral.LevelMaps
+        The environment's blurred levels.
     samples : AnisoSampleSet
+        The anisotropic lobe's fixed samples per view bin (:func:`aniso_sample_set`).
     weights : numpy.ndarray
         Band weights of the thickness.
     tangent : array_like, shape (P, 3)
+        Brushing directions (:func:`swatch.physics.finishes.brush_tangent`).
 
     Returns
     -------
     numpy.ndarray, shape (P, 3)
+        Reflected radiance, linear RGB (1.0 = a white diffuser facing up under the map).
     """
     E, j, mix = gather_aniso(n, v, maps, samples, level_table(samples, maps), tangent)
     return combine_aniso(E, j, mix, weights)
@@ -212,11 +219,14 @@ def aniso_sample_set(alpha_u: float, alpha_v: float, n: int = SAMPLES) -> AnisoS
     Parameters
     ----------
     alpha_u, alpha_v : float
+        GGX α along and across the brushing (dimensionless).
     n : int
+        Samples per view bin.
 
     Returns
     -------
     AnisoSampleSet
+        The fixed samples and weights per (θ_v, φ_v) view bin, shared by every call with the same arguments.
     """
     return AnisoSampleSet(float(alpha_u), float(alpha_v), int(n))
 

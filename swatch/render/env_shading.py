@@ -192,6 +192,7 @@ def filter_sigma_deg(samples: SampleSet) -> float:
     Parameters
     ----------
     samples : SampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`).
 
     Returns
     -------
@@ -217,6 +218,7 @@ def albedo_matrix(samples, k: int) -> np.ndarray:
     Parameters
     ----------
     samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
     k : int
         Table nodes.
 
@@ -243,6 +245,7 @@ def directional_albedo(samples, f_table) -> np.ndarray:
     Parameters
     ----------
     samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
     f_table : array_like, shape (K, 3)
         ``F``'s linear RGB, uniform over cos θ_d in [0, 1] (linear interpolation).
 
@@ -265,6 +268,7 @@ def band_weights(samples, f_table) -> np.ndarray:
     Parameters
     ----------
     samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
     f_table : array_like, shape (K, 3)
         As :func:`directional_albedo`.
 
@@ -325,7 +329,9 @@ def level_table(samples, maps) -> np.ndarray:
     Parameters
     ----------
     samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
     maps : swatch.render.octahedral.LevelMaps
+        The environment's blur levels (:func:`swatch.render.environment.levels`).
 
     Returns
     -------
@@ -349,6 +355,7 @@ def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.n
         The environment's blur levels (:func:`swatch.render.environment.levels`), looked up bilinearly
         in each sample's level.
     samples : SampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`).
     table : numpy.ndarray, optional
         :func:`level_table` (computed when None).
 
@@ -406,9 +413,13 @@ def shade(n, v, maps, samples: SampleSet, weights) -> np.ndarray:
     Parameters
     ----------
     n, v : array_like, shape (P, 3)
+        Unit normals and views (towards the camera).
     maps : swatch.render.octahedral.LevelMaps
+        The environment's blur levels (:func:`swatch.render.environment.levels`).
     samples : SampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`).
     weights : numpy.ndarray, shape (M, N, 3)
+        :func:`band_weights` of the thickness.
 
     Returns
     -------
@@ -434,7 +445,9 @@ def shade_reference(n, v, env, roughness_alpha: float, f_table, samples: int = D
     Parameters
     ----------
     n, v : array_like, shape (P, 3)
+        Unit normals and views (towards the camera).
     env : swatch.render.environment.Environment
+        The environment map, sampled unfiltered.
     roughness_alpha : float
         GGX α, dimensionless.
     f_table : array_like, shape (K, 3)

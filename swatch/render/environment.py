@@ -119,6 +119,7 @@ class Environment:
         Returns
         -------
         swatch.render.octahedral.PaddedMap
+            The map's linear RGB radiance with a one-texel octahedral border (bilinear lookups wrap correctly).
         """
         if "padded" not in self._cache:
             self._cache["padded"] = PaddedMap(self.radiance.astype(np.float32))

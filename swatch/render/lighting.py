@@ -197,6 +197,8 @@ def check_engine(engine: str) -> str:
 class Lighting:
     """A render's lighting, resolved and checked for one engine (:func:`resolve_lighting`).
 
+    Equality is identity (the built-in engine caches a scene's gather per lighting object).
+
     Attributes
     ----------
     engine : str
@@ -211,8 +213,6 @@ class Lighting:
         The sun of ``sun`` lighting (checked).
     hdri : numpy.ndarray or None, float32, shape (H, W, 3)
         A map's equirectangular pixels for the mitsuba engine (checked: finite, ≥ 0, 2:1).
-
-    Equality is identity (the built-in engine caches a scene's gather per lighting object).
     """
 
     engine: str

@@ -262,6 +262,7 @@ class MeshShape:
         Parameters
         ----------
         cam : swatch.render.scene.Camera
+            The camera whose rays are traced (position and window).
         u, w : numpy.ndarray
             Window coordinates.
         inv : numpy.ndarray
@@ -306,6 +307,7 @@ class MeshShape:
         Returns
         -------
         numpy.ndarray, shape (N, 3)
+            Vertex positions, scene units (placed in the unit sphere).
         """
         v = np.asarray(self._mesh.vertices)
         return v[:: max(1, v.shape[0] // 50_000)]

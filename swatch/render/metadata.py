@@ -23,11 +23,13 @@ def coating_and_colorimeter(coating, colorimeter):
     coating : swatch.physics.model.Coating or None
         None: the default film on the default substrate (:func:`swatch.physics.model.get_coating`).
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter or None
-        None: D65 on the coating's grid.
+        None: D65 and the CIE 1964 10° observer on the coating's grid
+        (:func:`swatch.colorimetry.colorimeter.get_colorimeter`).
 
     Returns
     -------
     (swatch.physics.model.Coating, swatch.colorimetry.colorimeter.Colorimeter)
+        The coating and the colorimeter, on the same wavelength grid (nm).
 
     Raises
     ------

@@ -123,6 +123,8 @@ _DEFAULTS: dict[str, Any] = {
 class RenderRequest:
     """Everything one render depends on, checked (:func:`render_request` builds it; engines read it).
 
+    Equality is identity (the built-in engine caches a scene's gather per lighting object).
+
     Attributes
     ----------
     engine : str
@@ -180,8 +182,6 @@ class RenderRequest:
         Mitsuba: another BSDF for the object (tests and benchmarks: Mitsuba's ``roughconductor``).
     denoise : bool
         Mitsuba: denoise the image (issue 37; the built-in engine ignores it).
-
-    Equality is identity (the built-in engine caches a scene's gather per lighting object).
     """
 
     engine: str

@@ -97,6 +97,7 @@ class Shape(Protocol):
         Parameters
         ----------
         cam : Camera
+            The camera whose rays are traced (position and window).
         u, w : numpy.ndarray
             Window coordinates.
         inv : numpy.ndarray
@@ -117,6 +118,7 @@ class Shape(Protocol):
         Returns
         -------
         numpy.ndarray, shape (N, 3)
+            Points on the surface, scene units (the object fits the unit sphere).
         """
         ...
 
@@ -176,6 +178,7 @@ class Sphere:
         Returns
         -------
         numpy.ndarray, shape (N, 3)
+            Points on the surface, scene units (the object fits the unit sphere).
         """
         th, ph = np.meshgrid(np.linspace(0, np.pi, 65), np.linspace(0, 2 * np.pi, 129), indexing="ij")
         return np.stack([np.sin(th) * np.cos(ph), np.cos(th), np.sin(th) * np.sin(ph)], -1).reshape(-1, 3)
@@ -190,6 +193,7 @@ class HalfCylinder:
     Parameters
     ----------
     half_height : float
+        Half the cylinder's length along y, in units of its radius.
     """
 
     name = "cylinder"
@@ -288,6 +292,7 @@ class HalfCylinder:
         Returns
         -------
         numpy.ndarray, shape (N, 3)
+            Points on the surface, scene units (the object fits the unit sphere).
         """
         ph, y = np.meshgrid(np.linspace(-np.pi / 2, np.pi / 2, 65), np.linspace(-self.h, self.h, 33), indexing="ij")
         return np.stack([np.sin(ph), y, np.cos(ph)], -1).reshape(-1, 3)
@@ -299,6 +304,7 @@ class Plate:
     Parameters
     ----------
     half : float
+        Half the plate's side, scene units.
     """
 
     name = "flat"
@@ -356,6 +362,7 @@ class Plate:
         Returns
         -------
         numpy.ndarray, shape (N, 3)
+            Points on the surface, scene units (the object fits the unit sphere).
         """
         a = self.a
         return np.array([[-a, 0, -a], [a, 0, -a], [a, 0, a], [-a, 0, a]], dtype=np.float64)
@@ -368,7 +375,9 @@ class Scene:
     Attributes
     ----------
     shape : Shape
+        The object rendered (sphere, half cylinder, plate or mesh).
     camera : Camera
+        The camera looking at it.
     light : numpy.ndarray, shape (3,)
         Unit vector towards the point light.
     description, camera_description : str
@@ -464,8 +473,11 @@ def scene_geometry(scene: Scene, size_px: int, dtype=np.float64):
     Parameters
     ----------
     scene : Scene
+        The object, camera and light.
     size_px : int
+        Image side, pixels (H = W = ``size_px``).
     dtype : numpy dtype
+        Precision of the rays and results.
 
     Returns
     -------

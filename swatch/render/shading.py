@@ -156,6 +156,7 @@ class FacetColourTable:
         Returns
         -------
         numpy.ndarray, shape S + (C,)
+            The table's C values (XYZ or linear RGB, as :attr:`kind`) at each cosine.
         """
         x = self._position(cos_d)
         i = np.minimum(x.astype(np.int32), self.nodes - 2)
@@ -174,6 +175,7 @@ class FacetColourTable:
         Returns
         -------
         numpy.ndarray, shape S + (C,)
+            The table's C values (XYZ or linear RGB, as :attr:`kind`) at each cosine.
         """
         x = self._position(cos_d)
         x += self.values.dtype.type(0.5)
@@ -392,7 +394,9 @@ def shade(normal, light, view, table: FacetColourTable, model: str = "microfacet
     Parameters
     ----------
     normal, light, view : array_like, shape (..., 3)
+        Unit vectors; ``light`` and ``view`` point away from the surface.
     table : FacetColourTable
+        The thickness's colour over cos θ_d (:func:`facet_colour_table`).
     model, roughness_alpha, distribution, irradiance
         As :func:`intensity`.
 
@@ -420,10 +424,13 @@ def shade_direct(normal, light, view, thickness_nm: float, coating, colorimeter,
     Parameters
     ----------
     normal, light, view : array_like, shape (..., 3)
+        Unit vectors; ``light`` and ``view`` point away from the surface.
     thickness_nm : float
-        nm.
+        Film thickness, nm.
     coating : swatch.physics.model.Coating
+        Film, substrate, index scale and wavelength grid.
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter
+        Illuminant and observer of the XYZ, on the coating's grid.
     model, roughness_alpha, distribution, irradiance
         As :func:`intensity`.
     chunk : int
