@@ -49,6 +49,7 @@ class CatalogSpec:
     source : str
         The file's name, for messages.
     name, description : str
+        The catalog's title and its one-paragraph description (on the page and the sheets).
     film, substrate : str
         Optical table names (the process's, or the spec's overrides).
     nm_per_V, offset_nm, knee_V, nm_per_V_above_knee : float or None
@@ -59,18 +60,21 @@ class CatalogSpec:
     voltage_V : tuple of float or None
         The voltages given (None when thicknesses were given).
     illuminant, observer : str
-        The colorimetry (``observer`` ``"2"`` or ``"10"``); ``wavelength_step_nm`` 1, 5 or 10 nm (ASTM E308).
+        The colorimetry (``observer`` ``"2"`` or ``"10"``).
     wavelength_step_nm : float
+        The colour grid's step: 1, 5 or 10 nm (ASTM E308).
     reference : swatch.colorimetry.geometry.Geometry
         The reference geometry (default 45:0).
     multi_angle : tuple of swatch.colorimetry.geometry.Geometry
+        The multi-angle geometries (default 45as-15 … 45as110, ASTM E2194 / E2539).
     shapes, size_px, model, roughness, angular_map, finish, hero
         The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
     scheme, grade : str or None
         A named tolerance grade (None for a written bound).
     metric : str
-        The colour difference the tolerance bounds (``dEab`` or ``dE00``); ``max_delta_E`` its bound.
+        The colour difference the tolerance bounds (``dEab`` or ``dE00``).
     max_delta_E : float
+        Its bound, in that metric.
     search_nm : float
         The process window's search span, nm.
     columns, rows : int
@@ -78,6 +82,7 @@ class CatalogSpec:
     process, process_origin : str
         The profile's name and where it came from.
     film_index_scale : float
+        The process's factor on the film's real index (dimensionless).
     spread_nm, spread_fraction : float
         The thickness spread: 1σ = spread_nm + spread_fraction × d.
     chips, chip_size_mm, chip_dpi
@@ -85,6 +90,7 @@ class CatalogSpec:
     presets : bool
         Whether the build fits and writes the 3-D material presets (``[presets] enabled``).
     extra : dict
+        Reserved; empty (:func:`parse_spec` sets nothing in it, and it is part of :meth:`canonical`).
     """
     source: str  # file name, for messages
     name: str
@@ -134,6 +140,7 @@ class CatalogSpec:
         Returns
         -------
         swatch.physics.finishes.Finish or None
+            The named finish (its GGX α, and α_u/α_v when brushed).
         """
 
         return None if self.finish is None else get_finish(self.finish)
@@ -145,6 +152,7 @@ class CatalogSpec:
         Returns
         -------
         swatch.colorimetry.tolerance.Tolerance
+            Its metric (``dEab`` / ``dE00``) and bound, and the grade's name when one was named.
         """
         if self.grade is not None:
             return get_tolerance(self.scheme, self.grade)
@@ -175,6 +183,7 @@ class CatalogSpec:
         Returns
         -------
         int
+            ``columns * rows``.
         """
         return self.columns * self.rows
 
@@ -185,6 +194,7 @@ class CatalogSpec:
         Returns
         -------
         swatch.physics.spread.ThicknessSpread
+            1σ = ``spread_nm`` + ``spread_fraction`` × d (zero: a uniform film).
         """
 
         return ThicknessSpread(self.spread_nm, self.spread_fraction)
@@ -200,6 +210,7 @@ class CatalogSpec:
         Returns
         -------
         swatch.physics.model.Coating
+            Film and substrate indices on the grid (the film's real index scaled), with the spread.
         """
         from swatch.physics.model import get_coating  # lazy: see tests/test_layers.py
 
@@ -212,6 +223,8 @@ class CatalogSpec:
         Returns
         -------
         dict
+            The fields as plain JSON values, less ``source`` (and the spread, knee and presets keys at their
+            defaults).
         """
         d = asdict(self)
         d.pop("source")
@@ -241,6 +254,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     Returns
     -------
     CatalogSpec
+        The checked spec, with the process's values where the spec gives none.
 
     Raises
     ------
@@ -474,10 +488,13 @@ def spec_summary(s: CatalogSpec) -> str:
     Parameters
     ----------
     s : CatalogSpec
+        The checked spec.
 
     Returns
     -------
     str
+        ``'NAME': N swatches, A–B nm (… V), S sheet(s) of C×R; film on substrate; D65/10°; reference 45:0;
+        K multi-angle geometries; tolerance dEab ≤ X`` (or the grade).
     """
     d, per = s.thickness_nm, s.per_sheet
     nm = f"{round(d[0], 1):g}–{round(d[-1], 1):g} nm"  # as the sheets print them (0.1 nm)

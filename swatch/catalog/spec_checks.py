@@ -69,13 +69,16 @@ class SpecChecker:
         Parameters
         ----------
         data : object
+            The value read from the TOML (untrusted: any type).
         key : str
             The table's key (empty: the top level).
         allowed : tuple of str
+            The keys the table may hold.
 
         Returns
         -------
         dict
+            ``data``, a table with only allowed keys.
 
         Raises
         ------
@@ -97,14 +100,18 @@ class SpecChecker:
         Parameters
         ----------
         value : object
+            The value read from the TOML (untrusted: any type).
         key : str
+            The dotted key, for the message (``thickness.step_nm``).
         lo, hi : float or None
             Bounds (None: none).
         lo_open, hi_open : bool
+            Whether ``lo`` / ``hi`` itself is refused.
 
         Returns
         -------
         float
+            The value.
 
         Raises
         ------
@@ -125,12 +132,16 @@ class SpecChecker:
         Parameters
         ----------
         value : object
+            The value read from the TOML (untrusted: any type).
         key : str
+            The dotted key, for the message (``thickness.step_nm``).
         lo, hi : int
+            The smallest and largest allowed.
 
         Returns
         -------
         int
+            The value.
 
         Raises
         ------
@@ -147,8 +158,11 @@ class SpecChecker:
         Parameters
         ----------
         value : object
+            The value read from the TOML (untrusted: any type).
         key : str
+            The dotted key, for the message (``thickness.step_nm``).
         max_len : int
+            Most characters allowed.
         choices : sequence of str, optional
             Returned in their own spelling.
         multiline : bool
@@ -183,11 +197,14 @@ class SpecChecker:
         Parameters
         ----------
         value : object
+            The value read from the TOML (untrusted: any type).
         key : str
+            The dotted key, for the message (``thickness.step_nm``).
 
         Returns
         -------
         bool
+            The value.
 
         Raises
         ------
@@ -204,13 +221,18 @@ class SpecChecker:
         Parameters
         ----------
         value : object
+            The value read from the TOML (untrusted: any type).
         key : str
+            The dotted key, for the message (``thickness.step_nm``).
         lo, hi : float
+            Bounds of every entry (closed).
         max_len : int
+            Most entries allowed.
 
         Returns
         -------
         list of float
+            The entries, in the given order.
 
         Raises
         ------
@@ -261,6 +283,7 @@ def spec_range(c: SpecChecker, tbl: dict, key: str, unit: str, hi: float) -> lis
     Parameters
     ----------
     c : SpecChecker
+        The checker (it knows the spec file's name for the message).
     tbl : object
         The table.
     key : str
@@ -273,6 +296,7 @@ def spec_range(c: SpecChecker, tbl: dict, key: str, unit: str, hi: float) -> lis
     Returns
     -------
     list of float
+        The thicknesses (nm) or voltages (V), ascending.
 
     Raises
     ------
@@ -315,8 +339,11 @@ def spec_material(c: SpecChecker, value, key: str, role: str) -> str:
     Parameters
     ----------
     c : SpecChecker
+        The checker (it knows the spec file's name for the message).
     value : object
+        The value read from the TOML (untrusted: any type).
     key : str
+        The spec's key (``film`` or ``substrate``), for the message.
     role : str
         ``film`` or ``substrate``.
 
@@ -350,13 +377,16 @@ def spec_process(c: SpecChecker, value, base_dir: Path | None):
     Parameters
     ----------
     c : SpecChecker
+        The checker (it knows the spec file's name for the message).
     value : object
+        The value read from the TOML (untrusted: any type).
     base_dir : pathlib.Path or None
         The spec's folder (None: presets only).
 
     Returns
     -------
     swatch.physics.process.Process
+        The profile, read and checked.
 
     Raises
     ------
