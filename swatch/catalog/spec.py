@@ -1,13 +1,11 @@
 """Catalog specs: TOML files describing one catalog, parsed and validated strictly.
 
-A spec names the catalog, the film and substrate, the thicknesses (or anodising voltages), the
-colorimetry, the geometries, the render options, the tolerance grade and the sheet layout.
-Every key is checked: an unknown key, a wrong type or an impossible value raises
-:class:`~swatch.core.errors.SwatchError` naming the file, the key and what is allowed, e.g.
-``catalog/x.toml: key thickness.step_nm: must be a number > 0 (got 'a')``.
+A spec names the catalog, the film and substrate, the thicknesses (or anodising voltages), the colorimetry, the
+geometries, the render options, the tolerance grade and the sheet layout. Every key is checked: an unknown key, a
+wrong type or an impossible value raises :class:`~swatch.core.errors.SwatchError` naming the file, the key and what
+is allowed, e.g. ``catalog/x.toml: key thickness.step_nm: must be a number > 0 (got 'a')``.
 
-This module is light (no colour-science import) so that a no-op rebuild starts quickly.
-See ``docs/catalog.md`` for the format.
+This module is light (no colour-science import) so that a no-op rebuild starts quickly; the format: docs/catalog.md.
 """
 from __future__ import annotations
 
@@ -71,10 +69,8 @@ class CatalogSpec:
         The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
     scheme, grade : str or None
         A named tolerance grade (None for a written bound).
-    metric : str
-        The colour difference the tolerance bounds (``dEab`` or ``dE00``).
-    max_delta_E : float
-        Its bound, in that metric.
+    metric, max_delta_E : str, float
+        The colour difference the tolerance bounds (``dEab`` or ``dE00``) and its bound, in that metric.
     search_nm : float
         The process window's search span, nm.
     columns, rows : int
@@ -142,7 +138,6 @@ class CatalogSpec:
         swatch.physics.finishes.Finish or None
             The named finish (its GGX α, and α_u/α_v when brushed).
         """
-
         return None if self.finish is None else get_finish(self.finish)
 
     @property
@@ -196,7 +191,6 @@ class CatalogSpec:
         swatch.physics.spread.ThicknessSpread
             1σ = ``spread_nm`` + ``spread_fraction`` × d (zero: a uniform film).
         """
-
         return ThicknessSpread(self.spread_nm, self.spread_fraction)
 
     def coating(self, wavelength_nm):
@@ -223,8 +217,7 @@ class CatalogSpec:
         Returns
         -------
         dict
-            The fields as plain JSON values, less ``source`` (and the spread, knee and presets keys at their
-            defaults).
+            The fields as JSON values, less ``source`` and the unused keys named above.
         """
         d = asdict(self)
         d.pop("source")
@@ -268,7 +261,6 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     >>> s.thickness_nm == tuple(s.offset_nm + s.nm_per_V * v for v in (10.0, 20.0)), s.per_sheet, s.metric
     (True, 12, 'dEab')
     """
-
     c = SpecChecker(source)
     top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
            "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips", "presets")
@@ -493,8 +485,7 @@ def spec_summary(s: CatalogSpec) -> str:
     Returns
     -------
     str
-        ``'NAME': N swatches, A–B nm (… V), S sheet(s) of C×R; film on substrate; D65/10°; reference 45:0;
-        K multi-angle geometries; tolerance dEab ≤ X`` (or the grade).
+        ``'NAME': N swatches, A–B nm, S sheet(s) of C×R; film on substrate; D65/10°; …; tolerance …``.
     """
     d, per = s.thickness_nm, s.per_sheet
     nm = f"{round(d[0], 1):g}–{round(d[-1], 1):g} nm"  # as the sheets print them (0.1 nm)
