@@ -86,10 +86,12 @@ def encoded_16bit(data) -> np.ndarray:
     Parameters
     ----------
     data : swatch.catalog.records.CatalogData
+        The catalog's computed colours (its reference spectra and colorimeter).
 
     Returns
     -------
     numpy.ndarray of uint16, shape (N, 3)
+        sRGB-encoded R, G, B per swatch, 0–65535 (clipped to the gamut).
     """
 
     cm = data.context.colorimeter
@@ -138,6 +140,7 @@ def chip_batches(folder, header: dict, data, records: list[dict], metal: str, si
     Returns
     -------
     list of tuple
+        One argument tuple per non-empty group, each group's swatches in catalog order.
     """
     values = encoded_16bit(data)
     n = len(records)

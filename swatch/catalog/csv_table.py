@@ -17,6 +17,7 @@ def preset_figures() -> list[str]:
     Returns
     -------
     list of str
+        The keys of each preset's ΔE2000 figures, as catalog.json names them.
     """
     return [f"{prefix}{tail}" for fmt in PRESET_FORMATS for prefix in FORMAT_FIGURES[fmt]
             for tail in ("_max_delta_E_00", "_max_delta_E_00_45", "_delta_E_00_45_0")]

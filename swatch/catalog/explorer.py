@@ -106,6 +106,7 @@ def decode(block: dict) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
+        The block's values, float64, in its ``shape``.
     """
     raw = base64.b64decode(block["data"])
     if block.get("type") == "float32":
@@ -224,6 +225,8 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
     Returns
     -------
     dict
+        The page's colour table: format, colorimetry, the thickness × cos θ_d grids (XYZ, Y = 100 for
+        the perfect white diffuser), the reference samples and the matrices (JSON-ready).
     """
 
     spec = ctx.spec
@@ -367,6 +370,7 @@ def chip_colours(data: CatalogData) -> list[dict]:
     Returns
     -------
     list of dict
+        One ``{"p3": [r, g, b], "multi_in_srgb_gamut": {geometry name: bool}}`` per swatch, in catalog order.
     """
 
     spec, cm = data.context.spec, data.context.colorimeter

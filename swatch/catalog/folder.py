@@ -108,10 +108,12 @@ def is_real_dir(path: Path) -> bool:
     Parameters
     ----------
     path : pathlib.Path
+        The path to examine.
 
     Returns
     -------
     bool
+        True for a real folder; False for a link, a file, a missing path or one that cannot be read.
     """
     try:
         return stat.S_ISDIR(os.lstat(path).st_mode)
@@ -132,6 +134,7 @@ def meta_folder(out: Path) -> Path:
     Returns
     -------
     pathlib.Path
+        ``out / ".swatch-catalog"``.
 
     Raises
     ------
@@ -152,6 +155,7 @@ def cache_folder(meta: Path) -> Path:
     Returns
     -------
     pathlib.Path
+        ``meta / "cache"``, existing.
 
     Raises
     ------
@@ -387,6 +391,7 @@ def file_matches(path: Path, info) -> bool:
     Returns
     -------
     bool
+        True when the file's size and SHA-256 equal the entry's.
     """
     if not info or not is_regular_file(path):
         return False

@@ -182,6 +182,8 @@ def catalog_heroes(spec, records: list[dict], cache: Path,
     Returns
     -------
     (dict, set of str, list of dict or None)
+        {name: PNG bytes}, the cache entries used, each swatch's hero entry; without heroes
+        ({}, an empty set, None per swatch).
     """
     return hero_files(spec, records, cache, say) if spec.hero else ({}, set(), [None] * len(records))
 

@@ -45,6 +45,7 @@ def embed_json(obj) -> str:
     Returns
     -------
     str
+        Compact JSON (no spaces) with those characters written as ``\uXXXX`` escapes.
 
     Examples
     --------
@@ -66,6 +67,7 @@ def page_script() -> str:
     Returns
     -------
     str
+        The script text, inlined in the page (its hash goes in the content security policy).
     """
     body = "\n".join(_asset(n) for n in SCRIPTS)
     return f'\n"use strict";\n(function () {{\n{body}\n}})();\n'
@@ -77,6 +79,7 @@ def page_style() -> str:
     Returns
     -------
     str
+        The CSS text, inlined in the page.
     """
     return _asset("page.css")
 
@@ -89,10 +92,12 @@ def css_string(text: str) -> str:
     Parameters
     ----------
     text : str
+        Any text (from a spec: untrusted).
 
     Returns
     -------
     str
+        The quoted, escaped CSS string.
     """
     safe = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 .,:;()+-_/=%")
     return '"' + "".join(ch if ch in safe else f"\\{ord(ch):x} " for ch in str(text)) + '"'
@@ -110,6 +115,7 @@ def print_page_style(c: dict) -> str:
     Returns
     -------
     str
+        CSS ``@page`` rules, their text escaped (:func:`css_string`).
     """
     top = f"{c['name']} · {c['film']} on {c['substrate']} · process {c['process']['name']}: {_growth_text(c['process'])}"
     box = "font: 8pt system-ui, \"DejaVu Sans\", sans-serif; color: #555"
@@ -157,6 +163,7 @@ def hero_png(s: dict) -> str | None:
     Returns
     -------
     str or None
+        The path relative to the catalog folder (``heroes/…png``), or None.
     """
     h = s.get("hero")
     png = h.get("png") if isinstance(h, dict) else None
@@ -391,6 +398,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     Returns
     -------
     str
+        The page's HTML text (UTF-8 when written).
     """
     c = catalog["catalog"]
     e = html.escape

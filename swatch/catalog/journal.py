@@ -123,6 +123,7 @@ def is_catalog(out: Path, meta: Path) -> bool:
     Returns
     -------
     bool
+        True when writing the catalog there destroys nothing the build did not write.
     """
     entries = [p for p in out.iterdir() if p.name != META_DIR] if is_real_dir(out) else []
     if not entries or os.path.lexists(meta / MANIFEST):

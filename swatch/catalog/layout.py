@@ -139,10 +139,12 @@ def output_files(base: Path) -> list[str]:
     Parameters
     ----------
     base : pathlib.Path
+        The staging folder.
 
     Returns
     -------
     list of str
+        Relative POSIX paths (``catalog.json``, ``sheets/…``, ``chips/…``).
     """
     names = [p.name for p in base.iterdir() if is_regular_file(p) and not p.name.startswith(".")]
     for sub in SUBFOLDERS:

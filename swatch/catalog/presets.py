@@ -141,6 +141,8 @@ def fit_format(spec, fmt: str):
     Returns
     -------
     swatch.presets.fit.PresetFit
+        The fitted parameters per swatch (thickness nm, IOR, linear RGB) and their ΔE2000 per facet
+        angle.
     """
 
     model = FORMAT_MODEL[fmt]

@@ -127,15 +127,21 @@ class SwatchRecord:
     Lab_D50_2 : tuple of float
         The same under D50, CIE 1931 2° (ICC PCS).
     srgb_hex : str
-        sRGB from CIE 1931 2° colorimetry; ``in_srgb_gamut`` whether it is inside.
+        ``#rrggbb``, sRGB from CIE 1931 2° colorimetry (clipped when outside the gamut).
     in_srgb_gamut : bool
+        Whether the colour is inside sRGB.
     hue_family, colour_name : str
+        The CIELAB hue family (``blue``, ``neutral`` …) and the colour's name (:mod:`swatch.colorimetry.names`).
     multi_angle, multi_angle_LCh, multi_angle_srgb_hex : dict
         Keyed by geometry name (``45as15`` …).
     delta_E_ab_to_neighbours, delta_E_00_to_neighbours : Neighbours
+        ΔE*ab and ΔE2000 to the previous and the next swatch at the reference geometry.
     process_window : ProcessWindowEntry
+        How far the thickness (nm) and voltage (V) may stray before the colour leaves the tolerance.
     sheet : int
+        The sheet the swatch is on, from 1.
     sheet_png, sheet_exr : str
+        The sheet's files, relative to the catalog folder.
     tile : (int, int)
         (row, column) on ``sheet``, from 1.
     print_chip, presets, hero : PrintChip, dict or None

@@ -64,6 +64,7 @@ def hue_family(chroma: float, hue_deg: float) -> str:
     Returns
     -------
     str
+        A family name of :data:`HUE_FAMILIES` (``red``, ``orange`` …) or ``neutral``.
 
     Examples
     --------
@@ -90,15 +91,19 @@ class CatalogData:
     thickness_nm, voltage_V : numpy.ndarray, shape (N,)
         nm; V (NaN without a growth rate).
     wavelength_nm : numpy.ndarray, shape (W,)
+        The colour grid, nm.
     reflectance : numpy.ndarray, shape (N, W)
         At the reference geometry.
     multi_reflectance : numpy.ndarray, shape (G, N, W)
+        Reflectance factors at the G multi-angle geometries.
     Lab, LCh : numpy.ndarray, shape (N, 3)
         Under the catalog's illuminant and observer.
     Lab_D50_2 : numpy.ndarray, shape (N, 3)
         D50, CIE 1931 2° (ICC / ISO 13655).
     srgb_hex : list of str
+        ``#rrggbb`` per swatch, sRGB from CIE 1931 2°.
     swatches : tuple of swatch.catalog.record.SwatchRecord
+        The typed records, in catalog order.
     illuminant, observer : str
         colour-science's names.
     context : swatch.catalog.context.CatalogContext
@@ -127,6 +132,7 @@ class CatalogData:
         Returns
         -------
         list of dict
+            One JSON-ready dict per swatch, in catalog order (thickness, Lab, sRGB, window, sheet …).
         """
         return [s.to_json() for s in self.swatches]
 
