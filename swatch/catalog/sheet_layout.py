@@ -26,6 +26,7 @@ class Layout:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec (its sheet grid, render size and angular map).
 
     Attributes
     ----------
@@ -38,6 +39,7 @@ class Layout:
     width, height : int
         The sheet's size, px (at least 900 wide).
     cols, rows : int
+        Tiles across and down a sheet (the spec's ``[sheet]``).
     """
 
     PAD = 14
@@ -93,15 +95,18 @@ def fit_text(text: str, size: int, max_w: int, font: str) -> str:
     Parameters
     ----------
     text : str
+        The line to draw.
     size : int
         Font size, px.
     max_w : int
         px.
     font : str
+        The font's name (``DroidSans-Bold`` …, a bundled font).
 
     Returns
     -------
     str
+        ``text`` itself when it fits, else its longest prefix that fits followed by ``…``.
     """
     if text_width(text, size, font) <= max_w:
         return text
@@ -134,6 +139,7 @@ def label_lines(rec: dict) -> list[str | None]:
     Returns
     -------
     list of str or None
+        The lines, top to bottom; None stands for the chip line.
     """
     L, a, b = rec["Lab"]
     _, C, hue = rec["LCh"]
@@ -162,10 +168,12 @@ def chip_line(rec: dict) -> str:
     Parameters
     ----------
     rec : dict
+        The swatch's record (catalog.json).
 
     Returns
     -------
     str
+        ``#rrggbb  colour name``.
     """
     return f"{rec['srgb_hex']}  {rec['colour_name']}"
 
@@ -176,6 +184,7 @@ def label_width(lay: Layout) -> int:
     Parameters
     ----------
     lay : Layout
+        The sheet's pixel geometry.
 
     Returns
     -------

@@ -156,6 +156,7 @@ def sheet_bytes(spec: CatalogSpec) -> int:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
@@ -179,6 +180,7 @@ def plan_jobs(spec: CatalogSpec, jobs: int) -> int:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     jobs : int
         The workers asked for.
 
@@ -224,6 +226,7 @@ def compose_sheet(spec: CatalogSpec, tile_job: TileRender, header: dict, records
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     tile_job : swatch.catalog.tiles.TileRender
         What a tile missing from the cache is rendered with.
     header : dict
@@ -233,9 +236,11 @@ def compose_sheet(spec: CatalogSpec, tile_job: TileRender, header: dict, records
     keys : list of str
         Their :func:`swatch.catalog.tiles.tile_key`.
     cache : pathlib.Path
+        The build cache holding the tile renders.
     number, of : int
         The sheet's number and the count.
     png_path, exr_path : pathlib.Path
+        Where the sheet's display PNG (sRGB) and its linear EXR (sRGB primaries, half float) are written.
 
     Returns
     -------

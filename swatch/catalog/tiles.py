@@ -60,10 +60,12 @@ def tile_environment(spec: CatalogSpec) -> str | None:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     str or None
+        The built-in lighting's name (:data:`ENVIRONMENT`, the studio), or None for the point light.
     """
     return ENVIRONMENT if spec.model == "microfacet" else None
 
@@ -74,10 +76,12 @@ def lighting_caption(spec: CatalogSpec) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     str
+        One line: the lighting and the exposure the tiles are shown at.
     """
     if tile_environment(spec):
         return "studio (soft boxes, dark walls, floor and horizon) at exposure 1 (white diffuser = white, as for the chip)"
@@ -97,7 +101,9 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
     thickness_nm : float
+        The swatch's film thickness, nm.
     fp : dict
         The build's code fingerprint (its ``tables`` and ``versions``).
 
@@ -163,10 +169,12 @@ def tile_render(ctx: CatalogContext) -> TileRender:
     Parameters
     ----------
     ctx : swatch.catalog.context.CatalogContext
+        The build's grid, coating and colorimeter (the records' own).
 
     Returns
     -------
     TileRender
+        The coating, colorimeter and render options of every tile (picklable).
     """
     spec = ctx.spec
     return TileRender(ctx.coating, ctx.colorimeter, tuple(spec.shapes), spec.size_px, spec.model, spec.roughness,
@@ -234,6 +242,7 @@ def tile_shapes(spec: CatalogSpec | TileRender) -> dict:
     Returns
     -------
     dict
+        Array name → (shape tuple, numpy dtype).
     """
     s = spec.size_px
     want = {}
@@ -254,12 +263,14 @@ def npz_fits(path: Path, want: dict) -> bool:
     Parameters
     ----------
     path : pathlib.Path
+        The cache entry (untrusted).
     want : dict
         Name → (shape, dtype) (:func:`tile_shapes`).
 
     Returns
     -------
     bool
+        True when the members' names, shapes and dtypes are exactly ``want``'s.
     """
 
     try:
@@ -297,6 +308,7 @@ def load_tile(job: TileRender, cache: Path, key: str, thickness_nm: float) -> di
     key : str
         :func:`tile_key`.
     thickness_nm : float
+        The swatch's film thickness, nm (rendered on a miss).
 
     Returns
     -------
@@ -328,6 +340,7 @@ def render_into(job: TileRender, thickness_nm: float, path: Path) -> None:
     Parameters
     ----------
     job : TileRender
+        What the tile is rendered with.
     thickness_nm : float
         The swatch's film thickness, nm.
     path : pathlib.Path
@@ -357,6 +370,7 @@ def start_renders(job: TileRender, thickness_nm, missing: list[int], keys: list[
     keys : list of str
         Every swatch's :func:`tile_key`.
     cache : pathlib.Path
+        The cache folder the workers write into.
     pool : concurrent.futures.ProcessPoolExecutor or None
         :func:`make_pool`; None renders here.
 
@@ -410,6 +424,7 @@ def make_pool(jobs: int):
     Returns
     -------
     concurrent.futures.ProcessPoolExecutor or None
+        The pool (the caller shuts it down), or None when ``jobs`` is 1 or less.
     """
     if jobs <= 1:
         return None
