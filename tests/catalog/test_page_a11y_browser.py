@@ -156,8 +156,8 @@ def _fake_hero(hex_code: str, size: int = 128) -> bytes:
 @pytest.fixture(scope="module")
 def hero_catalog(tmp_path_factory, chromium):
     """The small page-test catalog with heroes on (``hero = true``), the heroes of all but the first swatch
-    stand-ins written through the build's own path (swatch.catalog.hero.catalog_heroes replaced)."""
-    from swatch.catalog import hero
+    stand-ins written through the build's own path (swatch.catalog.execute.catalog_heroes replaced)."""
+    from swatch.catalog import execute, hero
     from swatch.catalog.build import build_catalog
     from tests.browser import SMALL_CATALOG_SPEC
 
@@ -179,7 +179,7 @@ def hero_catalog(tmp_path_factory, chromium):
         return files, set(), entries
 
     mp = pytest.MonkeyPatch()
-    mp.setattr(hero, "catalog_heroes", fake)
+    mp.setattr(execute, "catalog_heroes", fake)  # the name the build calls (catalog.execute)
     try:
         out = root / "out"
         build_catalog(spec, out, jobs=1)
