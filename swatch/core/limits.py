@@ -23,7 +23,7 @@ __all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MA
            "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
            "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
            "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX", "MIN_FILM_INDEX_SCALE", "MAX_FILM_INDEX_SCALE",
-           "MAX_DISPLAY_EXPOSURE"]
+           "MAX_DISPLAY_EXPOSURE", "MAX_FIGURE_ROWS"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
@@ -125,6 +125,8 @@ MAX_RA_NM = 1e6
 MAX_COUPON_BYTES = 8 * 1024 * 1024
 MAX_COUPON_ROWS = 200_000
 MAX_COUPONS = 1000
+#: Parts drawn in ``swatch check --report``'s check.png (check.json has them all): a figure stays a page.
+MAX_FIGURE_ROWS = 60
 #: A process profile (TOML; the shipped ones are ~1 kB) and one of its text fields.
 MAX_PROFILE_BYTES = 64 * 1024
 MAX_PROFILE_TEXT_CHARS = 2000

@@ -12,12 +12,10 @@ from __future__ import annotations
 
 from PIL import Image, ImageDraw, ImageFont
 
+from swatch.core.limits import MAX_FIGURE_ROWS
 from swatch.io.drawing import drawable_text, font_path
 
-__all__ = ["check_figure", "MAX_FIGURE_ROWS"]
-
-#: Parts drawn in check.png (check.json has them all).
-MAX_FIGURE_ROWS = 60
+__all__ = ["check_figure"]
 _INK, _RED, _GREY = (30, 30, 30), (200, 0, 0), (120, 120, 120)
 
 
