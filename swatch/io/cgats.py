@@ -31,7 +31,6 @@ from swatch.io.instruments import (
     Request,
     Sample,
     check_agrees,
-    check_unique_ids,
     lab_sample,
     parse_geometry_text,
     parse_illuminant,
@@ -264,7 +263,6 @@ def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
         for k, name in enumerate(names):
             samples.append(lab_sample(source, name, [(light, view)], Lab[k], *extra(k)))
     out = tuple(samples)
-    check_unique_ids(out, source)
     same_geometries(out, source)
     ill, obs = _resolve(stated, request, source)
     return InstrumentFile(source, "cgats", out, ill, obs,

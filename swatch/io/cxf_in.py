@@ -36,7 +36,6 @@ from swatch.io.instruments import (
     aspecular_geometry,
     check_agrees,
     check_lab,
-    check_unique_ids,
     lab_sample,
     parse_illuminant,
     parse_observer,
@@ -275,7 +274,6 @@ def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
             whites |= {w for _, w in labs.values()}
             samples.append(lab_sample(source, name, geoms, [labs[g][0] for g in geoms], *_tags(obj, source, name)))
     out = tuple(samples)
-    check_unique_ids(out, source)
     same_geometries(out, source)
     stated: dict = {}
     ill, obs = request.illuminant, request.observer

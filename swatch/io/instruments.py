@@ -25,7 +25,7 @@ from swatch.io.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMe
 from swatch.physics import geometry
 
 __all__ = ["Request", "Sample", "InstrumentFile", "parse_geometry_text", "parse_observer", "parse_illuminant",
-           "lab_sample", "spectral_sample", "check_agrees", "check_lab", "check_unique_ids", "geometry_name"]
+           "lab_sample", "spectral_sample", "check_agrees", "check_lab", "geometry_name"]
 
 _DIFFUSE = re.compile(r"^\s*(d|di|de|8)\s*[:/]\s*(d|di|de|8)\s*$", re.IGNORECASE)
 _DIRECTIONAL = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*°?\s*[acx]?\s*[:/]\s*(\d+(?:\.\d+)?)\s*°?\s*[acx]?\s*$",
@@ -321,12 +321,7 @@ def check_lab(source: str, sample_id: str, Lab) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (G, 3)
-        The values as float64 rows.
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        A value not finite (NaN, ±inf) or out of range.
+        The values as float64 rows (a value not finite or out of range: SwatchError).
     """
     Lab = np.asarray(Lab, dtype=np.float64).reshape(-1, 3)
     _finite(Lab, source, sample_id, "a CIELAB value")
@@ -335,33 +330,6 @@ def check_lab(source: str, sample_id: str, Lab) -> np.ndarray:
     if np.any(np.abs(Lab[:, 1:]) > MAX_LAB_AB):
         raise SwatchError(f"{source}: sample {sample_id!r}: a* and b* must lie within ±{MAX_LAB_AB:g}")
     return Lab
-
-
-def check_unique_ids(samples: tuple[Sample, ...], source: str) -> None:
-    """Refuse a file that names two samples alike (as the CSV reader does: one name, one part).
-
-    Parameters
-    ----------
-    samples : tuple of Sample
-        The file's samples.
-    source : str
-        Names the file.
-
-    Returns
-    -------
-    None
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        Two samples share an id.
-    """
-    seen: set[str] = set()
-    for s in samples:
-        if s.id in seen:
-            raise SwatchError(f"{source}: sample {s.id!r} appears twice; give each sample its own name (one "
-                              "sample, all its geometries, per name)")
-        seen.add(s.id)
 
 
 def lab_sample(source: str, sample_id: str, geometries, Lab, voltage_V=None, thickness_nm=None) -> Sample:
@@ -494,7 +462,7 @@ def aspecular_geometry(light_deg: float, aspecular_deg: float, source: str) -> t
 
 
 def same_geometries(samples: tuple[Sample, ...], source: str) -> None:
-    """Refuse a file whose samples were measured at different geometries or on different quantities.
+    """Refuse a file whose samples share a name or were not measured alike (geometries, quantities).
 
     Parameters
     ----------
@@ -510,8 +478,14 @@ def same_geometries(samples: tuple[Sample, ...], source: str) -> None:
     Raises
     ------
     swatch.core.errors.SwatchError
-        Two samples differ in geometry (to 0.001°) or mix CIELAB and spectra.
+        Two samples share a name (as in the CSV reader: one name, one part), differ in geometry (to 0.001°)
+        or mix CIELAB and spectra.
     """
+    ids = [s.id for s in samples]
+    if len(set(ids)) != len(ids):
+        twice = next(i for k, i in enumerate(ids) if i in ids[:k])
+        raise SwatchError(f"{source}: sample {twice!r} appears twice; give each sample its own name (one sample, "
+                          "all its geometries, per name)")
     def key(s: Sample):
         m = s.measurement
         return (type(m).__name__, tuple(np.round(m.light_deg, 3)), tuple(np.round(m.view_deg, 3)),
