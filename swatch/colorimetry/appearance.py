@@ -133,7 +133,7 @@ def thickness_colours(
     rows = plan_rows(W * layers * _BYTES_PER_LAYER_SAMPLE, "the colour table",
                      budget=max(MAX_RUN_BYTES // 2 - table_bytes, 1))
     R = np.empty((d.size, W))
-    theta_d: Any = 0.0
+    theta_d: np.ndarray | float = 0.0
     for i in range(0, max(d.size, 1), rows):
         part, theta_d = coating.half_vector(d[i:i + rows], light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
         R[i:i + rows] = part.R
