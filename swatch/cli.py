@@ -16,7 +16,7 @@ import click
 
 from swatch.commands.flags import speak_flags
 from swatch.core.errors import SwatchError
-from swatch.core.procguard import Terminated, handle_termination, settle, signal_received, stop_message
+from swatch.core.procguard import Terminated, guard_exit, handle_termination, settle, signal_received, stop_message
 from swatch.core.version import __version__
 
 #: command name -> "module:attribute"
@@ -129,6 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     exit is not a traceback, nor a silent death).
     """
     handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
+    if argv is None:
+        guard_exit()
     try:
         status = _run(argv)
     except KeyboardInterrupt as intr:  # (one that came while a failure was being reported)

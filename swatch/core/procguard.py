@@ -19,7 +19,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 
 __all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts",
-           "signal_received", "raise_if_signalled", "signals_held", "settle", "stop_message"]
+           "signal_received", "raise_if_signalled", "signals_held", "settle", "guard_exit", "stop_message"]
 
 
 class Terminated(KeyboardInterrupt):
@@ -160,10 +160,11 @@ _SETTLED: list[int] = []  # [exit status, signals received by then] once the pro
 
 def settle(status: int) -> None:
     """The program's outcome is ``status``: from now on (its exit: atexit, the pool's and the tracker's
-    finalisers, Python's own finalisation) a termination signal is recorded, not raised; a signal that
-    comes before the process is gone still ends a successful run with its one line and 130/143 (it killed
-    the process raw once Python had restored the default handlers, or printed a traceback from an atexit
-    callback). For the program only (``swatch`` itself), never in a process that goes on.
+    finalisers, Python's own finalisation) a termination signal is recorded, not raised; one that comes
+    before the process is gone still ends a successful run with its one line and 130/143, from the exit
+    handler of :func:`guard_exit` (it killed the process raw once Python had restored the default
+    handlers, or printed a traceback from an atexit callback). For the program only (``swatch`` itself),
+    never in a process that goes on.
 
     Parameters
     ----------
@@ -178,10 +179,23 @@ def settle(status: int) -> None:
         return
     _HOLD[0] += 1  # (for good: the handlers record from here on)
     _SETTLED[:] = [status, len(_RECEIVED)]
+
+
+def guard_exit() -> None:
+    """At a program's start: its last exit handler (registered before any other of the run's: atexit calls
+    them in reverse) reports a signal that came after :func:`settle` (one line, 130/143) and then ignores
+    the termination signals for what is left of the process's exit.
+
+    Returns
+    -------
+    None
+    """
     atexit.register(_late_stop)
 
 
 def _late_stop() -> None:
+    if not _SETTLED:
+        return
     status, seen = _SETTLED
     late = _RECEIVED[seen:]
     if late and status == 0:
@@ -199,7 +213,9 @@ def _late_stop() -> None:
 
 
 def handle_termination() -> None:
-    """SIGTERM and SIGHUP raise :class:`Terminated` (a KeyboardInterrupt) in the main thread.
+    """SIGTERM and SIGHUP raise :class:`Terminated` (a KeyboardInterrupt) in the main thread; a run begins
+    (:func:`signal_received` counts its signals only), and a stop that a finaliser or weakref callback
+    dropped prints nothing (``sys.unraisablehook``): :func:`raise_if_signalled` raises it again.
 
     Returns
     -------
