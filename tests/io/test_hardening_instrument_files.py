@@ -1,5 +1,5 @@
 """Hostile instrument files, round 3 (issue 38 item 1), from the user's side: every case through the
-CLI in one subprocess (`fit`, `calibrate`, `match --measurement`), each answered by one line
+CLI in one subprocess (`fit`, `calibrate`, `match --measurement`, `check`), each answered by one line
 `error: …`, exit 2, no xsdata ConverterWarning, nothing written."""
 from __future__ import annotations
 
@@ -50,13 +50,13 @@ CASES = {
 
 @pytest.fixture(scope="module")
 def answers(tmp_path_factory):
-    """Each case through `fit`, `calibrate` and `match --measurement`, in one capped subprocess."""
+    """Each case through `fit`, `calibrate`, `match --measurement` and `check`, in one capped subprocess."""
     d = tmp_path_factory.mktemp("hostile")
     argvs, keys = [], []
     for name, (text, _) in CASES.items():
         (d / name).write_text(text, encoding="utf-8")
         for argv in (["fit", d / name], ["calibrate", d / name, "--out", d / f"{name}.toml"],
-                     ["match", "--measurement", d / name]):
+                     ["match", "--measurement", d / name], ["check", d / name, "--thickness", "120"]):
             argvs.append(argv)
             keys.append((name, argv[0]))
     procs = run_capped_batch(argvs, 2 * 1024**3, timeout=600)
@@ -66,7 +66,7 @@ def answers(tmp_path_factory):
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_hostile_instrument_file_gets_one_line_and_exit_2(answers, name):
     folder, procs = answers
-    for command in ("fit", "calibrate", "match"):
+    for command in ("fit", "calibrate", "match", "check"):
         proc = procs[(name, command)]
         assert proc.returncode == 2, (command, proc.stderr)
         assert proc.stderr.startswith("error: ") and proc.stderr.count("\n") == 1, (command, proc.stderr)
