@@ -183,8 +183,9 @@ def settle(status: int) -> None:
 
 def guard_exit() -> None:
     """At a program's start: its last exit handler (registered before any other of the run's: atexit calls
-    them in reverse) reports a signal that came after :func:`settle` (one line, 130/143) and then ignores
-    the termination signals for what is left of the process's exit.
+    them in reverse) reports a signal that came after :func:`settle` (one line, 130/143) and ends the
+    process there with the settled status (what is left, Python tearing its modules down, is where a
+    signal was lost or killed the process raw).
 
     Returns
     -------
@@ -197,19 +198,18 @@ def _late_stop() -> None:
     if not _SETTLED:
         return
     status, seen = _SETTLED
+    for stream in (sys.stdout, sys.stderr):
+        with suppress(OSError, ValueError):
+            stream.flush()
     late = _RECEIVED[seen:]
     if late and status == 0:
-        line, code = stop_message(late[0])
-        for stream in (sys.stdout, sys.stderr):
-            with suppress(OSError, ValueError):
-                stream.flush()
+        line, status = stop_message(late[0])
         os.write(2, (line + "\n").encode())
-        os._exit(code)
-    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-        if signal.getsignal(sig) is _record_or_raise:
-            # Python puts its default back during finalisation (death by the raw signal, no line): past
-            # this point nothing is left to stop
-            signal.signal(sig, signal.SIG_IGN)
+    # the last exit handler: the process ends here, with the settled status. Past this point Python tears its
+    # modules down (a tenth of a second and more with numpy, colour-science and OpenImageIO loaded), then puts
+    # the default handlers back: a signal then was lost (SIG_IGN; a rebuild signalled at its end exited 0) or
+    # killed the process raw (no line)
+    os._exit(status)
 
 
 def handle_termination() -> None:
