@@ -9,13 +9,14 @@ from __future__ import annotations
 import difflib
 import importlib
 import os
+import signal
 import sys
 
 import click
 
 from swatch.commands.flags import speak_flags
 from swatch.core.errors import SwatchError
-from swatch.core.procguard import Terminated, handle_termination
+from swatch.core.procguard import Terminated, guard_exit, handle_termination, settle, signal_received, stop_message
 from swatch.core.version import __version__
 
 #: command name -> "module:attribute"
@@ -120,9 +121,36 @@ def _one_line(text: object) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: run the CLI, turning every expected failure into one line and exit 2."""
+    """Entry point: run the CLI, turning every expected failure into one line and exit 2, a stop into one
+    line and 128 + the signal (130 for Ctrl-C, 143 for SIGTERM).
 
+    Called without ``argv`` it is the program (the ``swatch`` script, ``python -m swatch.cli``): its outcome
+    is then settled for the process's exit too (:func:`swatch.core.procguard.settle`: a signal during the
+    exit is not a traceback, nor a silent death).
+    """
     handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
+    if argv is None:
+        guard_exit()
+    try:
+        status = _run(argv)
+    except KeyboardInterrupt as intr:  # (one that came while a failure was being reported)
+        status = _report_stop(intr)
+    sig = signal_received()
+    if status == 0 and sig is not None:  # a stop lost on its way (a finaliser dropped it): not a success
+        line, status = stop_message(sig)
+        click.echo(line, err=True)
+    if argv is None:
+        settle(status)
+    return status
+
+
+def _report_stop(intr: KeyboardInterrupt) -> int:
+    line, status = stop_message(intr.signum if isinstance(intr, Terminated) else signal.SIGINT)
+    click.echo(line, err=True)
+    return status
+
+
+def _run(argv: list[str] | None) -> int:
     try:
         rv = cli.main(args=argv, prog_name="swatch", standalone_mode=False)
     except SwatchError as exc:  # the library names parameters; the CLI speaks its flags
@@ -137,23 +165,18 @@ def main(argv: list[str] | None = None) -> int:
         click.echo(f"error: {_one_line(exc.format_message())}{cmd}", err=True)
         return exc.exit_code if exc.exit_code else 2
     except (KeyboardInterrupt, _InterruptedError) as caught:
-        intr = caught.exc if isinstance(caught, _InterruptedError) else caught
-        what = "terminated" if isinstance(intr, Terminated) else "interrupted"
-        click.echo(f"error: {what}; nothing half-written was left behind", err=True)
-        return 128 + intr.signum if isinstance(intr, Terminated) else 130
+        return _report_stop(caught.exc if isinstance(caught, _InterruptedError) else caught)
     except BrokenPipeError:
         return 0
     except OSError as exc:
         click.echo(f"error: {_one_line(exc.strerror or exc)}: {exc.filename or ''}".rstrip(": "), err=True)
         return 2
     except Exception as exc:  # a bug: still one line unless debugging
-        from swatch.core.procguard import signal_received
-
         sig = signal_received()
         if sig is not None:  # (a worker gone or a pool broken while the run was being stopped)
-            click.echo(f"error: {'interrupted' if sig == 2 else 'terminated'}; nothing half-written was left behind",
-                       err=True)
-            return 130 if sig == 2 else 128 + sig
+            line, status = stop_message(sig)
+            click.echo(line, err=True)
+            return status
         if os.environ.get("SWATCH_DEBUG"):
             raise
         click.echo(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); set SWATCH_DEBUG=1 for a traceback", err=True)

@@ -36,14 +36,17 @@ def run_swatch_process(*args: str, cwd=None, timeout: float = 300) -> subprocess
 #: What :func:`run_capped_batch`'s subprocess runs: each argv in turn through ``swatch.cli.main``, its
 #: stdout and stderr captured, the results as one JSON list on stdout.
 _BATCH = """
-import contextlib, io, json, sys
+import contextlib, io, json, resource, sys, time
 from swatch.cli import main
 results = []
 for argv in json.loads(sys.stdin.read()):
     out, err = io.StringIO(), io.StringIO()
+    t0, r0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main(argv)
-    results.append([code, out.getvalue(), err.getvalue()])
+    r1 = resource.getrusage(resource.RUSAGE_SELF)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    results.append([code, out.getvalue(), err.getvalue(), time.perf_counter() - t0, cpu])
 sys.__stdout__.write(json.dumps(results))
 """
 
@@ -52,7 +55,8 @@ def run_capped_batch(argvs: list[list[str]], cap_bytes: int, timeout: float = 30
     """Each argv through the CLI's entry point, one after the other in ONE subprocess whose address space
     is capped at ``cap_bytes`` (RLIMIT_AS): what a capped run per argv checks (each refusal or run fits
     under the cap, the earlier ones' leftovers included), for one interpreter start-up instead of one each
-    (issue 17 item 7: ~2 s CPU a start on this machine)."""
+    (issue 17 item 7: ~2 s CPU a start on this machine). Each result carries ``wall_s`` and ``cpu_s``, the
+    seconds its run took (wall clock; CPU of all the process's threads, user + system)."""
     import resource
 
     def limit():
@@ -61,8 +65,12 @@ def run_capped_batch(argvs: list[list[str]], cap_bytes: int, timeout: float = 30
     proc = subprocess.run([sys.executable, "-c", _BATCH], input=json.dumps([[str(a) for a in argv] for argv in argvs]),
                           capture_output=True, text=True, timeout=timeout, preexec_fn=limit, check=False)
     assert proc.returncode == 0, proc.stderr[-2000:]
-    return [subprocess.CompletedProcess(["swatch", *argv], code, out, err)
-            for argv, (code, out, err) in zip(argvs, json.loads(proc.stdout), strict=True)]
+    done = []
+    for argv, (code, out, err, wall_s, cpu_s) in zip(argvs, json.loads(proc.stdout), strict=True):
+        one = subprocess.CompletedProcess(["swatch", *argv], code, out, err)
+        one.wall_s, one.cpu_s = wall_s, cpu_s  # type: ignore[attr-defined]  # (the run's seconds: wall, CPU of all its threads)
+        done.append(one)
+    return done
 
 
 def run_json(*args: str, cwd=None):

@@ -59,6 +59,7 @@ from swatch.catalog.layout import SHEETS, make_subfolders, output_files, sheet_c
 from swatch.catalog.spec import load_spec, resolve_spec_path
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import check_writable_dir
+from swatch.core.procguard import raise_if_signalled
 from swatch.core.safepath import make_real_folder
 from swatch.core.sources import sha256_file
 
@@ -340,6 +341,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         check_targets(out, staged)
         journal = {"phase": "commit", "staging": staging.name, "files": staged, "remove": removed,
                    "manifest": manifest}
+        raise_if_signalled()  # (a stop a finaliser dropped, or one the pool's threads met: no commit after it)
         with signals_held():
             prepare_commit(meta, staging, journal)
             try:

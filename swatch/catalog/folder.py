@@ -22,7 +22,6 @@ import fcntl
 import json
 import os
 import shutil
-import signal
 import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -33,6 +32,7 @@ from swatch.catalog.layout import check_subfolders, output_name, subfolders_of
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES, MAX_METADATA_BYTES
+from swatch.core.procguard import signals_held  # (named here too: the build takes it from the folder it guards)
 from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, real_folder
 from swatch.core.sources import sha256_file
 
@@ -208,27 +208,6 @@ def locked(meta: Path, read_only: bool = False) -> Iterator[None]:
         yield
     finally:
         os.close(fd)
-
-
-@contextmanager
-def signals_held() -> Iterator[None]:
-    """Defer SIGINT/SIGTERM/SIGHUP while the staged files are moved into place.
-
-    Yields
-    ------
-    None
-        With the signals blocked (delivered when the block ends); outside the main thread, unblocked.
-    """
-    sigs = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
-    try:
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
-    except (AttributeError, ValueError, OSError):  # not the main thread or no support
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 # -- metadata (untrusted) ----------------------------------------------------------------------

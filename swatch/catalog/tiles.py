@@ -28,7 +28,13 @@ from swatch.catalog.folder import remove_tree
 from swatch.catalog.spec import CatalogSpec
 from swatch.colorimetry.colorimeter import Colorimeter
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
-from swatch.core.procguard import exit_with, ignore_interrupts, start_forkserver_ignoring_interrupts
+from swatch.core.procguard import (
+    exit_with,
+    ignore_interrupts,
+    raise_if_signalled,
+    signals_held,
+    start_forkserver_ignoring_interrupts,
+)
 from swatch.core.safepath import is_regular_file
 from swatch.core.sources import code_hash
 from swatch.physics.finishes import get_finish
@@ -406,6 +412,7 @@ def finish_renders(renders: Iterator[None], count: int, progress_factory) -> int
         return 0
     with progress_factory(count) as bar:
         for _ in renders:
+            raise_if_signalled()  # (a stop whose exception a finaliser dropped: the build goes no further)
             bar.update(1)
     return count
 
@@ -442,7 +449,17 @@ def make_pool(jobs: int):
         start_forkserver_ignoring_interrupts()  # workers ignore Ctrl-C from birth (one message, the build's)
     else:
         ctx = mp.get_context("spawn")
-    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(os.getpid(),))
+    return _Pool(max_workers=jobs, mp_context=ctx, initializer=_warm, initargs=(os.getpid(),))
+
+
+class _Pool(ProcessPoolExecutor):
+    """A pool whose ``submit`` (which may start a worker) is not cut in two by a signal: a Ctrl-C there left a
+    worker the pool did not know of, starting while the build exited, and printed its traceback (its start-up
+    data named the build's semaphores, gone by then)."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        with signals_held():
+            return super().submit(fn, *args, **kwargs)
 
 
 def _warm(parent_pid: int) -> None:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch.colorimetry.colorimeter import Colorimeter, Lab_to_LCh, delta_E_ab, srgb_hex
-from swatch.core.limits import plan_rows
+from swatch.core.limits import MAX_RUN_BYTES, plan_rows
 from swatch.physics.model import Coating
 
 __all__ = ["ThicknessColours", "thickness_colours"]
@@ -132,12 +132,20 @@ def thickness_colours(
     d = np.atleast_1d(np.asarray(thickness_nm, dtype=np.float64))
     # in chunks of thicknesses planned against the run's budget (a 0.01 nm range over 1000 nm under
     # overcoats needed 8.7 GB at once): each layer's transfer terms are complex, per wavelength
+    # (a chunk's Reflectance holds R_s, R_p and both complex amplitudes, 48 bytes a sample: only its R is
+    # kept, in the one table R, which the budget counts first: 2.5 GB at the 1 nm grid when all were kept)
     layers = 1 + len(getattr(coating, "overcoats", ()))
-    rows = plan_rows(coating.wavelength_nm.size * layers * _BYTES_PER_LAYER_SAMPLE, "the colour table")
-    parts = [coating.half_vector(d[i:i + rows], light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
-             for i in range(0, max(d.size, 1), rows)]
-    theta_d = parts[0][1]
-    R = np.concatenate([p[0].R for p in parts]) if len(parts) > 1 else parts[0][0].R
+    W = coating.wavelength_nm.size
+    table_bytes = d.size * W * 8
+    plan_rows(table_bytes, "the colour table", "fewer thicknesses or a coarser wavelength grid")  # (refused beyond)
+    rows = plan_rows(W * layers * _BYTES_PER_LAYER_SAMPLE, "the colour table",
+                     budget=max(MAX_RUN_BYTES // 2 - table_bytes, 1))
+    R = np.empty((d.size, W))
+    theta_d: np.ndarray | float = 0.0
+    for i in range(0, max(d.size, 1), rows):
+        part, theta_d = coating.half_vector(d[i:i + rows], light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
+        R[i:i + rows] = part.R
+        del part
     XYZ = colorimeter.XYZ(R)
     Lab = colorimeter.Lab(XYZ)
     XYZ_2 = colorimeter.display_XYZ(R)  # display RGB is defined on CIE 1931 2° colorimetry

@@ -8,14 +8,18 @@ fork server and the tracker then see end-of-file and exit by themselves.
 """
 from __future__ import annotations
 
+import atexit
 import os
 import select
 import signal
+import sys
 import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 
 __all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts",
-           "signal_received", "raise_if_signalled"]
+           "signal_received", "raise_if_signalled", "signals_held", "settle", "guard_exit", "stop_message"]
 
 
 class Terminated(KeyboardInterrupt):
@@ -33,35 +37,94 @@ class Terminated(KeyboardInterrupt):
 
 
 _RECEIVED: list[int] = []  # the termination signals this process got (SIGINT, SIGTERM, SIGHUP)
+_RUN = [0]  # where the current run's signals start in _RECEIVED (handle_termination begins a run)
+_HOLD = [0]  # depth of signals_held in the main thread: the handlers record instead of raising
 
 
-def _raise_terminated(signum, frame):
+def _stop(signum: int) -> KeyboardInterrupt:
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
+
+
+def _record_or_raise(signum, frame):
     _RECEIVED.append(signum)
-    raise Terminated(signum)
+    if not _HOLD[0]:
+        raise _stop(signum)
 
 
-def _raise_interrupt(signum, frame):
-    _RECEIVED.append(signum)
-    raise KeyboardInterrupt
+_raise_terminated = _raise_interrupt = _record_or_raise  # (the names the handlers are known by)
+
+
+def _unraisable(hook):
+    def quiet_stop(args):
+        if isinstance(args.exc_value, KeyboardInterrupt) and signal_received() is not None:
+            # the handler's exception met a finaliser or a weakref callback ("Exception ignored in ...
+            # _get_module_lock"), where Python drops it: the next checkpoint (raise_if_signalled) or
+            # the CLI's end raises it instead; no traceback
+            return
+        hook(args)
+    quiet_stop.swatch_quiet_stop = True  # type: ignore[attr-defined]
+    return quiet_stop
+
+
+@contextmanager
+def signals_held() -> Iterator[None]:
+    """Defer SIGINT/SIGTERM/SIGHUP over a block (moving staged files into place, starting a worker, the
+    cleanup after a stop): a signal that comes meanwhile is raised when the block ends.
+
+    The handlers themselves defer (a mask alone would not do: a process-wide signal goes to any thread
+    that does not block it, the pool's manager thread for one, and Python then runs the handler in the
+    main thread at once). Nested blocks raise at the outermost end; a stop already unwinding is left as
+    it is, another exception gives way to the stop.
+
+    Yields
+    ------
+    None
+        With the signals deferred (raised when the block ends); outside the main thread, nothing deferred.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    start = len(_RECEIVED)
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM, signal.SIGHUP})
+    _HOLD[0] += 1
+
+    def release() -> int | None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)  # (a signal the mask kept runs its handler here: recorded)
+        _HOLD[0] -= 1
+        return _RECEIVED[start] if not _HOLD[0] and len(_RECEIVED) > start else None
+
+    try:
+        yield
+    except KeyboardInterrupt:
+        release()
+        raise
+    except BaseException:
+        if (sig := release()) is not None:
+            raise _stop(sig) from None
+        raise
+    if (sig := release()) is not None:
+        raise _stop(sig)
 
 
 def signal_received() -> int | None:
-    """The first termination signal this process received, or None: an error raised while a run is
-    being stopped (a worker gone, a pool broken) is reported as the stop, not as a failure.
+    """The first termination signal the current run received (since :func:`handle_termination`), or None:
+    an error raised while a run is being stopped (a worker gone, a pool broken) is reported as the stop,
+    not as a failure.
 
     Returns
     -------
     int or None
         The signal number.
     """
-    return _RECEIVED[0] if _RECEIVED else None
+    return _RECEIVED[_RUN[0]] if len(_RECEIVED) > _RUN[0] else None
 
 
 def raise_if_signalled() -> None:
     """Raise the stop a signal asked for if it has not been raised yet, or was lost on the way: the
     exception raised while C++ runs Python code (Mitsuba calling the film BSDF plugin while it loads or
-    traces a scene) is swallowed there, and the render ran on to the end, exit 0 (a SIGTERM at 9 s).
-    Called between the pieces of long native work.
+    traces a scene) is swallowed there, and the render ran on to the end, exit 0 (a SIGTERM at 9 s); one
+    raised in a finaliser or weakref callback is dropped by Python (a rebuild finished, exit 0). Called
+    between the pieces of long work.
 
     Raises
     ------
@@ -71,15 +134,88 @@ def raise_if_signalled() -> None:
         After a SIGTERM or SIGHUP.
     """
     sig = signal_received()
-    if sig is None:
+    if sig is not None:
+        raise _stop(sig)
+
+
+def stop_message(signum: int) -> tuple[str, int]:
+    """The one line and the exit status of a run stopped by a signal.
+
+    Parameters
+    ----------
+    signum : int
+        The signal.
+
+    Returns
+    -------
+    (str, int)
+        ``error: interrupted; …`` (SIGINT) or ``error: terminated; …``, and 130 or 128 + the signal.
+    """
+    what = "interrupted" if signum == signal.SIGINT else "terminated"
+    return f"error: {what}; nothing half-written was left behind", 128 + signum
+
+
+_SETTLED: list[int] = []  # [exit status, signals received by then] once the program's outcome is settled
+
+
+def settle(status: int) -> None:
+    """The program's outcome is ``status``: from now on (its exit: atexit, the pool's and the tracker's
+    finalisers, Python's own finalisation) a termination signal is recorded, not raised; one that comes
+    before the process is gone still ends a successful run with its one line and 130/143, from the exit
+    handler of :func:`guard_exit` (it killed the process raw once Python had restored the default
+    handlers, or printed a traceback from an atexit callback). For the program only (``swatch`` itself),
+    never in a process that goes on.
+
+    Parameters
+    ----------
+    status : int
+        The exit status the run settled on.
+
+    Returns
+    -------
+    None
+    """
+    if _SETTLED or threading.current_thread() is not threading.main_thread():
         return
-    if sig == signal.SIGINT:
-        raise KeyboardInterrupt
-    raise Terminated(sig)
+    _HOLD[0] += 1  # (for good: the handlers record from here on)
+    _SETTLED[:] = [status, len(_RECEIVED)]
+
+
+def guard_exit() -> None:
+    """At a program's start: its last exit handler (registered before any other of the run's: atexit calls
+    them in reverse) reports a signal that came after :func:`settle` (one line, 130/143) and ends the
+    process there with the settled status (what is left, Python tearing its modules down, is where a
+    signal was lost or killed the process raw).
+
+    Returns
+    -------
+    None
+    """
+    atexit.register(_late_stop)
+
+
+def _late_stop() -> None:
+    if not _SETTLED:
+        return
+    status, seen = _SETTLED
+    for stream in (sys.stdout, sys.stderr):
+        with suppress(OSError, ValueError):
+            stream.flush()
+    late = _RECEIVED[seen:]
+    if late and status == 0:
+        line, status = stop_message(late[0])
+        os.write(2, (line + "\n").encode())
+    # the last exit handler: the process ends here, with the settled status. Past this point Python tears its
+    # modules down (a tenth of a second and more with numpy, colour-science and OpenImageIO loaded), then puts
+    # the default handlers back: a signal then was lost (SIG_IGN; a rebuild signalled at its end exited 0) or
+    # killed the process raw (no line)
+    os._exit(status)
 
 
 def handle_termination() -> None:
-    """SIGTERM and SIGHUP raise :class:`Terminated` (a KeyboardInterrupt) in the main thread.
+    """SIGTERM and SIGHUP raise :class:`Terminated` (a KeyboardInterrupt) in the main thread; a run begins
+    (:func:`signal_received` counts its signals only), and a stop that a finaliser or weakref callback
+    dropped prints nothing (``sys.unraisablehook``): :func:`raise_if_signalled` raises it again.
 
     Returns
     -------
@@ -88,11 +224,14 @@ def handle_termination() -> None:
     """
     if threading.current_thread() is not threading.main_thread():
         return
+    _RUN[0] = len(_RECEIVED)  # (a new run: signals before it were an earlier run's, in a process that goes on)
     for sig in (signal.SIGTERM, signal.SIGHUP):
         if signal.getsignal(sig) in (signal.SIG_DFL, None):
             signal.signal(sig, _raise_terminated)
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, _raise_interrupt)  # (as Python's own, and remembered)
+    if not getattr(sys.unraisablehook, "swatch_quiet_stop", False):
+        sys.unraisablehook = _unraisable(sys.unraisablehook)
     for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
         if signal.getsignal(sig) in (_raise_interrupt, _raise_terminated):
             # SA_RESTART: a write of libpng or OpenEXR that the signal meets is resumed, not failed with

@@ -8,27 +8,34 @@ whose ``TristimulusSpec`` gives the illuminant and observer the CIELAB is relati
 is read as spectra when every geometry has a spectrum, else as CIELAB (which then needs the
 white point: a ``TristimulusSpec`` naming a CIE illuminant and observer).
 
-Refused in one line: a document type declaration or entity (the XML must not pull in other
+Refused in one line: XML that is not well formed, a document type declaration (anywhere: lxml parses
+with DTD and entity loading off and reports it) or an entity reference (the XML must not pull in other
 files or expand entities), XML that is not a CxF3 document, transmittance or emissive spectra,
 diffuse or annular off-normal geometries, several white points in one file, values that are
-not finite numbers, and samples measured at different geometries.
+not finite numbers (a CIELAB value is checked even where spectra decide), a spectrum of more than
+MAX_WAVELENGTHS values, two samples of one name, and samples measured at different geometries.
 """
 from __future__ import annotations
 
-import re
+import warnings
 
 import numpy as np
-from colour_cxf import read_cxf
-from xsdata.exceptions import ParserError
+from colour_cxf.cxf3 import CxF
+from lxml import etree
+from xsdata.exceptions import ConverterWarning, ParserError
+from xsdata.formats.dataclass.context import XmlContext
+from xsdata.formats.dataclass.parsers import XmlParser
+from xsdata.formats.dataclass.parsers.config import ParserConfig
 
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_INSTRUMENT_GEOMETRIES, MAX_INSTRUMENT_SAMPLES
+from swatch.core.limits import MAX_INSTRUMENT_GEOMETRIES, MAX_INSTRUMENT_SAMPLES, MAX_WAVELENGTHS
 from swatch.io.instruments import (
     InstrumentFile,
     Request,
     Sample,
     aspecular_geometry,
     check_agrees,
+    check_lab,
     lab_sample,
     parse_illuminant,
     parse_observer,
@@ -63,17 +70,34 @@ def is_cxf(data: bytes) -> bool:
 
 
 def _parse(data: bytes, source: str):
-    if re.search(rb"<!\s*(DOCTYPE|ENTITY)", data[:65536], re.IGNORECASE):
+    """The CxF3 document of ``data``: parsed strictly by lxml (no DTD, no entities, no network), then bound
+    to colour-cxf's classes by xsdata with converter warnings as errors."""
+    parser = etree.XMLParser(resolve_entities=False, load_dtd=False, no_network=True, dtd_validation=False,
+                             recover=False, huge_tree=False, remove_comments=True, remove_pis=True)
+    try:
+        tree = etree.fromstring(data, parser).getroottree()
+    except etree.XMLSyntaxError as exc:
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise SwatchError(f"{source}: not well-formed XML ({first[:160]}); give a CxF3 file as the instrument "
+                          "software exports it") from None
+    info = tree.docinfo
+    if info.doctype or info.internalDTD is not None or info.externalDTD is not None or info.system_url:
         raise SwatchError(f"{source}: the XML declares a document type or entities; a CxF3 file has neither "
                           "(refused: it could pull in other files or expand without bound)")
-    if _CXF3_NS.encode() not in data[:4096]:
+    if etree.QName(tree.getroot()).namespace != _CXF3_NS:
         raise SwatchError(f"{source}: not a CxF3 document (no element in the namespace {_CXF3_NS}); export CxF3 "
                           "from the instrument software")
+    if any(isinstance(el, etree._Entity) for el in tree.getroot().iter()):
+        raise SwatchError(f"{source}: the XML holds an entity reference; a CxF3 file's values are plain text")
+    xml_parser = XmlParser(context=XmlContext(), config=ParserConfig(fail_on_converter_warnings=True))
     try:
-        return read_cxf(data)
-    except (ParserError, ValueError, TypeError, SyntaxError) as exc:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", ConverterWarning)
+            return xml_parser.parse(tree, CxF)
+    except (ParserError, ConverterWarning, ValueError, TypeError, SyntaxError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise SwatchError(f"{source}: not a valid CxF3 document ({first[:160]})") from None
+        detail = " ".join(str(exc).split())[:160] if first.startswith("Failed to convert") else first[:160]
+        raise SwatchError(f"{source}: not a valid CxF3 document ({detail})") from None
 
 
 def _spec_geometry(spec, source: str, request: Request):
@@ -218,10 +242,20 @@ def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
                                       "ColorSpecification's WavelengthRange Increment")
                 if spec is not None and None not in _white(spec):
                     stated_whites.add(_white(spec))
+                count = len(v.value or ())
+                if not 2 <= count <= MAX_WAVELENGTHS:
+                    raise SwatchError(f"{source}: object {name!r}: a ReflectanceSpectrum of {count} values; a "
+                                      f"spectrum has 2 to {MAX_WAVELENGTHS} values")
                 vals = np.asarray(v.value, dtype=np.float64)
                 spectra[geom] = (float(start) + float(inc) * np.arange(vals.size), vals)
             else:
-                labs[geom] = ([v.l, v.a, v.b], _white(spec) if spec is not None else (None, None))
+                lab = [v.l, v.a, v.b]
+                if any(x is None or isinstance(x, str) for x in lab):  # absent, or empty (xsdata keeps "")
+                    raise SwatchError(f"{source}: object {name!r}: a ColorCIELab without "
+                                      f"{'/'.join(c for c, x in zip('LAB', lab, strict=True) if x is None or isinstance(x, str))}; "
+                                      "give L, A and B as numbers")
+                check_lab(source, name, lab)  # checked even where spectra decide: a bad value is a bad file
+                labs[geom] = (lab, _white(spec) if spec is not None else (None, None))
         geoms = list(dict.fromkeys([*spectra, *labs]))
         if not geoms:
             raise SwatchError(f"{source}: object {name!r} has no ReflectanceSpectrum or ColorCIELab value")

@@ -20,12 +20,12 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import illuminant_names
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_LAB_AB, MAX_REFLECTANCE, MIN_PEAK_REFLECTANCE, MIN_REFLECTANCE
+from swatch.core.limits import MAX_LAB_AB, MAX_REFLECTANCE, MAX_WAVELENGTHS, MIN_PEAK_REFLECTANCE, MIN_REFLECTANCE
 from swatch.io.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMeasurement
 from swatch.physics import geometry
 
 __all__ = ["Request", "Sample", "InstrumentFile", "parse_geometry_text", "parse_observer", "parse_illuminant",
-           "lab_sample", "spectral_sample", "check_agrees", "geometry_name"]
+           "lab_sample", "spectral_sample", "check_agrees", "check_lab", "geometry_name"]
 
 _DIFFUSE = re.compile(r"^\s*(d|di|de|8)\s*[:/]\s*(d|di|de|8)\s*$", re.IGNORECASE)
 _DIRECTIONAL = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*°?\s*[acx]?\s*[:/]\s*(\d+(?:\.\d+)?)\s*°?\s*[acx]?\s*$",
@@ -308,6 +308,30 @@ def _geometry_arrays(geometries):
     return light, np.abs(view), np.zeros_like(light), np.where(view < 0, 0.0, 180.0)
 
 
+def check_lab(source: str, sample_id: str, Lab) -> np.ndarray:
+    """CIELAB values checked: finite, L* in [0, 100], |a*|, |b*| ≤ :data:`swatch.core.limits.MAX_LAB_AB`.
+
+    Parameters
+    ----------
+    source, sample_id : str
+        The file and the sample, for messages.
+    Lab : array_like, shape (..., 3)
+        CIELAB values.
+
+    Returns
+    -------
+    numpy.ndarray, shape (G, 3)
+        The values as float64 rows (a value not finite or out of range: SwatchError).
+    """
+    Lab = np.asarray(Lab, dtype=np.float64).reshape(-1, 3)
+    _finite(Lab, source, sample_id, "a CIELAB value")
+    if np.any((Lab[:, 0] < 0) | (Lab[:, 0] > 100)):
+        raise SwatchError(f"{source}: sample {sample_id!r}: L* {Lab[:, 0].max():g} is outside [0, 100]")
+    if np.any(np.abs(Lab[:, 1:]) > MAX_LAB_AB):
+        raise SwatchError(f"{source}: sample {sample_id!r}: a* and b* must lie within ±{MAX_LAB_AB:g}")
+    return Lab
+
+
 def lab_sample(source: str, sample_id: str, geometries, Lab, voltage_V=None, thickness_nm=None) -> Sample:
     """A CIELAB sample at in-plane geometries, validated.
 
@@ -331,12 +355,7 @@ def lab_sample(source: str, sample_id: str, geometries, Lab, voltage_V=None, thi
     swatch.core.errors.SwatchError
         A value not finite or out of range, a repeated geometry, or an angle outside [0, 90).
     """
-    Lab = np.asarray(Lab, dtype=np.float64).reshape(-1, 3)
-    _finite(Lab, source, sample_id, "a CIELAB value")
-    if np.any((Lab[:, 0] < 0) | (Lab[:, 0] > 100)):
-        raise SwatchError(f"{source}: sample {sample_id!r}: L* {Lab[:, 0].max():g} is outside [0, 100]")
-    if np.any(np.abs(Lab[:, 1:]) > MAX_LAB_AB):
-        raise SwatchError(f"{source}: sample {sample_id!r}: a* and b* must lie within ±{MAX_LAB_AB:g}")
+    Lab = check_lab(source, sample_id, Lab)
     light, view, la, va = _geometry_arrays(geometries)
     _check_unique(source, sample_id, light, view, va)
     m = LabMeasurement(f"{source}#{sample_id}", light, view, la, va, Lab)
@@ -372,10 +391,13 @@ def spectral_sample(source: str, sample_id: str, geometries, wavelength_nm, refl
         Non-finite values, bad wavelengths, reflectance outside the caps of :mod:`swatch.core.limits`
         or implausibly dark, a repeated geometry, or an angle outside [0, 90).
     """
-    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    wl = np.asarray(wavelength_nm, dtype=np.float64).ravel()
+    if not 2 <= wl.size <= MAX_WAVELENGTHS:
+        raise SwatchError(f"{source}: sample {sample_id!r}: a spectrum of {wl.size} wavelengths; a spectrum has 2 to "
+                          f"{MAX_WAVELENGTHS}")
     R = np.asarray(reflectance, dtype=np.float64).reshape(-1, wl.size)
     _finite(R, source, sample_id, "a reflectance value")
-    if wl.size < 2 or np.any(np.diff(wl) <= 0) or wl[0] <= 0:
+    if np.any(np.diff(wl) <= 0) or wl[0] <= 0:
         raise SwatchError(f"{source}: sample {sample_id!r}: the wavelengths must be positive and increasing, "
                           "at least two of them")
     detected = percent is None
@@ -440,7 +462,7 @@ def aspecular_geometry(light_deg: float, aspecular_deg: float, source: str) -> t
 
 
 def same_geometries(samples: tuple[Sample, ...], source: str) -> None:
-    """Refuse a file whose samples were measured at different geometries or on different quantities.
+    """Refuse a file whose samples share a name or were not measured alike (geometries, quantities).
 
     Parameters
     ----------
@@ -456,8 +478,14 @@ def same_geometries(samples: tuple[Sample, ...], source: str) -> None:
     Raises
     ------
     swatch.core.errors.SwatchError
-        Two samples differ in geometry (to 0.001°) or mix CIELAB and spectra.
+        Two samples share a name (as in the CSV reader: one name, one part), differ in geometry (to 0.001°)
+        or mix CIELAB and spectra.
     """
+    ids = [s.id for s in samples]
+    if len(set(ids)) != len(ids):
+        twice = next(i for k, i in enumerate(ids) if i in ids[:k])
+        raise SwatchError(f"{source}: sample {twice!r} appears twice; give each sample its own name (one sample, "
+                          "all its geometries, per name)")
     def key(s: Sample):
         m = s.measurement
         return (type(m).__name__, tuple(np.round(m.light_deg, 3)), tuple(np.round(m.view_deg, 3)),

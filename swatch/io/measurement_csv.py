@@ -236,8 +236,9 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
         raise rows.error(lines[int(np.sort(g_first)[MAX_FIT_GEOMETRIES])], f"more than {MAX_FIT_GEOMETRIES} "
                          f"geometries; a measurement holds at most {MAX_FIT_GEOMETRIES} (an 86 × 86 sBRDF set: 7396)")
 
-    small = np.abs(wl) < 1e12  # (rounding 2e300 overflowed: "appears twice"; it is not even attempted there)
-    wl_key = np.where(small, np.round(np.where(small, wl, 0.0), _KEY_DIGITS), wl)
+    wl_key = wl.copy()  # rounded where that cannot overflow (2e300 did: "appears twice", and numpy's warning lines)
+    small = np.abs(wl) < 1e12
+    wl_key[small] = np.round(wl[small], _KEY_DIGITS)
     uwl, w_first, w_inv = np.unique(wl_key, return_index=True, return_inverse=True)
     w_inv = w_inv.reshape(-1)
     W = uwl.size

@@ -4,7 +4,7 @@ The file is latitude–longitude (equirectangular), read with OpenImageIO: row 0
 the centre column looks along −z (away from the camera) and longitude grows towards +x
 (``u = 0.5 + atan2(x, −z)/2π``, ``v = acos(y)/π``). Untrusted input: the size is checked from the
 header before any pixel is read (:data:`swatch.core.limits.MAX_ENV_PIXELS`), the values must be
-finite and ≥ 0, and RGB is taken as linear Rec.709/sRGB primaries (1 or 2 channels: grey).
+finite and ≥ 0, and RGB is taken as linear Rec.709/sRGB primaries (1 channel: grey; 2 are refused).
 :func:`equirect_to_octa` resamples it onto the octahedral map (:mod:`swatch.render.octahedral`)
 that :mod:`swatch.render.environment` normalises.
 """
@@ -66,8 +66,8 @@ def read_equirect(path) -> np.ndarray:
                               f"and {MAX_ENV_PIXELS} pixels")
         if abs(w - 2 * h) > 1:
             raise SwatchError(f"environment map {p.name!r} is {w}x{h}; an equirectangular map is twice as wide as tall")
-        if nch < 1 or nch > 64:
-            raise SwatchError(f"environment map {p.name!r} has {nch} channels; give 1 or 2 (grey; a second channel is ignored) or 3 or more (RGB)")
+        if nch != 1 and not 3 <= nch <= 64:  # (2: grey + alpha, or two colours of three? not a radiance map)
+            raise SwatchError(f"environment map {p.name!r} has {nch} channels; give 1 (grey) or 3 to 64 (RGB first)")
         pix = inp.read_image(0, 0, 0, min(nch, 3), "float")
     finally:
         inp.close()

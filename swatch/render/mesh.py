@@ -50,31 +50,82 @@ SMOOTH_ANGLE_DEG = 30.0
 _SHADOW_OFFSET = 1e-4
 
 
-def _check_gltf_buffers(data: bytes, source: str) -> None:
-    """A .gltf (JSON) may name other files as buffers or images; only embedded ``data:`` URIs are
-    accepted (the reader is given bytes, never a folder to open files from)."""
+#: Required glTF extensions that change only materials or textures (not read: the surface is the film).
+_HARMLESS_EXTENSION = ("KHR_materials_", "KHR_texture_transform")
+
+
+def _uris(node, found: list[str]) -> list[str]:
+    """Every ``uri`` string anywhere in a glTF JSON tree (buffers, images, and any extension's)."""
+    stack = [node]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, dict):
+            for key, value in item.items():
+                if key == "uri" and isinstance(value, str):
+                    found.append(value)
+                else:
+                    stack.append(value)
+        elif isinstance(item, list):
+            stack.extend(item)
+    return found
+
+
+def _data_uri_bytes(uri: str) -> int:
+    """Decoded size of a ``data:`` URI, bytes."""
+    head, _, payload = uri.partition(",")
+    return len(payload) * 3 // 4 - payload[-2:].count("=") if head.endswith(";base64") else len(payload)
+
+
+def _check_gltf_buffers(data: bytes, source: str, bin_bytes: int = 0) -> None:
+    """A glTF's JSON is checked before the reader sees it: every ``uri`` anywhere is an embedded ``data:`` one
+    (the reader is given bytes, never a folder to open files from); a required extension that changes the
+    geometry (Draco, meshopt compression) is refused; each buffer's ``byteLength`` is at most the bytes it
+    holds (its data URI, or ``bin_bytes``: the .glb's BIN chunk) and within the file cap, and each buffer
+    view lies inside its buffer."""
     try:
         doc = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):
         raise SwatchError(f"{source}: not a glTF JSON document") from None
     if not isinstance(doc, dict):
         raise SwatchError(f"{source}: not a glTF JSON document")
-    for key in ("buffers", "images"):
-        for item in doc.get(key, []) if isinstance(doc.get(key), list) else []:
-            uri = item.get("uri") if isinstance(item, dict) else None
-            if isinstance(uri, str) and not uri.startswith("data:"):
-                raise SwatchError(f"{source}: refers to the external file {uri[:80]!r}; give a .glb or a .gltf "
-                                  "with embedded (data:) buffers")
+    for uri in _uris(doc, []):
+        if not uri.startswith("data:"):
+            raise SwatchError(f"{source}: refers to the external file {uri[:80]!r}; give a .glb or a .gltf "
+                              "with embedded (data:) buffers")
+    required = doc.get("extensionsRequired", [])
+    for ext in required if isinstance(required, list) else [required]:
+        if not (isinstance(ext, str) and ext.startswith(_HARMLESS_EXTENSION)):
+            raise SwatchError(f"{source}: requires the glTF extension {str(ext)[:60]!r}, which swatch does not read "
+                              "(compressed geometry: Draco, meshopt); export the mesh without it")
+    buffers = doc.get("buffers", [])
+    sizes: list[int] = []
+    for k, buf in enumerate(buffers if isinstance(buffers, list) else []):
+        size = buf.get("byteLength") if isinstance(buf, dict) else None
+        buf_uri = buf.get("uri") if isinstance(buf, dict) else None
+        held = _data_uri_bytes(buf_uri) if isinstance(buf_uri, str) else (bin_bytes if k == 0 else 0)
+        if not (isinstance(size, int) and 0 <= size <= min(MAX_MESH_BYTES, held)):
+            raise SwatchError(f"{source}: buffer {k} claims {size!r} bytes but holds {held}; a buffer's "
+                              f"byteLength is at most what it holds (and at most {MAX_MESH_BYTES} bytes)")
+        sizes.append(size)
+    views = doc.get("bufferViews", [])
+    for k, view in enumerate(views if isinstance(views, list) else []):
+        b, off, length = ((view.get("buffer"), view.get("byteOffset", 0), view.get("byteLength"))
+                          if isinstance(view, dict) else (None, None, None))
+        if not (isinstance(b, int) and 0 <= b < len(sizes) and isinstance(off, int) and isinstance(length, int)
+                and off >= 0 and length >= 0 and off + length <= sizes[b]):
+            raise SwatchError(f"{source}: bufferView {k} lies outside its buffer; the file is inconsistent")
 
 
 def _glb_is_self_contained(data: bytes, source: str) -> None:
-    """The JSON chunk of a .glb must not name external files either."""
+    """The JSON chunk of a .glb is checked as a .gltf's (its BIN chunk, if any, holds buffer 0's bytes)."""
     if len(data) < 20 or data[:4] != b"glTF":
         raise SwatchError(f"{source}: not a binary glTF (.glb) file")
     length, kind = struct.unpack_from("<II", data, 12)
     if kind != 0x4E4F534A or 20 + length > len(data):
         raise SwatchError(f"{source}: not a binary glTF (.glb) file")
-    _check_gltf_buffers(data[20:20 + length], source)
+    end = 20 + length
+    bin_bytes = struct.unpack_from("<I", data, end)[0] if end + 8 <= len(data) else 0
+    _check_gltf_buffers(data[20:end], source, min(bin_bytes, max(len(data) - end - 8, 0)))
 
 
 def _is_binary_stl(data: bytes) -> bool:
@@ -150,10 +201,14 @@ def load_mesh(path) -> MeshShape:
     if faces.min() < 0 or faces.max() >= vertices.shape[0]:
         raise SwatchError(f"{p.name}: a triangle refers to a vertex that does not exist")
     # vertices at one position are merged unless their normals or texture coordinates differ (an
-    # STL stores every triangle's corners apart: merged, its normals can be smoothed)
+    # STL stores every triangle's corners apart: merged, its normals can be smoothed); trimesh compares
+    # coordinates rounded to 10^-digits in int64: 8 digits overflowed beyond ~1e11 (a triangle at
+    # ±1e11…1e15, within MAX_MESH_COORDINATE, collapsed to one point), so fewer digits for large ones
+    largest = float(np.abs(vertices).max()) if vertices.size else 0.0
+    digits = min(8, int(np.floor(np.log10(2.0 ** 62 / largest)))) if largest > 0 else 8
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        mesh.merge_vertices()
+        mesh.merge_vertices(digits_vertex=digits)
     return MeshShape(mesh, p.name, hashlib.sha256(data).hexdigest())
 
 

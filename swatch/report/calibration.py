@@ -13,6 +13,7 @@ import numpy as np
 
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new, output_batch
+from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.fit.calibration import Calibration
 from swatch.io.drawing import draw_line, draw_rect, draw_text
 from swatch.io.imageio import write_png
@@ -144,7 +145,8 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
 
 
 def report_figure(cal: Calibration) -> np.ndarray:
-    """The report figure of a calibration (:func:`calibration_figure` over 0 to 1.1 × the highest voltage).
+    """The report figure of a calibration (:func:`calibration_figure` over 0 to 1.1 × the highest voltage, at most
+    :data:`swatch.core.limits.MAX_VOLTAGE_V`).
 
     Parameters
     ----------
@@ -159,8 +161,8 @@ def report_figure(cal: Calibration) -> np.ndarray:
     p = cal.process
     assert cal.cm is not None, "calibrate() gives a colorimeter"
     coating = p.coating(cal.cm.wavelength_nm)
-    strip_V = np.linspace(0.0, 1.1 * float(cal.voltage_V.max()), 400)
-    strip_d = np.clip(p.thickness_nm(strip_V), 0.0, 1000.0)
+    strip_V = np.linspace(0.0, min(1.1 * float(cal.voltage_V.max()), MAX_VOLTAGE_V), 400)  # (coupons at 300 V:
+    strip_d = np.clip(p.thickness_nm(strip_V), 0.0, MAX_THICKNESS_NM)  # the strip stops at the voltage cap)
     return calibration_figure(cal, coating.reflectance_cos(cal.thickness_nm, cal.cos_d).R, cal.measured_R,
                               strip_V, coating.reflectance_cos(strip_d, cal.cos_d).R, cal.cm)
 
