@@ -199,19 +199,24 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
               help="builtin (table lookup, fast) or mitsuba (Mitsuba 3 spectral path tracing, docs/mitsuba.md)")
 @click.option("--spp", type=int, default=64, show_default=True, help="mitsuba: samples per pixel")
 @click.option("--seed", type=int, default=0, show_default=True, help="mitsuba: random seed (same seed, same image)")
+@click.option("--denoise/--no-denoise", default=True, show_default=True,
+              help="mitsuba: denoise with Intel Open Image Denoise, guided by the render's albedo and normal buffers "
+                   "(--no-denoise: the raw path-traced estimate)")
+@click.option("--keep-raw", is_flag=True, help="mitsuba, denoised: also write the raw image and the albedo and normal "
+              "buffers into the EXR as layers raw.RGB, albedo.RGB, normal.XYZ (for compositing)")
 @click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
               help="a named surface finish (its GGX roughness; brushed is anisotropic: the built-in engine renders "
                    "it under an environment); instead of --roughness (docs/finishes.md)")
 @_sun_options
 @_image_options
 def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, light_deg, environment, view_deg,
-           view_azimuth_deg, background, engine, spp, seed, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
+           view_azimuth_deg, background, engine, spp, seed, denoise, keep_raw, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
            sun_time, sun_timezone, turbidity, model, roughness, distribution, space, force, film, substrate, illuminant,
            observer, wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh.
 
     --engine mitsuba path-traces them with Mitsuba 3 and the exact thin-film BSDF (lighting studio, sun,
-    uniform, or an .exr/.hdr map; --spp, --seed; docs/mitsuba.md).
+    uniform, or an .exr/.hdr map; --spp, --seed), denoised by default (--no-denoise, --keep-raw; docs/mitsuba.md).
     """
     from swatch.core.fileio import check_new, check_writable_dir
     from swatch.io import imageio
@@ -219,7 +224,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch.physics import geometry
     from swatch.physics.finishes import finish_or_roughness
     from swatch.render import render_swatch
-    from swatch.render.image import check_finish_lighting, check_size_px
+    from swatch.render.image import check_finish_lighting, check_size_px, layered_pixels
     from swatch.render.lighting import resolve_lighting
     from swatch.render.mesh import load_mesh
     from swatch.render.metadata import file_stems, with_voltage
@@ -262,11 +267,14 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
                 img = render_swatch(d[i], shape, size_px, light_deg, roughness, model, coating, cm, space,
                                     distribution, environment=light, background=background, view_deg=view_deg,
                                     view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine,
-                                    spp=spp, seed=seed, progress=passes)
+                                    spp=spp, seed=seed, progress=passes, denoise=denoise)
             out = out or check_writable_dir(out_dir)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
-            imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
+            pixels, names = img.rgba, ("R", "G", "B", "A")  # type: tuple[np.ndarray, tuple[str, ...]]
+            if keep_raw and img.layers:
+                pixels, names = layered_pixels(img)
+            imageio.write_exr(exr, pixels, meta, channel_names=names, space=space)
             title = f"{shape} swatch, {d[i]:g} nm" + (" (Mitsuba)" if mitsuba else "")
             imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(title, meta))
             written += [str(exr), str(png)]

@@ -37,7 +37,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
                   space: str = "srgb", distribution: str = "ggx", workers: int | None = None,
                   environment=None, background: str | None = None, view_deg: float | None = None,
                   view_azimuth_deg: float = 0.0, mesh=None, finish=None, engine: str = "builtin",
-                  spp: int = 64, seed: int = 0, sun: Sun | None = None, progress=None) -> SwatchImage:
+                  spp: int = 64, seed: int = 0, sun: Sun | None = None, progress=None,
+                  denoise: bool = True) -> SwatchImage:
     """Render one swatch with an engine (builtin: :mod:`swatch.render.pointlight` and
     :mod:`swatch.render.env_render` for scene, units and exposure; mitsuba:
     :mod:`swatch.render.mitsuba.engine`).
@@ -86,6 +87,9 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
         mitsuba: the sun of ``environment="sun"``.
     progress : callable(done, total), optional
         mitsuba: called after each pass with the passes done and their number.
+    denoise : bool
+        mitsuba: denoise the image (Intel Open Image Denoise guided by the render's albedo and normal
+        buffers; the default) or keep the raw path-traced estimate (:mod:`swatch.render.mitsuba.denoise`).
 
     Returns
     -------
@@ -100,7 +104,7 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
     if engine == "mitsuba":
         return _render_mitsuba(d, shape, size_px, roughness_alpha, model, coating, colorimeter, space, distribution,
                                environment, background, view_deg, view_azimuth_deg, mesh, finish, spp, seed, sun,
-                               progress)
+                               progress, denoise)
     size = check_size_px(size_px)
     if finish is not None:
         roughness_alpha = finish.roughness_alpha
@@ -128,7 +132,7 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, light_deg
 
 def _render_mitsuba(d: float, shape: str, size_px, roughness_alpha, model, coating, colorimeter, space, distribution,
                     environment, background, view_deg, view_azimuth_deg, mesh, finish, spp, seed, sun,
-                    progress) -> SwatchImage:
+                    progress, denoise=True) -> SwatchImage:
     """The ``mitsuba`` branch of :func:`render_swatch` (thickness and shape checked there)."""
     from swatch.render.mitsuba.engine import render_swatch_mitsuba  # Mitsuba loads only when asked for
 
@@ -144,6 +148,7 @@ def _render_mitsuba(d: float, shape: str, size_px, roughness_alpha, model, coati
     light = resolve_lighting(environment, "mitsuba", sun, view_deg=view_deg, view_azimuth_deg=view_azimuth_deg)
     img = render_swatch_mitsuba(d, shape, size_px, spp, seed, light, None, lobe, distribution, coating.film,
                                 coating.substrate, coating.film_index_scale, coating, colorimeter, space, background,
-                                view_deg, view_azimuth_deg, mesh, progress=progress, spread=coating.spread)
+                                view_deg, view_azimuth_deg, mesh, progress=progress, spread=coating.spread,
+                                denoise=denoise)
     img.metadata |= finish_meta(finish)
     return img
