@@ -33,12 +33,15 @@ from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.safepath import is_regular_file
 from swatch.io.imageio import write_png
 
-__all__ = ["HERO_SIZE_PX", "HERO_SPP", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
+__all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
            "prune_heroes"]
 
 HERO_SIZE_PX = 256
 HERO_SPP = 16
 HERO_SEED = 0
+#: OIDN's quality for heroes (``balanced``: about half the filter's time of ``high`` at 256²; at 256 px and
+#: 16 spp the picture is clean either way, docs/catalog.md).
+HERO_DENOISE = "balanced"
 
 
 def hero_name(rec: dict) -> str:
@@ -112,7 +115,7 @@ def hero_key(spec, thickness_nm: float) -> str:
            "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": spec.hero_size_px, "spp": spec.hero_spp,
            "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
            "mitsuba": importlib.import_module("mitsuba").__version__, "code": _code_hash(),
-           "denoise": importlib.metadata.version("mitsuba-oidn") if spec.denoise else False}
+           "denoise": [importlib.metadata.version("mitsuba-oidn"), HERO_DENOISE] if spec.denoise else False}
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
 
@@ -167,7 +170,7 @@ def hero_files(spec, records: list[dict], cache: Path,
                                             seed=HERO_SEED, lighting_name=light, roughness_alpha=_lobe(spec),
                                             film=spec.film, substrate=spec.substrate,
                                             film_index_scale=spec.film_index_scale, spread=spec.spread,
-                                            denoise=spec.denoise)
+                                            denoise=HERO_DENOISE if spec.denoise else False)
             meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
                                                  "thickness_nm", "spp", "denoise") if k in img.metadata}
             meta["swatch"] = rec["id"]
@@ -180,6 +183,7 @@ def hero_files(spec, records: list[dict], cache: Path,
         files[hero_name(rec)] = blob
         entries.append({"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
                         "size_px": spec.hero_size_px, "spp": spec.hero_spp, "denoised": spec.denoise,
+                        "denoise_quality": HERO_DENOISE if spec.denoise else None,
                         "css_px": spec.hero_size_px // 2})
     return files, used, entries
 

@@ -169,6 +169,13 @@ def test_denoise_metadata_and_layers(renders, mi):
     assert not np.array_equal(img.layers["raw"], img.linear_rgb)
     normal = img.layers["normal"]
     assert np.all(np.abs(normal) <= 1.0) and np.linalg.norm(normal[dc.SIZE_PX // 2, dc.SIZE_PX // 2]) > 0.95
+    fast = render_swatch_mitsuba(80.0, "sphere", dc.SIZE_PX, 4, 1, "studio", denoise="balanced")
+    assert "balanced quality" in fast.metadata["denoise"] and "high quality" in img.metadata["denoise"]
+    np.testing.assert_array_equal(fast.layers["raw"], img.layers["raw"])
+    from swatch.core.errors import SwatchError
+
+    with pytest.raises(SwatchError, match="`denoise`"):
+        render_swatch_mitsuba(80.0, "sphere", dc.SIZE_PX, 4, 1, "studio", denoise="best")
     raw = render_swatch_mitsuba(80.0, "sphere", dc.SIZE_PX, 4, 1, "studio", denoise=False)
     assert raw.metadata["denoise"].startswith("none") and raw.layers == {}
     np.testing.assert_array_equal(raw.linear_rgb, img.layers["raw"])

@@ -278,7 +278,8 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
                           progress: Callable[[int, int], None] | None = None,
                           bsdf_override: dict | None = None, exposure: float = 1.0,
                           spread: ThicknessSpread | None = None,
-                          window_px: tuple[int, int, int, int] | None = None, denoise: bool = True) -> SwatchImage:
+                          window_px: tuple[int, int, int, int] | None = None,
+                          denoise: bool | str = True) -> SwatchImage:
     """Render one swatch with Mitsuba (module documentation): the public function of the engine.
 
     Parameters
@@ -330,8 +331,9 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         ``(x, y, width, height)`` in pixels from the top-left corner: render only that window of the
         ``size_px``² image (Mitsuba's film crop: the same camera and pixels, the cost of the window alone),
         e.g. a patch's centre at many samples. The image returned is the window.
-    denoise : bool
-        Denoise the image with Intel Open Image Denoise, guided by the albedo and normal buffers of the
+    denoise : bool or str
+        Denoise the image with Intel Open Image Denoise (True: its ``high`` quality; or ``balanced``,
+        ``fast``), guided by the albedo and normal buffers of the
         same render (:mod:`swatch.render.mitsuba.denoise`; the default). The raw image and the buffers
         are kept in ``layers`` (``raw``, ``albedo``, ``normal``); the metadata's ``denoise`` says how.
         False: the raw path-traced estimate (references, and the samples' own statistics).
@@ -405,7 +407,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         per //= 2
     passes = spp // per
     sensor = camera_dict(scene_geo.camera, size, per, window, SAMPLER)
-    denoise = bool(denoise)
+    quality = oidn.check_denoise(denoise)
     integrator = {"type": "path", "max_depth": PATH_BOUNCES, "hide_emitters": background != "environment"}
     scene = load_scene({"type": "scene", "integrator": integrator, "sensor": sensor,
                         **object_shapes(shape, bsdf, mesh), **lights})
@@ -419,11 +421,11 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
             progress(i + 1, passes)
     acc /= passes
     layers: dict[str, np.ndarray] = {}
-    if denoise:
+    if quality is not None:
         albedo, normal = oidn.render_buffers(scene, width, height, seed, MAX_PASS_LANES)
         raise_if_signalled()
         raw = (acc[..., :3] * scale).astype(np.float32)
-        rgb = oidn.denoise_rgb(raw, albedo, normal)
+        rgb = oidn.denoise_rgb(raw, albedo, normal, quality)
         layers = {"raw": raw, "albedo": albedo, "normal": normal}
     else:
         rgb = (acc[..., :3] * scale).astype(np.float32)
@@ -464,7 +466,7 @@ def render_swatch_mitsuba(thickness_nm: float, shape: str = "sphere", size_px: i
         "seed": seed,
         "integrator": f"Mitsuba path tracer, up to {PATH_BOUNCES} bounces, {passes} pass(es) of {per} spp",
         "rgb_space": space,
-        "denoise": oidn.describe(denoise),
+        "denoise": oidn.describe(quality),
         "lighting": _description(light),
         "environment": light.kind if light.kind != "map" else light.name,
         "units": ("scene-referred linear; 1.0 = perfect white diffuser facing up (+y) at the origin under the same "
