@@ -2,10 +2,12 @@
 Mitsuba 3 with the exact thin-film BSDF (:mod:`swatch.render.mitsuba.engine`), written as
 ``hero_S001.png`` beside the chips and named in the swatch's record (``hero``).
 
-A catalog spec turns them on with ``[render] hero = true`` (off by default: see docs/catalog.md
-for the cost). They are pictures at :data:`HERO_SIZE_PX` px and :data:`HERO_SPP` samples per
-pixel, seed 0 (the same inputs give the same bytes), in the engine's studio with the spec's
-finish (anisotropic for ``brushed``). Renders are cached in the catalog folder's cache as
+A catalog spec turns them on with ``[render] hero = true`` (the default catalog, catalog/titanium.toml,
+does; the spec's default is off, so small catalogs stay quick). They are pictures at ``hero_size_px``
+(default :data:`HERO_SIZE_PX`: a 128 CSS px picture on a 2× display) and ``hero_spp`` samples per pixel
+(default :data:`HERO_SPP`), denoised by Intel Open Image Denoise unless ``denoise = false``
+(:mod:`swatch.render.mitsuba.denoise`), seed 0 (the same inputs give the same bytes), in the engine's
+studio with the spec's finish (anisotropic with hairlines for ``brushed``). Renders are cached in the catalog folder's cache as
 ``hero-<key>.png``, keyed by everything they depend on (the film, finish, thickness, Mitsuba's
 version and the engine's code); a cached file is used only if it is a regular file of bounded
 size that reads back as an RGB PNG of the expected size (the cache is untrusted). Without a
@@ -16,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib.metadata
 import json
 from pathlib import Path
 
@@ -31,12 +34,15 @@ from swatch.io.imageio import write_png
 from swatch.render.dispatch import ENGINES, engine_unavailable, engine_version
 from swatch.render.request import render_request
 
-__all__ = ["HERO_SIZE_PX", "HERO_SPP", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
+__all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
            "prune_heroes"]
 
-HERO_SIZE_PX = 128
-HERO_SPP = 64
+HERO_SIZE_PX = 256
+HERO_SPP = 16
 HERO_SEED = 0
+#: OIDN's quality for heroes (``balanced``: about half the filter's time of ``high`` at 256²; at 256 px and
+#: 16 spp the picture is clean either way, docs/catalog.md).
+HERO_DENOISE = "balanced"
 
 
 def hero_name(rec: dict) -> str:
@@ -99,19 +105,20 @@ def hero_key(spec, thickness_nm: float) -> str:
         40 hex digits (the cache entry's name).
     """
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
-           "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": HERO_SIZE_PX, "spp": HERO_SPP,
+           "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": spec.hero_size_px, "spp": spec.hero_spp,
            "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
-           "mitsuba": engine_version("mitsuba"), "code": _code_hash()}
+           "mitsuba": engine_version("mitsuba"), "code": _code_hash(),
+           "denoise": [importlib.metadata.version("mitsuba-oidn"), HERO_DENOISE] if spec.denoise else False}
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
 
-def _cached(path: Path) -> bytes | None:
+def _cached(path: Path, size_px: int) -> bytes | None:
     if not is_regular_file(path) or path.stat().st_size > MAX_CACHE_ENTRY_BYTES:
         return None
     blob = path.read_bytes()
     try:
         with Image.open(path) as im:
-            ok = im.format == "PNG" and im.size == (HERO_SIZE_PX, HERO_SIZE_PX) and im.mode == "RGB"
+            ok = im.format == "PNG" and im.size == (size_px, size_px) and im.mode == "RGB"
     except (OSError, ValueError):
         ok = False
     return blob if ok else None
@@ -143,9 +150,10 @@ def hero_files(spec, records: list[dict], cache: Path,
         if say is not None:
             say(why)
         return {}, set(), [None] * len(records)
-    request = render_request(0.0, "sphere", HERO_SIZE_PX, engine="mitsuba", spp=HERO_SPP, seed=HERO_SEED,
+    request = render_request(0.0, "sphere", spec.hero_size_px, engine="mitsuba", spp=spec.hero_spp, seed=HERO_SEED,
                              environment="studio", roughness_alpha=_lobe(spec),
-                             coating=spec.coating(None))  # film, substrate, index scale, spread
+                             coating=spec.coating(None),  # film, substrate, index scale, spread
+                             denoise=HERO_DENOISE if spec.denoise else False)
     files: dict[str, bytes] = {}
     used: set[str] = set()
     entries: list[dict | None] = []
@@ -154,11 +162,11 @@ def hero_files(spec, records: list[dict], cache: Path,
         entry = f"hero-{hero_key(spec, d)}.png"
         used.add(entry)
         path = cache / entry
-        blob = _cached(path)
+        blob = _cached(path, spec.hero_size_px)
         if blob is None:
             img = ENGINES["mitsuba"](request.with_thickness(d), None)
             meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
-                                                 "thickness_nm") if k in img.metadata}
+                                                 "thickness_nm", "spp", "denoise") if k in img.metadata}
             meta["swatch"] = rec["id"]
             if spec.finish_spec is not None:
                 meta["finish"] = spec.finish_spec.label()
@@ -166,7 +174,9 @@ def hero_files(spec, records: list[dict], cache: Path,
             blob = path.read_bytes()
         files[hero_name(rec)] = blob
         entries.append({"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
-                        "size_px": HERO_SIZE_PX, "spp": HERO_SPP})
+                        "size_px": spec.hero_size_px, "spp": spec.hero_spp, "denoised": spec.denoise,
+                        "denoise_quality": HERO_DENOISE if spec.denoise else None,
+                        "css_px": spec.hero_size_px // 2})
     return files, used, entries
 
 

@@ -67,6 +67,8 @@ class CatalogSpec:
         The multi-angle geometries (default 45as-15 … 45as110, ASTM E2194 / E2539).
     shapes, size_px, model, roughness, angular_map, finish, hero
         The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
+    hero_size_px, hero_spp, denoise
+        The hero renders' side (pixels), samples per pixel, and whether they are denoised.
     scheme, grade : str or None
         A named tolerance grade (None for a written bound).
     metric, max_delta_E : str, float
@@ -127,6 +129,9 @@ class CatalogSpec:
     chip_dpi: int = 300
     finish: str | None = None  # a named finish (swatch.physics.finishes); it sets ``roughness``
     hero: bool = False  # per-swatch hero renders through Mitsuba (swatch.catalog.hero)
+    hero_size_px: int = 256  # a hero's side in pixels (a 128 CSS px picture on a 2x display)
+    hero_spp: int = 16  # its samples per pixel
+    denoise: bool = True  # heroes denoised (Intel Open Image Denoise, swatch.render.mitsuba.denoise)
     presets: bool = True  # per-swatch 3-D material presets (swatch.catalog.presets)
 
     @property
@@ -328,7 +333,8 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)
 
     ren = c.table(data.get("render", {}), "render",
-                  ("shapes", "size_px", "model", "roughness", "finish", "angular_map", "hero"))
+                  ("shapes", "size_px", "model", "roughness", "finish", "angular_map", "hero", "hero_size_px",
+                   "hero_spp", "denoise"))
     shapes = ren.get("shapes", ["flat", "cylinder"])
     if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
         c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
@@ -349,6 +355,9 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
     if (hero := c.boolean(ren.get("hero", False), "render.hero")) and model != "microfacet":
         c.fail("render.hero", "hero renders are of the microfacet model (Mitsuba); set model = \"microfacet\"", True)
+    hero_size = c.integer(ren.get("hero_size_px", 256), "render.hero_size_px", 32, 1024)
+    hero_spp = c.integer(ren.get("hero_spp", 16), "render.hero_spp", 1, 1024)
+    denoise = c.boolean(ren.get("denoise", True), "render.denoise")
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
 
@@ -394,7 +403,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
-        finish=finish, hero=hero, presets=presets,
+        finish=finish, hero=hero, hero_size_px=hero_size, hero_spp=hero_spp, denoise=denoise, presets=presets,
     )
 
 

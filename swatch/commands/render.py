@@ -199,25 +199,31 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
               help="builtin (table lookup, fast) or mitsuba (Mitsuba 3 spectral path tracing, docs/mitsuba.md)")
 @click.option("--spp", type=int, default=64, show_default=True, help="mitsuba: samples per pixel")
 @click.option("--seed", type=int, default=0, show_default=True, help="mitsuba: random seed (same seed, same image)")
+@click.option("--denoise/--no-denoise", default=True, show_default=True,
+              help="mitsuba: denoise with Intel Open Image Denoise, guided by the render's albedo and normal buffers "
+                   "(--no-denoise: the raw path-traced estimate)")
+@click.option("--keep-raw", is_flag=True, help="mitsuba, denoised: also write the raw image and the albedo and normal "
+              "buffers into the EXR as layers raw.RGB, albedo.RGB, normal.XYZ (for compositing)")
 @click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
               help="a named surface finish (its GGX roughness; brushed is anisotropic: the built-in engine renders "
                    "it under an environment); instead of --roughness (docs/finishes.md)")
 @_sun_options
 @_image_options
 def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, light_deg, environment, view_deg,
-           view_azimuth_deg, background, engine, spp, seed, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
+           view_azimuth_deg, background, engine, spp, seed, denoise, keep_raw, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
            sun_time, sun_timezone, turbidity, model, roughness, distribution, space, force, film, substrate, illuminant,
            observer, wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh.
 
     --engine mitsuba path-traces them with Mitsuba 3 and the exact thin-film BSDF (lighting studio, sun,
-    uniform, or an .exr/.hdr map; --spp, --seed; docs/mitsuba.md).
+    uniform, or an .exr/.hdr map; --spp, --seed), denoised by default (--no-denoise, --keep-raw; docs/mitsuba.md).
     """
     from swatch.core.fileio import check_new, check_writable_dir
     from swatch.io import imageio
     from swatch.io.pngmeta import image_xmp
     from swatch.physics.finishes import finish_or_roughness
     from swatch.render import ENGINES
+    from swatch.render.image import layered_pixels
     from swatch.render.lighting import default_environment
     from swatch.render.mesh import load_mesh
     from swatch.render.metadata import file_stems, with_voltage
@@ -236,7 +242,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
                              environment=default_environment(engine, model, distribution) if environment is None
                              else environment, background=background, view_deg=view_deg,
                              view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine, spp=spp,
-                             seed=seed, sun=sun)
+                             seed=seed, sun=sun, denoise=denoise)
     mitsuba = request.engine == "mitsuba"
     stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)
@@ -251,7 +257,10 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
             out = out or check_writable_dir(out_dir)
             meta = with_voltage(img.metadata, volts[i], note, proc)
             exr, png = out / (stems[i] + ".exr"), out / (stems[i] + ".png")
-            imageio.write_exr(exr, img.rgba, meta, channel_names=("R", "G", "B", "A"), space=space)
+            pixels, names = img.rgba, ("R", "G", "B", "A")  # type: tuple[np.ndarray, tuple[str, ...]]
+            if keep_raw and img.layers:
+                pixels, names = layered_pixels(img)
+            imageio.write_exr(exr, pixels, meta, channel_names=names, space=space)
             title = f"{shape} swatch, {d[i]:g} nm" + (" (Mitsuba)" if mitsuba else "")
             imageio.write_png(png, img.display_rgb, meta, xmp=image_xmp(title, meta))
             written += [str(exr), str(png)]

@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import math
 
-from swatch.core.choices import SPECTRAL_VARIANTS
+from swatch.core.choices import DENOISE_QUALITIES, SPECTRAL_VARIANTS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_DISPLAY_EXPOSURE, MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
 
-__all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure", "check_variant"]
+__all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure", "check_variant",
+           "check_denoise"]
 
 
 def _whole_number(value, what: str, low: int, high: int) -> int:
@@ -184,3 +185,31 @@ def check_variant(variant: str) -> str:
         raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
                           f"variant: {', '.join(SPECTRAL_VARIANTS)}")
     return key
+
+
+def check_denoise(denoise) -> str | None:
+    """A render's ``denoise``, checked: Intel Open Image Denoise's filter quality, or None for no denoising.
+
+    Parameters
+    ----------
+    denoise : bool or str or None
+        True (the ``high`` quality), False or None (the raw path-traced estimate), or a quality name of
+        :data:`swatch.core.choices.DENOISE_QUALITIES` (any case).
+
+    Returns
+    -------
+    str or None
+        The quality name (lower case), or None: no denoising.
+
+    Raises
+    ------
+    SwatchError
+        For anything else.
+    """
+    if denoise is True:
+        return "high"
+    if denoise is False or denoise is None:
+        return None
+    if isinstance(denoise, str) and denoise.lower() in DENOISE_QUALITIES:
+        return denoise.lower()
+    raise SwatchError(f"`denoise` must be True, False or one of {', '.join(DENOISE_QUALITIES)}, got {denoise!r}")

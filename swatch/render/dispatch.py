@@ -185,8 +185,10 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
             mitsuba: the Mitsuba variant (default ``llvm_ad_spectral``).
         bsdf_override : dict, optional
             mitsuba: another BSDF for the object (tests and benchmarks).
-        denoise : bool
-            mitsuba: denoise the image (issue 37; default True).
+        denoise : bool or str
+            mitsuba: denoise with Intel Open Image Denoise guided by the render's albedo and normal buffers
+            (True, the default: ``high`` quality; ``balanced``, ``fast``), or False: the raw path-traced estimate
+            (:mod:`swatch.render.mitsuba.denoise`).
 
     Returns
     -------

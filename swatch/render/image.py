@@ -14,8 +14,8 @@ from swatch.core.choices import BACKGROUNDS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_ANISO_RENDER_PX, MAX_SIZE_PX
 
-__all__ = ["SwatchImage", "SUPERSAMPLE", "BACKGROUND_WHITE", "check_size_px", "check_background", "edge_pixels",
-           "mesh_metadata", "check_finish_lighting", "finish_meta"]
+__all__ = ["SwatchImage", "layered_pixels", "SUPERSAMPLE", "BACKGROUND_WHITE", "check_size_px", "check_background",
+           "edge_pixels", "mesh_metadata", "check_finish_lighting", "finish_meta"]
 
 #: Sub-samples per axis of a silhouette pixel (SUPERSAMPLE² stratified samples).
 SUPERSAMPLE = 4
@@ -41,6 +41,10 @@ class SwatchImage:
         What was rendered and how (JSON-serialisable).
     exposure : float
         The display exposure k (linear × k before encoding).
+    layers : dict of str to numpy.ndarray
+        Extra (H, W, 3) float32 images of the same render, by name, for compositing: the Mitsuba
+        engine's denoised renders keep ``raw`` (the undenoised estimate, in ``linear_rgb``'s units and
+        space) and the denoiser's ``albedo`` and ``normal`` buffers. Empty otherwise.
     """
 
     linear_rgb: np.ndarray
@@ -48,6 +52,7 @@ class SwatchImage:
     display_rgb: np.ndarray
     metadata: dict = field(default_factory=dict)
     exposure: float = 1.0
+    layers: dict = field(default_factory=dict)
 
     @property
     def rgba(self) -> np.ndarray:
@@ -59,6 +64,26 @@ class SwatchImage:
             Linear RGB premultiplied by coverage, and the coverage as alpha (float32).
         """
         return np.concatenate([self.linear_rgb, self.coverage[..., None]], axis=-1)
+
+
+def layered_pixels(img: SwatchImage) -> tuple[np.ndarray, tuple[str, ...]]:
+    """``img.rgba`` followed by its ``layers`` (each (H, W, 3), in name order), and the EXR channel names:
+    R, G, B, A, then ``<layer>.R/G/B`` (``normal``: ``.X/Y/Z``).
+
+    Parameters
+    ----------
+    img : SwatchImage
+
+    Returns
+    -------
+    (numpy.ndarray, tuple of str)
+        (H, W, 4 + 3 L) float32 pixels and their channel names.
+    """
+    parts, names = [img.rgba], ["R", "G", "B", "A"]
+    for name in sorted(img.layers):
+        parts.append(np.asarray(img.layers[name], dtype=np.float32))
+        names += [f"{name}.{c}" for c in ("XYZ" if name == "normal" else "RGB")]
+    return np.concatenate(parts, axis=-1), tuple(names)
 
 
 def check_size_px(size_px) -> int:

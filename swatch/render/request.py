@@ -26,7 +26,7 @@ from swatch.physics.finishes import Finish
 from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render import shading
-from swatch.render.checks import check_exposure, check_mitsuba_request, check_variant, check_window_px
+from swatch.render.checks import check_denoise, check_exposure, check_mitsuba_request, check_variant, check_window_px
 from swatch.render.image import check_background, check_finish_lighting, check_size_px
 from swatch.render.lighting import Lighting, Sun, check_engine, lighting_for
 from swatch.render.metadata import coating_and_colorimeter
@@ -81,8 +81,9 @@ class RenderOptions(TypedDict, total=False):
         Mitsuba variant.
     bsdf_override : dict or None
         Another BSDF for Mitsuba (tests, benchmarks).
-    denoise : bool
-        Mitsuba: denoise (issue 37).
+    denoise : bool or str
+        Mitsuba: denoise with Intel Open Image Denoise (True: ``high`` quality; ``balanced``, ``fast``; False:
+        the raw estimate).
     """
 
     light_deg: float
@@ -107,7 +108,7 @@ class RenderOptions(TypedDict, total=False):
     window_px: tuple[int, int, int, int] | None
     variant: str | None
     bsdf_override: dict | None
-    denoise: bool
+    denoise: bool | str
 
 
 _DEFAULTS: dict[str, Any] = {
@@ -180,8 +181,9 @@ class RenderRequest:
         Mitsuba variant (checked; default :data:`swatch.core.choices.DEFAULT_VARIANT`).
     bsdf_override : dict or None
         Mitsuba: another BSDF for the object (tests and benchmarks: Mitsuba's ``roughconductor``).
-    denoise : bool
-        Mitsuba: denoise the image (issue 37; the built-in engine ignores it).
+    denoise : str or None
+        Mitsuba: Intel Open Image Denoise's filter quality (``high``, ``balanced``, ``fast``), or None for the raw
+        path-traced estimate (:func:`swatch.render.checks.check_denoise`; the built-in engine ignores it).
     """
 
     engine: str
@@ -209,7 +211,7 @@ class RenderRequest:
     window_px: tuple[int, int, int, int] | None = None
     variant: str | None = None
     bsdf_override: dict | None = None
-    denoise: bool = True
+    denoise: str | None = "high"
 
     @property
     def roughness_alpha(self) -> float:
@@ -288,7 +290,7 @@ def _builtin(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
                          view_azimuth_deg=float(o["view_azimuth_deg"]), lobe=lobe, model=model,
                          distribution=distribution, space=space, background=background, lighting=light,
                          coating=coating, colorimeter=colorimeter, finish=finish, workers=o["workers"],
-                         denoise=bool(o["denoise"]))
+                         denoise=check_denoise(o["denoise"]))
 
 
 def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
@@ -322,7 +324,7 @@ def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
                          distribution=distribution, space=space, background=background, lighting=light,
                          coating=coating, colorimeter=colorimeter, finish=o["finish"], workers=o["workers"], spp=spp,
                          seed=seed, exposure=exposure, window_px=window, variant=variant,
-                         bsdf_override=o["bsdf_override"], denoise=bool(o["denoise"]))
+                         bsdf_override=o["bsdf_override"], denoise=check_denoise(o["denoise"]))
 
 
 _BUILDERS: dict[str, Callable[[float, str, Any, dict[str, Any]], RenderRequest]] = {

@@ -15,6 +15,7 @@ from swatch.catalog.spec import parse_spec
 from swatch.core.errors import SwatchError
 from tests.mitsuba_setup import mitsuba_variant
 
+HERO_PX = 64  # the test's small heroes (the spec's hero_size_px below; the default is hero.HERO_SIZE_PX)
 SPEC = """
 name = "hero test"
 [thickness]
@@ -22,6 +23,8 @@ list_nm = [50.8, 210]
 [render]
 finish = "brushed"
 hero = true
+hero_size_px = 64
+hero_spp = 8
 size_px = 64
 angular_map = false
 [chips]
@@ -37,6 +40,23 @@ def test_hero_is_a_spec_option():
     assert parse_spec(base | {"render": {"hero": True}}).hero is True
     with pytest.raises(SwatchError, match="microfacet"):
         parse_spec(base | {"render": {"hero": True, "model": "paper"}})
+    spec = parse_spec(base)
+    assert (spec.hero_size_px, spec.hero_spp, spec.denoise) == (hero.HERO_SIZE_PX, hero.HERO_SPP, True)
+    spec = parse_spec(base | {"render": {"hero_size_px": 96, "hero_spp": 32, "denoise": False}})
+    assert (spec.hero_size_px, spec.hero_spp, spec.denoise) == (96, 32, False)
+    for key, bad in (("hero_size_px", 4096), ("hero_spp", 0), ("denoise", "yes")):
+        with pytest.raises(SwatchError, match=f"render.{key}"):
+            parse_spec(base | {"render": {key: bad}})
+
+
+def test_default_catalog_has_denoised_heroes():
+    """#37: the default catalog shows a path-traced, denoised hero per swatch."""
+    from pathlib import Path
+
+    from swatch.catalog.spec import load_spec
+
+    spec, _ = load_spec(Path(__file__).resolve().parents[2] / "catalog" / "titanium.toml")
+    assert spec.hero and spec.denoise and spec.hero_size_px >= 256
 
 
 @pytest.mark.slow
@@ -49,12 +69,13 @@ def test_hero_renders_are_written_cached_and_deterministic(tmp_path):
     doc = json.loads((out / "catalog.json").read_text())
     names = [r["hero"]["png"] for r in doc["swatches"]]
     assert names == ["heroes/hero_S001.png", "heroes/hero_S002.png"]
+    assert all(r["hero"]["denoised"] is True and r["hero"]["size_px"] == HERO_PX for r in doc["swatches"])
     first = [(out / n).read_bytes() for n in names]
     for n in names:
         im = np.asarray(Image.open(out / n).convert("RGB"), dtype=float)
-        assert im.shape == (hero.HERO_SIZE_PX, hero.HERO_SIZE_PX, 3) and 10 < im.mean() < 245
+        assert im.shape == (HERO_PX, HERO_PX, 3) and 10 < im.mean() < 245
     blue, green = (np.asarray(Image.open(out / n).convert("RGB"), dtype=float) for n in names)
-    c = slice(hero.HERO_SIZE_PX // 2 - 8, hero.HERO_SIZE_PX // 2 + 8)
+    c = slice(HERO_PX // 2 - 8, HERO_PX // 2 + 8)
     assert blue[c, c, 2].mean() > blue[c, c, 0].mean() and green[c, c, 1].mean() > green[c, c, 2].mean()
     cached = sorted(p.name for p in (out / ".swatch-catalog" / "cache").glob("hero-*.png"))
     assert len(cached) == 2
@@ -65,7 +86,7 @@ def test_hero_renders_are_written_cached_and_deterministic(tmp_path):
     spec_path.write_text(SPEC.replace('name = "hero test"', 'name = "hero test 2"'))
     build_catalog(spec_path, out, jobs=1)
     for n in names:
-        assert Image.open(out / n).size == (hero.HERO_SIZE_PX, hero.HERO_SIZE_PX)
+        assert Image.open(out / n).size == (HERO_PX, HERO_PX)
     assert [(out / n).read_bytes() for n in names] == first
     assert (out / ".swatch-catalog" / "cache" / cached[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

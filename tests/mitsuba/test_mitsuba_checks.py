@@ -36,7 +36,8 @@ from tests.mitsuba_setup import irregular_spectrum, mitsuba_variant
 mitsuba_variant()
 s = load_material("Ti-Johnson")
 # (test_mitsuba_determinism.py renders the same roughconductor at 32 px in the studio: the same kernel)
-imgs = [render_swatch_mitsuba(0.0, "sphere", 32, 8, seed=4, lighting_name="studio", bsdf_override=bsdf).linear_rgb
+imgs = [render_swatch_mitsuba(0.0, "sphere", 32, 8, seed=4, lighting_name="studio", bsdf_override=bsdf,
+                              denoise=False).linear_rgb
         for bsdf in ({"type": "anodic_film", "thickness_nm": 0.0, "alpha": 0.2, "shadowing": "separable"},
                      {"type": "roughconductor", "distribution": "ggx", "alpha": 0.2,
                       "eta": irregular_spectrum(s.wavelength_nm, s.n), "k": irregular_spectrum(s.wavelength_nm, s.k)})]
@@ -227,7 +228,8 @@ def test_white_furnace_sphere_equals_tmm_quadrature(mi, d_nm):
     from swatch.render.scene import make_scene, scene_geometry
 
     size, alpha = 48, 0.3
-    img = render_swatch_mitsuba(d_nm, "sphere", size, 64, seed=1, lighting_name="uniform", roughness_alpha=alpha)
+    img = render_swatch_mitsuba(d_nm, "sphere", size, 64, seed=1, lighting_name="uniform", roughness_alpha=alpha,
+                                denoise=False)
     inside = img.coverage >= 0.999
     n, _, v, hit = scene_geometry(make_scene("sphere", 45.0), size)
     inside &= hit
@@ -276,7 +278,8 @@ def test_engine_matches_builtin_under_uniform(mi, shape):
     from swatch.render.mitsuba.engine import render_swatch_mitsuba
 
     for d in (30.0, 80.0, 160.0):
-        m = render_swatch_mitsuba(d, shape, 64, 2048, seed=2, lighting_name="uniform", window_px=(30, 30, 5, 5))
+        m = render_swatch_mitsuba(d, shape, 64, 2048, seed=2, lighting_name="uniform", window_px=(30, 30, 5, 5),
+                                  denoise=False)
         b = render_swatch(d, shape, 64, environment="uniform")
         de = colour.delta_E(_centre_lab(m, 2, 2), _centre_lab(b, 32, 2), method="CIE 2000")
         print(f"{shape} {d:g} nm: mitsuba vs built-in under uniform {de:.2f}")
@@ -361,7 +364,8 @@ def test_engine_under_studio_light(mi, tmp_path, shape):
     thicknesses = (30.0, 80.0)
     refs = _studio_reference(env, shape, thicknesses, 32, block)
     for d, ref in zip(thicknesses, refs, strict=True):
-        m_img = render_swatch_mitsuba(d, shape, 32, 2048, seed=2, lighting_name=lit, window_px=(15, 15, 3, 3))
+        m_img = render_swatch_mitsuba(d, shape, 32, 2048, seed=2, lighting_name=lit, window_px=(15, 15, 3, 3),
+                                      denoise=False)
         assert m_img.linear_rgb.shape == (3, 3, 3)
         m = _centre_lab(m_img, 1, 1)
         b = _centre_lab(render_swatch(d, shape, 32, environment=env), 16, 1)

@@ -30,6 +30,10 @@ Parameters (scene-dictionary keys)
     projected instead), as the built-in renderer's :func:`swatch.physics.finishes.brush_tangent`.
     Without it ``alpha_u`` follows the surface's ``dp_du`` (a mesh without texture coordinates, and
     Mitsuba's sphere, have their own tangents there). Ignored by an isotropic lobe.
+``hairline_depth``
+    Brushed hairlines (:mod:`swatch.render.mitsuba.hairlines`), with ``brush_axis`` and an anisotropic
+    lobe: the across-grain roughness varies by ``± hairline_depth`` (0 to 0.9) from line to line along
+    the axis. Default 0: a uniform lobe.
 ``spread_nm``, ``spread_fraction``
     The film's thickness spread (issue 19, :mod:`swatch.physics.spread`): the reflectance is averaged
     incoherently over a normal distribution of local thickness around ``thickness_nm`` with
@@ -62,6 +66,7 @@ from swatch.core.limits import MAX_FILM_INDEX_SCALE, MAX_THICKNESS_NM, MIN_FILM_
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
 from swatch.physics.spread import SIGMA_CAP_OF_THICKNESS, ThicknessSpread, node_count, spread_nodes
 from swatch.render.mitsuba.film import airy_reflectance
+from swatch.render.mitsuba.hairlines import across_basis, line_noise
 from swatch.render.mitsuba.setup import SPECTRAL_VARIANTS
 from swatch.render.mitsuba.tables import SpectralTables
 
@@ -207,6 +212,12 @@ def _define_class():
                 isotropic = "alpha" in props or (len(alphas) == 2 and alphas[0] == alphas[1])
                 if not isotropic:  # an isotropic lobe has no direction (and keeps its code path)
                     self.brush_axis = (axis / np.linalg.norm(axis)).tolist()
+            self.hairlines = None
+            depth = float(props.get("hairline_depth", 0.0))
+            if not (math.isfinite(depth) and 0.0 <= depth <= 0.9):
+                raise SwatchError(f"anodic_film: hairline_depth must be from 0 to 0.9, got {depth!r}")
+            if depth > 0 and self.brush_axis is not None:
+                self.hairlines = (depth, *across_basis(self.brush_axis))
             self.two_sided = _flag(props, "two_sided")
             self.film, self.substrate, self.scale = film, substrate, scale
             self.type = mi.MicrofacetType.GGX if distribution == "ggx" else mi.MicrofacetType.Beckmann
@@ -237,8 +248,11 @@ def _define_class():
             return mi.Vector3f(w.x, w.y, dr.select(back, -w.z, w.z))
 
         def _distr(self, si, active):
-            return mi.MicrofacetDistribution(self.type, self.alpha_u.eval_1(si, active),
-                                             self.alpha_v.eval_1(si, active), True)
+            alpha_v = self.alpha_v.eval_1(si, active)
+            if self.hairlines is not None:  # across-grain roughness varying from line to line along the axis
+                depth, e1, e2 = self.hairlines
+                alpha_v = alpha_v * (1.0 + depth * (2.0 * line_noise(si.p, e1, e2) - 1.0))
+            return mi.MicrofacetDistribution(self.type, self.alpha_u.eval_1(si, active), alpha_v, True)
 
         def _fresnel(self, si, cos_m, active):
             """Airy reflectance on the facet at the sampled wavelengths (clamped into the tables)."""
@@ -359,6 +373,20 @@ def _define_class():
             value, pdf = self._eval_pdf(si, wo, active)
             on = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
             return dr.select(on, value, mi.Spectrum(0.0)), dr.select(on, pdf, 0.0)
+
+        def eval_diffuse_reflectance(self, si, active=True):
+            """The film's directional reflectance colour for denoising buffers (Mitsuba's ``aov`` integrator's
+            ``albedo``): the Airy reflectance of the film on its metal at the incidence angle ``|cos θ_i|``
+            (the facet along the normal). Smooth over the surface and free of sampling noise; it carries the
+            interference colour, so a denoiser guided by it keeps the colour boundaries of the film; with
+            hairlines, their pattern at a third of their roughness contrast."""
+            cos_i = dr.abs(mi.Frame3f.cos_theta(si.wi))
+            active = mi.Bool(active)
+            F = self._fresnel(si, cos_i, active)
+            if self.hairlines is not None:  # the lines' contrast, so that the denoiser keeps them as texture
+                depth, e1, e2 = self.hairlines
+                F = F * (1.0 + (depth / 3.0) * (2.0 * line_noise(si.p, e1, e2) - 1.0))
+            return dr.select(active, mi.Spectrum(F), mi.Spectrum(0.0))
 
         def traverse(self, callback):
             callback.put("thickness_nm", self.thickness, mi.ParamFlags.NonDifferentiable)

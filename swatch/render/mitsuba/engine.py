@@ -6,7 +6,10 @@ The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the
 Mitsuba's ``path`` integrator (up to :data:`PATH_BOUNCES` bounces: meshes shadow and reflect
 themselves). Rendering is split into passes of at most :data:`swatch.core.limits.MAX_PASS_LANES`
 samples (bounded memory, progress reported after each pass, Ctrl-C/SIGTERM between passes), each with its own seed
-derived from ``seed``: the same seed and spp give byte-identical images.
+derived from ``seed``: the same seed and spp give byte-identical images. Samples are low-discrepancy
+(:data:`SAMPLER`), and the image is denoised by default with Intel Open Image Denoise guided by the
+albedo and normal buffers of the same scene (:mod:`swatch.render.mitsuba.denoise`; ``denoise=False``
+keeps the raw estimate).
 
 Units: linear Rec.709/sRGB (Mitsuba's film: CIE 1931 2° XYZ to sRGB), scaled so that **1.0 = a
 perfect white diffuser facing up (+y) at the origin under the same lighting** (the built-in
@@ -36,7 +39,9 @@ from swatch.render.display import BACKGROUND_LINEAR, display_encode
 from swatch.render.image import SwatchImage, finish_meta, mesh_metadata
 from swatch.render.lighting import Lighting, Sun, resolve_lighting
 from swatch.render.metadata import common_metadata
+from swatch.render.mitsuba import denoise as oidn
 from swatch.render.mitsuba.bsdf import PLUGIN_NAME, register
+from swatch.render.mitsuba.hairlines import HAIRLINE_DEPTH
 from swatch.render.mitsuba.scene import camera_dict, jit_float, lighting, load_scene, object_shapes
 from swatch.render.mitsuba.setup import (
     DEFAULT_VARIANT,
@@ -60,6 +65,11 @@ PATH_BOUNCES = 12
 #: 1 / 0.338, a 256 spp render's estimate, 0.45 % darker.)
 SUN_Y_UP = 0.336484
 SUN_SCALE = 1.0 / SUN_Y_UP
+#: Mitsuba's sampler: low-discrepancy (Sobol'-like, scrambled by the pass's seed), in passes of a power of 4
+#: samples (it rounds other counts up). At 32 spp it cuts the error of a 4 × 4-pixel block against a converged
+#: render by a third against the ``independent`` sampler (sphere, studio, 96 px: mean ΔE00 1.48 → 0.98); the
+#: expected image is the same (#37).
+SAMPLER = "ldsampler"
 _WHITE_BG = 2.0  # the built-in renderer's white background (display white)
 _REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 
@@ -265,7 +275,11 @@ def render_swatch_mitsuba(  # type: ignore[misc]  # spp and seed: named here, op
         :class:`swatch.commands.progress.PassBar`).
     **options
         The other keywords of :func:`swatch.render.render_swatch` (``roughness_alpha``, ``coating``,
-        ``sun``, ``window_px``, ``exposure``, ``bsdf_override``, …).
+        ``sun``, ``window_px``, ``exposure``, ``bsdf_override``, ``denoise``, …). ``denoise``: Intel Open
+        Image Denoise guided by the albedo and normal buffers of the same render (True: its ``high``
+        quality, or ``balanced``, ``fast``; the default True), the raw image and the buffers kept in
+        ``layers`` (``raw``, ``albedo``, ``normal``), the metadata's ``denoise`` saying how; False: the raw
+        path-traced estimate (references, and the samples' own statistics).
 
     Returns
     -------
@@ -320,6 +334,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         bsdf["alpha_u"], bsdf["alpha_v"] = alphas
         if alphas[0] != alphas[1]:  # brushed along the built-in engine's axis, whatever the surface's uv
             bsdf["brush_axis"] = list(brush_axis("mesh" if shape == "mesh" else shape))
+            bsdf["hairline_depth"] = HAIRLINE_DEPTH
     if bsdf_override is not None:
         bsdf = bsdf_override
     lights = lighting(light.kind, _floor_y(shape, mesh), light.sun, light.hdri)
@@ -338,14 +353,14 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
     # image is byte-identical from run to run), and at most MAX_PASS_LANES samples a pass.
     width, height = (size, size) if window is None else window[2:]
     per = spp & -spp
-    while per > 1 and width * height * per > MAX_PASS_LANES:
+    while per > 1 and (width * height * per > MAX_PASS_LANES or (SAMPLER == "ldsampler" and per & 0x55555555 == 0)):
         per //= 2
     passes = spp // per
-    sensor = camera_dict(scene_geo.camera, size, per, window)
-    scene = load_scene({"type": "scene",
-                          "integrator": {"type": "path", "max_depth": PATH_BOUNCES,
-                                         "hide_emitters": background != "environment"},
-                          "sensor": sensor, **object_shapes(shape, bsdf, mesh), **lights})
+    sensor = camera_dict(scene_geo.camera, size, per, window, SAMPLER)
+    quality = request.denoise  # OIDN's quality, or None (checked in the request)
+    integrator = {"type": "path", "max_depth": PATH_BOUNCES, "hide_emitters": background != "environment"}
+    scene = load_scene({"type": "scene", "integrator": integrator, "sensor": sensor,
+                        **object_shapes(shape, bsdf, mesh), **lights})
     raise_if_signalled()  # (a stop raised in the plugin while Mitsuba loaded the scene was swallowed there)
     acc = np.zeros((height, width, 4), dtype=np.float64)
     for i, s in enumerate(_pass_seeds(seed, passes)):
@@ -355,7 +370,15 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         if progress is not None:
             progress(i + 1, passes)
     acc /= passes
-    rgb = (acc[..., :3] * scale).astype(np.float32)
+    layers: dict[str, np.ndarray] = {}
+    if quality is not None:
+        albedo, normal = oidn.render_buffers(scene, width, height, seed, MAX_PASS_LANES)
+        raise_if_signalled()
+        raw = (acc[..., :3] * scale).astype(np.float32)
+        rgb = oidn.denoise_rgb(raw, albedo, normal, quality)
+        layers = {"raw": raw, "albedo": albedo, "normal": normal}
+    else:
+        rgb = (acc[..., :3] * scale).astype(np.float32)
     alpha = np.clip(acc[..., 3], 0.0, 1.0).astype(np.float32)
     if background == "environment":
         coverage = np.ones((height, width), dtype=np.float32)
@@ -366,10 +389,11 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         display = display_encode(rgb * np.float32(exposure) + (1.0 - coverage)[..., None] * np.float32(bg), 1.0)
     linear = rgb
     if space != "srgb":
-
         m = np.asarray(colour.matrix_RGB_to_RGB(colour.RGB_COLOURSPACES["sRGB"],
                                                 colour.RGB_COLOURSPACES[RGB_SPACES[space]], "Bradford"))
         linear = np.einsum("ij,...j->...i", m.astype(np.float32), rgb).astype(np.float32)
+        if "raw" in layers:
+            layers["raw"] = np.einsum("ij,...j->...i", m.astype(np.float32), layers["raw"]).astype(np.float32)
 
     rough = alphas[0] if len(alphas) == 1 else float(math.sqrt(alphas[0] * alphas[1]))
     meta = common_metadata(d, coating, colorimeter, "microfacet", distribution, rough)
@@ -379,6 +403,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
                  f"{substrate}, per sampled wavelength on the half-vector facet; {distribution} "
                  + (f"alpha {alphas[0]:g}" if len(alphas) == 1 else f"alpha_u {alphas[0]:g}, alpha_v {alphas[1]:g}")
                  + (f" along the {'xyz'[int(np.argmax(np.abs(brush_axis(shape))))]} axis projected"
+                     f", hairlines (across-grain alpha +-{HAIRLINE_DEPTH:g}, lines along the axis)"
                     if len(alphas) == 2 and alphas[0] != alphas[1] else "")
                  + ", visible-normal sampling"
                  + ("" if spread.is_zero else f"; thickness spread{spread.text()}, incoherent Gauss-Hermite average"))
@@ -391,6 +416,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         "seed": seed,
         "integrator": f"Mitsuba path tracer, up to {PATH_BOUNCES} bounces, {passes} pass(es) of {per} spp",
         "rgb_space": space,
+        "denoise": oidn.describe(quality),
         "lighting": _description(light),
         "environment": light.kind if light.kind != "map" else light.name,
         "units": ("scene-referred linear; 1.0 = perfect white diffuser facing up (+y) at the origin under the same "
@@ -407,4 +433,4 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
     if window is not None:
         meta["window_px"] = list(window)
     return SwatchImage(linear, coverage, display, meta | mesh_metadata(mesh) | finish_meta(request.finish),
-                       exposure)
+                       exposure, layers)
