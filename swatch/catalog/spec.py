@@ -57,10 +57,8 @@ class CatalogSpec:
         The swatches' thicknesses, nm.
     voltage_V : tuple of float or None
         The voltages given (None when thicknesses were given).
-    illuminant, observer : str
-        The colorimetry (``observer`` ``"2"`` or ``"10"``).
-    wavelength_step_nm : float
-        The colour grid's step: 1, 5 or 10 nm (ASTM E308).
+    illuminant, observer, wavelength_step_nm : str, str, float
+        The colorimetry (``observer`` ``"2"`` or ``"10"``) and its grid's step: 1, 5 or 10 nm (ASTM E308).
     reference : swatch.colorimetry.geometry.Geometry
         The reference geometry (default 45:0).
     multi_angle : tuple of swatch.colorimetry.geometry.Geometry
@@ -69,20 +67,14 @@ class CatalogSpec:
         The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
     hero_size_px, hero_spp, denoise
         The hero renders' side (pixels), samples per pixel, and whether they are denoised.
-    scheme, grade : str or None
-        A named tolerance grade (None for a written bound).
-    metric, max_delta_E : str, float
-        The colour difference the tolerance bounds (``dEab`` or ``dE00``) and its bound, in that metric.
-    search_nm : float
-        The process window's search span, nm.
-    columns, rows : int
-        Tiles per sheet.
-    process, process_origin : str
-        The profile's name and where it came from.
-    film_index_scale : float
-        The process's factor on the film's real index (dimensionless).
-    spread_nm, spread_fraction : float
-        The thickness spread: 1σ = spread_nm + spread_fraction × d.
+    scheme, grade, metric, max_delta_E : str or None, str or None, str, float
+        The tolerance: a named grade (None for a written bound), the colour difference it bounds (``dEab``
+        or ``dE00``) and its bound, in that metric.
+    search_nm, columns, rows : float, int, int
+        The process window's search span (nm); tiles per sheet across and down.
+    process, process_origin, film_index_scale, spread_nm, spread_fraction : str, str, float, float, float
+        The profile's name and where it came from, its factor on the film's real index (dimensionless), and
+        its thickness spread: 1σ = spread_nm + spread_fraction × d (nm).
     chips, chip_size_mm, chip_dpi
         Print chips: on/off, side (mm), resolution (dpi).
     presets : bool
