@@ -208,7 +208,7 @@ def sweep_reflectance(coating: Coating, start: float, step: float, count: int, c
 
 
 #: Working bytes per (thickness, facet angle, wavelength) sample of a sweep (complex Airy terms, the
-#: spread's accumulator), with a margin; the README's memory table has the measured peaks.
+#: spread's accumulator), with a margin; the memory table of docs/cli.md has the measured peaks.
 SWEEP_BYTES_PER_SAMPLE = 320
 
 

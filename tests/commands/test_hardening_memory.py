@@ -87,7 +87,7 @@ def test_issue22_the_budget_can_be_lowered_for_a_run_never_raised():
 @pytest.mark.slow
 def test_issue22_the_colour_table_is_chunked_within_a_lowered_budget():
     """Issue #22 group 3: `color` over 1000 nm at 0.01 nm under 10 overcoats (the caps) needed 8.7 GB at once;
-    it plans its table in chunks against the budget (0.90 GB peak at the caps: the README's memory table).
+    it plans its table in chunks against the budget (0.90 GB peak at the caps: the memory table of docs/cli.md).
     Issue 17 item 7: pinned at a quarter of the rows (25,000 thicknesses, 10 overcoats) under a budget lowered
     to 256 MiB and an address-space limit of 256 MiB + the baseline: measured, the table computed in one
     piece fails there (MemoryError) and the planned chunks pass, in about half the CPU of the run at the caps."""

@@ -108,7 +108,7 @@ def test_issue22_every_command_at_its_caps_runs_or_refuses_under_the_memory_limi
     """Issue #22 group 3: every command at its largest allowed input, under the 2 GB (+ baseline) address-space
     limit: it runs, or is refused in one line (exit 2); never a MemoryError, an OOM kill or a traceback. The
     catalog's largest sheet (512 px tiles, 8 × 8, two shapes and angular maps; the explorer page with it)
-    is composed in the building process (-j 1). Peaks: the README's memory table (with the cases too slow
+    is composed in the building process (-j 1). Peaks: the memory table of docs/cli.md (with the cases too slow
     for the suite: the angular map at MAX_ANGULAR_SAMPLES, `color` at 100,000 × 471 wavelengths, `calibrate`
     of 1,000 coupons). `fit --step 0.0021` (190,000 search points) needed 8.7 GiB; it must run here (the fit
     of 20,000 geometries takes minutes: its peak is in the memory table)."""
