@@ -257,9 +257,9 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     try:
         make_subfolders(staging)
         cache = cache_folder(meta)
-        hero_out, hero_used, hero_entries = execute.catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
         # 1. tiles (renders), from the cache or rendered in parallel: the pool starts on them (its workers
-        # save them into the cache) before the presets are fitted here, so the fits overlap the renders
+        # save them into the cache) before the presets are fitted and the heroes path-traced here, so both
+        # overlap the renders
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
         tiles = tilemod.tile_render(data.context)  # the context's coating and colorimeter, sent to the workers
@@ -269,6 +269,7 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         preset_entries: Sequence[dict | None] = [None] * n  # `[presets] enabled = false`: no fits, files, entries
         if spec.presets:
             preset_files, preset_entries = execute.catalog_presets(spec, data.records, cache)  # fits cached
+        hero_out, hero_used, hero_entries = execute.catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
         records = execute.final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
         rendered = tilemod.finish_renders(renders, len(missing),
                                           lambda total: _progress("rendering swatches", total, progress))
