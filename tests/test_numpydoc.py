@@ -16,7 +16,8 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 #: The subpackages whose every Parameters / Returns / Yields / Attributes entry is described; add one when it is.
-DESCRIBED = ("physics", "colorimetry", "report", "presets", "core", "production", "commands", "catalog")
+DESCRIBED = ("physics", "colorimetry", "report", "presets", "core", "production", "commands", "catalog",
+             "render", "fit", "io")
 
 #: The subpackages whose modules cite their references as colour-science's do (a numbered References section).
 CITING = ("physics", "colorimetry")

@@ -75,9 +75,13 @@ class Calibration:
     delta_E_00 : numpy.ndarray, shape (N,)
         CIEDE2000 between them.
     outlier : numpy.ndarray of bool, shape (N,)
+        True for the coupons set aside as fitting no line (left out of the fit).
     labels : tuple of str
+        The coupons' labels, in the order of the arrays.
     geometry : dict
+        ``light_deg`` and ``view_deg``: the measuring geometry, degrees.
     illuminant, observer : str
+        The CIELAB conditions: illuminant name and observer (``2`` or ``10`` degrees).
     runner_up : dict or None
         The best other interference order (nm_per_V, offset_nm, mean ΔE2000).
     held_out : numpy.ndarray or None
@@ -89,6 +93,7 @@ class Calibration:
     fixed : tuple of (str, str)
         Parameter → why it was fixed.
     cm : swatch.colorimetry.colorimeter.Colorimeter or None
+        The illuminant and observer on the fit's wavelengths (None: not attached).
     cos_d : float
         cos θ_d of the measuring geometry.
     outlier_match : tuple
@@ -286,6 +291,7 @@ def calibrate(coupons: Coupons, base: Process, light_deg: float = 45.0, view_deg
         Choose the film and substrate tables too, by leave-one-out ΔE2000 (``film``/``substrate``
         fix one of them); False keeps the base's.
     film, substrate : str or None
+        Optical table names that fix that side of the search (None: searched).
 
     Returns
     -------

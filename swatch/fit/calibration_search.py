@@ -65,6 +65,7 @@ class Problem:
     d_meas : numpy.ndarray, shape (N,)
         Measured thicknesses, nm (NaN where none).
     cm : swatch.colorimetry.colorimeter.Colorimeter
+        The illuminant and observer of ``Lab``, on the tables' wavelengths.
     """
 
     V: np.ndarray
@@ -79,6 +80,7 @@ class Problem:
         Returns
         -------
         int
+            The number of coupons.
         """
         return int(self.V.size)
 
@@ -107,7 +109,9 @@ def predict_Lab(table: ComboTable, prob: Problem, X: np.ndarray, spread: bool, r
     Parameters
     ----------
     table, prob : ComboTable, Problem
+        The pair's XYZ table and the coupons.
     X : numpy.ndarray, shape (B, 6)
+        Parameter rows of :data:`PARAMS` (offset nm, rate nm/V, scale, spread, knee V, rate above nm/V).
     spread : bool
         Use the spread fraction (the table needs ``XYZ_spread``).
     row : numpy.ndarray of int, shape (B,), optional
@@ -116,6 +120,7 @@ def predict_Lab(table: ComboTable, prob: Problem, X: np.ndarray, spread: bool, r
     Returns
     -------
     numpy.ndarray, shape (B, N, 3)
+        CIELAB per row and coupon, under ``prob.cm``'s illuminant and observer.
     """
     u = growth(X, prob.V)
     XYZ = table.XYZ_at(X[:, 2:3], u, X[:, 3:4] if spread else None, None if row is None else row[:, None])
@@ -144,6 +149,7 @@ class ModelFit:
     model : str
         Its name (:data:`MODELS` keys joined); ``free`` its free parameters.
     free : tuple of str
+        Its free parameters, names of :data:`PARAMS`.
     X, dE : numpy.ndarray, shapes (6,) and (N,)
         The parameters and the in-sample ΔE2000.
     loo : numpy.ndarray, shape (N,), or None
@@ -163,6 +169,7 @@ class ModelFit:
         Returns
         -------
         float
+            Mean over the kept coupons, ΔE2000.
         """
         return float(np.nanmean(self.loo)) if self.loo is not None else float("inf")
 
@@ -173,6 +180,7 @@ class ModelFit:
         Returns
         -------
         float
+            Largest over the kept coupons, ΔE2000.
         """
         return float(np.nanmax(self.loo)) if self.loo is not None else float("inf")
 
@@ -188,18 +196,22 @@ def fit_model(table: ComboTable, prob: Problem, names: tuple[str, ...], starts: 
     Parameters
     ----------
     table, prob : ComboTable, Problem
+        The pair's XYZ table and the coupons.
     names : tuple of str
         Free parameters of :data:`PARAMS`.
     starts : numpy.ndarray, shape (B, 6)
+        Starting parameter rows of :data:`PARAMS` (the fixed ones are kept).
     keep : numpy.ndarray of bool, shape (N,)
         The inliers.
     robust : bool
         Soft-L1 loss (scale :data:`LOSS_SCALE_DE00`).
     model, iters : str, int
+        The model's name (recorded) and the Levenberg–Marquardt iterations.
 
     Returns
     -------
     ModelFit
+        The best start's parameters and in-sample ΔE2000 (``loo`` not yet set).
     """
     free = _free_index(names)
     spread = "f" in names
@@ -224,10 +236,12 @@ def knee_starts(fit: ModelFit, V: np.ndarray, keep: np.ndarray, count: int = 12)
     V, keep : numpy.ndarray, shape (N,)
         Voltages (V) and the inliers (bool).
     count : int
+        The largest number of knee positions.
 
     Returns
     -------
     numpy.ndarray, shape (count, 6) or (0, 6)
+        Parameter rows, the same growth at each knee; none with fewer than 6 distinct kept voltages.
     """
     v = np.sort(np.unique(V[keep]))
     if v.size < 6:
@@ -247,7 +261,9 @@ def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndar
     Parameters
     ----------
     table, prob, fit : ComboTable, Problem, ModelFit
+        The pair's XYZ table, the coupons and the fit to refit fold by fold.
     keep : numpy.ndarray of bool, shape (N,)
+        The inliers (each one held out in turn).
 
     Returns
     -------
@@ -280,13 +296,16 @@ def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3
     Parameters
     ----------
     table, prob : ComboTable, Problem
+        The pair's XYZ table and the coupons.
     scale : float
         The film index scale of the lines.
     count : int
+        The largest number of laws (interference orders) returned.
 
     Returns
     -------
     numpy.ndarray, shape (count, 6)
+        Parameter rows (offset nm, rate nm/V, ``scale``, no spread, no knee), best first; fewer if fewer orders fit.
     """
     stride = 2  # a 1 nm lookup is enough to find the order (the fits refine)
     u = np.arange(0, table.XYZ.shape[1], stride) * U_STEP_NM
@@ -336,7 +355,9 @@ def covariance(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray
     Parameters
     ----------
     table, prob, fit : ComboTable, Problem, ModelFit
+        The pair's XYZ table, the coupons and the fitted model.
     keep : numpy.ndarray of bool, shape (N,)
+        The inliers (the residuals counted).
 
     Returns
     -------
@@ -399,10 +420,13 @@ def screen(tables: list[ComboTable], prob: Problem, scale0: float, knee: bool, i
     tables : list of ComboTable
         One-scale tables, one per pair.
     prob : Problem
+        The coupons.
     scale0 : float
         The fixed film index scale.
     knee : bool
+        Also try a knee (two-slope law) after the straight one.
     iters : int
+        Levenberg–Marquardt iterations per fit.
 
     Returns
     -------

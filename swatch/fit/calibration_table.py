@@ -36,11 +36,13 @@ class ComboTable:
     Attributes
     ----------
     film, substrate : str
+        The optical table names of the pair.
     XYZ : numpy.ndarray, shape (S, U, 3)
         At the scales ``scales`` and u every :data:`U_STEP_NM` from 0 (Y = 100 for a white diffuser).
     n_film_max : float
         The film's largest real index at the largest scale (sizes the spread's quadrature).
     wavelength_min_nm : float
+        The shortest wavelength of the grid, nm (sizes the spread's quadrature).
     scales : numpy.ndarray, shape (S,)
         Default :data:`TABLE_SCALES`.
     XYZ_spread : numpy.ndarray, shape (S, F, U, 3), or None
@@ -85,6 +87,7 @@ class ComboTable:
         Returns
         -------
         numpy.ndarray, shape T + (3,)
+            CIE XYZ (Y = 100 for a white diffuser) under the table's illuminant and observer.
         """
         fu = np.clip(np.asarray(u, dtype=np.float64) / U_STEP_NM, 0.0, self.XYZ.shape[1] - 1 - 1e-9)
         if row is not None:
@@ -169,6 +172,7 @@ def build_table(film: str, substrate: str, wavelength_nm, cm, cos_d: float, u_ma
     film, substrate : str
         Optical table names.
     wavelength_nm : array_like, shape (W,)
+        The wavelength grid, nm (that of ``cm``).
     cm : swatch.colorimetry.colorimeter.Colorimeter
         The calibration's illuminant and observer on that grid.
     cos_d : float

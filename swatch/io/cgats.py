@@ -59,6 +59,7 @@ def is_cgats(text: str) -> bool:
     Returns
     -------
     bool
+        True when a line is ``BEGIN_DATA_FORMAT`` (the text is then read as CGATS).
 
     Examples
     --------

@@ -80,6 +80,7 @@ class Coupons:
         Returns
         -------
         str
+            Which of ``Lab`` and ``reflectance`` the coupons hold.
         """
         return "colour" if self.Lab is not None else "spectrum"
 
@@ -228,6 +229,7 @@ def coupons_from_samples(source: str, samples) -> Coupons:
     Returns
     -------
     Coupons
+        One coupon per sample, in the file's order: voltages (V), CIELAB or spectra (fraction), labels.
 
     Raises
     ------

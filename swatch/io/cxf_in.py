@@ -59,6 +59,7 @@ def is_cxf(data: bytes) -> bool:
     Returns
     -------
     bool
+        True when the first non-blank character is ``<`` (the bytes are then read as CxF3).
 
     Examples
     --------

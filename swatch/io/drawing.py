@@ -71,12 +71,14 @@ def drawable_text(text: str, font: str = "DroidSans") -> str:
     Parameters
     ----------
     text : str
+        The label to draw.
     font : str
         A font of :func:`font_path`.
 
     Returns
     -------
     str
+        The same length as ``text``; unchanged when the font has every character.
 
     Examples
     --------
@@ -92,6 +94,7 @@ def text_width(text: str, size_px: int, font: str = "DroidSans") -> int:
     Parameters
     ----------
     text : str
+        The label (characters the font lacks measured as ``?``).
     size_px : int
         Font size, pixels.
     font : str
@@ -117,6 +120,7 @@ def draw_text(image_uint8, text: str, x: int, y: int, size_px: int = 16, color=(
     Parameters
     ----------
     image_uint8 : numpy.ndarray of uint8, shape (H, W, C)
+        Display-encoded pixels (C channels, 0–255) to draw on.
     text : str
         Characters the font lacks are drawn as ``?``.
     x, y : int
@@ -175,6 +179,7 @@ def draw_rect(image_uint8, x0: int, y0: int, x1: int, y1: int, color, fill: bool
     Parameters
     ----------
     image_uint8 : numpy.ndarray of uint8, shape (H, W, C)
+        Display-encoded pixels (C channels, 0–255) to draw on.
     x0, y0, x1, y1 : int
         Corners, pixels.
     color : sequence of float
@@ -182,12 +187,14 @@ def draw_rect(image_uint8, x0: int, y0: int, x1: int, y1: int, color, fill: bool
     fill : bool
         Filled, or an outline of ``width`` pixels.
     width : int
+        The outline's width, pixels, inside the rectangle (unused when ``fill``).
     inplace : bool
         Draw on the input itself, not a copy.
 
     Returns
     -------
     numpy.ndarray of uint8, shape (H, W, C)
+        A new image (the input unchanged), or the input with ``inplace``.
 
     Examples
     --------
@@ -221,17 +228,20 @@ def draw_line(image_uint8, x0: int, y0: int, x1: int, y1: int, color, width: int
     Parameters
     ----------
     image_uint8 : numpy.ndarray of uint8, shape (H, W, C)
+        Display-encoded pixels (C channels, 0–255) to draw on.
     x0, y0, x1, y1 : int
         End points, pixels (x0 == x1 or y0 == y1).
     color : sequence of float
         0–255 or 0–1 values.
     width : int
+        The line's thickness, pixels.
     inplace : bool
         Draw on the input itself, not a copy.
 
     Returns
     -------
     numpy.ndarray of uint8, shape (H, W, C)
+        A new image (the input unchanged), or the input with ``inplace``.
 
     Raises
     ------

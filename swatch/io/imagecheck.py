@@ -24,6 +24,7 @@ def reads_back(path, spec) -> bool:
     Returns
     -------
     bool
+        False when it does not open, differs from ``spec`` or its last row fails to read.
     """
     inp = oiio.ImageInput.open(str(path))
     if inp is None:
@@ -56,6 +57,7 @@ def finished_whole(path, spec, finish=None) -> bool:
     Returns
     -------
     bool
+        True when whole (and rewritten by ``finish``); False for a cut file.
     """
     if finish is None:
         return reads_back(path, spec)

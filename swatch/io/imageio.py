@@ -145,12 +145,14 @@ def as_hwc(pixels, what: str) -> np.ndarray:
     Parameters
     ----------
     pixels : array_like, shape (H, W) or (H, W, C)
+        The image, H, W, C ≥ 1.
     what : str
         Names the array in the error.
 
     Returns
     -------
     numpy.ndarray, shape (H, W, C)
+        The same values (a view where it can be), a 2-D input with C = 1.
 
     Raises
     ------
@@ -195,6 +197,7 @@ def write_exr(path, pixels, metadata: dict | None = None, channel_names=("R", "G
     Parameters
     ----------
     path : str or path-like
+        The file to write (``.exr``); renamed into place when whole.
     pixels : array_like, shape (H, W) or (H, W, C)
         Any C, finite (NaN or inf refused).
     metadata : dict, optional
@@ -213,6 +216,7 @@ def write_exr(path, pixels, metadata: dict | None = None, channel_names=("R", "G
     Returns
     -------
     pathlib.Path
+        ``path``, written.
     """
     oiio = _oiio()
     arr = as_hwc(pixels, "EXR pixels").astype(np.float32, copy=False)  # (no copy of a float32 image)
@@ -247,6 +251,7 @@ def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, d
     Parameters
     ----------
     path : str or path-like
+        The file to write (``.png``); renamed into place when whole.
     rgb : array_like, shape (H, W) or (H, W, 1–4), uint8 or uint16
         Display-encoded sRGB.
     metadata : dict, optional
@@ -263,6 +268,7 @@ def write_png(path, rgb, metadata: dict | None = None, xmp: str | None = None, d
     Returns
     -------
     pathlib.Path
+        ``path``, written.
     """
 
     oiio = _oiio()
@@ -299,7 +305,9 @@ def write_tiff(path, rgb, dpi: float | None = None, icc_profile: bytes | None = 
     Parameters
     ----------
     path : str or path-like
+        The file to write (``.tif``); renamed into place when whole.
     rgb : array_like, shape (H, W, C), uint8 or uint16
+        Display-encoded pixels (gray, RGB or with alpha).
     dpi : float, optional
         Resolution, dots per inch.
     icc_profile : bytes, optional
@@ -310,6 +318,7 @@ def write_tiff(path, rgb, dpi: float | None = None, icc_profile: bytes | None = 
     Returns
     -------
     pathlib.Path
+        ``path``, written.
     """
     oiio = _oiio()
     arr = as_hwc(rgb, "TIFF pixels")
@@ -361,6 +370,7 @@ def read_metadata(path, prefix: str | None = PREFIX, restore: bool = True) -> di
     Parameters
     ----------
     path : str or path-like
+        The image file (any format OpenImageIO reads).
     prefix : str or None
         Only attributes with this prefix (default ``swatch:``), prefix removed; None: every attribute.
     restore : bool
@@ -369,6 +379,7 @@ def read_metadata(path, prefix: str | None = PREFIX, restore: bool = True) -> di
     Returns
     -------
     dict
+        Attribute name → value (str, number, list or dict once restored).
 
     Raises
     ------
@@ -401,10 +412,12 @@ def read_channel_names(path) -> list[str]:
     Parameters
     ----------
     path : str or path-like
+        The image file (any format OpenImageIO reads).
 
     Returns
     -------
     list of str
+        One per channel, in the file's order (e.g. ``R``, ``G``, ``B``, ``A``).
 
     Raises
     ------

@@ -1,11 +1,9 @@
 """Measurements as instruments export them: the common part of the CGATS, CxF3 and CSV readers.
 
-An instrument file holds one or many *samples* (parts, coupons, patches), each with CIELAB or a
-reflectance spectrum at one or several geometries, and may state the illuminant, observer and
-geometry it was measured or computed under. What the file states is used; what the command
-line states explicitly must agree with it (:func:`check_agrees`), otherwise the file is refused
-in one line. CIELAB from an instrument file needs a white point: the file's illuminant and
-observer, or, where the file states none, ones given explicitly on the command line.
+An instrument file holds one or many *samples* (parts, coupons, patches), each with CIELAB or a reflectance spectrum
+at one or several geometries, and may state the illuminant, observer and geometry it was measured or computed under.
+What the file states is used; an explicit command-line value must agree with it (:func:`check_agrees`), or the file
+is refused in one line. CIELAB needs a white point: the file's illuminant and observer, else the explicit options.
 
 Every value is checked before use (finite, CIELAB within range, reflectance within the limits of
 :mod:`swatch.core.limits`); sizes and counts are capped before memory is spent.
@@ -49,8 +47,7 @@ class Request:
     percent : bool or None
         Reflectance in percent (True), as a fraction (False) or detected (None).
     given : frozenset of str
-        Which of ``"geometry"``, ``"illuminant"``, ``"observer"`` were given explicitly (a file
-        contradicting one of those is refused).
+        Which of ``"geometry"``, ``"illuminant"``, ``"observer"`` were explicit (a file contradicting one is refused).
     """
 
     light_deg: float = 45.0
@@ -117,6 +114,7 @@ class InstrumentFile:
         Returns
         -------
         str
+            Which kind of measurement every sample holds.
         """
         return "colour" if isinstance(self.samples[0].measurement, LabMeasurement) else "spectrum"
 
@@ -134,6 +132,7 @@ def geometry_name(light_deg: float, view_deg: float, same_side: bool = False) ->
     Returns
     -------
     str
+        ``light:view`` in degrees, the view negative on the light's side.
 
     Examples
     --------
@@ -196,6 +195,7 @@ def parse_observer(text: str, source: str) -> str:
     Returns
     -------
     str
+        The observer's field of view, degrees: ``"2"`` (CIE 1931) or ``"10"`` (CIE 1964).
 
     Raises
     ------
@@ -228,6 +228,7 @@ def parse_illuminant(text: str, source: str) -> str:
     Returns
     -------
     str
+        The name as :func:`swatch.colorimetry.colorimeter.illuminant_names` spells it (``D65``, ``FL11`` …).
 
     Raises
     ------
@@ -349,6 +350,7 @@ def lab_sample(source: str, sample_id: str, geometries, Lab, voltage_V=None, thi
     Returns
     -------
     Sample
+        Its measurement (one geometry per row) and the coupon labels.
 
     Raises
     ------
@@ -384,6 +386,7 @@ def spectral_sample(source: str, sample_id: str, geometries, wavelength_nm, refl
     Returns
     -------
     Sample
+        Its measurement (reflectance as a fraction) and the coupon labels.
 
     Raises
     ------
@@ -478,8 +481,7 @@ def same_geometries(samples: tuple[Sample, ...], source: str) -> None:
     Raises
     ------
     swatch.core.errors.SwatchError
-        Two samples share a name (as in the CSV reader: one name, one part), differ in geometry (to 0.001°)
-        or mix CIELAB and spectra.
+        Two samples share a name (one name, one part), differ in geometry (to 0.001°) or mix CIELAB and spectra.
     """
     ids = [s.id for s in samples]
     if len(set(ids)) != len(ids):

@@ -150,6 +150,7 @@ def parse_measurement_text(text: str, source: str = "<text>", percent: bool | No
     Parameters
     ----------
     text : str
+        The CSV text (spectral or CIELAB columns).
     source : str
         Names the text in messages.
     percent : bool or None
@@ -161,6 +162,7 @@ def parse_measurement_text(text: str, source: str = "<text>", percent: bool | No
     Returns
     -------
     swatch.io.measurements.SpectralMeasurement or swatch.io.measurements.LabMeasurement
+        Spectra (reflectance as a fraction) or CIELAB, per geometry row.
 
     Raises
     ------
@@ -186,12 +188,14 @@ def parse_measurement_table(table: Table, percent: bool | None = None, light_deg
     Parameters
     ----------
     table : swatch.io.tabular.Table
+        The header and data rows of the text.
     percent, light_deg, view_deg, light_azimuth_deg, view_azimuth_deg
         As :func:`parse_measurement_text`.
 
     Returns
     -------
     swatch.io.measurements.SpectralMeasurement or swatch.io.measurements.LabMeasurement
+        Spectra (reflectance as a fraction) or CIELAB, per geometry row.
 
     Raises
     ------
@@ -380,6 +384,7 @@ def read_spectral_csv(path, percent: bool | None = None, **geometry) -> Spectral
     Parameters
     ----------
     path : str or path-like
+        The measurement CSV file.
     percent : bool or None
         As :func:`read_measurement`.
     **geometry
@@ -388,6 +393,7 @@ def read_spectral_csv(path, percent: bool | None = None, **geometry) -> Spectral
     Returns
     -------
     swatch.io.measurements.SpectralMeasurement
+        The spectra (reflectance as a fraction) per geometry.
 
     Raises
     ------
@@ -406,12 +412,14 @@ def read_lab_csv(path, **geometry) -> LabMeasurement:
     Parameters
     ----------
     path : str or path-like
+        The measurement CSV file.
     **geometry
         ``light_deg``, ``view_deg``, ``light_azimuth_deg``, ``view_azimuth_deg`` (degrees).
 
     Returns
     -------
     swatch.io.measurements.LabMeasurement
+        The CIELAB per geometry.
 
     Raises
     ------

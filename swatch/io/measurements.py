@@ -64,6 +64,7 @@ class SpectralMeasurement:
         Returns
         -------
         int
+            The number of geometry rows.
         """
         return int(self.light_deg.size)
 
@@ -90,6 +91,7 @@ class SpectralMeasurement:
         Returns
         -------
         SpectralMeasurement
+            The arrays as float64, angles broadcast together, view azimuths resolved.
 
         Examples
         --------
@@ -140,6 +142,7 @@ class LabMeasurement:
         Returns
         -------
         int
+            The number of geometry rows.
         """
         return int(self.light_deg.size)
 
@@ -150,6 +153,7 @@ def check_in_tables(measurement: SpectralMeasurement, film: str, substrate: str)
     Parameters
     ----------
     measurement : SpectralMeasurement
+        The spectra whose wavelengths are checked, nm.
     film, substrate : str
         Optical table names (:func:`swatch.physics.materials.load_material`).
 

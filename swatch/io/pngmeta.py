@@ -174,6 +174,7 @@ def image_xmp(title: str, meta: dict) -> str:
     Returns
     -------
     str
+        The XMP packet (XML text) for :func:`swatch.io.imageio.write_png`.
     """
     props = {k: meta[k] for k in ("thickness_nm", "voltage_V", "film", "substrate", "illuminant", "observer",
                                   "model") if meta.get(k) is not None}

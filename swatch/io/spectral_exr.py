@@ -38,10 +38,12 @@ def reflective_channel_name(wavelength_nm: float) -> str:
     Parameters
     ----------
     wavelength_nm : float
+        The wavelength, nm.
 
     Returns
     -------
     str
+        ``T.<nm with six decimals, comma>nm``.
 
     References
     ----------
@@ -92,10 +94,13 @@ def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None =
     Parameters
     ----------
     path : str or path-like
+        The file to write (``.exr``); renamed into place when whole.
     reflectance : array_like, shape (H, W, Wl)
         Reflectance factors (dimensionless).
     wavelength_nm : array_like, shape (Wl,)
+        The channels' wavelengths, nm, increasing.
     metadata : dict, optional
+        ``swatch:`` attributes, as :func:`swatch.io.imageio.write_exr`.
     rgb : array_like, shape (H, W, 3), optional
         Linear RGB in ``space`` as ``R``, ``G``, ``B`` beside the spectral channels (what viewers show).
     space : str
@@ -106,6 +111,7 @@ def write_spectral_exr(path, reflectance, wavelength_nm, metadata: dict | None =
     Returns
     -------
     pathlib.Path
+        ``path``, written.
     """
     arr = as_hwc(reflectance, "spectral reflectance")
     wl = np.asarray(wavelength_nm, dtype=np.float64).reshape(-1)

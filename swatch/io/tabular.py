@@ -57,6 +57,7 @@ class Table:
         Returns
         -------
         str
+            The separator quoted, or ``tab``.
         """
         return SEPARATORS[self.separator]
 
@@ -99,6 +100,7 @@ def split_table(text: str, source: str, max_rows: int | None = None) -> Table:
     Returns
     -------
     Table
+        The separator, the header's cells and the data rows (line number, cells; decimal commas made points).
 
     Raises
     ------

@@ -73,6 +73,7 @@ def layered_pixels(img: SwatchImage) -> tuple[np.ndarray, tuple[str, ...]]:
     Parameters
     ----------
     img : SwatchImage
+        The rendered image (premultiplied linear RGB, coverage and named layers).
 
     Returns
     -------

@@ -168,6 +168,7 @@ def oidn_version() -> str:
     Returns
     -------
     str
+        The denoiser's and the binding's versions, for the image metadata.
     """
     return f"Intel Open Image Denoise {oidn.oidn_version()}, mitsuba-oidn {importlib.metadata.version('mitsuba-oidn')}"
 
@@ -183,6 +184,7 @@ def describe(quality: str | None) -> str:
     Returns
     -------
     str
+        ``"none (raw path-traced estimate)"``, or the filter, quality, versions and guide buffers in words.
     """
     if quality is None:
         return "none (raw path-traced estimate)"

@@ -126,10 +126,12 @@ def mitsuba_lighting(lighting_name: str | None = "studio", sun: Sun | None = Non
     lighting_name : str or None, optional
         ``studio`` (None too), ``sun``, ``uniform`` or a map's path.
     sun : swatch.render.lighting.Sun, optional
+        The sun by angles or by place and time, for ``sun`` lighting (None: 45° elevation); ignored otherwise.
 
     Returns
     -------
     swatch.render.lighting.Lighting
+        The lighting resolved and checked for the ``mitsuba`` engine (a map read into memory).
     """
     return resolve_lighting(lighting_name, "mitsuba", sun)
 

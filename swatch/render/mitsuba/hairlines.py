@@ -40,6 +40,7 @@ def across_basis(axis) -> tuple[list[float], list[float]]:
     Returns
     -------
     (list of float, list of float)
+        The two unit vectors ``e1, e2`` (3 floats each, world space; ``e1 × e2`` along ``axis``).
     """
     a = np.asarray(axis, dtype=np.float64)
     a = a / np.linalg.norm(a)

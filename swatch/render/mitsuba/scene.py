@@ -61,6 +61,7 @@ def load_scene(scene: dict):
     Returns
     -------
     mitsuba.Scene
+        The loaded scene, its shapes and emitters in the dictionary's order.
     """
     return mi.load_dict(scene, optimize=False)
 
@@ -82,6 +83,7 @@ def jit_float(values) -> mi.Float:
     Returns
     -------
     mitsuba.Float
+        The values flattened, float32, in a 64-byte-aligned buffer.
     """
     a = np.ascontiguousarray(values, dtype=np.float32).reshape(-1)
     buf = np.empty(a.size + 16, dtype=np.float32)
@@ -102,6 +104,7 @@ def camera_dict(cam: Camera, size_px: int, spp: int, window_px: tuple[int, int, 
     Parameters
     ----------
     cam : swatch.render.scene.Camera
+        The pinhole camera (eye in scene units, orthonormal frame, window in tan units).
     size_px : int
         Pixels per side of the film.
     spp : int
@@ -146,6 +149,7 @@ def triangle_mesh(name: str, positions: np.ndarray, faces: np.ndarray, normals: 
     Parameters
     ----------
     name : str
+        The shape's id in the scene (``cylinder``, ``mesh``, ``cyclorama``).
     positions : numpy.ndarray
         Vertex positions, shape (N, 3).
     faces : numpy.ndarray
@@ -153,10 +157,12 @@ def triangle_mesh(name: str, positions: np.ndarray, faces: np.ndarray, normals: 
     normals : numpy.ndarray or None
         Vertex normals, shape (N, 3); None: flat faces.
     bsdf : mitsuba.BSDF
+        The loaded material of every face.
 
     Returns
     -------
     mitsuba.Mesh
+        The triangle mesh with its vertex data uploaded (``params.update()`` done).
     """
     props = mi.Properties()
     props["bsdf"] = bsdf
