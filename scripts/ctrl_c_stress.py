@@ -22,38 +22,11 @@ import tempfile
 import time
 from pathlib import Path
 
-SPEC = """
-name = "Stress"
-[thickness]
-start_nm = {start}
-stop_nm = 300
-step_nm = 10
-[render]
-size_px = 64
-model = "paper"
-shapes = ["flat"]
-angular_map = false
-"""
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # the repository's tests package
+from tests.core.test_hardening_runs import AS_ON_A_TERMINAL, KILL_SPEC, group_members
 
-#: The CLI as a terminal's foreground job starts it: SIGINT and SIGHUP at their defaults.
-AS_ON_A_TERMINAL = ("import runpy, signal; signal.signal(signal.SIGINT, signal.default_int_handler); "
-                    "signal.signal(signal.SIGHUP, signal.SIG_DFL); runpy.run_module('swatch.cli', run_name='__main__')")
-
-
-def group_members(pgid: int) -> list[int]:
-    """Live (not zombie) processes of a process group, from /proc."""
-    out = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            stat = Path(f"/proc/{entry}/stat").read_text()
-        except OSError:
-            continue
-        fields = stat[stat.rindex(")") + 2:].split()
-        if int(fields[2]) == pgid and fields[0] != "Z":
-            out.append(int(entry))
-    return out
+#: The small catalog each try rebuilds (the killed-build tests' spec, its first thickness shifted per try).
+SPEC = KILL_SPEC.replace("start_nm = 20", "start_nm = {start}")
 
 
 def one_try(folder: Path, start_nm: float, delay_s: float, sig: int) -> tuple[str, int, str, float]:
