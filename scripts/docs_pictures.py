@@ -121,7 +121,46 @@ def mitsuba_gallery(path: Path) -> None:
         path.write_bytes((Path(tmp) / "mitsuba-gallery.png").read_bytes())
 
 
+def _swatch(*args: str, cwd: Path) -> None:
+    """Run the ``swatch`` command of this checkout (``python -m swatch.cli``) in ``cwd``; its exit status 0 or 1."""
+    import subprocess
+
+    done = subprocess.run([sys.executable, "-m", "swatch.cli", *args], check=False, cwd=cwd, capture_output=True,
+                          text=True)
+    if done.returncode not in (0, 1):
+        raise SystemExit(f"swatch {' '.join(args)}: {done.stderr.strip()}")
+
+
+def spec_card(path: Path) -> None:
+    """The finisher's spec card (docs/finisher.md: #2579b8, dE00 2, examples/line.toml), page 1 at 100 dpi
+    (poppler's pdftoppm)."""
+    import subprocess
+
+    with tempfile.TemporaryDirectory(prefix="swatch-docs-") as tmp:
+        _swatch("spec", "--hex", "2579b8", "--tolerance", "dE00:2", "--process", str(ROOT / "examples" / "line.toml"),
+                "--out", "spec", cwd=Path(tmp))
+        subprocess.run(["pdftoppm", "-png", "-r", "100", "-singlefile", "spec/spec.pdf", "card"], cwd=tmp, check=True)
+        path.write_bytes((Path(tmp) / "card.png").read_bytes())
+
+
+def check_report(path: Path) -> None:
+    """``swatch check examples/parts.cxf`` against that spec: qc/check.png."""
+    with tempfile.TemporaryDirectory(prefix="swatch-docs-") as tmp:
+        _swatch("spec", "--hex", "2579b8", "--tolerance", "dE00:2", "--process", str(ROOT / "examples" / "line.toml"),
+                "--out", "spec", cwd=Path(tmp))
+        _swatch("check", str(ROOT / "examples" / "parts.cxf"), "--spec", "spec/spec.json", "--report", "qc",
+                cwd=Path(tmp))
+        path.write_bytes((Path(tmp) / "qc" / "check.png").read_bytes())
+
+
+#: What the spec card and the check report depend on: fits, the production layer, the readers, the commands.
+PRODUCTION = (*BASE, "swatch/fit/*.py", "swatch/io/*.py", "swatch/report/*.py", "swatch/production/*.py",
+              "swatch/commands/spec.py", "swatch/commands/check.py", "swatch/commands/common.py",
+              "examples/line.toml", "tables/*.csv")
+
 PICTURES: dict[str, Picture] = {
+    "spec-card.png": Picture(spec_card, PRODUCTION),
+    "check-report.png": Picture(check_report, (*PRODUCTION, "examples/parts.cxf")),
     "catalog-sheet.png": Picture(catalog_sheet, (*RENDER, "swatch/presets/*.py", "swatch/report/*.py",
                                                  "swatch/catalog/*.py", "swatch/catalog/web/*", "catalog/titanium.toml",
                                                  "tables/*.csv", "tables/renderers/*.csv")),

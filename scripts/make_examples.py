@@ -11,10 +11,12 @@ spread by Gauss–Legendre quadrature where the line has one, and CIELAB by ``co
   (the file ``scripts/simulate_coupons.py`` writes: TiO2-Franta on Ti-Palm, a knee at 45 V, 3.5 % spread,
   0.3 noise, one mislabelled coupon), for ``swatch calibrate``.
 * ``line.toml`` — that line's process profile as ``swatch calibrate examples/coupons.csv`` writes it.
-* ``parts.cxf`` — four parts anodised on that line, aimed at 51.2 nm (the spec for ``#2579b8`` on
-  ``line.toml``) and landing at +0, +0.5, −0.6 and +3 nm, measured by a multi-angle instrument (light 45°,
-  aspecular −15°, 15°, 25°, 45°, 75°, 110°; spectra 380–730 nm at 10 nm; D65, 10°): CxF3, XSD-valid.
-* ``parts-i1.txt`` — the same four parts at 45/0 only, in X-Rite i1Profiler's CGATS.17 export layout
+* ``parts.cxf`` — five parts anodised on that line, aimed at 51.2 nm (the spec for ``#2579b8`` on
+  ``line.toml``) and landing at +0, +0.5, −0.6 and +3 nm, and a fifth at 51.4 nm under a warm, absorbing
+  deposit (a contaminated rinse: its reflectance × 0.55–1.0 rising from blue to red), whose colour no
+  thickness gives, measured by a multi-angle instrument (light 45°, aspecular −15°, 15°, 25°, 45°, 75°,
+  110°; spectra 380–730 nm at 10 nm; D65, 10°): CxF3, XSD-valid.
+* ``parts-i1.txt`` — the same five parts at 45/0 only, in X-Rite i1Profiler's CGATS.17 export layout
   (CIELAB and spectra, D65, 10°).
 * ``sky.hdr`` — a small equirectangular sky (Radiance HDR, 128 × 64, y up): a blue gradient over a grey
   ground with a sun 35° up, for ``--environment FILE``.
@@ -43,7 +45,9 @@ WL = np.arange(380.0, 731.0, 10.0)
 ASPECULAR = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
 CC = "http://colorexchangeformat.com/CxF3-core"
 LINE = {"film": "TiO2-Franta", "substrate": "Ti-Palm", "spread": 0.035}  # scripts/simulate_coupons.py
-PARTS_NM = {"P1": 51.2, "P2": 51.7, "P3": 50.6, "P4": 54.2}
+PARTS_NM = {"P1": 51.2, "P2": 51.7, "P3": 50.6, "P4": 54.2, "P5": 51.4}
+#: P5's deposit: a factor on its reflectance, 0.55 in the blue to 1.0 in the red (no film thickness gives it).
+TINT = {"P5": 0.55 + 0.45 * (WL - WL[0]) / (WL[-1] - WL[0])}
 SAMPLE_NM = 50.8
 
 
@@ -108,7 +112,7 @@ def multi_angle_cxf(path: Path, parts: dict[str, float], creator: str, **line) -
         el(o, "CreationDate", "2026-12-01T00:00:00")
         cv = el(o, "ColorValues")
         for k, a in enumerate(ASPECULAR):
-            R = reflectance(d, 45.0, 45.0 - a, **line)
+            R = reflectance(d, 45.0, 45.0 - a, **line) * TINT.get(name, 1.0)
             el(cv, "ReflectanceSpectrum", " ".join(f"{x:.6f}" for x in R), ColorSpecification=f"CS{k}", StartWL=380)
     specs = el(res, "ColorSpecificationCollection")
     for k, a in enumerate(ASPECULAR):
@@ -130,7 +134,7 @@ def multi_angle_cxf(path: Path, parts: dict[str, float], creator: str, **line) -
 
 def i1profiler_parts(path: Path) -> None:
     """The parts at 45/0 in i1Profiler's CGATS.17 layout: CIELAB and spectra (fractions), D65 / 10°."""
-    R = np.stack([reflectance(d, 45.0, 0.0, **LINE) for d in PARTS_NM.values()])
+    R = np.stack([reflectance(d, 45.0, 0.0, **LINE) * TINT.get(name, 1.0) for name, d in PARTS_NM.items()])
     lines = ["CGATS.17", 'ORIGINATOR "X-Rite i1Profiler"', 'DESCRIPTOR "Anodised parts, order 2026-12"',
              'CREATED "December 1, 2026"', 'INSTRUMENTATION "i1Pro 3"', 'INSTRUMENT_SERIAL_NUMBER "000000"',
              'MEASUREMENT_SOURCE "Illumination=D65\tObserverAngle=10\tWhiteBase=Abs\tFilter=No"',

@@ -212,11 +212,12 @@ def write_spec_card(spec: dict, path: Path) -> None:
     c.setFont("Helvetica", 8.5)
     skip = {"process", "process_origin", "film", "substrate"}
     more = ", ".join(f"{k} {_s(v)}" for k, v in proc.items() if k not in skip)
+    y -= 11
     for line in (f"{proc['process']} ({proc['process_origin']}): {proc['film']} on {proc['substrate']}",
                  more,
                  f"finish roughness {_s(spec['finish']['roughness'])} (GGX; {spec['finish']['note']})"):
-        y -= 11
-        c.drawString(left, y, line[:150])
+        y = _wrapped(c, left, y, line, 8.5, W - 2 * left)  # a calibrated line's parameters take two lines
+    y += 11
     c.setFont("Helvetica", 7)
     c.setFillColor(_MUTED)
     for key, text in spec.get("process_sources", {}).items():
