@@ -29,6 +29,7 @@ import numpy as np
 
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_LAB_AB
+from swatch.core.ranges import parse_hex
 
 __all__ = ["OBSERVERS", "DISPLAY_OBSERVER", "RGB_SPACES", "check_rgb_space", "Colorimeter", "get_colorimeter",
            "illuminant_names", "delta_E_ab", "delta_E_00", "Lab_to_LCh", "srgb_hex", "hex_to_Lab", "parse_Lab"]
@@ -448,11 +449,7 @@ def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     numpy.ndarray, shape (3,)
         L*, a*, b* (2° observer: sRGB is defined on it, and a hex code has no spectrum, so no 10° Lab).
     """
-    h = hex_code.strip().lstrip("#")
-    if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
-        raise SwatchError(f"bad hex colour {hex_code!r}; give six hex digits like 1f4e9a")
-    encoded = np.array([int(h[i : i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
-    rgb = colour.RGB_COLOURSPACES["sRGB"].cctf_decoding(encoded)
+    rgb = colour.RGB_COLOURSPACES["sRGB"].cctf_decoding(parse_hex(hex_code))
     cm2 = colorimeter.display_colorimeter
     XYZ = colour.RGB_to_XYZ(rgb, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")
     return cm2.Lab(XYZ * 100.0)

@@ -42,11 +42,10 @@ import colour
 import numpy as np
 
 from swatch.colorimetry.colorimeter import DISPLAY_OBSERVER, Colorimeter, get_colorimeter
-from swatch.core.errors import SwatchError
+from swatch.core.ranges import parse_hex
 
 __all__ = ["HEX_CONVENTION", "LAB_CHIP_CONVENTION", "smooth_basis", "srgb_to_document_XYZ", "hex_to_document_Lab",
-           "hex_display",
-           "document_Lab_display", "parse_hex"]
+           "hex_display", "document_Lab_display"]
 
 #: How a hex target is brought into a document's observer (printed with it).
 HEX_CONVENTION = ("sRGB hex (CIE 1931 2°, D65) brought into the document's illuminant and observer through its "
@@ -56,30 +55,6 @@ LAB_CHIP_CONVENTION = ("CIELAB only: drawn through its smoothest reflectance (Me
                        "displayed by CIE 1931 2° sRGB")
 #: The illuminant and observer sRGB is defined on.
 SRGB_ILLUMINANT = "D65"
-
-
-def parse_hex(hex_code: str) -> np.ndarray:
-    """The three sRGB-encoded components of ``RRGGBB`` (a leading ``#`` allowed), 0–1.
-
-    Parameters
-    ----------
-    hex_code : str
-        Six hex digits ``RRGGBB``, optionally after ``#``, any case.
-
-    Returns
-    -------
-    numpy.ndarray, shape (3,)
-        The sRGB-encoded (non-linear) R, G, B, each in [0, 1] (the byte value / 255).
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        Not six hex digits.
-    """
-    h = str(hex_code).strip().lstrip("#")
-    if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
-        raise SwatchError(f"bad hex colour {hex_code!r}; give six hex digits like 1f4e9a")
-    return np.array([int(h[i:i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
 
 
 @functools.lru_cache(maxsize=8)

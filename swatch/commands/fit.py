@@ -130,7 +130,7 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     --scheme, or --tolerance), judged in the tolerance's own metric.
     """
     from swatch.colorimetry.colorimeter import get_colorimeter, parse_Lab
-    from swatch.colorimetry.observers import HEX_CONVENTION, hex_to_document_Lab
+    from swatch.colorimetry.observers import HEX_CONVENTION, hex_display, hex_to_document_Lab
     from swatch.colorimetry.tolerance import get_tolerance, parse_tolerance
     from swatch.fit.matching import judge_candidates, match_colour
     from swatch.report.text import match_text
@@ -156,7 +156,7 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     out["process"] = proc.metadata()
     out["tolerance"] = tol.to_json()
     if hex_code is not None:
-        out["target_hex"] = "#" + hex_code.strip().lstrip("#").lower()
+        out["target_hex"] = hex_display(hex_code)
         out["target_conversion"] = HEX_CONVENTION
     if as_json:
         common.echo_json(out)

@@ -11,7 +11,7 @@ import numpy as np
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_RANGE_POINTS
 
-__all__ = ["parse_range", "parse_pair", "parse_grid", "DEFAULT_STEP"]
+__all__ = ["parse_range", "parse_pair", "parse_grid", "parse_hex", "DEFAULT_STEP"]
 
 
 #: The step of ``A:B`` without one, per unit: 1 nm, 0.5 V, 1°.
@@ -143,3 +143,27 @@ def parse_grid(text: str) -> tuple[float, float, float]:
     except ValueError:
         raise SwatchError(f"wavelength grid {text!r} must be numbers START:STOP:STEP in nm") from None
     return a, b, s
+
+
+def parse_hex(hex_code: str) -> np.ndarray:
+    """The three sRGB-encoded components of ``RRGGBB`` (a leading ``#`` allowed), 0–1.
+
+    Parameters
+    ----------
+    hex_code : str
+        Six hex digits ``RRGGBB``, optionally after ``#``, any case.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        The sRGB-encoded (non-linear) R, G, B, each in [0, 1] (the byte value / 255).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        Not six hex digits.
+    """
+    h = str(hex_code).strip().lstrip("#")
+    if len(h) != 6 or any(c not in "0123456789abcdefABCDEF" for c in h):
+        raise SwatchError(f"bad hex colour {hex_code!r}; give six hex digits like 1f4e9a")
+    return np.array([int(h[i:i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
