@@ -34,16 +34,14 @@ from pathlib import Path
 import colour
 import numpy as np
 import trimesh
-from lxml import etree
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-from tests.synthetic import tmm_half_vector_reflectance  # noqa: E402
+from tests.synthetic import tmm_half_vector_reflectance, write_multi_angle_cxf  # noqa: E402
 
 OUT = ROOT / "examples"
 WL = np.arange(380.0, 731.0, 10.0)
 ASPECULAR = (-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)
-CC = "http://colorexchangeformat.com/CxF3-core"
 LINE = {"film": "TiO2-Franta", "substrate": "Ti-Palm", "spread": 0.035}  # scripts/simulate_coupons.py
 PARTS_NM = {"P1": 51.2, "P2": 51.7, "P3": 50.6, "P4": 54.2, "P5": 51.4}
 #: P5's deposit: a factor on its reflectance, 0.55 in the blue to 1.0 in the red (no film thickness gives it).
@@ -94,42 +92,9 @@ def lab_d65_10(R) -> np.ndarray:
 
 def multi_angle_cxf(path: Path, parts: dict[str, float], creator: str, **line) -> None:
     """A multi-angle CxF3 document (spectra per BRDF angle, D65 / 10°), validated against the CxF3 XSD."""
-
-    def el(parent, tag, text=None, **attrib):
-        e = etree.SubElement(parent, f"{{{CC}}}{tag}", {k: str(v) for k, v in attrib.items()})
-        if text is not None:
-            e.text = str(text)
-        return e
-
-    root = etree.Element(f"{{{CC}}}CxF", nsmap={"cc": CC})
-    info = el(root, "FileInformation")
-    el(info, "Creator", creator)
-    el(info, "CreationDate", "2026-12-01T00:00:00")
-    res = el(root, "Resources")
-    objs = el(res, "ObjectCollection")
-    for name, d in parts.items():
-        o = el(objs, "Object", ObjectType="Sample", Name=name, Id=name)
-        el(o, "CreationDate", "2026-12-01T00:00:00")
-        cv = el(o, "ColorValues")
-        for k, a in enumerate(ASPECULAR):
-            R = reflectance(d, 45.0, 45.0 - a, **line) * TINT.get(name, 1.0)
-            el(cv, "ReflectanceSpectrum", " ".join(f"{x:.6f}" for x in R), ColorSpecification=f"CS{k}", StartWL=380)
-    specs = el(res, "ColorSpecificationCollection")
-    for k, a in enumerate(ASPECULAR):
-        cs = el(specs, "ColorSpecification", Id=f"CS{k}")
-        ts = el(cs, "TristimulusSpec")
-        el(ts, "Illuminant", "D65")
-        el(ts, "Observer", "10_Degree")
-        el(ts, "Method", "E308_Table6")
-        ms = el(cs, "MeasurementSpec")
-        el(ms, "MeasurementType", "Spectrum_Reflectance")
-        b = el(el(el(ms, "GeometryChoice"), "MultiAngle"), "BRDFAngle", Notation=f"45as{a:g}")
-        el(b, "IlluminationAngle", 45.0)
-        el(b, "Aspecular", a)
-        el(ms, "WavelengthRange", StartWL=380, Increment=10)
-    schema = etree.XMLSchema(etree.parse(str(ROOT / "tests" / "data" / "cxf3" / "CxF3_Core.xsd")))
-    schema.assertValid(root)
-    path.write_bytes(etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True))
+    spectra = {name: np.stack([reflectance(d, 45.0, 45.0 - a, **line) * TINT.get(name, 1.0) for a in ASPECULAR])
+               for name, d in parts.items()}
+    write_multi_angle_cxf(path, spectra, ASPECULAR, WL, creator)
 
 
 def i1profiler_parts(path: Path) -> None:

@@ -121,3 +121,57 @@ def paper_dataset(index: int, seed: int = 0):
     light, view = grid_geometries()
     R, scale = make_measurement(d, light, view, WAVELENGTHS_NM, seed=seed + index)
     return d, light, view, WAVELENGTHS_NM, R, scale
+
+
+CXF3_NAMESPACE = "http://colorexchangeformat.com/CxF3-core"
+
+
+def write_multi_angle_cxf(path, spectra: dict, aspecular_deg, wavelength_nm, creator: str):
+    """A multi-angle CxF3 document as an instrument exports it, written with lxml and validated against the
+    official XSD (tests/data/cxf3): per sample, one reflectance spectrum per BRDF angle (light 45°, the
+    aspecular angles), D65 / 10°, the wavelengths evenly spaced.
+
+    ``spectra`` maps a sample's name to its (G, W) reflectance factors (G = len(aspecular_deg)). Returns
+    ``path``."""
+    from lxml import etree
+
+    cc = CXF3_NAMESPACE
+
+    def el(parent, tag, text=None, **attrib):
+        e = etree.SubElement(parent, f"{{{cc}}}{tag}", {k: str(v) for k, v in attrib.items()})
+        if text is not None:
+            e.text = str(text)
+        return e
+
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    start, step = round(float(wl[0])), round(float(wl[1] - wl[0]))
+    root = etree.Element(f"{{{cc}}}CxF", nsmap={"cc": cc})
+    info = el(root, "FileInformation")
+    el(info, "Creator", creator)
+    el(info, "CreationDate", "2026-12-01T00:00:00")
+    res = el(root, "Resources")
+    objs = el(res, "ObjectCollection")
+    for name, rows in spectra.items():
+        o = el(objs, "Object", ObjectType="Sample", Name=name, Id=name)
+        el(o, "CreationDate", "2026-12-01T00:00:00")
+        cv = el(o, "ColorValues")
+        for k, R in enumerate(rows):
+            el(cv, "ReflectanceSpectrum", " ".join(f"{x:.6f}" for x in R), ColorSpecification=f"CS{k}",
+               StartWL=start)
+    specs = el(res, "ColorSpecificationCollection")
+    for k, a in enumerate(aspecular_deg):
+        cs = el(specs, "ColorSpecification", Id=f"CS{k}")
+        ts = el(cs, "TristimulusSpec")
+        el(ts, "Illuminant", "D65")
+        el(ts, "Observer", "10_Degree")
+        el(ts, "Method", "E308_Table6")
+        ms = el(cs, "MeasurementSpec")
+        el(ms, "MeasurementType", "Spectrum_Reflectance")
+        b = el(el(el(ms, "GeometryChoice"), "MultiAngle"), "BRDFAngle", Notation=f"45as{a:g}")
+        el(b, "IlluminationAngle", 45.0)
+        el(b, "Aspecular", a)
+        el(ms, "WavelengthRange", StartWL=start, Increment=step)
+    schema = etree.XMLSchema(etree.parse(str(Path(__file__).resolve().parent / "data" / "cxf3" / "CxF3_Core.xsd")))
+    schema.assertValid(root)
+    Path(path).write_bytes(etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True))
+    return path

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from tests.cli_helpers import assert_one_line_error, run_swatch
-from tests.synthetic import tmm_half_vector_reflectance
+from tests.synthetic import tmm_half_vector_reflectance, write_multi_angle_cxf
 
 O10 = "CIE 1964 10 Degree Standard Observer"
 OFFSETS_NM = (-3.0, -1.0, 0.0, 0.8, 2.0, 4.0)
@@ -73,55 +73,17 @@ def test_check_exit_status_zero_when_all_pass_and_two_for_bad_input(tmp_path):
     assert_one_line_error(run_swatch("check", p, "--spec", bad), "not a finite number")
 
 
-CC = "http://colorexchangeformat.com/CxF3-core"
 
 
 def _multi_angle_cxf(path, parts: dict[str, float], aspecular=(-15.0, 15.0, 25.0, 45.0, 75.0, 110.0)):
-    """A CxF3 file written here with lxml (schema-validated against the official XSD), spectra by tmm
-    at each multi-angle geometry (light 45°, aspecular angle): an instrument's multi-angle export."""
-    from pathlib import Path
-
-    from lxml import etree
-
-    def el(parent, tag, text=None, **attrib):
-        e = etree.SubElement(parent, f"{{{CC}}}{tag}", {k: str(v) for k, v in attrib.items()})
-        if text is not None:
-            e.text = str(text)
-        return e
-
+    """A CxF3 file (tests.synthetic.write_multi_angle_cxf: lxml, schema-validated against the official XSD),
+    spectra by tmm at each multi-angle geometry (light 45°, aspecular angle): an instrument's multi-angle export."""
     wl = np.arange(380.0, 731.0, 10.0)
-    root = etree.Element(f"{{{CC}}}CxF", nsmap={"cc": CC})
-    info = el(root, "FileInformation")
-    el(info, "Creator", "tests (lxml)")
-    el(info, "CreationDate", "2026-12-01T00:00:00")
-    res = el(root, "Resources")
-    objs = el(res, "ObjectCollection")
-    for name, d in parts.items():
-        o = el(objs, "Object", ObjectType="Sample", Name=name, Id=name)
-        el(o, "CreationDate", "2026-12-01T00:00:00")
-        cv = el(o, "ColorValues")
-        for k, a in enumerate(aspecular):
-            view = 45.0 - a
-            R = tmm_half_vector_reflectance(d, [45.0], [abs(view)], wl, view_azimuth_deg=None if view >= 0 else 0.0)[0]
-            el(cv, "ReflectanceSpectrum", " ".join(f"{x:.6f}" for x in R), ColorSpecification=f"CS{k}", StartWL=380)
-    specs = el(res, "ColorSpecificationCollection")
-    for k, a in enumerate(aspecular):
-        cs = el(specs, "ColorSpecification", Id=f"CS{k}")
-        ts = el(cs, "TristimulusSpec")
-        el(ts, "Illuminant", "D65")
-        el(ts, "Observer", "10_Degree")
-        el(ts, "Method", "E308_Table6")
-        ms = el(cs, "MeasurementSpec")
-        el(ms, "MeasurementType", "Spectrum_Reflectance")
-        ma = el(el(ms, "GeometryChoice"), "MultiAngle")
-        b = el(ma, "BRDFAngle", Notation=f"45as{a:g}")
-        el(b, "IlluminationAngle", 45.0)
-        el(b, "Aspecular", a)
-        el(ms, "WavelengthRange", StartWL=380, Increment=10)
-    schema = etree.XMLSchema(etree.parse(str(Path(__file__).resolve().parents[1] / "data" / "cxf3" / "CxF3_Core.xsd")))
-    assert schema.validate(root), schema.error_log
-    path.write_bytes(etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True))
-    return path
+    views = [45.0 - a for a in aspecular]
+    spectra = {name: np.stack([tmm_half_vector_reflectance(d, [45.0], [abs(v)], wl,
+                                                           view_azimuth_deg=None if v >= 0 else 0.0)[0]
+                               for v in views]) for name, d in parts.items()}
+    return write_multi_angle_cxf(path, spectra, aspecular, wl, "tests (lxml)")
 
 
 def test_multi_angle_cxf_parts_are_judged_at_every_angle(tmp_path):
