@@ -21,7 +21,7 @@ __all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MA
            "MAX_REFLECTANCE", "MIN_REFLECTANCE", "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_MESH_COORDINATE",
            "MAX_INSTRUMENT_SAMPLES",
            "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
-           "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
+           "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MAX_PASS_SPP", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
            "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX", "MIN_FILM_INDEX_SCALE", "MAX_FILM_INDEX_SCALE",
            "MAX_DISPLAY_EXPOSURE", "MAX_FIGURE_ROWS"]
 
@@ -161,9 +161,15 @@ MAX_SPP = 16384
 MAX_SEED = 2**31 - 1
 MAX_MITSUBA_PX = 4096
 MAX_MITSUBA_SAMPLES = 4 * 1024**3
-#: Samples one Mitsuba pass traces at once (its wavefront state is a few hundred bytes a lane:
-#: ~1 GB at this count); a render is split into passes of at most this many.
-MAX_PASS_LANES = 1 << 20
+#: Samples one Mitsuba pass traces at once, and samples per pixel in one pass: a render is split into
+#: passes of at most these. Mitsuba's loops are symbolic (one kernel per path, its state in registers), so a
+#: pass's memory hardly grows with its lanes (peak RSS of a whole render, llvm_ad_spectral, studio sphere:
+#: 273 MB at 2**20 lanes, 296 MB at 2**24, 385 MB at 2**26); what bounds a pass is how long a stop waits
+#: for it (a stop is taken between passes: 2**24 lanes is ~9 s on 2 cores) and, for the low-discrepancy
+#: sampler, how many samples of a pixel are stratified together (each pass is its own sequence: at 2**20
+#: lanes a 512 px render was stratified in fours and a 1024 px one not at all).
+MAX_PASS_LANES = 1 << 24
+MAX_PASS_SPP = 256
 #: ``--sun-date``: the years the solar-position model is stated for (and sane), and the sky
 #: model's turbidity range (Hosek–Wilkie's fit covers 1–10).
 MIN_YEAR, MAX_YEAR = 1900, 2100

@@ -5,8 +5,9 @@ The object (plate, bent sheet, sphere, mesh) wears the ``anodic_film`` BSDF (the
 (:mod:`swatch.render.mitsuba.scene`), under ``studio``, ``sun``, ``uniform`` or a user's HDRI, with
 Mitsuba's ``path`` integrator (up to :data:`PATH_BOUNCES` bounces: meshes shadow and reflect
 themselves). Rendering is split into passes of at most :data:`swatch.core.limits.MAX_PASS_LANES`
-samples (bounded memory, progress reported after each pass, Ctrl-C/SIGTERM between passes), each with its own seed
-derived from ``seed``: the same seed and spp give byte-identical images. Samples are low-discrepancy
+samples and :data:`swatch.core.limits.MAX_PASS_SPP` per pixel (progress reported after each pass,
+Ctrl-C/SIGTERM between passes; a pixel's samples within a pass are stratified together), each with its own
+seed derived from ``seed``: the same seed and spp give byte-identical images. Samples are low-discrepancy
 (:data:`SAMPLER`), and the image is denoised by default with Intel Open Image Denoise guided by the
 albedo and normal buffers of the same scene (:mod:`swatch.render.mitsuba.denoise`; ``denoise=False``
 keeps the raw estimate).
@@ -32,7 +33,7 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import RGB_SPACES
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_PASS_LANES
+from swatch.core.limits import MAX_PASS_LANES, MAX_PASS_SPP
 from swatch.core.procguard import raise_if_signalled
 from swatch.physics.finishes import brush_axis
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
@@ -352,10 +353,11 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         scale = _studio_scale(lights)
     # Samples per pass: a power of two dividing spp (so a pixel's samples, laid out together, never straddle
     # two of Dr.Jit's power-of-two thread blocks: the film's box-filter sums then run in one order, and the
-    # image is byte-identical from run to run), and at most MAX_PASS_LANES samples a pass.
+    # image is byte-identical from run to run), and at most MAX_PASS_LANES samples and MAX_PASS_SPP per pixel a pass.
     width, height = (size, size) if window is None else window[2:]
     per = spp & -spp
-    while per > 1 and (width * height * per > MAX_PASS_LANES or (SAMPLER == "ldsampler" and per & 0x55555555 == 0)):
+    while per > 1 and (width * height * per > MAX_PASS_LANES or per > MAX_PASS_SPP
+                       or (SAMPLER == "ldsampler" and per & 0x55555555 == 0)):
         per //= 2
     passes = spp // per
     sensor = camera_dict(scene_geo.camera, size, per, window, SAMPLER)
