@@ -19,6 +19,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib.metadata
+import io
 import json
 from pathlib import Path
 
@@ -34,8 +35,9 @@ from swatch.io.imageio import write_png
 from swatch.render.dispatch import ENGINES, engine_unavailable, engine_version
 from swatch.render.request import render_request
 
-__all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "hero_name", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
-           "prune_heroes"]
+__all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "hero_name", "cover_name", "cover_index", "edge_colours",
+           "hero_unavailable",
+           "hero_key", "hero_files", "catalog_heroes", "prune_heroes"]
 
 HERO_SIZE_PX = 256
 HERO_SPP = 16
@@ -59,6 +61,73 @@ def hero_name(rec: dict) -> str:
         ``heroes/hero_<id>.png``.
     """
     return f"{HEROES}/hero_{rec['id']}.png"
+
+
+def cover_name(rec: dict) -> str:
+    """The name of the page's cover (the first view's picture: :func:`cover_index`'s hero, larger).
+
+    Parameters
+    ----------
+    rec : dict
+        The cover swatch's record (its ``id``).
+
+    Returns
+    -------
+    str
+        ``heroes/cover_<id>.png``.
+    """
+    return f"{HEROES}/cover_{rec['id']}.png"
+
+
+def cover_index(records: list[dict]) -> int | None:
+    """The swatch the page opens on: the most vivid one, the largest CIE LCh chroma at the reference geometry
+    among the swatches inside sRGB (the first of equals; the page's own ``vivid`` rule, swatch/catalog/web/page.js).
+
+    Parameters
+    ----------
+    records : list of dict
+        The swatches' records (``LCh``, ``in_srgb_gamut``).
+
+    Returns
+    -------
+    int or None
+        Its index in ``records`` (the first swatch when none is inside sRGB), or None when there are none.
+    """
+    best = None
+    for i, rec in enumerate(records):
+        lch = rec.get("LCh")
+        if rec.get("in_srgb_gamut") and isinstance(lch, (list, tuple)) and len(lch) == 3 and lch[1] is not None and (
+                best is None or lch[1] > records[best]["LCh"][1]):
+            best = i
+    return best if best is not None else (0 if records else None)
+
+
+def edge_colours(png: bytes, bands: int = 16) -> dict[str, list[str]]:
+    """The colours of a hero's left and right edges, top to bottom: the page continues the square picture's
+    backdrop with them where its 4:3 frame is wider (swatch/catalog/web/page.js).
+
+    Parameters
+    ----------
+    png : bytes
+        The hero's RGB PNG (its display colours).
+    bands : int, optional
+        Horizontal bands, each the mean of its rows over the outermost 1/64 of the width (at least 2 px).
+
+    Returns
+    -------
+    dict
+        ``{"left": [hex, ...], "right": [hex, ...]}``, ``bands`` sRGB hex colours each (``#rrggbb``).
+    """
+    with Image.open(io.BytesIO(png)) as im:
+        rgb = np.asarray(im.convert("RGB"), dtype=np.float64)
+    h, w, _ = rgb.shape
+    k, rows = max(2, w // 64), np.array_split(np.arange(h), bands)
+
+    def column(x: slice) -> list[str]:
+        means = np.rint([rgb[r, x].mean(axis=(0, 1)) for r in rows]).astype(int)
+        return ["#{:02x}{:02x}{:02x}".format(*c) for c in means]
+
+    return {"left": column(slice(0, k)), "right": column(slice(w - k, w))}
 
 
 def hero_unavailable(spec) -> str | None:
@@ -88,8 +157,8 @@ def _lobe(spec):
     return (f.alpha_u, f.alpha_v) if f is not None and f.anisotropic else float(spec.roughness)
 
 
-def hero_key(spec, thickness_nm: float) -> str:
-    """Content hash of everything a hero render depends on (film, finish, thickness, Mitsuba's version,
+def hero_key(spec, thickness_nm: float, size_px: int | None = None) -> str:
+    """Content hash of everything a hero render depends on (film, finish, thickness, size, Mitsuba's version,
     the engine's code).
 
     Parameters
@@ -98,6 +167,8 @@ def hero_key(spec, thickness_nm: float) -> str:
         The validated catalog spec. (film, finish, spread).
     thickness_nm : float
         The swatch's film thickness, nm.
+    size_px : int, optional
+        The render's side in pixels (None: the spec's ``hero_size_px``; the cover's is ``hero_cover_px``).
 
     Returns
     -------
@@ -105,7 +176,8 @@ def hero_key(spec, thickness_nm: float) -> str:
         40 hex digits (the cache entry's name).
     """
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
-           "scale": spec.film_index_scale, "lobe": _lobe(spec), "size": spec.hero_size_px, "spp": spec.hero_spp,
+           "scale": spec.film_index_scale, "lobe": _lobe(spec),
+           "size": spec.hero_size_px if size_px is None else int(size_px), "spp": spec.hero_spp,
            "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
            "mitsuba": engine_version("mitsuba"), "code": _code_hash(),
            "denoise": [importlib.metadata.version("mitsuba-oidn"), HERO_DENOISE] if spec.denoise else False}
@@ -122,6 +194,34 @@ def _cached(path: Path, size_px: int) -> bytes | None:
     except (OSError, ValueError):
         ok = False
     return blob if ok else None
+
+
+def _request(spec, size_px: int):
+    """The render request of the spec's heroes at ``size_px`` (thickness 0: each swatch sets its own)."""
+    return render_request(0.0, "sphere", size_px, engine="mitsuba", spp=spec.hero_spp, seed=HERO_SEED,
+                          environment="studio", roughness_alpha=_lobe(spec),
+                          coating=spec.coating(None),  # film, substrate, index scale, spread
+                          denoise=HERO_DENOISE if spec.denoise else False)
+
+
+def _render(spec, request, rec: dict, cache: Path, used: set[str]) -> bytes:
+    """One swatch's hero as ``request`` renders it (from the cache, else path-traced and cached); its cache
+    entry added to ``used``."""
+    d = float(rec["thickness_nm"])
+    entry = f"hero-{hero_key(spec, d, request.size_px)}.png"
+    used.add(entry)
+    path = cache / entry
+    blob = _cached(path, request.size_px)
+    if blob is None:
+        img = ENGINES["mitsuba"](request.with_thickness(d), None)
+        meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
+                                             "thickness_nm", "spp", "denoise") if k in img.metadata}
+        meta["swatch"] = rec["id"]
+        if spec.finish_spec is not None:
+            meta["finish"] = spec.finish_spec.label()
+        write_png(path, np.ascontiguousarray(img.display_rgb[..., :3]), meta)  # atomic
+        blob = path.read_bytes()
+    return blob
 
 
 def hero_files(spec, records: list[dict], cache: Path,
@@ -150,33 +250,22 @@ def hero_files(spec, records: list[dict], cache: Path,
         if say is not None:
             say(why)
         return {}, set(), [None] * len(records)
-    request = render_request(0.0, "sphere", spec.hero_size_px, engine="mitsuba", spp=spec.hero_spp, seed=HERO_SEED,
-                             environment="studio", roughness_alpha=_lobe(spec),
-                             coating=spec.coating(None),  # film, substrate, index scale, spread
-                             denoise=HERO_DENOISE if spec.denoise else False)
     files: dict[str, bytes] = {}
     used: set[str] = set()
     entries: list[dict | None] = []
+    request = _request(spec, spec.hero_size_px)
     for rec in records:
-        d = float(rec["thickness_nm"])
-        entry = f"hero-{hero_key(spec, d)}.png"
-        used.add(entry)
-        path = cache / entry
-        blob = _cached(path, spec.hero_size_px)
-        if blob is None:
-            img = ENGINES["mitsuba"](request.with_thickness(d), None)
-            meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
-                                                 "thickness_nm", "spp", "denoise") if k in img.metadata}
-            meta["swatch"] = rec["id"]
-            if spec.finish_spec is not None:
-                meta["finish"] = spec.finish_spec.label()
-            write_png(path, np.ascontiguousarray(img.display_rgb[..., :3]), meta)  # atomic
-            blob = path.read_bytes()
-        files[hero_name(rec)] = blob
-        entries.append({"png": hero_name(rec), "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
+        files[hero_name(rec)] = _render(spec, request, rec, cache, used)
+        entries.append({"png": hero_name(rec), "edges": edge_colours(files[hero_name(rec)]), "engine": "mitsuba",
+                        "shape": "sphere", "lighting": "studio",
                         "size_px": spec.hero_size_px, "spp": spec.hero_spp, "denoised": spec.denoise,
                         "denoise_quality": HERO_DENOISE if spec.denoise else None,
                         "css_px": spec.hero_size_px // 2})
+    first = cover_index(records) if spec.hero_cover_px else None
+    if first is not None:  # the page's first view: the same picture, sharp at the live view's size on a 2x display
+        files[cover_name(records[first])] = _render(spec, _request(spec, spec.hero_cover_px), records[first], cache, used)
+        entries[first] = dict(entries[first] or {}, cover={"png": cover_name(records[first]),
+                                                            "size_px": spec.hero_cover_px})
     return files, used, entries
 
 

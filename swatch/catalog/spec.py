@@ -65,8 +65,8 @@ class CatalogSpec:
         The multi-angle geometries (default 45as-15 … 45as110, ASTM E2194 / E2539).
     shapes, size_px, model, roughness, angular_map, finish, hero
         The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
-    hero_size_px, hero_spp, denoise
-        The hero renders' side (pixels), samples per pixel, and whether they are denoised.
+    hero_size_px, hero_spp, hero_cover_px, denoise
+        The hero renders' side (pixels), samples per pixel, the page's cover's side (0: no cover), denoised or not.
     scheme, grade, metric, max_delta_E : str or None, str or None, str, float
         The tolerance: a named grade (None for a written bound), the colour difference it bounds (``dEab``
         or ``dE00``) and its bound, in that metric.
@@ -123,6 +123,7 @@ class CatalogSpec:
     hero: bool = False  # per-swatch hero renders through Mitsuba (swatch.catalog.hero)
     hero_size_px: int = 256  # a hero's side in pixels (a 128 CSS px picture on a 2x display)
     hero_spp: int = 16  # its samples per pixel
+    hero_cover_px: int = 0  # the page's first view: the most vivid swatch's hero at this side (0: none)
     denoise: bool = True  # heroes denoised (Intel Open Image Denoise, swatch.render.mitsuba.denoise)
     presets: bool = True  # per-swatch 3-D material presets (swatch.catalog.presets)
 
@@ -326,7 +327,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
 
     ren = c.table(data.get("render", {}), "render",
                   ("shapes", "size_px", "model", "roughness", "finish", "angular_map", "hero", "hero_size_px",
-                   "hero_spp", "denoise"))
+                   "hero_spp", "hero_cover_px", "denoise"))
     shapes = ren.get("shapes", ["flat", "cylinder"])
     if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
         c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
@@ -349,6 +350,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("render.hero", "hero renders are of the microfacet model (Mitsuba); set model = \"microfacet\"", True)
     hero_size = c.integer(ren.get("hero_size_px", 256), "render.hero_size_px", 32, 1024)
     hero_spp = c.integer(ren.get("hero_spp", 16), "render.hero_spp", 1, 1024)
+    cover = c.integer(ren.get("hero_cover_px", 0), "render.hero_cover_px", 0, 2048)
     denoise = c.boolean(ren.get("denoise", True), "render.denoise")
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
@@ -372,7 +374,6 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     sh = c.table(data.get("sheet", {}), "sheet", ("columns", "rows"))
     columns = c.integer(sh.get("columns", 4), "sheet.columns", 1, 8)
     rows = c.integer(sh.get("rows", 3), "sheet.rows", 1, 8)
-
     ch = c.table(data.get("chips", {}), "chips", ("enabled", "size_mm", "dpi"))
     chips = c.boolean(ch.get("enabled", True), "chips.enabled")
     chip_size = c.number(ch.get("size_mm", CHIP_SIZE_MM), "chips.size_mm", 5.0, 300.0)
@@ -383,7 +384,6 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
 
     pr = c.table(data.get("presets", {}), "presets", ("enabled",))
     presets = c.boolean(pr.get("enabled", True), "presets.enabled")
-
     return CatalogSpec(
         source=source, name=name, description=description, film=proc.film, substrate=proc.substrate,
         nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
@@ -395,8 +395,8 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
-        finish=finish, hero=hero, hero_size_px=hero_size, hero_spp=hero_spp, denoise=denoise, presets=presets,
-    )
+        finish=finish, hero=hero, hero_size_px=hero_size, hero_spp=hero_spp, hero_cover_px=cover, denoise=denoise,
+        presets=presets)
 
 
 def load_spec(path) -> tuple[CatalogSpec, bytes]:

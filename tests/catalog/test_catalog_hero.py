@@ -100,3 +100,60 @@ def test_without_mitsuba_the_build_skips_heroes_in_one_line(tmp_path, monkeypatc
     assert said.count("hero renders skipped: Mitsuba is not installed") == 1
     assert not list((tmp_path / "c").glob("hero_*.png"))
     assert all("hero" not in r for r in json.loads((tmp_path / "c" / "catalog.json").read_text())["swatches"])
+
+
+def test_cover_is_the_most_vivid_swatch_inside_srgb():
+    """The page's cover: the largest chroma at the reference geometry among the swatches inside sRGB (the first of
+    equals), else the first swatch; none without swatches."""
+    recs = [{"LCh": [50, 40, 10], "in_srgb_gamut": True}, {"LCh": [50, 90, 10], "in_srgb_gamut": False},
+            {"LCh": [50, 60, 200], "in_srgb_gamut": True}, {"LCh": [40, 60, 20], "in_srgb_gamut": True}]
+    assert hero.cover_index(recs) == 2
+    assert hero.cover_index([dict(r, in_srgb_gamut=False) for r in recs]) == 0
+    assert hero.cover_index([]) is None
+    assert hero.cover_name({"id": "S027"}) == "heroes/cover_S027.png"
+    base = {"name": "h", "thickness": {"list_nm": [50]}}
+    assert parse_spec(base).hero_cover_px == 0
+    assert parse_spec(base | {"render": {"hero": True, "hero_cover_px": 960}}).hero_cover_px == 960
+    with pytest.raises(SwatchError, match="render.hero_cover_px"):
+        parse_spec(base | {"render": {"hero_cover_px": 4096}})
+
+
+def test_edge_colours_are_the_mean_of_each_band_of_the_outer_columns():
+    """Each of the bands (rows split as evenly as they go) is the rounded mean of the outermost max(2, w // 64)
+    columns: a picture whose left and right columns are known, checked band by band."""
+    import io
+
+    h, w = 40, 128  # two columns a side (128 // 64), five rows a band at 8 bands
+    rgb = np.zeros((h, w, 3), dtype=np.uint8)
+    rgb[:, :2] = np.arange(h, dtype=np.uint8)[:, None, None] * 3  # left: rows 0, 3, 6, ...
+    rgb[:, -2:, 0] = 200
+    rgb[:, 2:-2] = 255  # the middle does not count
+    buf = io.BytesIO()
+    Image.fromarray(rgb, "RGB").save(buf, format="PNG")
+    edges = hero.edge_colours(buf.getvalue(), bands=8)
+    want_left = ["#{0:02x}{0:02x}{0:02x}".format(round(3 * (5 * b + 2))) for b in range(8)]  # rows 5b..5b+4: mean 5b+2
+    assert edges == {"left": want_left, "right": ["#c80000"] * 8}
+
+
+@pytest.mark.slow
+def test_cover_is_the_hero_larger(tmp_path):
+    """``hero_cover_px``: the most vivid swatch's hero again at that side (the same scene: its mean colour matches
+    the hero's), cached, named in that swatch's entry only."""
+    mitsuba_variant()
+    spec_path = tmp_path / "spec.toml"
+    spec_path.write_text(SPEC.replace("hero_size_px = 64", "hero_size_px = 64\nhero_cover_px = 128"))
+    out = tmp_path / "a"
+    build_catalog(spec_path, out, jobs=1)
+    doc = json.loads((out / "catalog.json").read_text())
+    recs = doc["swatches"]
+    k = hero.cover_index(recs)
+    assert [("cover" in r["hero"]) for r in recs] == [i == k for i in range(len(recs))]
+    cover = recs[k]["hero"]["cover"]
+    assert cover == {"png": f"heroes/cover_{recs[k]['id']}.png", "size_px": 128}
+    big = np.asarray(Image.open(out / cover["png"]).convert("RGB"), dtype=float)
+    small = np.asarray(Image.open(out / recs[k]["hero"]["png"]).convert("RGB"), dtype=float)
+    assert big.shape == (128, 128, 3)
+    assert np.abs(big.reshape(64, 2, 64, 2, 3).mean(axis=(1, 3)).mean(axis=(0, 1)) - small.mean(axis=(0, 1))).max() < 3
+    assert len(list((out / ".swatch-catalog" / "cache").glob("hero-*.png"))) == 3
+    for r in recs:
+        assert set(r["hero"]["edges"]) == {"left", "right"} and len(r["hero"]["edges"]["left"]) == 16

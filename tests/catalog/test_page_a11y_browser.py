@@ -142,12 +142,13 @@ def test_on_a_phone_the_picture_stays_in_view_while_the_controls_scroll(chromium
 # -- heroes ----------------------------------------------------------------------------------------------------
 
 def _fake_hero(hex_code: str, size: int = 128) -> bytes:
-    """A stand-in hero (a disc of the swatch's colour on a dark ground): the page's code is under test here, not
+    """A stand-in hero (a disc of the swatch's colour on a ground from dark to light): the page's code is under test here, not
     Mitsuba's (tests/catalog/test_catalog_hero.py renders real ones)."""
     y, x = np.mgrid[0:size, 0:size]
     disc = (x - size / 2 + 0.5) ** 2 + (y - size / 2 + 0.5) ** 2 < (0.4 * size) ** 2
     rgb = np.array([int(hex_code[i:i + 2], 16) for i in (1, 3, 5)], dtype=np.uint8)
-    im = np.where(disc[..., None], rgb, np.uint8(30)).astype(np.uint8)
+    ground = np.repeat((30 + 100 * y // size).astype(np.uint8)[..., None], 3, axis=2)  # a backdrop, dark to light
+    im = np.where(disc[..., None], rgb, ground).astype(np.uint8)
     buf = io.BytesIO()
     Image.fromarray(im, "RGB").save(buf, format="PNG")
     return buf.getvalue()
@@ -174,8 +175,11 @@ def hero_catalog(tmp_path_factory, chromium):
                 continue
             name = hero.hero_name(rec)
             files[name] = _fake_hero(rec["srgb_hex"])
-            entries.append({"png": name, "engine": "mitsuba", "shape": "sphere", "lighting": "studio",
-                            "size_px": 128, "spp": 64})
+            entries.append({"png": name, "edges": hero.edge_colours(files[name]), "engine": "mitsuba",
+                            "shape": "sphere", "lighting": "studio", "size_px": 128, "spp": 64})
+        first = hero.cover_index(records[1:]) + 1  # the most vivid of those with a hero: its cover, larger
+        files[hero.cover_name(records[first])] = _fake_hero(records[first]["srgb_hex"], 256)
+        entries[first] = dict(entries[first], cover={"png": hero.cover_name(records[first]), "size_px": 256})
         return files, set(), entries
 
     mp = pytest.MonkeyPatch()
@@ -206,14 +210,21 @@ def test_cards_show_their_hero_first_and_the_live_view_shows_it_at_its_state(chr
                 wait_until(pg, f"() => document.querySelector('#card-{rec['id']} img.hero').naturalWidth === 128")
             else:
                 assert "chip" in first.get_attribute("class") and card.locator("img.hero").count() == 0
-        # the first view: the most vivid swatch's hero, over the canvas
+        # the first view: the most vivid swatch's hero, as its cover (larger), over the canvas; the frame's sides
+        # continue the picture's edges
         want = _most_vivid(with_hero)
+        assert want["hero"]["cover"]["png"] == f"heroes/cover_{want['id']}.png"
+        assert [r["id"] for r in with_hero if "cover" in r["hero"]] == [want["id"]]
         assert pg.evaluate("swatchCatalog.hero()") == want["id"]
         st = pg.evaluate("swatchCatalog.show({})")
         assert (st["shape"], st["lighting"], st["thickness_nm"]) == ("sphere", "studio", pytest.approx(want["thickness_nm"]))
         assert pg.locator("#hero-view").is_visible() and pg.locator("#hero-badge").is_visible()
-        assert pg.locator("#hero-view").get_attribute("src") == want["hero"]["png"]
-        wait_until(pg, "() => document.getElementById('hero-view').naturalWidth === 128")
+        assert pg.locator("#hero-view").get_attribute("src") == want["hero"]["cover"]["png"]
+        wait_until(pg, "() => document.getElementById('hero-view').naturalWidth === 256")
+        background = pg.evaluate("getComputedStyle(document.getElementById('hero-view')).backgroundImage")
+        assert background.count("linear-gradient") == 2, background
+        left = [tuple(int(c[i:i + 2], 16) for i in (1, 3, 5)) for c in want["hero"]["edges"]["left"]]
+        assert left[0] != left[-1] and all(f"rgb({r}, {g}, {b})" in background for r, g, b in (left[0], left[-1]))
         # the user changes the state: the live render; back at the hero's state: the hero again
         pg.evaluate("q => swatchCatalog.show(q)", {"thickness_nm": want["thickness_nm"] - 1})
         assert pg.evaluate("swatchCatalog.hero()") is None and pg.locator("#hero-view").is_hidden()

@@ -115,26 +115,41 @@ function heroAt(st) {
 // the image over the canvas, made only where the catalog has heroes (the page itself has no <img> otherwise)
 const heroBadge = $("hero-badge"), heroImg = heroes.length ? el("img") : null;
 if (heroImg) { heroImg.id = "hero-view"; heroImg.alt = ""; heroImg.hidden = true; heroBadge.before(heroImg); }
+// the picture is square and the frame 4:3: its sides continue the picture's own left and right edges (the studio's
+// backdrop, top to bottom: the entry's "edges", swatch.catalog.hero.edge_colours) instead of showing bars
+function edgeBackground(edges) {
+  const ok = (a) => Array.isArray(a) && a.length >= 2 && a.length <= 64 && a.every((c) => typeof c === "string" && HEX.test(c));
+  if (!edges || !ok(edges.left) || !ok(edges.right)) return "";
+  const g = (a) => "linear-gradient(to bottom, " + a.join(", ") + ")";
+  return g(edges.left) + " left top / 50% 100% no-repeat, " + g(edges.right) + " right top / 50% 100% no-repeat";
+}
 function updateHero() {
   const s = heroImg ? heroAt(state) : null;
   heroBadge.hidden = !s;
   if (heroImg) heroImg.hidden = !s;
   if (!s) return;
-  if (heroImg.getAttribute("src") !== s.hero.png) heroImg.setAttribute("src", s.hero.png);
+  // the cover (the same picture, larger: sharp at the live view's size) where the catalog made one
+  const cover = s.hero.cover && typeof s.hero.cover.png === "string" && HERO_PNG.test(s.hero.cover.png) ? s.hero.cover.png : null;
+  const src = cover || s.hero.png;
+  if (heroImg.getAttribute("src") !== src) {
+    heroImg.setAttribute("src", src);
+    heroImg.style.background = edgeBackground(s.hero.edges) || "#2b2b2e";
+  }
   heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, path-traced" +
     (Number.isFinite(s.hero.spp) ? " (" + s.hero.spp + " samples a pixel)" : "") + ": a " + (s.hero.shape || "sphere") +
     " under the " + (s.hero.lighting || "studio") + " light";
   heroBadge.textContent = "path-traced · turn or slide for the live view";
 }
 // the first view sells the metal: a hero where the catalog has them, else the live sphere under the studio; at
-// the catalog's most vivid colour (the largest chroma at the reference geometry among the swatches inside sRGB)
+// the catalog's most vivid colour (the largest chroma at the reference geometry among the swatches inside sRGB;
+// the build makes that swatch's cover by the same rule, swatch.catalog.hero.cover_index)
 function vivid(list) {
   let best = null;
   for (const s of list) if (s.in_srgb_gamut && Array.isArray(s.LCh) && (!best || s.LCh[1] > best.LCh[1])) best = s;
   return best || list[0] || null;
 }
 {
-  const first = vivid(heroes.length ? heroes : swatches);
+  const first = heroes.find((s) => s.hero.cover) || vivid(heroes.length ? heroes : swatches);
   if (first && heroes.includes(first)) Object.assign(state, heroState(first));
   else Object.assign(state, {thickness_nm: first ? first.thickness_nm : C.range[0], shape: "sphere"}, shapeCamera("sphere"));
   state.thickness_nm = clampT(state.thickness_nm);
