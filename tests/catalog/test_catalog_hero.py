@@ -114,7 +114,7 @@ def test_cover_is_the_most_vivid_swatch_inside_srgb():
     base = {"name": "h", "thickness": {"list_nm": [50]}}
     assert parse_spec(base).hero_cover_px == 0
     assert parse_spec(base | {"render": {"hero": True, "hero_cover_px": 960}}).hero_cover_px == 960
-    with pytest.raises(SwatchError, match="render.hero_cover_px"):
+    with pytest.raises(SwatchError, match=r"render\.hero_cover_px"):
         parse_spec(base | {"render": {"hero_cover_px": 4096}})
 
 
