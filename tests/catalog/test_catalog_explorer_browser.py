@@ -174,7 +174,16 @@ def test_compare_and_find(page):
     first = pg.locator("#find-results li").first.text_content()
     best = pg.evaluate("swatchCatalog.match({hex: '#2275b5'}, 1)[0]")  # = swatch match (test above)
     assert first.startswith(f"{best['thickness_nm']:.2f} nm · {best['voltage_V']:.1f} V")
-    assert "2°" in pg.locator("#find-target").text_content()  # a hex is matched in sRGB's 2° colorimetry
+    # the target's L*a*b* is the one matched: in the catalog's observer (a hex brought into it, swatch match --hex)
+    from swatch.colorimetry.colorimeter import get_colorimeter
+    from swatch.colorimetry.observers import hex_to_document_Lab
+
+    said = pg.locator("#find-target").text_content()
+    c, wl = doc["catalog"], doc["catalog"]["wavelength_nm"]
+    cm = get_colorimeter(np.arange(wl["start"], wl["stop"] + wl["step"] / 2, wl["step"]), c["illuminant"], c["observer"])
+    shown = [float(v) for v in said.split("L*a*b* ")[1].split(" (")[0].split()]
+    assert shown == pytest.approx(list(hex_to_document_Lab("2275b5", cm)), abs=0.02)
+    assert f"({c['illuminant']}, {c['observer']}°; the sRGB hex's smoothest reflectance)" in said
     assert pg.locator("#find-results li").count() >= 3
     assert events["errors"] == []
     assert all(u.startswith("file://") for u in events["requests"])

@@ -136,7 +136,7 @@ def test_find_by_colour_shows_the_target_and_clears_it_after_an_error(page):
     assert pg.locator("#find-picker").input_value() == "#2275b5"  # follows the typed hex
     pg.click("#find-form button[type=submit]")
     target = pg.locator("#find-target")
-    assert "#2275b5" in target.text_content() and "2°" in target.text_content()
+    assert "#2275b5" in target.text_content() and "the sRGB hex's smoothest reflectance" in target.text_content()
     assert target.locator(".chip").count() == 1
     assert pg.eval_on_selector("#find-target .chip", "e => e.title").startswith("#2275b5")
     first = pg.locator("#find-results li").first

@@ -369,9 +369,12 @@ function find(target) {
     return;
   }
   const tLab = hits.length ? hits[0].target_Lab : [];
-  const obs = target.Lab ? T.observer : "2"; // a hex is sRGB: its L*a*b* is on the 2° observer (as swatch match --hex)
+  // the target's L*a*b* is in the catalog's observer: a hex (sRGB, 2°) brought into it through its smoothest
+  // reflectance, as swatch match --hex (match's target_Lab)
+  const how = target.Lab ? "" : "; the sRGB hex's smoothest reflectance";
   const tChip = target.Lab ? C.labColour(tLab) : C.hexColour(target.hex);
-  findTarget("target " + tChip.hex + " · L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " + obs + "°)", tChip);
+  findTarget("target " + tChip.hex + " · L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " +
+    T.observer + "°" + how + ")", tChip);
   for (const h of hits) {
     const li = el("li");
     li.appendChild(chip(C.refColour(h.thickness_nm), "small"));
