@@ -382,13 +382,15 @@ def parse_tolerance(text: str) -> Tolerance:
     what, sep, value = str(text).strip().partition(":")
     if not sep:
         raise SwatchError(f"tolerance {text!r} must be METRIC:MAX (e.g. dE00:2.0) or SCHEME:GRADE (e.g. csaj:C)")
-    if what in METRICS:
+    metric = {m.lower(): m for m in METRICS}.get(what.lower())  # names in any case: DE00:2, CSAJ:B
+    if metric is not None:
         try:
             number = float(value)
         except ValueError:
             raise SwatchError(f"tolerance {text!r}: {value!r} is not a number") from None
-        return get_tolerance(metric=what, max=number)
-    if what in schemes():
-        return get_tolerance(scheme=what, grade=value)
+        return get_tolerance(metric=metric, max=number)
+    scheme = {name.lower(): name for name in schemes()}.get(what.lower())
+    if scheme is not None:
+        return get_tolerance(scheme=scheme, grade=value)
     raise SwatchError(f"tolerance {text!r}: {what!r} is neither a metric ({', '.join(METRICS)}) "
                       f"nor a scheme ({', '.join(schemes())})")

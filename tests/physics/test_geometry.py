@@ -78,6 +78,8 @@ def test_written_tolerances():
     assert (t.metric, t.max, t.grade, t.label) == ("dE00", 2.0, None, "dE00 ≤ 2")
     c = tolerance.parse_tolerance("csaj:C")
     assert (c.metric, c.max, c.grade) == ("dEab", 6.5, "C")
+    # names in any case, as grades already were: the same tolerances
+    assert tolerance.parse_tolerance("CSAJ:c") == c and tolerance.parse_tolerance("DE00:2") == t
     for bad in ("dE00", "dE00:x", "dE00:0", "dE76:2", "csaj:Z"):
         with pytest.raises(SwatchError):
             tolerance.parse_tolerance(bad)
