@@ -34,8 +34,7 @@ __all__ = ["spec_summary", "CatalogSpec", "load_spec", "parse_spec", "RENDER_SHA
 SPECS_DIR = Path(__file__).resolve().parent / "specs"
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
-RENDER_SHAPES = SHAPES
-RENDER_MODELS = MODELS
+RENDER_SHAPES, RENDER_MODELS = SHAPES, MODELS
 
 
 @dataclass(frozen=True)
@@ -225,8 +224,9 @@ class CatalogSpec:
         if d["knee_V"] is None:  # a linear law: the hashes of before
             d.pop("knee_V")
             d.pop("nm_per_V_above_knee")
-        if d["presets"]:  # presets written (the default): the hashes of before
-            d.pop("presets")
+        for key, default in (("presets", True), ("hero_cover_px", 0)):  # presets written, no cover (the defaults):
+            if d[key] == default:  # the hashes of before
+                d.pop(key)
         return d
 
 
