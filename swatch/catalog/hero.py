@@ -10,8 +10,10 @@ does; the spec's default is off, so small catalogs stay quick). They are picture
 studio with the spec's finish (anisotropic with hairlines for ``brushed``). Renders are cached in the catalog folder's cache as
 ``hero-<key>.png``, keyed by everything they depend on (the film, finish, thickness, Mitsuba's
 version and the engine's code); a cached file is used only if it is a regular file of bounded
-size that reads back as an RGB PNG of the expected size (the cache is untrusted). Without a
-usable Mitsuba (not installed, or no libLLVM for its JIT) the build skips them and says so in
+size that reads back as an RGB PNG of the expected size (the cache is untrusted). With ``hero_cover_px``
+the most vivid swatch's hero is made again at that side, ``cover_S027.png``: the page's first view
+(:func:`cover_index`); every hero's entry carries its picture's edge colours (:func:`edge_colours`), with
+which the page fills its wider frame. Without a usable Mitsuba (not installed, or no libLLVM for its JIT) the build skips them and says so in
 one line.
 """
 from __future__ import annotations
@@ -36,8 +38,7 @@ from swatch.render.dispatch import ENGINES, engine_unavailable, engine_version
 from swatch.render.request import render_request
 
 __all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "hero_name", "cover_name", "cover_index", "edge_colours",
-           "hero_unavailable",
-           "hero_key", "hero_files", "catalog_heroes", "prune_heroes"]
+           "hero_unavailable", "hero_key", "hero_files", "catalog_heroes", "prune_heroes"]
 
 HERO_SIZE_PX = 256
 HERO_SPP = 16
@@ -121,10 +122,12 @@ def edge_colours(png: bytes, bands: int = 16) -> dict[str, list[str]]:
     with Image.open(io.BytesIO(png)) as im:
         rgb = np.asarray(im.convert("RGB"), dtype=np.float64)
     h, w, _ = rgb.shape
-    k, rows = max(2, w // 64), np.array_split(np.arange(h), bands)
+    k = max(2, w // 64)
+    starts = np.array([r[0] for r in np.array_split(np.arange(h), bands)])  # np.array_split's bands of rows
+    counts = np.diff(np.append(starts, h))[:, None] * k
 
     def column(x: slice) -> list[str]:
-        means = np.rint([rgb[r, x].mean(axis=(0, 1)) for r in rows]).astype(int)
+        means = np.rint(np.add.reduceat(rgb[:, x].sum(axis=1), starts, axis=0) / counts).astype(int)
         return ["#{:02x}{:02x}{:02x}".format(*c) for c in means]
 
     return {"left": column(slice(0, k)), "right": column(slice(w - k, w))}
