@@ -26,7 +26,8 @@ SPLIT_VALUES = 1 << 18
 
 
 def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarray, free: list[int],
-             lo: np.ndarray, hi: np.ndarray, steps: np.ndarray, iters: int = 30) -> tuple[np.ndarray, np.ndarray]:
+             lo: np.ndarray, hi: np.ndarray, steps: np.ndarray, iters: int = 30,
+             start: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Levenberg–Marquardt on a batch of problems (each iteration vectorised over the batch; forward-difference Jacobians).
 
     Parameters
@@ -43,6 +44,9 @@ def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarr
         Forward-difference steps per parameter.
     iters : int, optional
         At most this many iterations of the whole batch.
+    start : (numpy.ndarray, numpy.ndarray), optional
+        The residuals (B, M) at the starting rows and their forward-difference Jacobians (B, P, M), when the
+        caller has them (the leave-one-out folds: the full problem's, less each fold's rows); else evaluated.
 
     Returns
     -------
@@ -65,7 +69,7 @@ def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarr
         r0 = Rs[:, 0] if base is None else base
         return r0, (Rs[:, 1 - first:] - r0[:, None]) / h[None, :, None]  # (B, M), (B, P, M)
 
-    r, J = at(X, batch)
+    r, J = at(X, batch) if start is None else (start[0].copy(), start[1].copy())
     cost = np.sum(r * r, axis=1)
     lam = np.full(B, 1e-3)
     # a large batch evaluates the trial points first and the Jacobians of the taken ones only (a refused step

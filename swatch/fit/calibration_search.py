@@ -279,10 +279,21 @@ def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndar
     def resid(X, rows):
         return _residuals(table, prob, X, W[rows], spread, False)
 
-    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, LO, HI, _STEPS, iters=6)
-    Lab = predict_Lab(table, prob, X, spread)  # (K, N, 3)
+    # every fold starts at the full fit, where its residuals and Jacobian are the full problem's less its
+    # coupon's rows: evaluated once (P + 1 rows), not once per fold
+    x = np.clip(fit.X, LO, HI)
+    Xs = np.repeat(x[None], len(free) + 1, axis=0)
+    Xs[1 + np.arange(len(free)), free] += _STEPS[free]
+    R = _residuals(table, prob, Xs, np.repeat(keep[None].astype(np.float64), len(free) + 1, axis=0), spread, False)
+    have = np.flatnonzero(np.isfinite(prob.d_meas))
+    out_rows = np.concatenate([np.arange(prob.n), have])[None, :] == idx[:, None]  # (K, M): each fold's coupon
+    r0 = np.where(out_rows, 0.0, R[0][None])
+    J0 = np.where(out_rows[:, None, :], 0.0, ((R[1:] - R[:1]) / _STEPS[free][:, None])[None])
+    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, LO, HI, _STEPS, iters=6, start=(r0, J0))
+    u = growth_law_nm(prob.V[idx], X[:, 1], X[:, 0], X[:, 4], X[:, 5])  # each fold at its own coupon only
+    Lab = prob.cm.Lab(table.XYZ_at(X[:, 2], u, X[:, 3] if spread else None))
     out = np.full(prob.n, np.nan)
-    out[idx] = delta_E_00(Lab[np.arange(idx.size), idx], prob.Lab[idx])
+    out[idx] = delta_E_00(Lab, prob.Lab[idx])
     return out
 
 
@@ -410,8 +421,6 @@ def covariance(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray
         return None
     s2 = float(np.sum(base[np.concatenate([keep, np.ones(base.size - prob.n, bool)])] ** 2)) / dof
     return np.linalg.inv(JtJ) * max(s2, 1e-12)
-
-
 
 
 def u_max_nm(V) -> float:
