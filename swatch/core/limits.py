@@ -122,7 +122,7 @@ MAX_SEARCH_POINTS = 200_000
 #: Largest roughness Ra accepted by the Rayleigh criterion (nm; a millimetre).
 MAX_RA_NM = 1e6
 #: A coupon CSV (``swatch calibrate``): bytes, non-comment rows and coupons. A cap bounds time as well as
-#: memory: the search's leave-one-out refits grow as the square of the coupons (1,000 take ~110 s of CPU;
+#: memory: the search's leave-one-out refits grow as the square of the coupons (1,000 take ~76 s of CPU;
 #: 300 at 0–300 V ~10 s; a line is calibrated from tens).
 MAX_COUPON_BYTES = 8 * 1024 * 1024
 MAX_COUPON_ROWS = 200_000
