@@ -16,6 +16,7 @@ import click
 
 from swatch.commands.flags import speak_flags
 from swatch.core.errors import SwatchError
+from swatch.core.heap import keep_freed_memory
 from swatch.core.procguard import Terminated, guard_exit, handle_termination, settle, signal_received, stop_message
 from swatch.core.version import __version__
 
@@ -129,6 +130,7 @@ def main(argv: list[str] | None = None) -> int:
     exit is not a traceback, nor a silent death).
     """
     handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
+    keep_freed_memory()  # array temporaries reused from the heap, not mapped and faulted in again (swatch.core.heap)
     if argv is None:
         guard_exit()
     try:

@@ -9,6 +9,7 @@ References
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,22 +70,12 @@ class ThicknessColours:
         list of dict
             One per thickness: thickness, XYZ, Lab, LCh, sRGB and hex, gamut flags, ΔE*ab to the previous row.
         """
-        out = []
-        for i, d in enumerate(self.thickness_nm):
-            dE = self.delta_E_ab_to_previous[i]
-            out.append(
-                {
-                    "thickness_nm": float(d),
-                    "XYZ": [float(v) for v in self.XYZ[i]],
-                    "Lab": [float(v) for v in self.Lab[i]],
-                    "LCh": [float(v) for v in self.LCh[i]],
-                    "srgb_hex": str(self.srgb_hex[i]),
-                    "in_srgb_gamut": bool(self.in_srgb_gamut[i]),
-                    "in_display_p3_gamut": bool(self.in_display_p3_gamut[i]),
-                    "delta_E_ab_to_previous": None if np.isnan(dE) else float(dE),
-                }
-            )
-        return out
+        columns = zip(self.thickness_nm.tolist(), self.XYZ.tolist(), self.Lab.tolist(), self.LCh.tolist(),
+                      self.srgb_hex.tolist(), self.in_srgb_gamut.tolist(), self.in_display_p3_gamut.tolist(),
+                      self.delta_E_ab_to_previous.tolist(), strict=True)  # (Python floats, bools, str: one pass)
+        return [{"thickness_nm": d, "XYZ": XYZ, "Lab": Lab, "LCh": LCh, "srgb_hex": str(hx), "in_srgb_gamut": bool(g),
+                 "in_display_p3_gamut": bool(p3), "delta_E_ab_to_previous": None if math.isnan(dE) else dE}
+                for d, XYZ, Lab, LCh, hx, g, p3, dE in columns]
 
 
 def thickness_colours(

@@ -122,8 +122,8 @@ MAX_SEARCH_POINTS = 200_000
 #: Largest roughness Ra accepted by the Rayleigh criterion (nm; a millimetre).
 MAX_RA_NM = 1e6
 #: A coupon CSV (``swatch calibrate``): bytes, non-comment rows and coupons. A cap bounds time as well as
-#: memory: the search's leave-one-out refits grow as the square of the coupons (1,000 took 10 minutes;
-#: 300, at 0–300 V or as 1 nm spectra at the row cap, ~30 s of CPU; a line is calibrated from tens).
+#: memory: the search's leave-one-out refits grow as the square of the coupons (1,000 take ~76 s of CPU;
+#: 300 at 0–300 V ~10 s; a line is calibrated from tens).
 MAX_COUPON_BYTES = 8 * 1024 * 1024
 MAX_COUPON_ROWS = 200_000
 MAX_COUPONS = 300

@@ -80,8 +80,10 @@ def _lazy_names(face: Path) -> dict[str, str]:
     return names
 
 
-def _imports_of(pkg: Path, name: str, path: Path) -> set[str]:
-    """The ``swatch.*`` modules ``name`` imports (at the top or inside functions), with their packages."""
+@functools.lru_cache(maxsize=512)
+def _imports_of(pkg: Path, name: str, path: Path) -> frozenset[str]:
+    """The ``swatch.*`` modules ``name`` imports (at the top or inside functions), with their packages (each
+    module parsed once a process, as :func:`imported_modules` assumes the sources do not change under it)."""
     found: set[str] = set()
     package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
     for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
@@ -106,7 +108,7 @@ def _imports_of(pkg: Path, name: str, path: Path) -> set[str]:
             for i in range(1, len(parts) + 1):  # the module and the packages it runs on import
                 if _module_file(pkg, ".".join(parts[:i])) is not None:
                     found.add(".".join(parts[:i]))
-    return found
+    return frozenset(found)
 
 
 @functools.lru_cache(maxsize=32)

@@ -17,11 +17,17 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["batch_lm"]
+__all__ = ["batch_lm", "SPLIT_VALUES"]
+
+#: A batch whose residuals and Jacobian come to this many values or more evaluates each iteration's trial
+#: points first, then the Jacobians of the steps taken only (a leave-one-out batch of 300 folds refuses
+#: most of its steps); a smaller one evaluates both in one call.
+SPLIT_VALUES = 1 << 18
 
 
 def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarray, free: list[int],
-             lo: np.ndarray, hi: np.ndarray, steps: np.ndarray, iters: int = 30) -> tuple[np.ndarray, np.ndarray]:
+             lo: np.ndarray, hi: np.ndarray, steps: np.ndarray, iters: int = 30,
+             start: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Levenberg–Marquardt on a batch of problems (each iteration vectorised over the batch; forward-difference Jacobians).
 
     Parameters
@@ -38,6 +44,9 @@ def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarr
         Forward-difference steps per parameter.
     iters : int, optional
         At most this many iterations of the whole batch.
+    start : (numpy.ndarray, numpy.ndarray), optional
+        The residuals (B, M) at the starting rows and their forward-difference Jacobians (B, P, M), when the
+        caller has them (the leave-one-out folds: the full problem's, less each fold's rows); else evaluated.
 
     Returns
     -------
@@ -49,17 +58,23 @@ def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarr
     batch = np.arange(B)
     h = steps[free]
 
-    def at(Xc):
-        """Residuals at rows Xc (B, K) and their forward-difference Jacobian, in ONE call of ``resid``
-        (B·(P + 1) rows: each call costs colour-science's fixed overhead, ~4 ms)."""
-        Xs = np.repeat(Xc[:, None, :], P + 1, axis=1)
-        Xs[:, 1 + np.arange(P), free] += h
-        Rs = resid(Xs.reshape(B * (P + 1), -1), np.repeat(batch, P + 1)).reshape(B, P + 1, -1)
-        return Rs[:, 0], (Rs[:, 1:] - Rs[:, :1]) / h[None, :, None]  # (B, M), (B, P, M)
+    def at(Xc, rows, base=None):
+        """Residuals at rows Xc (len(rows), K) of the problems ``rows`` and their forward-difference Jacobian,
+        in ONE call of ``resid`` (each call costs colour-science's fixed overhead, ~4 ms); with ``base``, the
+        residuals at Xc already known, only the P displaced rows are evaluated."""
+        first = 0 if base is None else 1
+        Xs = np.repeat(Xc[:, None, :], P + 1 - first, axis=1)
+        Xs[:, 1 - first + np.arange(P), free] += h
+        Rs = resid(Xs.reshape(-1, Xc.shape[1]), np.repeat(rows, P + 1 - first)).reshape(rows.size, P + 1 - first, -1)
+        r0 = Rs[:, 0] if base is None else base
+        return r0, (Rs[:, 1 - first:] - r0[:, None]) / h[None, :, None]  # (B, M), (B, P, M)
 
-    r, J = at(X)
+    r, J = at(X, batch) if start is None else (start[0].copy(), start[1].copy())
     cost = np.sum(r * r, axis=1)
     lam = np.full(B, 1e-3)
+    # a large batch evaluates the trial points first and the Jacobians of the taken ones only (a refused step
+    # keeps J; near a solution most steps are refused); a small one both in one call (colour-science's overhead)
+    split = B * (P + 1) * r.shape[1] >= SPLIT_VALUES
     for _ in range(iters):  # iterations of the whole batch (each one vectorised)
         A = J @ np.swapaxes(J, 1, 2)
         g = np.einsum("bpm,bm->bp", J, r)
@@ -68,10 +83,18 @@ def batch_lm(resid: Callable[[np.ndarray, np.ndarray], np.ndarray], X0: np.ndarr
         step = -np.linalg.solve(Areg, g[..., None])[..., 0]
         Xn = X.copy()
         Xn[:, free] = np.clip(X[:, free] + step, lo[free], hi[free])
-        rn, Jn = at(Xn)  # the trial point and, should it be taken, its Jacobian (a refused step keeps J)
-        cn = np.sum(rn * rn, axis=1)
-        better = cn < cost
-        X[better], r[better], cost[better], J[better] = Xn[better], rn[better], cn[better], Jn[better]
+        if split:
+            rn = resid(Xn, batch)
+            cn = np.sum(rn * rn, axis=1)
+            better = cn < cost
+            if better.any():
+                rn, Jn = at(Xn[better], batch[better], rn[better])
+                X[better], r[better], cost[better], J[better] = Xn[better], rn, cn[better], Jn
+        else:
+            rn, Jn = at(Xn, batch)  # the trial point and, should it be taken, its Jacobian
+            cn = np.sum(rn * rn, axis=1)
+            better = cn < cost
+            X[better], r[better], cost[better], J[better] = Xn[better], rn[better], cn[better], Jn[better]
         lam = np.where(better, lam * 0.3, lam * 10.0)
         if np.all(lam > 1e8) or np.all(np.abs(step) < 1e-9):
             break

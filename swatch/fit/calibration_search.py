@@ -279,58 +279,88 @@ def leave_one_out(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndar
     def resid(X, rows):
         return _residuals(table, prob, X, W[rows], spread, False)
 
-    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, LO, HI, _STEPS, iters=6)
-    Lab = predict_Lab(table, prob, X, spread)  # (K, N, 3)
+    # every fold starts at the full fit, where its residuals and Jacobian are the full problem's less its
+    # coupon's rows: evaluated once (P + 1 rows), not once per fold
+    x = np.clip(fit.X, LO, HI)
+    Xs = np.repeat(x[None], len(free) + 1, axis=0)
+    Xs[1 + np.arange(len(free)), free] += _STEPS[free]
+    R = _residuals(table, prob, Xs, np.repeat(keep[None].astype(np.float64), len(free) + 1, axis=0), spread, False)
+    have = np.flatnonzero(np.isfinite(prob.d_meas))
+    out_rows = np.concatenate([np.arange(prob.n), have])[None, :] == idx[:, None]  # (K, M): each fold's coupon
+    r0 = np.where(out_rows, 0.0, R[0][None])
+    J0 = np.where(out_rows[:, None, :], 0.0, ((R[1:] - R[:1]) / _STEPS[free][:, None])[None])
+    X, _ = batch_lm(resid, np.repeat(fit.X[None], idx.size, axis=0), free, LO, HI, _STEPS, iters=6, start=(r0, J0))
+    u = growth_law_nm(prob.V[idx], X[:, 1], X[:, 0], X[:, 4], X[:, 5])  # each fold at its own coupon only
+    Lab = prob.cm.Lab(table.XYZ_at(X[:, 2], u, X[:, 3] if spread else None))
     out = np.full(prob.n, np.nan)
-    out[idx] = delta_E_00(Lab[np.arange(idx.size), idx], prob.Lab[idx])
+    out[idx] = delta_E_00(Lab, prob.Lab[idx])
     return out
 
 
 _GRID_BYTES_PER_CELL = 96  # working bytes per (rate, offset, coupon) cell of the grid (u, mask, index, cost)
 
 
-def initial_lines(table: ComboTable, prob: Problem, scale: float, count: int = 3) -> np.ndarray:
-    """Distinct linear laws, best by a global grid over optical rate and offset (robust ΔE2000 sum), one per
-    interference order: every coupon's ΔE2000 to every tabulated u is computed once.
+def initial_lines(tables: list[ComboTable], prob: Problem, scale: float, count: int = 3) -> list[np.ndarray]:
+    """Distinct linear laws per table pair, best by a global grid over optical rate and offset (robust ΔE2000
+    sum), one per interference order: every coupon's ΔE2000 to every tabulated u is computed once per pair,
+    and the grid's lookup positions once for all pairs.
 
     Parameters
     ----------
-    table, prob : ComboTable, Problem
-        The pair's XYZ table and the coupons.
+    tables : list of ComboTable
+        The pairs' XYZ tables (one u grid: the same extent).
+    prob : Problem
+        The coupons.
     scale : float
         The film index scale of the lines.
     count : int
-        The largest number of laws (interference orders) returned.
+        The largest number of laws (interference orders) returned per pair.
 
     Returns
     -------
-    numpy.ndarray, shape (count, 6)
-        Parameter rows (offset nm, rate nm/V, ``scale``, no spread, no knee), best first; fewer if fewer orders fit.
+    list of numpy.ndarray, shape (count, 6) each
+        Per pair, parameter rows (offset nm, rate nm/V, ``scale``, no spread, no knee), best first; fewer if
+        fewer orders fit.
     """
     stride = 2  # a 1 nm lookup is enough to find the order (the fits refine)
-    u = np.arange(0, table.XYZ.shape[1], stride) * U_STEP_NM
-    Lab_u = prob.cm.Lab(table.XYZ_at(np.full(u.shape, scale), u))  # (U', 3)
-    dE_table = delta_E_00(Lab_u[:, None, :], prob.Lab[None, :, :])  # (U, N)
-    cost_table = 2.0 * (np.sqrt(1.0 + (dE_table / LOSS_SCALE_DE00) ** 2) - 1.0)
+    u = np.arange(0, tables[0].XYZ.shape[1], stride) * U_STEP_NM
+    cost_tables = []
+    for table in tables:
+        Lab_u = prob.cm.Lab(table.XYZ_at(np.full(u.shape, scale), u))  # (U', 3)
+        dE_table = delta_E_00(Lab_u[:, None, :], prob.Lab[None, :, :])  # (U, N)
+        cost_tables.append((2.0 * (np.sqrt(1.0 + (dE_table / LOSS_SCALE_DE00) ** 2) - 1.0)).ravel())
     have = np.isfinite(prob.d_meas)
     V = prob.V
     v_max = float(V.max())
     rates = np.arange(0.4, 7.0 + 1e-9, min(0.03, 2.0 / v_max))  # ≤ 2 nm at the top voltage: the fit refines
     offsets = np.arange(-10.0, 40.0 + 1e-9, 2.0)
 
-    def totals(r: np.ndarray) -> np.ndarray:  # (len(r), O): the robust cost of each line
+    def totals(r: np.ndarray) -> list[np.ndarray]:  # per pair (len(r), O): the robust cost of each line
         grid_u = offsets[None, :, None] + r[:, None, None] * V[None, None, :]  # (R, O, N)
         inside = (grid_u >= 0.0) & (grid_u <= U_MAX_NM)
-        idx = np.clip(np.rint(grid_u / (U_STEP_NM * stride)).astype(np.int64), 0, u.size - 1)
-        cost = cost_table[idx, np.arange(prob.n)]
-        if have.any():
-            cost = cost + np.where(have, ((grid_u / scale - np.nan_to_num(prob.d_meas)) / THICKNESS_SIGMA_NM) ** 2, 0.0)
-        return np.where(inside.all(axis=2), cost.sum(axis=2), np.inf)
+        at = np.clip(np.rint(grid_u / (U_STEP_NM * stride)).astype(np.int64), 0, u.size - 1) * prob.n
+        at += np.arange(prob.n)  # the flat (u, coupon) cell of each line's coupon
+        thick = (np.where(have, ((grid_u / scale - np.nan_to_num(prob.d_meas)) / THICKNESS_SIGMA_NM) ** 2, 0.0)
+                 if have.any() else None)
+        lines = inside.all(axis=2)
+        out = []
+        for flat in cost_tables:
+            cost = np.take(flat, at)
+            if thick is not None:
+                cost = cost + thick
+            out.append(np.where(lines, cost.sum(axis=2), np.inf))
+        return out
 
     # the rate × offset × coupon grid in chunks of rates planned against the run's budget (issue 22)
     rows = plan_rows(offsets.size * V.size * _GRID_BYTES_PER_CELL, "the calibration's grid search",
                      f"at most {MAX_COUPONS} coupons")
-    total = np.concatenate([totals(rates[i:i + rows]) for i in range(0, rates.size, rows)])
+    chunks = [totals(rates[i:i + rows]) for i in range(0, rates.size, rows)]
+    return [_distinct_lines(np.concatenate([c[k] for c in chunks]), rates, offsets, V, scale, count)
+            for k in range(len(tables))]
+
+
+def _distinct_lines(total: np.ndarray, rates, offsets, V, scale: float, count: int) -> np.ndarray:
+    """The best ``count`` lines of the grid's costs ``total`` (rates × offsets) more than 8 nm apart somewhere."""
     order = np.argsort(total, axis=None)
     picks: list[tuple[float, float]] = []
     for flat in order[:5000]:
@@ -393,8 +423,6 @@ def covariance(table: ComboTable, prob: Problem, fit: ModelFit, keep: np.ndarray
     return np.linalg.inv(JtJ) * max(s2, 1e-12)
 
 
-
-
 def u_max_nm(V) -> float:
     """The largest optical growth the search can reach at these voltages (the tables' extent).
 
@@ -434,7 +462,7 @@ def screen(tables: list[ComboTable], prob: Problem, scale0: float, knee: bool, i
         Per pair: (best parameter row (6,), its ΔE2000 (N,), the pair's starting lines), or None.
     """
     stack = ComboTable("*", "*", np.stack([t.XYZ[0] for t in tables]), 0.0, 0.0, np.array([scale0]))
-    starts = [initial_lines(t, prob, scale0) for t in tables]
+    starts = initial_lines(tables, prob, scale0)
     out: list = [None] * len(tables)
     pair = np.concatenate([np.full(st.shape[0], k) for k, st in enumerate(starts)]).astype(np.int64)
     if pair.size == 0:

@@ -90,6 +90,7 @@ def _parse(data: bytes, source: str):
                           "from the instrument software")
     if any(isinstance(el, etree._Entity) for el in tree.getroot().iter()):
         raise SwatchError(f"{source}: the XML holds an entity reference; a CxF3 file's values are plain text")
+    _check_spectrum_sizes(tree.getroot(), source)
     xml_parser = XmlParser(context=XmlContext(), config=ParserConfig(fail_on_converter_warnings=True))
     try:
         with warnings.catch_warnings():
@@ -99,6 +100,19 @@ def _parse(data: bytes, source: str):
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         detail = " ".join(str(exc).split())[:160] if first.startswith("Failed to convert") else first[:160]
         raise SwatchError(f"{source}: not a valid CxF3 document ({detail})") from None
+
+
+def _check_spectrum_sizes(root, source: str) -> None:
+    """Refuse a ReflectanceSpectrum of more than MAX_WAVELENGTHS values from the XML text, before xsdata binds
+    the document (it converts every value in Python: 2 s of CPU for a million); :func:`read_cxf3` checks the
+    bound values again (both bounds)."""
+    for k, obj in enumerate(root.iter(f"{{{_CXF3_NS}}}Object")):
+        for el in obj.iter(f"{{{_CXF3_NS}}}ReflectanceSpectrum"):
+            count = len((el.text or "").split())
+            if count > MAX_WAVELENGTHS:
+                name = obj.get("Name") or obj.get("Id") or str(k + 1)
+                raise SwatchError(f"{source}: object {name!r}: a ReflectanceSpectrum of {count} values; a "
+                                  f"spectrum has 2 to {MAX_WAVELENGTHS} values")
 
 
 def _spec_geometry(spec, source: str, request: Request):

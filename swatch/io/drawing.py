@@ -157,18 +157,26 @@ def draw_text(image_uint8, text: str, x: int, y: int, size_px: int = 16, color=(
     out_img = img if inplace else img.copy()
     if y1 <= y0:
         return out_img
-    band = img[y0:y1]
-    buf = oiio.ImageBuf(oiio.ImageSpec(w, y1 - y0, c, "float"))
-    buf.set_pixels(oiio.ROI(0, w, 0, y1 - y0), band.astype(np.float32) / 255.0)
-    ok = oiio.ImageBufAlgo.render_text(buf, int(x), int(y) - y0, drawable_text(text, font), int(size_px),
+    # and only the columns it can reach: no glyph is wider than two sizes (so a short label on a wide
+    # figure converts a small window, not the figure's width)
+    em = 2 * int(size_px) + 4
+    span = (len(text) + 1) * em
+    lo = {"left": int(x) - em, "right": int(x) - span}.get(align, int(x) - span // 2 - em)
+    x0, x1 = max(0, lo), min(w, lo + span + 2 * em)
+    if x1 <= x0:
+        return out_img
+    band = img[y0:y1, x0:x1]
+    buf = oiio.ImageBuf(oiio.ImageSpec(x1 - x0, y1 - y0, c, "float"))
+    buf.set_pixels(oiio.ROI(0, x1 - x0, 0, y1 - y0), band.astype(np.float32) / 255.0)
+    ok = oiio.ImageBufAlgo.render_text(buf, int(x) - x0, int(y) - y0, drawable_text(text, font), int(size_px),
                                        font_path(font), _color_tuple(color, c), align, valign)
     if not ok:
         raise SwatchError(f"cannot draw text: {buf.geterror()}")
     px = buf.get_pixels(oiio.FLOAT)
     if px is None:
         raise SwatchError(f"cannot draw text: {buf.geterror()}")
-    out = px.reshape(y1 - y0, w, c)
-    out_img[y0:y1] = np.clip(np.round(out * 255.0), 0, 255).astype(np.uint8)
+    out = px.reshape(y1 - y0, x1 - x0, c)
+    out_img[y0:y1, x0:x1] = np.clip(np.round(out * 255.0), 0, 255).astype(np.uint8)
     return out_img
 
 

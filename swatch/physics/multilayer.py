@@ -72,23 +72,27 @@ def stack_reflectance(
     ] + [check_index(n_substrate, wl, "substrate")]
     kx = n0 * np.sin(np.radians(theta))[..., None]
     qs = [layer_q(n, kx) for n in ns]
+    # the films' phase factors, shared by both polarisations: e^(∓iδ) of the films before the last, and for the
+    # last one (next to the substrate, the one whose thickness varies) e^(2iδ) alone: M P D's ratio M_10/M_00
+    # is (m10 + m11 z) / (m00 + m01 z) with z = r e^(2iδ) (the numerator and denominator over e^(−iδ))
+    if not ds:
+        raise SwatchError("a stack needs at least one film layer")
+    delta = [(2.0 * np.pi / wl) * qs[j] * ds[j - 1][..., None] for j in range(1, len(ns) - 1)]
+    inner = [(np.exp(-1j * dj), np.exp(1j * dj)) for dj in delta[:-1]]
+    z_phase = np.exp(2j * delta[-1])
+    interfaces = [fresnel_r(ns[j], qs[j], ns[j + 1], qs[j + 1]) for j in range(len(ns) - 1)]  # (r_s, r_p) each
     out: dict[str, np.ndarray] = {}
-    for pol in ("s", "p"):
-        m00: Any = None
-        m01: Any = None
-        m10: Any = None
-        m11: Any = None
-        for j in range(len(ns) - 1):
-            rs, rp = fresnel_r(ns[j], qs[j], ns[j + 1], qs[j + 1])
-            r = rs if pol == "s" else rp
-            if m00 is None:  # D_01
-                m00, m01, m10, m11 = 1.0 + 0 * r, r, r, 1.0 + 0 * r
-            else:  # multiply by P_j then D_j,j+1
-                delta = (2.0 * np.pi / wl) * qs[j] * ds[j - 1][..., None]
-                em, ep = np.exp(-1j * delta), np.exp(1j * delta)
-                a00, a01, a10, a11 = m00 * em, m01 * ep, m10 * em, m11 * ep
-                m00, m01 = a00 + a01 * r, a00 * r + a01
-                m10, m11 = a10 + a11 * r, a10 * r + a11
-        out[pol] = m10 / m00
+    for k, pol in enumerate(("s", "p")):
+        rs = [rj[k] for rj in interfaces]
+        m00: Any = 1.0  # D_01
+        m01: Any = rs[0]
+        m10: Any = rs[0]
+        m11: Any = 1.0
+        for (em, ep), r in zip(inner, rs[1:-1], strict=True):  # multiply by P_j then D_j,j+1
+            a00, a01, a10, a11 = m00 * em, m01 * ep, m10 * em, m11 * ep
+            m00, m01 = a00 + a01 * r, a00 * r + a01
+            m10, m11 = a10 + a11 * r, a10 * r + a11
+        z = rs[-1] * z_phase
+        out[pol] = (m10 + m11 * z) / (m00 + m01 * z)
     r_s, r_p = out["s"], out["p"]
     return Reflectance(R_s=np.abs(r_s) ** 2, R_p=np.abs(r_p) ** 2, r_s=r_s, r_p=r_p)
