@@ -160,7 +160,7 @@ def _lobe(spec):
     return (f.alpha_u, f.alpha_v) if f is not None and f.anisotropic else float(spec.roughness)
 
 
-def hero_key(spec, thickness_nm: float, size_px: int | None = None) -> str:
+def hero_key(spec, thickness_nm: float, size_px: int) -> str:
     """Content hash of everything a hero render depends on (film, finish, thickness, size, Mitsuba's version,
     the engine's code).
 
@@ -170,8 +170,8 @@ def hero_key(spec, thickness_nm: float, size_px: int | None = None) -> str:
         The validated catalog spec. (film, finish, spread).
     thickness_nm : float
         The swatch's film thickness, nm.
-    size_px : int, optional
-        The render's side in pixels (None: the spec's ``hero_size_px``; the cover's is ``hero_cover_px``).
+    size_px : int
+        The render's side in pixels (the spec's ``hero_size_px``, or ``hero_cover_px`` for the cover).
 
     Returns
     -------
@@ -180,7 +180,7 @@ def hero_key(spec, thickness_nm: float, size_px: int | None = None) -> str:
     """
     doc = {"d": float(thickness_nm), "film": spec.film, "substrate": spec.substrate,
            "scale": spec.film_index_scale, "lobe": _lobe(spec),
-           "size": spec.hero_size_px if size_px is None else int(size_px), "spp": spec.hero_spp,
+           "size": int(size_px), "spp": spec.hero_spp,
            "seed": HERO_SEED, "spread": [spec.spread.spread_nm, spec.spread.spread_fraction],
            "mitsuba": engine_version("mitsuba"), "code": _code_hash(),
            "denoise": [importlib.metadata.version("mitsuba-oidn"), HERO_DENOISE] if spec.denoise else False}
