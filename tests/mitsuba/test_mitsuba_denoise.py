@@ -6,7 +6,8 @@ brushed) a 96 px studio render at 32 spp, denoised, is compared with its referen
 spp, another seed, undenoised, stored in tests/data/denoise/ and read back by OpenImageIO): in 4 × 4-pixel
 blocks, mean CIEDE2000 ≤ 0.8 and 95th percentile ≤ 2.0; closer than the raw estimate of the same render
 and at least 2× closer than the raw estimate of the engine's sampling before #37 (independent samples) at the
-same spp; the colour of flat patches (on the object, on the backdrop) within ΔE00 0.3; the silhouette where
+same spp; per pixel (the grain a viewer sees), at least 2× closer than the raw estimate of the same render
+(today's low-discrepancy samples); the colour of flat patches (on the object, on the backdrop) within ΔE00 0.3; the silhouette where
 the reference has it (within a pixel) and as sharp. Lab: D65, CIE 1931 2°, the camera's geometry.
 """
 from __future__ import annotations
@@ -93,6 +94,18 @@ def test_denoised_render_is_twice_as_close_as_the_raw_render_before(renders, mon
         e_befores.append(e_before)
     assert sum(e_befores) >= GAIN_MIN * sum(e_dens)
     assert min(ratios) >= 0.9 * GAIN_MIN
+
+
+def test_per_pixel_the_denoised_render_is_twice_as_close_as_the_raw_estimate_of_the_same_samples(renders):
+    """Per pixel, at 32 spp, the denoised image is ≥ 2× closer to the reference (mean ΔE00) than the raw estimate
+    of the same render, in every case (measured 3.2–4.0×). In 4 × 4 blocks, where the raw estimate's grain
+    averages out, the gain is 1.4–1.65× (test_denoised_render_is_close_to_the_reference asks only that it be
+    closer: docs/mitsuba.md says why 2× is out of OIDN's reach there)."""
+    for case, (ref, den, raw, _, _) in renders.items():
+        e_den = colour.delta_E(dc.lab(den), dc.lab(ref), method="CIE 2000").mean()
+        e_raw = colour.delta_E(dc.lab(raw), dc.lab(ref), method="CIE 2000").mean()
+        print(f"{case}: per pixel raw {e_raw:.2f}, denoised {e_den:.2f}, {e_raw / e_den:.2f}x")
+        assert e_raw >= GAIN_MIN * e_den, case
 
 
 PATCH_PX = 12
