@@ -325,9 +325,8 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     if len({g.name for g in multi}) != len(multi):
         c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)
 
-    ren = c.table(data.get("render", {}), "render",
-                  ("shapes", "size_px", "model", "roughness", "finish", "angular_map", "hero", "hero_size_px",
-                   "hero_spp", "hero_cover_px", "denoise"))
+    ren = c.table(data.get("render", {}), "render", ("shapes", "size_px", "model", "roughness", "finish",
+                                                    "angular_map", "hero", "hero_size_px", "hero_spp", "hero_cover_px", "denoise"))
     shapes = ren.get("shapes", ["flat", "cylinder"])
     if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
         c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
@@ -350,7 +349,8 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("render.hero", "hero renders are of the microfacet model (Mitsuba); set model = \"microfacet\"", True)
     hero_size = c.integer(ren.get("hero_size_px", 256), "render.hero_size_px", 32, 1024)
     hero_spp = c.integer(ren.get("hero_spp", 16), "render.hero_spp", 1, 1024)
-    cover = c.integer(ren.get("hero_cover_px", 0), "render.hero_cover_px", 0, 2048)
+    if (cover := c.integer(ren.get("hero_cover_px", 0), "render.hero_cover_px", 0, 2048)) and not hero:
+        c.fail("render.hero_cover_px", "the cover is the most vivid swatch's hero rendered larger: set hero = true", cover)
     denoise = c.boolean(ren.get("denoise", True), "render.denoise")
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))

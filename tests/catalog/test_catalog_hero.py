@@ -115,7 +115,10 @@ def test_cover_is_the_most_vivid_swatch_inside_srgb():
     assert parse_spec(base).hero_cover_px == 0
     assert parse_spec(base | {"render": {"hero": True, "hero_cover_px": 960}}).hero_cover_px == 960
     with pytest.raises(SwatchError, match=r"render\.hero_cover_px"):
-        parse_spec(base | {"render": {"hero_cover_px": 4096}})
+        parse_spec(base | {"render": {"hero": True, "hero_cover_px": 4096}})
+    with pytest.raises(SwatchError, match=r"render\.hero_cover_px.*set hero = true"):  # a cover is a hero: not silently none
+        parse_spec(base | {"render": {"hero_cover_px": 960}})
+    assert parse_spec(base | {"render": {"hero_cover_px": 0}}).hero_cover_px == 0
 
 
 def test_edge_colours_are_the_mean_of_each_band_of_the_outer_columns():
