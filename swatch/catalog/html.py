@@ -21,6 +21,7 @@ from importlib import resources
 
 from swatch.colorimetry.names import colour_names
 from swatch.core.choices import LIGHTINGS
+from swatch.physics.growth import voltage_text
 
 __all__ = ["index_html", "embed_json", "hero_png", "page_script", "page_style", "print_page_style", "css_string"]
 
@@ -264,7 +265,7 @@ def _growth_text(process: dict) -> str:
         return "no growth rate (thicknesses only)"
     text = f"{process['nm_per_V']:g} nm/V + {process['offset_nm']:g} nm"
     if "knee_V" in process:
-        text += f" to {process['knee_V']:g} V, then {process['nm_per_V_above_knee']:g} nm/V"
+        text += f" to {voltage_text(process['knee_V'])} V, then {process['nm_per_V_above_knee']:g} nm/V"
     if "spread_nm" in process:
         text += f"; thickness spread {process['spread_nm']:g} nm + {100 * process['spread_fraction']:g} % (1σ)"
     return text

@@ -42,6 +42,7 @@ from swatch.core.limits import MAX_RUN_BYTES
 from swatch.io.drawing import draw_rect, draw_text
 from swatch.io.imageio import write_exr, write_png
 from swatch.io.pngmeta import xmp_packet
+from swatch.physics.growth import voltage_text
 from swatch.render.display import BACKGROUND_LINEAR
 
 __all__ = ["compose_sheet", "sheet_bytes", "plan_jobs", "PARENT_BYTES", "WORKER_SLACK_BYTES", "SHEET_DPI", "SHEET_BYTES_PER_PX", "WORKER_BASE_BYTES"]
@@ -92,7 +93,7 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
     line2 = (f"{spec.film} on {spec.substrate}  ·  illuminant {header['illuminant']}, CIE {header['observer_name']} "
              f"observer  ·  model: half-vector thin film (Fujii et al. 2019)  ·  process {spec.process}: "
              + (f"{spec.nm_per_V:g} nm/V + {spec.offset_nm:g} nm" if spec.nm_per_V is not None else "no growth rate")
-             + (f" to {spec.knee_V:g} V, then {spec.nm_per_V_above_knee:g} nm/V" if spec.knee_V is not None else "")
+             + (f" to {voltage_text(spec.knee_V)} V, then {spec.nm_per_V_above_knee:g} nm/V" if spec.knee_V is not None else "")
              + (f", spread {spec.spread.text().strip(' ±')}" if not spec.spread.is_zero else "")
              + (f", film index ×{spec.film_index_scale:g}" if spec.film_index_scale != 1 else "")
              + (f"  ·  finish {spec.finish_spec.label()}" if spec.finish_spec is not None else ""))

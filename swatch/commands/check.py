@@ -28,6 +28,17 @@ def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observe
     return check_spec(data, "the spec made from --thickness/--voltage")
 
 
+def check_line(r: dict) -> str:
+    """One part's line of the text report: verdict, worst ΔE, best-fit thickness, residual, what to do."""
+    advice = r["voltage_advice"] if r["voltage_advice"] is not None else r["voltage_correction_reason"]
+    worst = max(r["delta_E"], key=r["delta_E"].get)
+    verdict = "PASS" if r["pass"] else ("NOT JUDGED" if r["action"] == "measure" else "FAIL")
+    missing = "".join(f", {n} not measured" for n in r["unmeasured"])
+    return (f"{r['id']}: {verdict}  max {r['metric']} {r['max_delta_E']:.2f} ({worst}{missing})  best-fit thickness "
+            f"{r['thickness_nm']:.1f} nm ({r['thickness_offset_nm']:+.1f}), residual {r['metric']} "
+            f"{r['max_residual_delta_E']:.2f}: {advice}")
+
+
 @click.command()
 @click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False, path_type=str))
 @click.option("--spec", "spec_path", default=None, type=click.Path(dir_okay=False, path_type=str),
@@ -65,7 +76,8 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     from swatch.core.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.instruments import Request
-    from swatch.production.qc import check_file, load_spec_json, spec_notes
+    from swatch.production.advice import spec_notes
+    from swatch.production.qc import check_file, judged_names, load_spec_json
     from swatch.report.check_report import check_figure
 
     if sum(x is not None for x in (spec_path, thickness, voltage)) != 1:
@@ -91,11 +103,14 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
         for r in results:
             r["id"] = f"{Path(r['source']).name}#{r['id']}"
     doc = {"spec": str(spec_path), "pass": all(r["pass"] for r in results),
-           "tolerance": {k: spec["tolerance"][k] for k in ("metric", "max", "label")},
+           "tolerance": {**{k: spec["tolerance"][k] for k in ("metric", "max", "label")},
+                         "geometries": judged_names(spec)},
            "colorimetry": {"illuminant": col["illuminant"], "observer": col["observer"],
                            "srgb": "chips: sRGB by CIE 1931 2° colorimetry; a part's from its own measurement"},
-           "advice": "a voltage correction only where the model at the best-fit thickness explains the part within "
-                     "the tolerance (max_residual_delta_E); otherwise voltage_correction_reason says why not",
+           "advice": "action per part (docs/finisher.md): none inside the window; a voltage correction only for a "
+                     "failing part or one near the window's edge, and only where the model at the best-fit thickness "
+                     "explains the part within the tolerance (max_residual_delta_E); calibrate first where the spec's "
+                     "uncalibrated model is the suspect; otherwise voltage_correction_reason says why not",
            "nominal": spec["nominal"], "notes": spec_notes(spec), "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
            "measurements": results}
     text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
@@ -107,15 +122,12 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     if as_json:
         click.echo(text, nl=False)
     else:
-        click.echo(f"# {spec['tolerance']['label']}; CIELAB under {col['illuminant']}, {col['observer']}° observer; "
-                   f"nominal {spec['nominal']['thickness_nm']} nm")
+        judged = spec["tolerance"].get("geometry", spec["reference"]["geometry"])
+        click.echo(f"# {spec['tolerance']['label']} at every measured geometry, required at {judged}; CIELAB under {col['illuminant']}, {col['observer']}° "
+                   f"observer; nominal {spec['nominal']['thickness_nm']} nm")
         for note in doc["notes"]:
             click.echo(f"note: {note}")
         for r in results:
-            advice = r["voltage_advice"] if r["voltage_advice"] is not None else r["voltage_correction_reason"]
-            worst = max(r["delta_E"], key=r["delta_E"].get)
-            click.echo(f"{r['id']}: {'PASS' if r['pass'] else 'FAIL'}  max {r['metric']} {r['max_delta_E']:.2f} "
-                       f"({worst})  best-fit thickness {r['thickness_nm']:.1f} nm ({r['thickness_offset_nm']:+.1f}), "
-                       f"residual {r['metric']} {r['max_residual_delta_E']:.2f}: {advice}")
+            click.echo(check_line(r))
         click.echo(f"{doc['n_parts'] - doc['n_failed']} of {doc['n_parts']} parts pass ({spec['tolerance']['label']})")
     return 0 if doc["pass"] else 1

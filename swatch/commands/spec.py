@@ -104,7 +104,7 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     col = data["colorimetry"]
     volts = f" at {nom['voltage_V']} V" if nom["voltage_V"] is not None else ""
     click.echo(f"nominal {nom['thickness_nm']} nm{volts}; window -{pw['thickness_minus_nm']}/+{pw['thickness_plus_nm']} nm "
-               f"({pw['metric']} <= {pw['max']:g} at 45:0); flop dE00 {data['flop']['delta_E_00']}; CIELAB under "
+               f"({pw['metric']} <= {pw['max']:g} at {pw['geometry']}); flop dE00 {data['flop']['delta_E_00']}; CIELAB under "
                f"{col['illuminant']}, {col['observer']}° observer")
     vb = nom["voltage"]
     if not vb["calibrated"]:

@@ -18,13 +18,17 @@ import numpy as np
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 
-__all__ = ["DEFAULT_NM_PER_V", "check_growth_rate", "growth_law_nm", "voltage_to_thickness_nm",
-           "thickness_to_voltage_V"]
+__all__ = ["DEFAULT_NM_PER_V", "VOLTAGE_DECIMALS", "check_growth_rate", "growth_law_nm", "voltage_to_thickness_nm",
+           "thickness_to_voltage_V", "voltage_text"]
 
 #: Anodic growth rate, nm per volt: the paper's blue sample (Fig. 3) was anodised at 25 V and its
 #: thickness estimated at 50.8 nm (Table 2), i.e. 2.032 nm/V. Published anodic-TiO2 rates are
 #: 1.5–3 nm/V depending on electrolyte; override it with ``--nm-per-volt``.
 DEFAULT_NM_PER_V = 50.8 / 25.0
+#: Decimals of a voltage a person reads (text, cards, figures; JSON keeps full precision): 0.1 V. No growth law
+#: supports more: the calibrated example line (examples/line.toml) knows a voltage to ±0.15 V at 25 V (its rate's
+#: and offset's standard errors, 0.0115 nm/V and 0.16 nm, over 2.2 nm/V), and a rectifier is set in 0.1 V steps.
+VOLTAGE_DECIMALS = 1
 
 
 def check_growth_rate(nm_per_V: float) -> float:
@@ -163,3 +167,25 @@ def thickness_to_voltage_V(thickness_nm, nm_per_V: float = DEFAULT_NM_PER_V, off
     k = float(knee_V)
     at_knee = rate * k
     return np.where(d <= at_knee, d / rate, k + (d - at_knee) / check_growth_rate(nm_per_V_above_knee))
+
+
+def voltage_text(voltage_V: float) -> str:
+    """A voltage as a person reads it: :data:`VOLTAGE_DECIMALS` decimals, no unit.
+
+    Parameters
+    ----------
+    voltage_V : float
+        Volts.
+
+    Returns
+    -------
+    str
+        ``"11.2"`` for 11.1724; ``"0.0"`` for a negative value that rounds to zero.
+
+    Examples
+    --------
+    >>> voltage_text(11.1724), voltage_text(100), voltage_text(-0.01)
+    ('11.2', '100.0', '0.0')
+    """
+    text = f"{float(voltage_V):.{VOLTAGE_DECIMALS}f}"
+    return "0.0" if float(text) == 0.0 else text

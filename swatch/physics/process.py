@@ -36,7 +36,7 @@ from swatch.core.limits import (
     MIN_FILM_INDEX_SCALE,
     read_capped,
 )
-from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
+from swatch.physics.growth import thickness_to_voltage_V, voltage_text, voltage_to_thickness_nm
 from swatch.physics.materials import list_materials, tables_dir
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 
@@ -265,7 +265,7 @@ class Process:
             return "no growth rate"
         law = f"{self.offset_nm:g} nm + {self.nm_per_V:g} nm/V"
         if self.knee_V is not None:
-            law += f" up to {self.knee_V:g} V, then {self.nm_per_V_above_knee:g} nm/V"
+            law += f" up to {voltage_text(self.knee_V)} V, then {self.nm_per_V_above_knee:g} nm/V"
         return law
 
 

@@ -3,7 +3,9 @@
 reportlab draws the page directly (no HTML engine or system fonts, a pure-Python wheel), and its
 ``invariant`` mode leaves out the creation date and document id, so a rerun writes the same bytes.
 Every number of spec.json is printed on the card exactly as spec.json writes it (``str`` of the
-rounded value), so the card and the file can be checked against each other (``pdftotext``).
+rounded value), so the card and the file can be checked against each other (``pdftotext``), except a
+profile's knee voltage, printed to the precision the growth law supports (0.1 V; spec.json keeps it whole).
+Every sentence is whole: long ones wrap, none is cut.
 """
 from __future__ import annotations
 
@@ -13,7 +15,9 @@ from reportlab.lib.colors import HexColor
 from reportlab.lib.pagesizes import A4
 from reportlab.pdfgen import canvas
 
-__all__ = ["write_spec_card", "PRINT_NOTE"]
+from swatch.physics.growth import voltage_text
+
+__all__ = ["write_spec_card", "how_to_measure", "PRINT_NOTE"]
 
 PRINT_NOTE = ("Printed chips cannot show the metallic angle shift (the colour moves with the angles of light and "
               "view) and are not approval standards: approve on a physical sample, measured as below.")
@@ -81,6 +85,46 @@ def _stamp(c, x, y, width, reach) -> float:
     c.setFillColor(_INK)
     c.setStrokeColor(_INK)
     return y - 6
+
+
+def _table_rows(spec: dict) -> tuple[list[dict], list[str]]:
+    """The card's geometries once each: the reference first, named with its multi-angle twin (45:0 = 45as45:
+    the view along the normal), then the multi-angle set and the other judged angles."""
+    ref = spec["reference"]
+    rows, names = [ref], [str(ref["geometry"])]
+    for e in [*spec["multi_angle"], *spec.get("angles", [])]:
+        if float(e["view_deg"]) == 0.0 and float(e["light_deg"]) == float(ref["light_deg"]):
+            names[0] += f" = {e['geometry']}"
+            continue
+        rows.append(e)
+        names.append(str(e["geometry"]))
+    return rows, names
+
+
+def how_to_measure(spec: dict) -> str:
+    """The card's measuring instructions: the instrument, the geometries, what to send back (one paragraph).
+
+    Parameters
+    ----------
+    spec : dict
+        The spec.json dictionary.
+
+    Returns
+    -------
+    str
+        Whole sentences.
+    """
+    col, tol = spec["colorimetry"], spec["tolerance"]
+    aspec = ", ".join(f"{e['aspecular_deg']:g}°" for e in spec["multi_angle"] if e.get("aspecular_deg") is not None)
+    extra = [str(e["geometry"]) for e in spec.get("angles", [])]
+    also = f" and at {', '.join(extra)}" if extra else ""
+    return (f"Instrument: a multi-angle spectrophotometer with illumination at 45° and views at aspecular {aspec} "
+            f"(ASTM E2194 / E2539), specular component excluded{also}; a 45/0 instrument gives the reference alone. "
+            f"The tolerance is judged at {tol['geometry']}. Measure each part at three places away from edges "
+            f"and average them. Send back, per part with its id: the reflectance spectra (380-730 nm or wider) "
+            f"at every geometry measured, or CIELAB under {col['illuminant']} and the {col['observer']}° "
+            "observer, as a CxF3, CGATS or CSV file. Each geometry is judged in the tolerance's metric against the "
+            "table above; swatch check (swatch check FILE --spec spec.json) is one way to judge them.")
 
 
 def write_spec_card(spec: dict, path: Path) -> None:
@@ -166,23 +210,24 @@ def write_spec_card(spec: dict, path: Path) -> None:
     if tgt.get("srgb_hex"):
         _chip(c, x, y, 60, 60, tgt["srgb_hex"], "target" + ("" if tgt.get("srgb_in_gamut", True) else " (outside sRGB)"))
         x += 66
-    _chip(c, x, y, 60, 60, ref["srgb_hex"], f"nominal {ref['geometry']} (reference)")
+    rows, names = _table_rows(spec)
+    _chip(c, x, y, 60, 60, ref["srgb_hex"], f"nominal {names[0]}")
     x += 80
-    for e in spec["multi_angle"]:
-        _chip(c, x, y + 14, 46, 46, e["srgb_hex"], e["geometry"])
+    for e, name in zip(rows[1:], names[1:], strict=True):
+        _chip(c, x, y + 14, 46, 46, e["srgb_hex"], name)
         x += 52
     y -= 26
 
     # the multi-angle table
     c.setFont("Helvetica-Bold", 8.5)
     heads = ["geometry", "light °", "view °", "side", "aspec. °", "L*", "a*", "b*", "C*", "h°", "sRGB"]
-    xs = [left + k * 16.5 * _MM for k in range(len(heads))]
+    xs = [left] + [left + (22.0 + k * 15.5) * _MM for k in range(len(heads) - 1)]  # the first holds two names
     for hx, t in zip(xs, heads, strict=True):
         c.drawString(hx, y, t)
     c.setFont("Helvetica", 8.5)
-    for e in [ref, *spec["multi_angle"]]:
+    for e, name in zip(rows, names, strict=True):
         y -= 11
-        cells = [e["geometry"], _s(e["light_deg"]), _s(e["view_deg"]), e["view_side"], _s(e.get("aspecular_deg")),
+        cells = [name, _s(e["light_deg"]), _s(e["view_deg"]), e["view_side"], _s(e.get("aspecular_deg")),
                  *(_s(v) for v in e["Lab"]), _s(e["LCh"][1]), _s(e["LCh"][2]), e["srgb_hex"]]
         for hx, t in zip(xs, cells, strict=True):
             c.drawString(hx, y, t)
@@ -198,44 +243,44 @@ def write_spec_card(spec: dict, path: Path) -> None:
     c.drawString(left, y, f"Flop (angle-to-angle ΔE00, light {_s(fl['light_deg'])}°, view {_s(fl['view_a_deg'])}° vs "
                           f"{_s(fl['view_b_deg'])}°): {_s(fl['delta_E_00'])}")
     y -= 13
-    c.drawString(left, y, f"Tolerance: {tol['label']} (max {_s(tol['max'])}, metric {tol['metric']}) at {tol['geometry']}")
-    y -= 13
+    every = " (each)" if len(tol.get("geometries", [])) > 1 else ""
+    y = _wrapped(c, left, y, f"Tolerance: {tol['label']} (max {_s(tol['max'])}, metric {tol['metric']}) at "
+                             f"{tol['geometry']}{every}; a part is judged at every geometry it is measured at.", 9,
+                 W - 2 * left) - 2
     vw = (f"; voltage -{_s(pw['voltage_minus_V'])} / +{_s(pw['voltage_plus_V'])} V"
           if pw["voltage_minus_V"] is not None else "")
-    c.drawString(left, y, f"Process window ({pw['metric']} ≤ {_s(pw['max'])} at {pw['geometry']}): thickness "
-                          f"-{_s(pw['thickness_minus_nm'])} / +{_s(pw['thickness_plus_nm'])} nm, i.e. "
-                          f"{_s(pw['thickness_min_nm'])} to {_s(pw['thickness_max_nm'])} nm{vw}")
-    y -= 18
+    per = pw.get("per_geometry", {})
+    holds = (" (the colour holds at all of them; each alone: " + ", ".join(
+        f"{n} -{_s(w['thickness_minus_nm'])} / +{_s(w['thickness_plus_nm'])} nm" for n, w in per.items()) + ")"
+        if every else "")
+    y = _wrapped(c, left, y, f"Process window ({pw['metric']} ≤ {_s(pw['max'])} at {pw['geometry']}{holds}): "
+                             f"thickness -{_s(pw['thickness_minus_nm'])} / +{_s(pw['thickness_plus_nm'])} nm, i.e. "
+                             f"{_s(pw['thickness_min_nm'])} to {_s(pw['thickness_max_nm'])} nm{vw}.", 9, W - 2 * left)
+    y -= 5
 
     c.setFont("Helvetica-Bold", 9.5)
     c.drawString(left, y, "Process profile and provenance")
     c.setFont("Helvetica", 8.5)
     skip = {"process", "process_origin", "film", "substrate"}
-    more = ", ".join(f"{k} {_s(v)}" for k, v in proc.items() if k not in skip)
+    # a voltage as a person reads it (the growth law's precision, swatch.physics.growth.voltage_text)
+    more = ", ".join(f"{k} {voltage_text(v) if k.endswith('_V') and v is not None else _s(v)}"
+                     for k, v in proc.items() if k not in skip)
     y -= 11
     for line in (f"{proc['process']} ({proc['process_origin']}): {proc['film']} on {proc['substrate']}",
                  more,
-                 f"finish roughness {_s(spec['finish']['roughness'])} (GGX; {spec['finish']['note']})"):
+                 f"Finish roughness {_s(spec['finish']['roughness'])} (GGX): {spec['finish']['note']}."):
         y = _wrapped(c, left, y, line, 8.5, W - 2 * left)  # a calibrated line's parameters take two lines
-    y += 11
     c.setFont("Helvetica", 7)
     c.setFillColor(_MUTED)
-    for key, text in spec.get("process_sources", {}).items():
-        y -= 9
-        line = f"{key}: {text}"
-        c.drawString(left, y, line if len(line) <= 160 else line[:159] + "…")
+    for key, text in spec.get("process_sources", {}).items():  # every source whole, wrapped
+        y = _wrapped(c, left, y, f"{key}: {text}", 7, W - 2 * left)
     c.setFillColor(_INK)
-    y -= 18
+    y -= 9
     c.setFont("Helvetica-Bold", 9.5)
     c.drawString(left, y, "How to measure")
     c.setFont("Helvetica", 8.5)
     y -= 11
-    y = _wrapped(c, left, y, "Multi-angle spectrophotometer, illumination 45°, aspecular -15°, 15°, 25°, 45°, 75°, 110° "
-                             f"(ASTM E2194 / E2539), specular excluded; CIELAB under {col['illuminant']} and the "
-                             f"{col['observer']}° observer; the reference value at 45:0. Check each part: swatch check "
-                             "FILE --spec spec.json (CxF3, CGATS or CSV); it reports ΔE per geometry in the tolerance's "
-                             "metric, the best-fit thickness and, only where that thickness explains the part, the "
-                             "voltage correction.", 8.5, W - 2 * left) + 11
+    y = _wrapped(c, left, y, how_to_measure(spec), 8.5, W - 2 * left) + 11
     y -= 16
     c.setFont("Helvetica-Oblique", 8.5)
     cut = PRINT_NOTE.rfind(" ", 0, 112)

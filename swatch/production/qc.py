@@ -13,12 +13,13 @@ absolute reflectance factor. The fit is vectorised over the parts of a file (one
 table). The voltage correction is the voltage change that would grow the nominal thickness
 instead: ``V(nominal) − V(fitted)`` by the spec's growth law (one or two slopes; positive: raise it).
 
-A correction is advice only where the model supports it: the **residual** (the tolerance's metric
-between the part and the model at its best-fit thickness, worst over the measured geometries) must
-be within the tolerance, and the fit inside its search. Otherwise the part differs in something a
-voltage cannot change (alloy, surface preparation, contamination, a sealed or heat-tinted film, the
-measurement) and no correction is given: ``voltage_correction_V`` is None and
-``voltage_correction_reason`` says why ("not a thickness error: …").
+A part passes when it is within the tolerance at every geometry it was measured at and was measured
+at every geometry the spec's tolerance is judged at (``tolerance.geometries``: 45:0, or every
+``--angles`` geometry). What the finisher is told to do (``action``: no action inside the window, a
+correction only for a failing part or one near the window's edge, none where no thickness explains the
+part, "calibrate first" where an uncalibrated spec's model is the suspect) follows the rules of
+:mod:`swatch.production.advice`; ``voltage_correction_V`` is None with ``voltage_correction_reason``
+wherever no correction is advised.
 
 The part's chip is its own colour: its spectra by CIE 1931 2° colorimetry, or its CIELAB through the
 observer bridge (:func:`swatch.colorimetry.observers.document_Lab_display`), out-of-gamut marked.
@@ -34,7 +35,7 @@ from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter, srgb_hex
 from swatch.colorimetry.observers import LAB_CHIP_CONVENTION, document_Lab_display
 from swatch.colorimetry.tolerance import get_tolerance
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
+from swatch.core.limits import MAX_INSTRUMENT_GEOMETRIES, MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
 from swatch.fit.fitting import sweep_reflectance, unique_geometry
 from swatch.fit.result import colour_grid, interp_rows
 from swatch.io.instruments import InstrumentFile
@@ -44,8 +45,17 @@ from swatch.physics.growth import thickness_to_voltage_V
 from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import get_coating
 from swatch.physics.spread import ThicknessSpread
+from swatch.production.advice import (
+    calibrate_first,
+    model_calibrated,
+    near_edge,
+    not_a_thickness_error,
+    other_models,
+    voltage_advice,
+)
 
-__all__ = ["load_spec_json", "check_spec", "check_file", "spec_notes", "voltage_advice", "not_a_thickness_error", "FIT_SPAN_NM", "GEOMETRY_MATCH_DEG"]
+__all__ = ["load_spec_json", "check_spec", "check_file", "judged_names", "fit_thickness_Lab", "FIT_SPAN_NM",
+           "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
 FIT_SPAN_NM = 40.0
@@ -118,10 +128,15 @@ def check_spec(spec, path: str = "spec") -> dict:
         values = [float(spec["nominal"]["thickness_nm"])]
         rate = spec["process"].get("nm_per_V")
         values += [] if rate is None else [float(rate)]
-        for e in [spec["reference"], *spec["multi_angle"]]:
+        if not isinstance(spec.get("angles", []), list) or len(spec.get("angles", [])) > MAX_INSTRUMENT_GEOMETRIES:
+            raise ValueError
+        for e in _spec_geometries(spec):
             values += [float(e["light_deg"]), float(e["view_deg"]), *(float(v) for v in e["Lab"])]
             if e["view_side"] not in ("opposite", "light") or len(e["Lab"]) != 3 or str(e["geometry"]) == "":
                 raise ValueError
+        names = {str(e["geometry"]) for e in _spec_geometries(spec)}
+        if not all(isinstance(n, str) and n in names for n in judged_names(spec)):
+            raise ValueError
         if not all(np.isfinite(values)) or not 0 <= values[0] <= MAX_THICKNESS_NM or (rate is not None and rate <= 0):
             raise ValueError
     except (KeyError, TypeError, ValueError):
@@ -131,7 +146,28 @@ def check_spec(spec, path: str = "spec") -> dict:
 
 
 def _spec_geometries(spec: dict):
-    return [spec["reference"], *spec["multi_angle"]]
+    return [spec["reference"], *spec["multi_angle"], *spec.get("angles", [])]
+
+
+def judged_names(spec: dict) -> list[str]:
+    """The geometries a spec's tolerance is judged at, by the names of its entries.
+
+    Parameters
+    ----------
+    spec : dict
+        A spec (from spec.json: untrusted until :func:`check_spec` accepts it).
+
+    Returns
+    -------
+    list of str
+        ``tolerance.geometries``; a spec written before that key: the reference geometry's name.
+    """
+    names = spec["tolerance"].get("geometries")
+    if names is None:
+        return [str(spec["reference"]["geometry"])]
+    if not isinstance(names, list) or not 1 <= len(names) <= MAX_INSTRUMENT_GEOMETRIES:
+        raise ValueError
+    return names
 
 
 def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
@@ -146,12 +182,12 @@ def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
 
 
 def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coating, cm, lo: float,
-                      hi: float) -> tuple[np.ndarray, np.ndarray]:
+                      hi: float, step_nm: float = FINE_STEP_NM) -> tuple[np.ndarray, np.ndarray]:
     """Fit the oxide thickness of P parts to their CIELAB at G geometries (least squares in ΔE2000).
 
-    One thickness → CIELAB table every :data:`FINE_STEP_NM` on [``lo``, ``hi``] (one sweep for all
-    parts), searched every :data:`COARSE_STEP_NM`, then finely within one coarse step of each part's
-    minimum. Vectorised over parts; no intensity scaling (the half-vector model's absolute reflectance factor).
+    One thickness → CIELAB table every ``step_nm`` on [``lo``, ``hi``] (one sweep for all parts),
+    searched every :data:`COARSE_STEP_NM` (or five steps, if coarser), then finely within one coarse step
+    of each part's minimum. Vectorised over parts; no intensity scaling (the half-vector model's absolute reflectance factor).
 
     Parameters
     ----------
@@ -167,19 +203,21 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
         Illuminant and observer of ``Lab_meas`` on the coating's grid.
     lo, hi : float
         The thickness interval searched, nm.
+    step_nm : float
+        The table's step, nm (default :data:`FINE_STEP_NM`).
 
     Returns
     -------
     thickness_nm : numpy.ndarray, shape (P,)
-        Fitted thickness of each part, nm (to :data:`FINE_STEP_NM`).
+        Fitted thickness of each part, nm (to ``step_nm``).
     model_Lab : numpy.ndarray, shape (P, G, 3)
         The model's CIELAB at each part's fitted thickness and measured geometries (under ``cm``).
     """
     cos_d = np.atleast_1d(geometry.cos_theta_d(light_deg, view_deg, 0.0, np.where(same_side, 0.0, 180.0)))
     cu, inv = unique_geometry(cos_d)
-    count = int(np.floor((hi - lo) / FINE_STEP_NM + 1e-9)) + 1
-    table = cm.Lab(cm.XYZ(sweep_reflectance(coating, lo, FINE_STEP_NM, count, cu)))[:, inv]  # (K, G, 3)
-    every = round(COARSE_STEP_NM / FINE_STEP_NM)
+    count = int(np.floor((hi - lo) / step_nm + 1e-9)) + 1
+    table = cm.Lab(cm.XYZ(sweep_reflectance(coating, lo, step_nm, count, cu)))[:, inv]  # (K, G, 3)
+    every = max(5, round(COARSE_STEP_NM / step_nm))
     coarse = table[::every]  # (Kc, G, 3)
     P = Lab_meas.shape[0]
     k0 = _argmin_delta_E_by_chunks(Lab_meas, lambda a, b: np.broadcast_to(coarse, (b - a, *coarse.shape)),
@@ -187,7 +225,7 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
     idx = np.clip(k0[:, None] + np.arange(-every, every + 1)[None, :], 0, count - 1)  # (P, F)
     best = _argmin_delta_E_by_chunks(Lab_meas, lambda a, b: table[idx[a:b]], idx.shape[1])
     k = idx[np.arange(P), best]
-    return lo + FINE_STEP_NM * k, table[k]
+    return lo + step_nm * k, table[k]
 
 
 def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -> np.ndarray:
@@ -205,82 +243,6 @@ def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -
     return out
 
 
-def spec_notes(spec: dict) -> list[str]:
-    """What a finisher must know about the spec before acting on a check (one sentence each).
-
-    Parameters
-    ----------
-    spec : dict
-        A checked spec.
-
-    Returns
-    -------
-    list of str
-        A colour target that was out of reach (accepted or not), and a nominal voltage that is not a
-        calibrated line's (the corrections' direction holds, their size is that rate's).
-    """
-    notes = []
-    reach = spec.get("reach")
-    if isinstance(reach, dict) and reach.get("within_tolerance") is False:
-        dE = reach.get("delta_E")  # read back from a file: said only as a number in the tolerance's metric
-        far = (f"{spec['_tolerance'].metric} {float(dE):g}" if isinstance(dE, (int, float)) and np.isfinite(dE)
-               else "too far")
-        notes.append(f"the spec's target was out of reach ({far} from the closest colour) and the closest colour "
-                     + ("was accepted deliberately" if reach.get("accepted_closest") else "was NOT accepted")
-                     + ": parts are judged against that closest colour, not the target")
-    basis = spec["nominal"].get("voltage")
-    rate = spec["process"].get("nm_per_V")
-    if rate and isinstance(basis, dict) and basis.get("calibrated") is False:
-        kind = basis.get("basis") if basis.get("basis") in ("preset", "given", "profile") else "not calibrated"
-        notes.append(f"voltages use the spec's growth rate ({float(rate):g} nm/V, {kind}), not a calibrated "
-                     "line: a correction's direction holds, its size is only as good as that rate")
-    return notes
-
-
-def voltage_advice(correction_V: float) -> str:
-    """The voltage correction in a finisher's words.
-
-    Parameters
-    ----------
-    correction_V : float
-        ``V(nominal) − V(fitted)``, volts (positive: the line grows too thin a film).
-
-    Returns
-    -------
-    str
-        ``"raise the voltage by X V"``, ``"lower the voltage by X V"``, or ``"keep the voltage"`` when
-        the change rounds to 0.0 V.
-    """
-    if round(abs(correction_V), 1) == 0.0:
-        return "keep the voltage (the fitted thickness is the nominal)"
-    return f"{'raise' if correction_V > 0 else 'lower'} the voltage by {abs(correction_V):.1f} V"
-
-
-def not_a_thickness_error(residual: float, metric: str, bound: float, d_fit: float) -> str:
-    """Why no voltage correction is given to a part no thickness explains (one sentence).
-
-    Parameters
-    ----------
-    residual : float
-        The worst ΔE (``metric``) over the measured geometries between the part and the model at
-        its best-fit thickness.
-    metric : str
-        The tolerance's metric.
-    bound : float
-        The bound it is above (the tolerance's maximum).
-    d_fit : float
-        The best-fit thickness, nm.
-
-    Returns
-    -------
-    str
-        One sentence: the residual, why no voltage explains it, and what to check instead.
-    """
-    return (f"not a thickness error: the best-fit thickness {d_fit:.1f} nm still leaves {metric} {residual:.2f} "
-            f"between the part and the model (more than the tolerance, {bound:g}), so no voltage explains it; "
-            f"check the alloy, the surface preparation, contamination, sealing or heat tint, and the measurement")
-
-
 def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     """Judge every sample of a measurement file against a spec (see the module docstring).
 
@@ -294,15 +256,18 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     Returns
     -------
     list of dict
-        Per sample: ``pass``, ``delta_E`` and ``Lab`` per geometry (in the tolerance's metric, under the
-        spec's illuminant and observer), ``delta_Lab`` (measured − specified), the best-fit
-        ``thickness_nm`` and its offset, nm, the ``residual_delta_E`` per geometry (the tolerance's
-        metric, part vs the model at that thickness), ``thickness_explains`` (the worst residual is
-        within the tolerance and the fit is inside the search), the ``voltage_correction_V`` (V, with
-        ``voltage_advice`` in words; None with ``voltage_correction_reason`` when no thickness explains
-        the part or the process has no growth rate) and the part's own sRGB chips (CIE 1931 2°, from
-        its spectra, or from its CIELAB by :func:`swatch.colorimetry.observers.document_Lab_display`),
-        with ``srgb_in_gamut``.
+        Per sample: ``pass`` (within the tolerance at every measured geometry, and measured at every
+        judged one), ``unmeasured`` (the judged geometries the file does not measure), ``delta_E`` and
+        ``Lab`` per geometry (in the tolerance's metric, under the spec's illuminant and observer),
+        ``delta_Lab`` (measured − specified), the best-fit ``thickness_nm`` and its offset, nm, the
+        ``residual_delta_E`` per geometry (the tolerance's metric, part vs the model at that thickness),
+        ``thickness_explains`` (the worst residual is within the tolerance and the fit is inside the
+        search), ``other_model`` (for a spec whose model is not calibrated and does not explain the part:
+        the best other shipped optical model, its thickness and residual), ``action`` (one of
+        :data:`swatch.production.advice.ACTIONS`), ``near_edge``, the ``voltage_correction_V`` (V, with
+        ``voltage_advice`` in words; None with ``voltage_correction_reason`` wherever no correction is
+        advised) and the part's own sRGB chips (CIE 1931 2°, from its spectra, or from its CIELAB by
+        :func:`swatch.colorimetry.observers.document_Lab_display`), with ``srgb_in_gamut``.
 
     Raises
     ------
@@ -356,29 +321,58 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     def per_geometry(values, nd: int) -> dict:
         return {t["geometry"]: round(float(v), nd) for t, v in zip(targets, values, strict=True)}
 
+    measured_names = {t["geometry"] for t in targets}
+    unmeasured = [n for n in judged_names(spec) if n not in measured_names]
+    window = spec.get("process_window", {})
+    calibrated = model_calibrated(spec)
+    worst_res_all = residual_all.max(axis=1)
+    # an uncalibrated spec's model that leaves a part unexplained is screened against the other shipped models
+    suspects = np.flatnonzero(worst_res_all > tol.max) if not calibrated else np.array([], dtype=np.intp)
+    others = dict(zip(suspects.tolist(), other_models(
+        Lab_all[suspects], fit_thickness_Lab, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi, tol)
+        if suspects.size else [], strict=False))
+
     out = []
-    for s, Lab, dE, d, hexes, in_gamut, res in zip(f.samples, Lab_all, dE_all, d_fit, hex_all, gamut_all,
-                                                   residual_all, strict=True):
+    for i, (s, Lab, dE, d, hexes, in_gamut, res) in enumerate(zip(f.samples, Lab_all, dE_all, d_fit, hex_all,
+                                                                  gamut_all, residual_all, strict=True)):
         d = float(d)
         worst_res = float(res.max())
         on_edge = (d - lo < 2 * FINE_STEP_NM and lo > 0.0) or hi - d < 2 * FINE_STEP_NM
-        if worst_res > tol.max:
-            reason: str | None = not_a_thickness_error(worst_res, tol.metric, tol.max, d)
+        explains = worst_res <= tol.max and not on_edge
+        within = bool(np.all(dE <= tol.max))
+        other = others.get(i)
+        edge = within and near_edge(float(dE.max()), tol.max, d - d0, window.get("thickness_minus_nm"),
+                                    window.get("thickness_plus_nm"))
+        reason: str | None
+        if worst_res > tol.max and other is not None and other.residual <= tol.max:
+            action, reason = "calibrate", calibrate_first(worst_res, tol.metric, tol.max, other)
+        elif worst_res > tol.max:
+            action, reason = "investigate", not_a_thickness_error(worst_res, tol.metric, tol.max, d, other)
         elif on_edge:
-            reason = (f"not a thickness error near the nominal: the best fit lies on the edge of the search "
-                      f"(nominal ± {FIT_SPAN_NM:g} nm), another interference order or no thickness at all")
-        elif not rate:
-            reason = "the process profile has no growth rate: no voltage to correct"
+            action, reason = "investigate", (
+                f"not a thickness error near the nominal: the best fit lies on the edge of the search "
+                f"(nominal ± {FIT_SPAN_NM:g} nm), another interference order or no thickness at all")
+        elif unmeasured:
+            action, reason = "measure", (f"not judged at {', '.join(unmeasured)}, where the spec's tolerance "
+                                         "holds too: measure the part there before acting on it")
+        elif within and not edge:
+            action, reason = "none", (f"no action: inside the window (worst {tol.metric} {float(dE.max()):.2f} of "
+                                      f"{tol.max:g}, best-fit thickness {d - d0:+.1f} nm from the nominal)")
         else:
-            reason = None
+            action, reason = ("centre" if within else "correct"), None
+        if reason is None and not rate:
+            reason = "the process profile has no growth rate: no voltage to correct"
         corr = None if reason is not None else round(float(volts(d0) - volts(d)), 2)
+        advice = None if corr is None else voltage_advice(corr)
+        if advice is not None and action == "centre":
+            advice = f"near the edge of the window: {advice} to centre it"
         out.append({
             "srgb_hex": {t["geometry"]: str(h) for t, h in zip(targets, hexes, strict=True)},
             "srgb_in_gamut": {t["geometry"]: bool(g) for t, g in zip(targets, in_gamut, strict=True)},
             "srgb_from": "measured spectra (CIE 1931 2°)" if isinstance(s.measurement, SpectralMeasurement)
             else f"measured CIELAB ({ill}, {obs}°): {LAB_CHIP_CONVENTION}",
             "id": s.id, "source": f.source,
-            "pass": bool(np.all(dE <= tol.max)),
+            "pass": within and not unmeasured, "unmeasured": unmeasured,
             "delta_E": per_geometry(dE, 3),
             "max_delta_E": round(float(dE.max()), 3), "metric": tol.metric,
             "Lab": {t["geometry"]: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
@@ -388,9 +382,13 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
             "thickness_nm": round(d, 2), "thickness_offset_nm": round(d - d0, 2),
             # the part against the model at its best-fit thickness: what no thickness explains
             "residual_delta_E": per_geometry(res, 3), "max_residual_delta_E": round(worst_res, 3),
-            "thickness_explains": bool(worst_res <= tol.max and not on_edge),
+            "thickness_explains": bool(explains),
+            "other_model": None if other is None else {
+                "film": other.film, "substrate": other.substrate, "thickness_nm": round(other.thickness_nm, 2),
+                "max_residual_delta_E": round(other.residual, 3)},
+            "action": action, "near_edge": bool(edge),
             "voltage_correction_V": corr,
-            "voltage_advice": None if corr is None else voltage_advice(corr),
+            "voltage_advice": advice,
             "voltage_correction_reason": reason,
         })
     return out

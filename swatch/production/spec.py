@@ -7,7 +7,8 @@ order, :func:`swatch.fit.matching.match_colour`) and voltage; CIELAB at the refe
 and at the multi-angle geometries of ASTM E2194 / E2539 (light 45°, aspecular −15°, 15°, 25°,
 45°, 75°, 110°); the "flop", ΔE2000 between the view along the normal and the view 60° from it
 (light 45°); the tolerance in its own metric and the process window it allows in nm and V
-(:func:`swatch.catalog.records.process_window`, the catalog's one definition); and, when the
+(:func:`swatch.colorimetry.window.process_window`, the catalog's one definition) at every geometry
+the tolerance is judged at (``--angles``; by default 45:0), the narrowest side over them; and, when the
 target cannot be reached within the tolerance, the closest reachable colour and how far it is.
 
 Colour model: the half-vector model's reflectance factor at each geometry (Fujii et al., no
@@ -30,7 +31,8 @@ from swatch.core.version import __version__
 from swatch.fit.matching import match_colour
 from swatch.fit.multi_match import match_angles
 
-__all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "finish_spec", "voltage_basis"]
+__all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "judged_geometries", "same_geometry",
+           "finish_spec", "voltage_basis", "ROUGHNESS_NOTE"]
 
 #: Version of the spec.json layout (bumped when a key changes meaning).
 SPEC_VERSION = 1
@@ -40,6 +42,10 @@ FLOP_VIEWS_DEG = (0.0, 60.0)
 #: The reference geometry (CIE 45/0) and the window's search span.
 REFERENCE = Geometry("45:0", 45.0, 0.0, "opposite")
 WINDOW_SEARCH_NM = 50.0
+#: What the finish's roughness means for the spec's colours, in a fabricator's words.
+ROUGHNESS_NOTE = ("the colours are those of the film on the tiny facets of the surface that mirror the light into "
+                  "the instrument, so they are the same for a polished, satin or brushed part; the roughness only "
+                  "spreads the reflection (a softer, less glossy look)")
 
 
 def multi_angle_geometries(light_deg: float = 45.0, aspecular_deg=DEFAULT_ASPECULAR_DEG) -> tuple[Geometry, ...]:
@@ -68,6 +74,75 @@ def multi_angle_geometries(light_deg: float = 45.0, aspecular_deg=DEFAULT_ASPECU
         v = light_deg - a
         out.append(Geometry(f"{light_deg:g}as{a:g}", light_deg, abs(v), "opposite" if v >= 0 else "light", a))
     return tuple(out)
+
+
+def same_geometry(a: Geometry, b: Geometry) -> bool:
+    """Whether two in-plane geometries are one: the same light and view angles, on the same side (a view
+    along the normal has no side: 45:0 is 45as45).
+
+    Parameters
+    ----------
+    a, b : swatch.colorimetry.geometry.Geometry
+        The geometries.
+
+    Returns
+    -------
+    bool
+        True when light and view agree within 1e-6° and the sides agree (or the view is 0°).
+
+    Examples
+    --------
+    >>> same_geometry(REFERENCE, multi_angle_geometries(45.0, (45.0,))[0])
+    True
+    """
+    close = abs(a.light_deg - b.light_deg) < 1e-6 and abs(a.view_deg - b.view_deg) < 1e-6
+    return close and (a.view_side == b.view_side or abs(a.view_deg) < 1e-6)
+
+
+def judged_geometries(angles, given: tuple[Geometry, ...]) -> tuple[list[Geometry], list[Geometry], list[str]]:
+    """The geometries a spec's tolerance is judged at, and those of them the spec does not list already.
+
+    Parameters
+    ----------
+    angles : list of (str, float, float) or None
+        ``--angles`` as :func:`swatch.fit.multi_match.parse_angles` gives them (name, light_deg, signed
+        view_deg; a negative view on the light's side); None: the reference geometry alone.
+    given : tuple of swatch.colorimetry.geometry.Geometry
+        The geometries the spec lists anyway (the reference and the multi-angle set).
+
+    Returns
+    -------
+    judged : list of swatch.colorimetry.geometry.Geometry
+        One per listed geometry, in order; a listed geometry that is one of ``given`` takes its name
+        (``45as45`` is ``45:0``).
+    extra : list of swatch.colorimetry.geometry.Geometry
+        The judged geometries not among ``given`` (the spec lists them under ``angles``).
+    labels : list of str
+        Per judged geometry, the name as given and the spec's where they differ (``45:60 = 45as-15``).
+
+    Examples
+    --------
+    >>> given = (REFERENCE, *multi_angle_geometries())
+    >>> [g.name for g in judged_geometries([("45:0", 45.0, 0.0), ("45:60", 45.0, 60.0)], given)[0]]
+    ['45:0', '45as-15']
+    >>> judged_geometries([("45:0", 45.0, 0.0), ("45:60", 45.0, 60.0)], given)[2]
+    ['45:0', '45:60 = 45as-15']
+    """
+    if not angles:
+        return [given[0]], [], [given[0].name]
+    judged: list[Geometry] = []
+    extra: list[Geometry] = []
+    labels: list[str] = []
+    for name, light, view in angles:
+        g = Geometry(str(name), float(light), abs(float(view)), "light" if view < 0 else "opposite")
+        known = next((k for k in (*given, *extra) if same_geometry(k, g)), None)
+        if known is None:
+            extra.append(g)
+            known = g
+        if all(j.name != known.name for j in judged):
+            judged.append(known)
+            labels.append(known.name if known.name == g.name else f"{g.name} = {known.name}")
+    return judged, extra, labels
 
 
 def _r(x, nd: int):
@@ -135,13 +210,15 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     proc : swatch.physics.process.Process
         The process profile (growth law, materials, film index scale).
     tolerance : swatch.colorimetry.tolerance.Tolerance
-        Judged in its own metric (ΔE*ab or ΔE2000) at the reference geometry.
+        Judged in its own metric (ΔE*ab or ΔE2000) at every geometry of ``angles`` (default the
+        reference geometry): the process window is where the colour holds at all of them.
     roughness : float, optional
         The finish's GGX roughness (recorded; the colours are roughness-independent).
     angles : list of (name, light_deg, signed view_deg), optional
         For a colour target: choose the nominal thickness whose worst difference (in the tolerance's
         metric) over these geometries is smallest (:func:`swatch.fit.multi_match.match_angles`), e.g. a
-        colour that must still read the same at a 60° view; default the reference geometry alone.
+        colour that must still read the same at a 60° view; default the reference geometry alone. The
+        tolerance and the process window are judged at every one of them.
     accept_closest : bool
         For a colour target out of reach within the tolerance: the specifier accepts the closest
         reachable colour deliberately (recorded as ``reach.accepted_closest``, said on the card).
@@ -190,7 +267,8 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     volts = proc.voltage_V(np.array([d]))
     v_nom = None if volts is None else float(volts[0])
     multi = multi_angle_geometries()
-    geoms = (REFERENCE, *multi)
+    judged, extra, labels = judged_geometries(angles, (REFERENCE, *multi))
+    geoms = (REFERENCE, *multi, *extra)
     Lab, R = _Lab_at(coating, cm, d, geoms)
     LCh = Lab_to_LCh(Lab)
     disp = cm.display_colorimeter
@@ -198,9 +276,18 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
     flop_g = [Geometry(f"45:{v:g}", FLOP_LIGHT_DEG, v, "opposite") for v in FLOP_VIEWS_DEG]
     Lab_f, _ = _Lab_at(coating, cm, d, flop_g)
     flop = float(delta_E_00(Lab_f[0], Lab_f[1]))
-    minus, plus, mcap, pcap = process_window(coating, cm, np.array([d]), REFERENCE, tolerance.max, WINDOW_SEARCH_NM,
-                                             tolerance.metric)
+    # the process window holds the colour at every judged geometry: the narrowest side over them
+    per_window = {g.name: process_window(coating, cm, np.array([d]), g, tolerance.max, WINDOW_SEARCH_NM,
+                                         tolerance.metric) for g in judged}
+    lows = [w[0][0] for w in per_window.values()]
+    highs = [w[1][0] for w in per_window.values()]
+    i_lo, i_hi = int(np.argmin(lows)), int(np.argmin(highs))
+    walls = list(per_window.values())
+    minus, plus = np.array([lows[i_lo]]), np.array([highs[i_hi]])
+    mcap, pcap = walls[i_lo][2], walls[i_hi][3]
     window_V = window_voltage_V(proc.voltage_V, np.array([d]), minus, plus)
+    names = [g.name for g in judged]
+    where_judged = ", ".join(labels)
 
     def entry(i, g):
         e = {"geometry": g.name, "light_deg": g.light_deg, "view_deg": g.view_deg, "view_side": g.view_side,
@@ -218,6 +305,7 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
         else:
             enc, ok = document_Lab_display(np.asarray(target["Lab"], dtype=np.float64), cm)
             target_out.update(srgb_hex=str(srgb_hex(enc)), srgb_in_gamut=bool(ok))
+    n_given = 1 + len(multi)
     return {
         "swatch_spec": SPEC_VERSION,
         "target": target_out,
@@ -227,12 +315,14 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
                         "srgb_observer": disp.observer, "model": "half-vector reflectance factor (Fujii et al. 2019)"},
         "reference": entry(0, REFERENCE),
         "multi_angle": [entry(i + 1, g) for i, g in enumerate(multi)],
+        # the --angles geometries that are neither the reference nor a multi-angle one (45:60, say)
+        "angles": [entry(n_given + i, g) for i, g in enumerate(extra)],
         "flop": {"geometry": f"{FLOP_LIGHT_DEG:g}:{FLOP_VIEWS_DEG[0]:g} vs {FLOP_LIGHT_DEG:g}:{FLOP_VIEWS_DEG[1]:g}",
                  "light_deg": FLOP_LIGHT_DEG, "view_a_deg": FLOP_VIEWS_DEG[0], "view_b_deg": FLOP_VIEWS_DEG[1],
                  "delta_E_00": _r(flop, 2)},
-        "tolerance": {**tolerance.to_json(), "label": tolerance.text, "geometry": REFERENCE.name},
+        "tolerance": {**tolerance.to_json(), "label": tolerance.text, "geometry": where_judged, "geometries": names},
         "process_window": {
-            "metric": tolerance.metric, "max": tolerance.max, "geometry": REFERENCE.name,
+            "metric": tolerance.metric, "max": tolerance.max, "geometry": where_judged, "geometries": names,
             "thickness_minus_nm": _r(minus[0], 1), "thickness_plus_nm": _r(plus[0], 1),
             # from the rounded numbers the card prints, so that nominal − minus = min on paper too
             "thickness_min_nm": _r(_r(d, 1) - _r(minus[0], 1), 1), "thickness_max_nm": _r(_r(d, 1) + _r(plus[0], 1), 1),
@@ -240,10 +330,12 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
             "voltage_minus_V": None if window_V is None else _r(float(window_V[0][0]), 1),
             "voltage_plus_V": None if window_V is None else _r(float(window_V[1][0]), 1),
             "minus_capped": bool(mcap[0]), "plus_capped": bool(pcap[0]),
+            # each judged geometry's own window; the window above is the narrowest side over them
+            "per_geometry": {n: {"thickness_minus_nm": _r(w[0][0], 1), "thickness_plus_nm": _r(w[1][0], 1)}
+                             for n, w in per_window.items()},
         },
         "process": proc.metadata(),
         "process_sources": {str(k): str(v) for k, v in proc.sources},
-        "finish": {"roughness": None if roughness is None else float(roughness),
-                   "note": "colours are the half-vector reflectance factor: independent of roughness"},
+        "finish": {"roughness": None if roughness is None else float(roughness), "note": ROUGHNESS_NOTE},
         "provenance": {"swatch_version": __version__},
     }

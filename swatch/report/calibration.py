@@ -17,6 +17,7 @@ from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.fit.calibration import Calibration
 from swatch.io.drawing import draw_line, draw_rect, draw_text
 from swatch.io.imageio import write_png
+from swatch.physics.growth import voltage_text
 from swatch.physics.process import process_toml
 
 __all__ = ["calibration_figure", "report_figure", "calibration_text", "calibration_paths", "write_calibration"]
@@ -107,7 +108,7 @@ def calibration_figure(cal: Calibration, model_R, measured_R, strip_V, strip_R, 
         frame = RED if cal.outlier[i] else MUTED
         img = draw_rect(img, x - 1, y - 1, x + 2 * CHIP + 1, y + CHIP + 1, frame, fill=False,
                         width=3 if cal.outlier[i] else 1, inplace=True)
-        img = draw_text(img, f"{cal.voltage_V[i]:g} V · {cal.thickness_nm[i]:.1f} nm", x, y + CHIP + 16, 13, INK, inplace=True)
+        img = draw_text(img, f"{voltage_text(cal.voltage_V[i])} V · {cal.thickness_nm[i]:.1f} nm", x, y + CHIP + 16, 13, INK, inplace=True)
         tag = "  OUTLIER" if cal.outlier[i] else ""
         img = draw_text(img, f"dE00 {cal.delta_E_00[i]:.2f}{tag}", x, y + CHIP + 32, 13,
                         RED if cal.outlier[i] else INK, inplace=True)
@@ -234,10 +235,10 @@ def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
         flag = ""
         if s["outlier"]:
             m = s.get("matches_voltage_V")
-            flag = ("  outlier" if m is None else f"  outlier: its colour matches {m:g} V on the fitted law "
+            flag = ("  outlier" if m is None else f"  outlier: its colour matches {voltage_text(m)} V on the fitted law "
                     f"(ΔE2000 {s['matches_delta_E_00']:.2f}; mislabelled?)")
         h = s.get("held_out_delta_E_00")
-        lines.append(f"{s['coupon'][:16]:>16} {s['voltage_V']:9g} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f} "
+        lines.append(f"{s['coupon'][:16]:>16} {voltage_text(s['voltage_V']):>9} {s['thickness_nm']:12.2f} {s['delta_E_00']:7.2f} "
                      f"{'' if h is None else f'{h:8.2f}':>8}{flag}")
     return lines
 

@@ -44,21 +44,24 @@ def check_figure(results: list[dict], spec: dict, notes=()) -> Image.Image:
     font = ImageFont.truetype(font_path("DroidSans"), 13)
     bold = ImageFont.truetype(font_path("DroidSans-Bold"), 13)
     small = ImageFont.truetype(font_path("DroidSans"), 11)
-    cell, pad, label, advice_w = 48, 8, 170, 430
-    head = 84 + 17 * len(notes)
+    cell, pad, label, advice_w = 48, 8, 170, 470
     width = max(label + len(geoms) * (2 * cell + pad) + advice_w, 900)
-    height = head + len(rows) * (cell + pad) + pad + (18 if len(results) > len(rows) else 0)
-    img = Image.new("RGB", (width, height), "white")
-    dr = ImageDraw.Draw(img)
     col, tol = spec["colorimetry"], spec["tolerance"]
     nom = spec["nominal"]
     volts = "" if nom.get("voltage_V") is None else f" at {nom['voltage_V']} V"
     lines = [f"swatch check: {len(results)} parts against nominal {nom['thickness_nm']} nm{volts}, "
-             f"tolerance {tol['metric']} <= {tol['max']:g} at each geometry",
+             f"tolerance {tol['metric']} <= {tol['max']:g} at each measured geometry, required at "
+             f"{tol.get('geometry', spec['reference']['geometry'])}",
              f"CIELAB under {col['illuminant']}, {col['observer']}° observer; chips sRGB from CIE 1931 2° "
              "(left: spec, right: the part's own measurement; black corner: outside sRGB)",
-             "Advice only where the model at the best-fit thickness explains the part within the tolerance."]
-    lines += [f"Note: {n}." for n in notes]
+             "Advice only where the model at the best-fit thickness explains the part within the tolerance; "
+             "none for a part inside the window."]
+    for n in notes:  # whole sentences, wrapped to the figure's width
+        lines += _wrap(f"Note: {n}.", small, width - 16)
+    head = 33 + 17 * len(lines)
+    height = head + len(rows) * (cell + pad) + pad + (18 if len(results) > len(rows) else 0)
+    img = Image.new("RGB", (width, height), "white")
+    dr = ImageDraw.Draw(img)
     for k, t in enumerate(lines):
         dr.text((8, 6 + 17 * k), drawable_text(t), fill=_INK, font=bold if k == 0 else small)
     for j, g in enumerate(geoms):
@@ -68,8 +71,9 @@ def check_figure(results: list[dict], spec: dict, notes=()) -> Image.Image:
         y = head + i * (cell + pad)
         ok = r["pass"]
         dr.text((6, y + 6), drawable_text(r["id"][:22]), fill=_INK, font=font)
-        dr.text((6, y + 24), f"{'PASS' if ok else 'FAIL'}  max {r['metric']} {r['max_delta_E']:.2f}",
-                fill=_INK if ok else _RED, font=bold)
+        verdict = "PASS" if ok else ("NOT JUDGED" if r.get("action") == "measure" else "FAIL")
+        dr.text((6, y + 24), f"{verdict}  max {r['metric']} {r['max_delta_E']:.2f}", fill=_INK if ok else _RED,
+                font=bold)
         for j, g in enumerate(geoms):
             if g not in r["Lab"]:
                 continue
@@ -83,12 +87,37 @@ def check_figure(results: list[dict], spec: dict, notes=()) -> Image.Image:
         fit = (f"best-fit {r['thickness_nm']:.1f} nm ({r['thickness_offset_nm']:+.1f}), residual {r['metric']} "
                f"{r['max_residual_delta_E']:.2f}")
         dr.text((x_adv, y + 6), drawable_text(fit), fill=_INK, font=small)
-        if r["voltage_advice"] is not None:
-            dr.text((x_adv, y + 24), drawable_text(r["voltage_advice"]), fill=_INK, font=bold)
-        else:
-            why = r["voltage_correction_reason"] or ""
-            short = why.split(":")[0] if why.startswith("not a thickness error") else why[:60]
-            dr.text((x_adv, y + 24), drawable_text(short + " — no voltage advice"), fill=_RED, font=bold)
+        what, colour_ = _action_text(r)
+        dr.text((x_adv, y + 24), drawable_text(what), fill=colour_, font=bold)
     if len(results) > len(rows):
         dr.text((8, height - 18), f"… {len(results) - len(rows)} more parts in check.json", fill=_INK, font=small)
     return img
+
+
+def _action_text(r: dict) -> tuple[str, tuple[int, int, int]]:
+    """A part's action in a few words for the figure (check.json has the whole sentence), and its colour."""
+    action = r.get("action")
+    if r["voltage_advice"] is not None:
+        return r["voltage_advice"], _INK
+    if action == "none":
+        return "no action: inside the window", _INK
+    if action == "calibrate":
+        return "the spec's model, not the part: calibrate the line first", _RED
+    if action == "measure":
+        return f"not measured at {', '.join(r['unmeasured'])}: measure it there", _RED
+    why = r["voltage_correction_reason"] or ""
+    short = why.split(":")[0] if why.startswith("not a thickness error") else why[:60]
+    return short + " — no voltage advice", _RED
+
+
+def _wrap(text: str, font, width: float) -> list[str]:
+    """``text`` in lines of at most ``width`` pixels in ``font`` (whole words)."""
+    lines, line = [], ""
+    for word in text.split():
+        trial = f"{line} {word}".strip()
+        if line and font.getlength(trial) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = trial
+    return [*lines, line] if line else lines

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from swatch.physics.growth import voltage_text
 from swatch.physics.overcoat import overcoat_text
 
 __all__ = ["spectrum_text", "colour_table_text", "materials_text", "material_text", "materials_json", "material_json"]
@@ -69,7 +70,7 @@ def colour_table_text(rows: list[dict], coating, cm, light: float, view: float, 
         L, a, b = r["Lab"]
         _, C, h = r["LCh"]
         dE = "" if r["delta_E_ab_to_previous"] is None else f"{r['delta_E_ab_to_previous']:6.2f}"
-        lines.append(f"{r['thickness_nm']:7.1f}" + (f" {r['voltage_V']:7.2f}" if volts else "")
+        lines.append(f"{r['thickness_nm']:7.1f}" + (f" {voltage_text(r['voltage_V']):>7}" if volts else "")
                      + f" {L:7.2f} {a:7.2f} {b:7.2f} {C:7.2f} {h:6.1f}  "
                      f"{r['srgb_hex']:7} {'yes' if r['in_srgb_gamut'] else 'no':5} {dE:>6}")
     return lines

@@ -52,11 +52,14 @@ def test_offset_parts_get_minus_offset_over_rate_in_words_and_a_foreign_colour_g
     got = {r["id"]: r for r in doc["measurements"]}
     for k, off in offsets.items():
         r = got[k]
-        assert r["thickness_explains"] and r["voltage_correction_reason"] is None
-        assert r["voltage_correction_V"] == pytest.approx(-off / RATE, abs=0.2)
-        if off:
+        assert r["thickness_explains"] and r["max_residual_delta_E"] < 0.3
+        if off:  # both outside the gold's window (-1.1 / +1.0 nm): they fail and get the correction
+            assert not r["pass"] and r["action"] == "correct" and r["voltage_correction_reason"] is None
+            assert r["voltage_correction_V"] == pytest.approx(-off / RATE, abs=0.2)
             assert r["voltage_advice"] == f"{'raise' if off < 0 else 'lower'} the voltage by {abs(off) / RATE:.1f} V"
-        assert r["max_residual_delta_E"] < 0.3
+        else:  # on the nominal: no nudge
+            assert r["pass"] and r["action"] == "none" and r["voltage_correction_V"] is None
+            assert r["voltage_advice"] is None and r["voltage_correction_reason"].startswith("no action")
     for k in ("wrong-alloy", "far"):
         r = got[k]
         assert r["voltage_correction_V"] is None and r["voltage_advice"] is None and not r["thickness_explains"]
