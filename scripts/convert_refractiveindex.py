@@ -3,7 +3,7 @@
 
 Source: the refractiveindex.info database (M. N. Polyanskiy, "Refractiveindex.info
 database of optical constants", Scientific Data 11, 94 (2024)), public domain
-(CC0 1.0), copied unchanged into ``/work/shared/data/refractiveindex/<material>/``.
+(CC0 1.0), copied unchanged into ``../shared/data/refractiveindex/<material>/`` (beside the repository).
 
 Output: ``tables/optical/<Material>-<Author>.csv`` with ``#`` comment header lines
 (material, reference, DOI, original database path, database citation, licence,

@@ -1,6 +1,14 @@
 """Write the example inputs in examples/ that the README's and the guide's commands name.
 
-    python scripts/make_examples.py          # from the repository root; about a minute (tmm is scalar code)
+    python scripts/make_examples.py            # from the repository root; about a minute (tmm is scalar code)
+    python scripts/make_examples.py --outputs  # only what is made from the shipped inputs (seconds, plus pictures)
+
+``--outputs`` remakes every shipped output from the shipped inputs: ``examples/line.toml`` (``swatch
+calibrate examples/coupons.csv``), the lines the guides quote from a command's output (a ``text`` block
+after ``<!-- docs-test: output -->``: each quoted line is replaced by the line the command prints today
+that starts with the same word, the page's commands run in order in a scratch copy of the repository),
+and the pictures of docs/ whose fingerprint is stale (scripts/docs_pictures.py). tests/test_docs_commands.py
+and tests/test_examples_current.py fail when any of them is stale.
 
 Every measurement is made by an independent route, not by swatch's own optics or colorimetry: spectra by
 Byrnes' ``tmm.coh_tmm`` on the half-vector facet (tests/synthetic.py), averaged over the film's thickness
@@ -135,17 +143,74 @@ def sky_hdr(path: Path) -> None:
     out.close()
 
 
+def line_profile() -> None:
+    """``examples/line.toml``: the profile ``swatch calibrate examples/coupons.csv`` writes today."""
+    (OUT / "line.toml").unlink(missing_ok=True)
+    subprocess.run([sys.executable, "-m", "swatch.cli", "calibrate", "examples/coupons.csv", "--out",
+                    "examples/line.toml"], check=True, cwd=ROOT, stdout=subprocess.DEVNULL)
+
+
+def quoted_outputs() -> None:
+    """Rewrite the lines the guides quote from a command's output with what the command prints today."""
+    import tempfile
+
+    from tests.cli_helpers import run_swatch
+    from tests.test_docs_commands import PAGES, page_commands
+
+    for page in PAGES:
+        commands = [c for c in page_commands(page) if c.run]
+        if not any(c.quoted for c in commands):
+            continue
+        lines = page.read_text(encoding="utf-8").split("\n")
+        with tempfile.TemporaryDirectory() as tmp:
+            shutil.copytree(OUT, Path(tmp) / "examples")
+            shutil.copytree(ROOT / "catalog", Path(tmp) / "catalog")
+            for c in commands:
+                printed = run_swatch(*c.argv, cwd=tmp).stdout.splitlines()
+                for q in c.quoted:
+                    key = q.split()[0]
+                    now = next((ln.rstrip() for ln in printed if ln.split()[:1] == [key]), None)
+                    if now is None:
+                        raise SystemExit(f"{page.name}: `{c.text}` prints no line starting {key!r} any more")
+                    lines = [now if ln.rstrip() == q else ln for ln in lines]
+        page.write_text("\n".join(lines), encoding="utf-8")
+        print(f"{page.relative_to(ROOT)}: quoted outputs refreshed")
+
+
+def stale_pictures() -> None:
+    """Remake the pictures of docs/ whose fingerprint no longer matches (scripts/docs_pictures.py)."""
+    import json
+
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import docs_pictures
+
+    record = json.loads(docs_pictures.RECORD.read_text(encoding="utf-8"))
+    stale = [n for n in docs_pictures.PICTURES if record.get(n, {}).get("fingerprint") != docs_pictures.fingerprint(n)]
+    if stale:
+        docs_pictures.main(stale)
+
+
+def outputs() -> None:
+    """Every shipped output made from the shipped inputs (see the module docstring)."""
+    line_profile()
+    quoted_outputs()
+    stale_pictures()
+
+
 def main() -> None:
+    if sys.argv[1:] == ["--outputs"]:
+        outputs()
+        return
     knob().export(OUT / "part.glb")
     shutil.copyfile(ROOT / "tests" / "data" / "simulated-line-coupons.csv", OUT / "coupons.csv")
-    (OUT / "line.toml").unlink(missing_ok=True)
-    subprocess.run([sys.executable, "-m", "swatch.cli", "calibrate", str(OUT / "coupons.csv"), "--out",
-                    str(OUT / "line.toml")], check=True, cwd=ROOT, stdout=subprocess.DEVNULL)
+    line_profile()
     multi_angle_cxf(OUT / "parts.cxf", PARTS_NM, "a multi-angle spectrophotometer (simulated: tmm)", **LINE)
     i1profiler_parts(OUT / "parts-i1.txt")
     sky_hdr(OUT / "sky.hdr")
     multi_angle_cxf(OUT / "sample.cxf", {"blue-plate": SAMPLE_NM}, "a multi-angle spectrophotometer (simulated: tmm)")
     print("written: " + ", ".join(sorted(p.name for p in OUT.iterdir())))
+    quoted_outputs()
+    stale_pictures()
 
 
 if __name__ == "__main__":

@@ -6,6 +6,10 @@ status a trailing ``# exit N`` comment documents (``swatch check`` exits 1 when 
 ``--out``/``--report`` it names exists afterwards. A code block preceded by ``<!-- docs-test: inputs
 only (why) -->`` is not run (minutes of path tracing); the files its commands read must still be shipped.
 
+A ``text`` code block preceded by ``<!-- docs-test: output -->`` quotes the output of the command just
+before it: each of its lines must be a line that command prints today, in order (so a figure a guide
+quotes cannot go stale; ``python scripts/make_examples.py --outputs`` prints them afresh).
+
 One saving, stated: a ``swatch catalog build`` of a spec an earlier page has already built cold starts
 from a copy of that build's folder (the build is deterministic, so its output is byte-identical), and
 the command as written then runs as the no-op rebuild it is; the default catalog is built cold once.
@@ -15,6 +19,7 @@ landing page (≤ 300 lines) whose links into the guide resolve; docs/api.rst li
 """
 from __future__ import annotations
 
+import dataclasses
 import re
 import shlex
 import shutil
@@ -28,6 +33,7 @@ from tests.cli_helpers import run_swatch
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 INPUTS_ONLY = re.compile(r"<!--\s*docs-test:\s*inputs only\b")
+QUOTED_OUTPUT = re.compile(r"<!--\s*docs-test:\s*output\s*-->")
 #: Arguments that name a file the command reads (an output is named by --out/--report).
 INPUT_SUFFIXES = (".glb", ".gltf", ".obj", ".ply", ".stl", ".cxf", ".csv", ".txt", ".ti3", ".toml", ".hdr", ".exr",
                   ".json")
@@ -42,6 +48,7 @@ class Command:
     argv: tuple[str, ...]
     exit_code: int
     run: bool
+    quoted: tuple[str, ...] = ()  # lines of its output the page quotes (a docs-test: output block after it)
 
 
 def page_commands(page: Path) -> list[Command]:
@@ -58,6 +65,10 @@ def page_commands(page: Path) -> list[Command]:
                 fence = m.group(2)
                 lang = m.group(3)
                 run = not any(INPUTS_ONLY.search(lines[j]) for j in range(max(0, i - 2), i))
+                if lang == "text" and out and any(QUOTED_OUTPUT.search(lines[j]) for j in range(max(0, i - 2), i)):
+                    end = next(j for j in range(i + 1, len(lines)) if lines[j].strip().startswith(fence))
+                    quoted = tuple(q.rstrip() for q in lines[i + 1:end] if q.strip())
+                    out[-1] = dataclasses.replace(out[-1], quoted=quoted)
                 if lang not in ("", "sh", "bash", "console", "shell"):
                     fence = "skip:" + fence
         elif line.strip().startswith(fence.removeprefix("skip:")):
@@ -94,6 +105,14 @@ def _repository_like(folder: Path) -> None:
     """The inputs the pages name, where they name them (relative to the repository root)."""
     shutil.copytree(ROOT / "examples", folder / "examples")
     shutil.copytree(ROOT / "catalog", folder / "catalog")
+
+
+def test_the_guides_quote_the_output_of_the_finishers_commands():
+    """The finisher's guide quotes calibrate's outlier and check's verdicts (checked against today's output in
+    test_every_documented_command_runs_as_written)."""
+    quoted = {c.argv[0]: c.quoted for c in page_commands(ROOT / "docs" / "finisher.md") if c.quoted}
+    assert {"calibrate", "check"} <= set(quoted)
+    assert any("outlier" in q for q in quoted["calibrate"]) and any(q.startswith("P5: FAIL") for q in quoted["check"])
 
 
 def test_the_pages_have_commands_and_the_documented_ones_parse():
@@ -157,6 +176,13 @@ def test_every_documented_command_runs_as_written(page, tmp_path_factory):
         proc = run_swatch(*c.argv, cwd=cwd)
         assert proc.returncode == c.exit_code, (f"{c.page}:{c.line}: `{c.text}` exited {proc.returncode}, "
                                                 f"documented {c.exit_code}\n{proc.stdout[-2000:]}{proc.stderr[-2000:]}")
+        printed = [ln.rstrip() for ln in proc.stdout.splitlines()]
+        at = 0
+        for q in c.quoted:  # the page's quoted lines, in order, as the command prints them today
+            assert q in printed[at:], (f"{c.page}:{c.line}: the page quotes a line `{c.text}` no longer prints "
+                                       f"(python scripts/make_examples.py --outputs):\n{q}\nit prints:\n"
+                                       + "\n".join(printed))
+            at = printed.index(q, at) + 1
         if c.argv[0] == "spec":  # a documented target is reachable (an unreachable one is exit 1 for spec, #35)
             assert "cannot be reached" not in proc.stdout or c.exit_code == 1, f"{c.page}:{c.line}: {proc.stdout}"
         for option in OUTPUT_OPTIONS:

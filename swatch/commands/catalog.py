@@ -40,7 +40,7 @@ def build(spec, out, jobs, quiet):
     else:
         click.echo(f"{out}: {res.swatches} swatches on {res.sheets} sheet(s) "
                    f"({res.rendered} rendered, {res.composed} sheet(s) written; {res.seconds:.1f} s)")
-        click.echo(f"open {out}/index.html")
+        click.echo(f"open {Path(out) / 'index.html'}")
 
 
 @catalog.command()

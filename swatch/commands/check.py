@@ -28,7 +28,7 @@ def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observe
     return check_spec(data, "the spec made from --thickness/--voltage")
 
 
-def check_line(r: dict) -> str:
+def _check_line(r: dict) -> str:
     """One part's line of the text report: verdict, worst ΔE, best-fit thickness, residual, what to do."""
     advice = r["voltage_advice"] if r["voltage_advice"] is not None else r["voltage_correction_reason"]
     worst = max(r["delta_E"], key=r["delta_E"].get)
@@ -123,11 +123,11 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
         click.echo(text, nl=False)
     else:
         judged = spec["tolerance"].get("geometry", spec["reference"]["geometry"])
-        click.echo(f"# {spec['tolerance']['label']} at every measured geometry, required at {judged}; CIELAB under {col['illuminant']}, {col['observer']}° "
-                   f"observer; nominal {spec['nominal']['thickness_nm']} nm")
+        click.echo(f"# {spec['tolerance']['label']} at every measured geometry, required at {judged}; CIELAB under "
+                   f"{col['illuminant']}, {col['observer']}° observer; nominal {spec['nominal']['thickness_nm']} nm")
         for note in doc["notes"]:
             click.echo(f"note: {note}")
         for r in results:
-            click.echo(check_line(r))
+            click.echo(_check_line(r))
         click.echo(f"{doc['n_parts'] - doc['n_failed']} of {doc['n_parts']} parts pass ({spec['tolerance']['label']})")
     return 0 if doc["pass"] else 1

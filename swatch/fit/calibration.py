@@ -39,11 +39,11 @@ from swatch.fit import calibration_search as cs
 from swatch.fit import calibration_table as ctab
 from swatch.io.coupons import Coupons
 from swatch.physics import geometry
-from swatch.physics.materials import DEFAULT_WAVELENGTHS_NM, list_materials, load_material
+from swatch.physics.materials import DEFAULT_WAVELENGTHS_NM, same_formula
 from swatch.physics.process import Process
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["Calibration", "calibrate", "table_pairs", "OUTLIER_MIN_DE00", "THICKNESS_SIGMA_NM", "COUPONS_FOR_TABLES"]
+__all__ = ["Calibration", "calibrate", "OUTLIER_MIN_DE00", "THICKNESS_SIGMA_NM", "COUPONS_FOR_TABLES"]
 
 #: A coupon is an outlier only if its ΔE2000 exceeds this, whatever the spread of the others.
 OUTLIER_MIN_DE00 = 3.0
@@ -179,32 +179,10 @@ def _check(coupons: Coupons) -> None:
                           "cannot separate the growth rate from the offset; add coupons at other voltages")
 
 
-def _same_formula(role: str, name: str) -> list[str]:
-    formula = load_material(name).formula
-    return [m.name for m in list_materials(role) if m.formula == formula]
-
-
-def table_pairs(film: str, substrate: str) -> list[tuple[str, str]]:
-    """The shipped optical models of a film on a metal: every film table of the film's formula on every
-    substrate table of the metal's (``swatch materials list``), the given pair among them.
-
-    Parameters
-    ----------
-    film, substrate : str
-        Table names.
-
-    Returns
-    -------
-    list of (str, str)
-        (film, substrate) pairs, films outer.
-    """
-    return [(f, s) for f in _same_formula("film", film) for s in _same_formula("substrate", substrate)]
-
-
 def _pairs(base: Process, film: str | None, substrate: str | None) -> list[tuple[str, str]]:
     """The table pairs to search: the base's materials' films × substrates (a given one fixed)."""
-    films = [film] if film else _same_formula("film", base.film)
-    subs = [substrate] if substrate else _same_formula("substrate", base.substrate)
+    films = [film] if film else same_formula("film", base.film)
+    subs = [substrate] if substrate else same_formula("substrate", base.substrate)
     return [(f, s) for f in films for s in subs]
 
 

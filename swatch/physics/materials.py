@@ -41,6 +41,8 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_WAVELENGTHS
 
 __all__ = [
+    "same_formula",
+    "table_pairs",
     "DEFAULT_FILM",
     "DEFAULT_SUBSTRATE",
     "DEFAULT_WAVELENGTHS_NM",
@@ -370,3 +372,39 @@ def list_materials(role: str | None = None) -> list[Material]:
         raise SwatchError(f"role must be one of {', '.join(ROLES)} (got {role!r})")
     materials = [_load_cached(name) for name in sorted(_optical_files())]
     return [m for m in materials if role is None or m.role == role]
+
+
+def same_formula(role: str, name: str) -> list[str]:
+    """The names of the tables of ``role`` whose material has the formula of table ``name``.
+
+    Parameters
+    ----------
+    role : str
+        ``"film"`` or ``"substrate"``.
+    name : str
+        A table name.
+
+    Returns
+    -------
+    list of str
+        Sorted names, ``name`` among them when it has that role.
+    """
+    formula = load_material(name).formula
+    return [m.name for m in list_materials(role) if m.formula == formula]
+
+
+def table_pairs(film: str, substrate: str) -> list[tuple[str, str]]:
+    """The shipped optical models of a film on a metal: every film table of the film's formula on every
+    substrate table of the metal's (``swatch materials list``), the given pair among them.
+
+    Parameters
+    ----------
+    film, substrate : str
+        Table names.
+
+    Returns
+    -------
+    list of (str, str)
+        (film, substrate) pairs, films outer.
+    """
+    return [(f, s) for f in same_formula("film", film) for s in same_formula("substrate", substrate)]

@@ -29,8 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from swatch.colorimetry.colorimeter import Colorimeter
-from swatch.fit.calibration import table_pairs
 from swatch.physics.growth import voltage_text
+from swatch.physics.materials import table_pairs
 from swatch.physics.model import Coating, get_coating
 
 __all__ = ["EDGE_FRACTION", "ACTIONS", "SCREEN_STEP_NM", "OtherModel", "model_calibrated", "near_edge", "other_models",
@@ -90,11 +90,10 @@ def model_calibrated(spec: dict) -> bool:
     Returns
     -------
     bool
-        ``spec["model"]["calibrated"]``; a spec written before that key: its voltage's basis.
+        ``spec["calibrated_model"]``; a spec written before that key: its voltage's basis.
     """
-    model = spec.get("model")
-    if isinstance(model, dict) and isinstance(model.get("calibrated"), bool):
-        return bool(model["calibrated"])
+    if isinstance(spec.get("calibrated_model"), bool):
+        return bool(spec["calibrated_model"])
     basis = spec["nominal"].get("voltage")
     return isinstance(basis, dict) and basis.get("calibrated") is True
 

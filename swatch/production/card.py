@@ -263,7 +263,7 @@ def write_spec_card(spec: dict, path: Path) -> None:
     c.setFont("Helvetica", 8.5)
     skip = {"process", "process_origin", "film", "substrate"}
     # a voltage as a person reads it (the growth law's precision, swatch.physics.growth.voltage_text)
-    more = ", ".join(f"{k} {voltage_text(v) if k.endswith('_V') and v is not None else _s(v)}"
+    more = ", ".join(f"{k} {voltage_text(v) if k == 'knee_V' and v is not None else _s(v)}"
                      for k, v in proc.items() if k not in skip)
     y -= 11
     for line in (f"{proc['process']} ({proc['process_origin']}): {proc['film']} on {proc['substrate']}",

@@ -335,6 +335,8 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
                              for n, w in per_window.items()},
         },
         "process": proc.metadata(),
+        # whether the optical model (tables, index scale, spread) was calibrated from the line's coupons
+        "calibrated_model": bool(proc.calibration),
         "process_sources": {str(k): str(v) for k, v in proc.sources},
         "finish": {"roughness": None if roughness is None else float(roughness), "note": ROUGHNESS_NOTE},
         "provenance": {"swatch_version": __version__},

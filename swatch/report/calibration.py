@@ -17,7 +17,7 @@ from swatch.core.limits import MAX_THICKNESS_NM, MAX_VOLTAGE_V
 from swatch.fit.calibration import Calibration
 from swatch.io.drawing import draw_line, draw_rect, draw_text
 from swatch.io.imageio import write_png
-from swatch.physics.growth import voltage_text
+from swatch.physics.growth import VOLTAGE_DECIMALS, voltage_text
 from swatch.physics.process import process_toml
 
 __all__ = ["calibration_figure", "report_figure", "calibration_text", "calibration_paths", "write_calibration"]
@@ -200,7 +200,7 @@ def calibration_text(d: dict, base, light: float, view: float) -> list[str]:
     lines.append(f"nm_per_V          {pm('nm_per_V', 4)}" + ("  (up to the knee)" if "knee_V" in d else ""))
     lines.append(f"offset_nm         {pm('offset_nm', 2)}")
     if "knee_V" in d:
-        lines.append(f"knee_V            {pm('knee_V', 2)}")
+        lines.append(f"knee_V            {pm('knee_V', VOLTAGE_DECIMALS)}")
         lines.append(f"nm_per_V above    {pm('nm_per_V_above_knee', 4)}")
     scale = pm("film_index_scale", 4) + ("" if u["film_index_scale"] is not None else " (kept: not fitted)")
     lines.append(f"film_index_scale  {scale}")
