@@ -7,7 +7,8 @@ A finisher acts on what ``check`` says, so it advises only what the measurement 
    shipped optical model does** (action ``calibrate``). A spec made on a preset predicts the colours
    away from 45:0 with optical tables that were never checked against the line; a part the spec's
    model leaves more than the tolerance from any thickness, but that another shipped film × substrate
-   pair of the same metal explains within the tolerance (:func:`other_models`), is evidence against
+   pair of the same metal explains within the tolerance (:func:`swatch.production.qc.other_models`), is
+   evidence against
    the spec's model, not against the shop: calibrate the line and re-issue the spec.
 2. **No thickness explains the part** (action ``investigate``): the residual (the part against the
    model at its best-fit thickness, in the tolerance's metric) is over the tolerance under the spec's
@@ -28,13 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swatch.colorimetry.colorimeter import Colorimeter
 from swatch.physics.growth import voltage_text
-from swatch.physics.materials import table_pairs
-from swatch.physics.model import Coating, get_coating
 
-__all__ = ["EDGE_FRACTION", "ACTIONS", "SCREEN_STEP_NM", "OtherModel", "model_calibrated", "near_edge", "other_models",
-           "voltage_advice", "not_a_thickness_error", "calibrate_first", "spec_notes"]
+__all__ = ["EDGE_FRACTION", "ACTIONS", "OtherModel", "model_calibrated", "near_edge", "voltage_advice",
+           "not_a_thickness_error", "calibrate_first", "spec_notes"]
 
 #: A passing part is near the edge of the window past this fraction of the tolerance (its worst ΔE) or of
 #: the process window on its side (its best-fit thickness): two thirds leaves the last third as the margin
@@ -42,9 +40,6 @@ __all__ = ["EDGE_FRACTION", "ACTIONS", "SCREEN_STEP_NM", "OtherModel", "model_ca
 EDGE_FRACTION = 2.0 / 3.0
 #: The actions a part's check ends in (``action`` in check.json), in the order the rules are tried.
 ACTIONS = ("calibrate", "investigate", "measure", "correct", "centre", "none")
-#: The thickness grid of the screen over the other shipped optical models, nm (its first search's step is
-#: five of these): a tenth of a nanometre moves a blue's colour by ΔE2000 ≈ 0.1, below any tolerance.
-SCREEN_STEP_NM = 0.1
 
 
 @dataclass(frozen=True)
@@ -125,48 +120,6 @@ def near_edge(worst_delta_E: float, bound: float, offset_nm: float, minus_nm, pl
     side = minus_nm if offset_nm < 0 else plus_nm
     by_thickness = side is not None and float(side) > 0 and abs(offset_nm) > EDGE_FRACTION * float(side)
     return bool(worst_delta_E > EDGE_FRACTION * bound or by_thickness)
-
-
-def other_models(Lab_meas: np.ndarray, fit, light_deg, view_deg, same_side, coating: Coating, cm: Colorimeter,
-                 lo: float, hi: float, tolerance) -> list[OtherModel]:
-    """For each part, the other shipped optical model (film × substrate of the same metal) that explains it best.
-
-    Each pair's best-fit thickness on [``lo``, ``hi``] every :data:`SCREEN_STEP_NM`, keeping the spec's
-    film index scale and thickness spread; the residual in the tolerance's metric, worst over the
-    measured geometries.
-
-    Parameters
-    ----------
-    Lab_meas : numpy.ndarray, shape (P, G, 3)
-        The parts' CIELAB under ``cm``.
-    fit : callable
-        :func:`swatch.production.qc.fit_thickness_Lab` (passed in: that module calls this one).
-    light_deg, view_deg, same_side : array_like, shape (G,)
-        The measured geometries.
-    coating : swatch.physics.model.Coating
-        The spec's model (its tables are left out of the screen; its scale and spread are kept).
-    cm : swatch.colorimetry.colorimeter.Colorimeter
-        The spec's illuminant and observer on the coating's grid.
-    lo, hi : float
-        The thickness interval searched, nm.
-    tolerance : swatch.colorimetry.tolerance.Tolerance
-        Its metric measures the residual.
-
-    Returns
-    -------
-    list of OtherModel
-        One per part (an empty list when the metal has no other tables).
-    """
-    pairs = [p for p in table_pairs(coating.film, coating.substrate) if p != (coating.film, coating.substrate)]
-    best: list[OtherModel | None] = [None] * Lab_meas.shape[0]
-    for film, substrate in pairs:
-        other = get_coating(film, substrate, coating.wavelength_nm, coating.film_index_scale, coating.spread)
-        d, model = fit(Lab_meas, light_deg, view_deg, same_side, other, cm, lo, hi, SCREEN_STEP_NM)
-        res = np.atleast_2d(tolerance.delta_E(Lab_meas, model)).max(axis=1)
-        for i, (di, ri) in enumerate(zip(d, res, strict=True)):
-            if best[i] is None or ri < best[i].residual:  # type: ignore[union-attr]
-                best[i] = OtherModel(film, substrate, float(di), float(ri))
-    return [b for b in best if b is not None]
 
 
 def voltage_advice(correction_V: float) -> str:

@@ -15,7 +15,9 @@ from reportlab.lib.colors import HexColor
 from reportlab.lib.pagesizes import A4
 from reportlab.pdfgen import canvas
 
+from swatch.colorimetry.geometry import Geometry
 from swatch.physics.growth import voltage_text
+from swatch.production.spec import same_geometry
 
 __all__ = ["write_spec_card", "how_to_measure", "PRINT_NOTE"]
 
@@ -90,10 +92,13 @@ def _stamp(c, x, y, width, reach) -> float:
 def _table_rows(spec: dict) -> tuple[list[dict], list[str]]:
     """The card's geometries once each: the reference first, named with its multi-angle twin (45:0 = 45as45:
     the view along the normal), then the multi-angle set and the other judged angles."""
+    def geometry_of(e: dict) -> Geometry:
+        return Geometry(str(e["geometry"]), float(e["light_deg"]), float(e["view_deg"]), str(e["view_side"]))
+
     ref = spec["reference"]
     rows, names = [ref], [str(ref["geometry"])]
     for e in [*spec["multi_angle"], *spec.get("angles", [])]:
-        if float(e["view_deg"]) == 0.0 and float(e["light_deg"]) == float(ref["light_deg"]):
+        if same_geometry(geometry_of(e), geometry_of(ref)):
             names[0] += f" = {e['geometry']}"
             continue
         rows.append(e)

@@ -42,20 +42,20 @@ from swatch.io.instruments import InstrumentFile
 from swatch.io.measurements import LabMeasurement, SpectralMeasurement
 from swatch.physics import geometry
 from swatch.physics.growth import thickness_to_voltage_V
-from swatch.physics.materials import wavelength_grid
+from swatch.physics.materials import table_pairs, wavelength_grid
 from swatch.physics.model import get_coating
 from swatch.physics.spread import ThicknessSpread
 from swatch.production.advice import (
+    OtherModel,
     calibrate_first,
     model_calibrated,
     near_edge,
     not_a_thickness_error,
-    other_models,
     voltage_advice,
 )
 
-__all__ = ["load_spec_json", "check_spec", "check_file", "judged_names", "fit_thickness_Lab", "FIT_SPAN_NM",
-           "GEOMETRY_MATCH_DEG"]
+__all__ = ["load_spec_json", "check_spec", "check_file", "judged_names", "fit_thickness_Lab", "other_models",
+           "FIT_SPAN_NM", "SCREEN_STEP_NM", "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
 FIT_SPAN_NM = 40.0
@@ -66,6 +66,9 @@ COARSE_STEP_NM = 0.25
 #: CIEDE2000 makes a few dozen temporaries of that size; ~100k keeps them in the CPU cache and out of fresh
 #: pages (10,000 parts at one geometry: 4.7 CPU-s in one piece, 1.3 in chunks, the same result bit for bit).
 _CHUNK_ELEMENTS = 1 << 17
+#: The thickness grid of the screen over the other shipped optical models, nm (its first search's step is
+#: five of these): a tenth of a nanometre moves a blue's colour by ΔE2000 ≈ 0.1, below any tolerance.
+SCREEN_STEP_NM = 0.1
 #: A measured geometry is the spec's when light and view agree within this (degrees).
 GEOMETRY_MATCH_DEG = 0.5
 
@@ -228,6 +231,50 @@ def fit_thickness_Lab(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coat
     return lo + step_nm * k, table[k]
 
 
+def other_models(Lab_meas: np.ndarray, light_deg, view_deg, same_side, coating, cm, lo: float, hi: float,
+                 tolerance) -> list[OtherModel | None]:
+    """For each part, the other shipped optical model (film × substrate of the same metal) that explains it best.
+
+    Each pair's best-fit thickness on [``lo``, ``hi``] (:func:`fit_thickness_Lab` every
+    :data:`SCREEN_STEP_NM`), keeping the spec's film index scale and thickness spread; the residual in the
+    tolerance's metric, worst over the measured geometries.
+
+    Parameters
+    ----------
+    Lab_meas : numpy.ndarray, shape (P, G, 3)
+        The parts' CIELAB under ``cm``.
+    light_deg, view_deg, same_side : array_like, shape (G,)
+        The measured geometries (as :func:`fit_thickness_Lab`).
+    coating : swatch.physics.model.Coating
+        The spec's model (its tables are left out of the screen; its scale and spread are kept).
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+        The spec's illuminant and observer on the coating's grid.
+    lo, hi : float
+        The thickness interval searched, nm.
+    tolerance : swatch.colorimetry.tolerance.Tolerance
+        Its metric measures the residual.
+
+    Returns
+    -------
+    list of OtherModel or None
+        One per part; None for every part when the metal has no other tables.
+    """
+    pairs = [p for p in table_pairs(coating.film, coating.substrate) if p != (coating.film, coating.substrate)]
+    if not pairs:
+        return [None] * Lab_meas.shape[0]
+    fits = []
+    for film, substrate in pairs:  # one vectorised sweep per pair, over all parts
+        other = get_coating(film, substrate, coating.wavelength_nm, coating.film_index_scale, coating.spread)
+        d, model = fit_thickness_Lab(Lab_meas, light_deg, view_deg, same_side, other, cm, lo, hi, SCREEN_STEP_NM)
+        fits.append((d, np.atleast_2d(tolerance.delta_E(Lab_meas, model)).max(axis=1)))
+    d_all = np.stack([f[0] for f in fits])  # (pairs, P)
+    res_all = np.stack([f[1] for f in fits])
+    best = np.argmin(res_all, axis=0)
+    cols = np.arange(Lab_meas.shape[0])
+    return [OtherModel(pairs[k][0], pairs[k][1], float(d), float(r))
+            for k, d, r in zip(best.tolist(), d_all[best, cols], res_all[best, cols], strict=True)]
+
+
 def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -> np.ndarray:
     """Each part's candidate of least summed squared ΔE2000 over the geometries, over chunks of parts of
     about :data:`_CHUNK_ELEMENTS` evaluations: ``candidates(a, b)`` gives parts a..b's (b - a, per_part, G, 3)
@@ -328,9 +375,9 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     worst_res_all = residual_all.max(axis=1)
     # an uncalibrated spec's model that leaves a part unexplained is screened against the other shipped models
     suspects = np.flatnonzero(worst_res_all > tol.max) if not calibrated else np.array([], dtype=np.intp)
-    others = dict(zip(suspects.tolist(), other_models(
-        Lab_all[suspects], fit_thickness_Lab, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi, tol)
-        if suspects.size else [], strict=False))
+    screened = other_models(Lab_all[suspects], m0.light_deg, m0.view_deg, same, coating, cm, lo, hi, tol) \
+        if suspects.size else []
+    others = dict(zip(suspects.tolist(), screened, strict=True))
 
     out = []
     for i, (s, Lab, dE, d, hexes, in_gamut, res) in enumerate(zip(f.samples, Lab_all, dE_all, d_fit, hex_all,
