@@ -2,20 +2,25 @@
 
 ``explorer_load_ms``: navigation start to the end of the load event (page parsed, colour table
 decoded, cards and live view drawn, sheet images loaded), median of 3 loads from file://.
-``explorer_frame_ms``: median time of one live-view frame under the point light (with its fill) while the
-thickness slider moves (an ``input`` event on the slider, the frame drawn at 800 × 600 (the page's cap; the
-bench's page has 1.25 device pixels a CSS pixel) and read back so the GPU work is included), 60 steps
-across the range after 15 untimed ones (warm-up). Target: <= 33 ms (30 frames per
-second) in software WebGL. (The page opens under the studio environment since issue 21; before, this figure
-silently measured that default, not the point light.)
-``explorer_env_frame_ms``: the same under the ``studio`` environment (the shade pass: four moments per
-pixel, per-bin coefficients computed in JavaScript per thickness). ``explorer_env_gather_ms``: median
-time of a geometry change under ``studio`` (the gather pass over the renderer's samples per pixel,
-``env_shading.SAMPLES``, then a frame), the view angle of the sphere stepped 0–60°.
-Skipped (a line saying so) when /usr/bin/chromium or Playwright is missing.
+At 1280 × 900, one device pixel a CSS pixel, the live view's canvas is 640 × 480 (benchmarks/live_view.py):
+
+* ``explorer_frame_ms``: one frame as the page opens (the studio set: the part, its backdrop, floor and contact
+  shadow) while the thickness slider moves: the shade pass, the moments and the backdrop kept; target <= 33 ms
+  (30 frames a second) in software WebGL. ``explorer_point_frame_ms``: the same under the point light;
+* ``explorer_drag_ms``: one step of a drag under the studio (the coarse gather and backdrop at half the resolution,
+  a quarter of the renderer's samples), and ``explorer_refine_ms``: the view refined when the drag ends (the full
+  gather over the renderer's 128 samples a pixel, each sample's ray met with the set);
+* ``explorer_mesh_frame_ms``: ``explorer_frame_ms`` with examples/part.glb (a catalog of two swatches with the part);
+* ``live_vs_hero_dE00_frame`` / ``live_vs_hero_dE00_object``: the live view at the heroes' pose and size against
+  the path-traced heroes (every tenth swatch of the default catalog): CIEDE2000 over the whole frame and over the
+  object, the median over the swatches (and ``_max``); ``live_vs_hero_mesh_dE00_frame`` / ``_object``: the same for
+  the part's heroes. Targets (#46): frame <= 2.5, object <= 2.0.
+
+Skipped (a line saying so) when Chromium or Playwright is missing.
 """
 from __future__ import annotations
 
+import shutil
 import statistics
 import subprocess
 import sys
@@ -23,41 +28,32 @@ import tempfile
 import time
 from pathlib import Path
 
+from benchmarks.live_view import frame_times, hero_records, live_vs_hero
 from benchmarks.timing import ROOT, TINY, bench_spec, pick
 
-CHROMIUM = "/usr/bin/chromium"
-ARGS = ["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+CHROMIUM_BUILDS = ("/usr/bin/chromium-headless-shell", "/usr/bin/chromium")
+ARGS = ["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+        "--disable-gpu-compositing", "--disable-gpu-rasterization"]
 
-FRAMES_JS = """() => {
-  const s = document.getElementById('thickness'), c = document.getElementById('view');
-  const gl = c.getContext('webgl2'), px = new Uint8Array(4), times = [];
-  const lo = Number(s.min), hi = Number(s.max);
-  for (let i = -WARMUP; i < 60; i++) {  // untimed frames first: shader compilation and warm-up
-    const t0 = performance.now();
-    s.value = lo + (hi - lo) * Math.abs(i) / 59;
-    s.dispatchEvent(new Event('input', {bubbles: true}));
-    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
-    if (i >= 0) times.push(performance.now() - t0);
-  }
-  times.sort((a, b) => a - b);
-  return [times[times.length >> 1], c.width, c.height];
-}"""
-
-GATHER_JS = """() => {
-  const times = [];
-  swatchCatalog.show({lighting: 'studio', shape: 'sphere', view_deg: 0});
-  for (let i = 0; i < STEPS; i++) {
-    const t0 = performance.now();
-    swatchCatalog.show({view_deg: 5 * i});
-    swatchCatalog.pixel({x: 0, y: 0});  // read back: the GPU work is included
-    times.push(performance.now() - t0);
-  }
-  times.sort((a, b) => a - b);
-  return times[times.length >> 1];
-}"""
+PART_SPEC = """name = "Bench part"
+[thickness]
+list_nm = [80, 140]
+[render]
+shapes = ["flat"]
+size_px = 64
+angular_map = false
+mesh = "part.glb"
+hero = true
+hero_size_px = 256
+hero_spp = 16
+hero_cover_px = 0
+[sheet]
+columns = 2
+rows = 1
+"""
 
 
-def _wait_for_api(page, timeout_s: float = 30.0) -> None:
+def _wait_for_api(page, timeout_s: float = 60.0) -> None:
     """Poll for window.swatchCatalog with page.evaluate (the page's CSP forbids the eval behind
     Playwright's wait_for_function; see tests/browser.py)."""
     deadline = time.monotonic() + timeout_s
@@ -67,45 +63,76 @@ def _wait_for_api(page, timeout_s: float = 30.0) -> None:
         page.wait_for_timeout(50)
 
 
+def _build(spec: Path, out: Path) -> None:
+    subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(spec), "--out", str(out), "--quiet"],
+                   cwd=ROOT, check=True, capture_output=True)
+
+
+def _open(browser, out: Path):
+    page = browser.new_page(viewport={"width": pick(1280, 360), "height": pick(900, 640)}, device_scale_factor=1)
+    page.goto((out / "index.html").resolve().as_uri(), wait_until="load")
+    _wait_for_api(page)
+    return page
+
+
 def run() -> list[str]:
-    if not Path(CHROMIUM).exists():
-        return [f"explorer: skipped ({CHROMIUM} missing)"]
+    chromium = next((p for p in CHROMIUM_BUILDS if Path(p).exists()), None)
+    if chromium is None:
+        return ["explorer: skipped (no Chromium)"]
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
         return ["explorer: skipped (playwright missing)"]
+    from swatch.render.mesh import load_mesh
+
     with tempfile.TemporaryDirectory(prefix="swatch-bench-explorer-") as tmp:
-        out = Path(tmp) / "catalog"
-        subprocess.run([sys.executable, "-m", "swatch.cli", "catalog", "build", str(bench_spec(tmp)), "--out", str(out),
-                        "--quiet"],
-                       cwd=ROOT, check=True, capture_output=True)
-        url = (out / "index.html").resolve().as_uri()
+        out, part_out = Path(tmp) / "catalog", Path(tmp) / "part"
+        _build(bench_spec(tmp), out)
+        part_spec = Path(tmp) / "part.toml"
+        part_spec.write_text(PART_SPEC.replace("hero_size_px = 256", pick("hero_size_px = 256", "hero_size_px = 64")),
+                             encoding="utf-8")
+        shutil.copy(ROOT / "examples" / "part.glb", Path(tmp) / "part.glb")
+        _build(part_spec, part_out)
+        steps, warm = pick(30, 3), pick(5, 1)
         with sync_playwright() as p:
-            browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-            loads, frames, env_frames, gathers = [], [], [], []
-            frames_js = FRAMES_JS.replace("WARMUP", pick("15", "1")).replace("60", pick("60", "3"))
-            gather_js = GATHER_JS.replace("STEPS", pick("13", "1"))
+            browser = p.chromium.launch(executable_path=chromium, args=ARGS)
+            loads, studio, point, drags, refines = [], [], [], [], []
             for _ in range(pick(3, 1)):
-                # 1.25 device pixels a CSS pixel: the canvas (640 x 480 CSS px at 1280 px wide) gets the 800 x 600
-                # drawing buffer the figures were measured at before it followed its displayed size (issue 17)
-                # (tiny: a 320 px page, the smallest canvas)
-                page = browser.new_page(viewport={"width": pick(1280, 360), "height": pick(900, 640)},
-                                        device_scale_factor=pick(1.25, 1))
-                page.goto(url, wait_until="load")
-                _wait_for_api(page)
+                page = _open(browser, out)
                 loads.append(page.evaluate("performance.getEntriesByType('navigation')[0].loadEventEnd"))
+                page.evaluate("swatchCatalog.show({lighting: 'studio', shape: 'sphere'})")
+                t = frame_times(page, warm, steps)
+                assert TINY or t["size"] == [640, 480], t["size"]
+                studio.append(t["slider_ms"])
+                drags.append(t["drag_ms"])
+                refines.append(t["refine_ms"])
                 page.evaluate("swatchCatalog.show({lighting: 'point'})")
-                ms, w, h = page.evaluate(frames_js)
-                assert TINY or (w, h) == (800, 600)
-                frames.append(ms)
-                page.evaluate("swatchCatalog.show({lighting: 'studio'})")
-                env_frames.append(page.evaluate(frames_js)[0])
-                gathers.append(page.evaluate(gather_js))
+                point.append(frame_times(page, warm, steps)["slider_ms"])
                 page.close()
+            page = _open(browser, out)
+            recs = hero_records(out)
+            hero = live_vs_hero(page, out, recs[::pick(10, 1)] if recs else [])
+            page.close()
+            page = _open(browser, part_out)
+            page.evaluate("swatchCatalog.show({lighting: 'studio', shape: 'part'})")
+            mesh_ms = frame_times(page, warm, steps)["slider_ms"]
+            part = live_vs_hero(page, part_out, hero_records(part_out), mesh=load_mesh(Path(tmp) / "part.glb"))
+            page.close()
             browser.close()
-    return [f"explorer_load_ms={statistics.median(loads):.0f} explorer_frame_ms={statistics.median(frames):.1f} "
-            f"explorer_env_frame_ms={statistics.median(env_frames):.1f} "
-            f"explorer_env_gather_ms={statistics.median(gathers):.0f}"]
+    med = statistics.median
+    lines = [f"explorer_load_ms={med(loads):.0f} explorer_frame_ms={med(studio):.1f} explorer_point_frame_ms={med(point):.1f} "
+             f"explorer_drag_ms={med(drags):.0f} explorer_refine_ms={med(refines):.0f} explorer_mesh_frame_ms={mesh_ms:.1f}"]
+    if hero:
+        lines.append(f"live_vs_hero_dE00_frame={med(r['frame'] for r in hero):.2f} "
+                     f"live_vs_hero_dE00_object={med(r['object'] for r in hero):.2f} "
+                     f"live_vs_hero_dE00_frame_max={max(r['frame'] for r in hero):.2f} "
+                     f"live_vs_hero_dE00_object_max={max(r['object'] for r in hero):.2f} (swatches={len(hero)})")
+    else:
+        lines.append("live_vs_hero: skipped (no heroes: Mitsuba unusable here)")
+    if part:
+        lines.append(f"live_vs_hero_mesh_dE00_frame={med(r['frame'] for r in part):.2f} "
+                     f"live_vs_hero_mesh_dE00_object={med(r['object'] for r in part):.2f}")
+    return lines
 
 
 if __name__ == "__main__":

@@ -33,6 +33,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.catalog.records",
     "swatch.catalog.layout",
     "swatch.catalog.html",
+    "swatch.catalog.words",
     "swatch.presets.files",
     "swatch.catalog.fingerprint",
     "swatch.production.spec",

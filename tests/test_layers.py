@@ -40,6 +40,8 @@ ALLOWED_FUNCTION_IMPORTS = {
     ("swatch.physics.process", "swatch.physics.model"): "as above (a profile parses without the optics)",
     ("swatch.render.dispatch", "swatch.render.mitsuba.engine"):
         "Mitsuba and Dr.Jit (optional; a JIT on libLLVM, seconds to load) only for `engine='mitsuba'` (#23)",
+    ("swatch.render.dispatch", "swatch.render.mitsuba.bake"):
+        "as above: the path tracer's studio set baked for the catalog page only when a catalog asks for it (#46)",
 }
 
 #: At most this many function-level import statements in the library (outside commands/, the CLI and the

@@ -269,8 +269,9 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         preset_entries: Sequence[dict | None] = [None] * n  # `[presets] enabled = false`: no fits, files, entries
         if spec.presets:
             preset_files, preset_entries = execute.catalog_presets(spec, data.records, cache)  # fits cached
-        hero_out, hero_used, hero_entries = execute.catalog_heroes(spec, data.records, cache, say)  # when spec.hero; cached
-        records = execute.final_records(spec, data, preset_entries, hero_entries)  # the one serialisation
+        heroes = execute.catalog_heroes(spec, data.records, cache, say, data.context.mesh)  # when spec.hero; cached
+        hero_out, hero_used = heroes[0], heroes[1]
+        records = execute.final_records(spec, data, preset_entries, *heroes[2:])  # the one serialisation
         rendered = tilemod.finish_renders(renders, len(missing),
                                           lambda total: _progress("rendering swatches", total, progress))
         # 2. sheets: unchanged ones stay in place; the others are composed (in the pool)

@@ -17,8 +17,9 @@ from swatch.colorimetry.tolerance import Tolerance
 from swatch.core.errors import SwatchError
 from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import Coating
+from swatch.render.mesh import MeshShape, load_mesh
 
-__all__ = ["CatalogContext", "catalog_context", "ICC_ILLUMINANT", "ICC_OBSERVER"]
+__all__ = ["CatalogContext", "catalog_context", "catalog_mesh", "ICC_ILLUMINANT", "ICC_OBSERVER"]
 
 #: The ICC profile connection space's illuminant and observer (ISO 13655): what print workflows and
 #: Adobe applications assume CIELAB to be (the ASE file's Lab, ``Lab_D50_2``).
@@ -46,6 +47,8 @@ class CatalogContext:
         D50, CIE 1931 2° (ICC PCS, ISO 13655) on that grid.
     tolerance : swatch.colorimetry.tolerance.Tolerance
         The spec's tolerance (a named grade or a written bound), in its own metric.
+    mesh : swatch.render.mesh.MeshShape or None
+        The designer's part (``[render] mesh``), read and checked (:func:`catalog_mesh`); None without one.
     """
 
     spec: CatalogSpec
@@ -54,6 +57,38 @@ class CatalogContext:
     colorimeter: Colorimeter
     colorimeter_icc: Colorimeter
     tolerance: Tolerance
+    mesh: MeshShape | None = None
+
+
+def catalog_mesh(spec: CatalogSpec) -> MeshShape | None:
+    """The spec's part read and checked by :func:`swatch.render.mesh.load_mesh` (its formats and caps), the very
+    bytes the spec hashed (:attr:`CatalogSpec.mesh_sha256`).
+
+    Parameters
+    ----------
+    spec : CatalogSpec
+        The validated spec (its ``mesh``, ``mesh_path`` and ``mesh_sha256``).
+
+    Returns
+    -------
+    swatch.render.mesh.MeshShape or None
+        The placed mesh; None when the spec names no part.
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A file the mesh reader refuses (no triangles, too many, not its format …), or one changed since the spec
+        was read: one line naming the spec and the key ``render.mesh``.
+    """
+    if spec.mesh is None or spec.mesh_path is None:
+        return None
+    try:
+        mesh = load_mesh(spec.mesh_path)
+    except SwatchError as exc:
+        raise SwatchError(f"{spec.source}: key render.mesh: {exc}") from None
+    if mesh.key != f"mesh:{spec.mesh_sha256}":
+        raise SwatchError(f"{spec.source}: key render.mesh: {spec.mesh} changed while the build read it; build again")
+    return mesh
 
 
 def catalog_context(spec: CatalogSpec) -> CatalogContext:
@@ -73,7 +108,7 @@ def catalog_context(spec: CatalogSpec) -> CatalogContext:
     ------
     swatch.core.errors.SwatchError
         The spec's illuminant is not one colour-science knows (the message names the spec's file and
-        the key ``colour.illuminant``).
+        the key ``colour.illuminant``), or its part is not a mesh the renderer reads (:func:`catalog_mesh`).
 
     Examples
     --------
@@ -89,4 +124,4 @@ def catalog_context(spec: CatalogSpec) -> CatalogContext:
         raise SwatchError(f"{spec.source}: key colour.illuminant: {exc}") from None
     return CatalogContext(spec=spec, wavelength_nm=wl, coating=spec.coating(wl), colorimeter=cm,
                           colorimeter_icc=get_colorimeter(wl, ICC_ILLUMINANT, ICC_OBSERVER),
-                          tolerance=spec.tolerance)
+                          tolerance=spec.tolerance, mesh=catalog_mesh(spec))

@@ -27,6 +27,7 @@ from swatch.catalog.explorer import (
     tile_rects,
 )
 from swatch.catalog.explorer_env import environment_data_cached
+from swatch.catalog.explorer_set import baked_set
 from swatch.catalog.exports import ase_bytes, cxf_bytes, metal_symbol
 from swatch.catalog.fingerprint import slug
 from swatch.catalog.hero import catalog_heroes, prune_heroes
@@ -37,8 +38,9 @@ from swatch.catalog.records import PROCESS_STEP_NM, compute, process_json
 from swatch.catalog.spec import CatalogSpec
 from swatch.colorimetry.tolerance import METRICS
 from swatch.core.version import __version__
+from swatch.physics.finishes import get_finish
 
-__all__ = ["check_buildable", "catalog_header", "final_records", "page", "compute", "catalog_heroes", "prune_heroes",
+__all__ = ["check_buildable", "catalog_header", "finish_params", "mesh_json", "final_records", "page", "compute", "catalog_heroes", "prune_heroes",
            "catalog_presets", "csv_bytes", "cxf_bytes", "ase_bytes", "metal_symbol", "chipmod", "sheetmod", "tilemod"]
 
 
@@ -115,7 +117,9 @@ def catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
         "multi_angle_geometries": [g.to_json() for g in spec.multi_angle],
         "render": {"shapes": list(spec.shapes), "size_px": spec.size_px, "model": spec.model,
                    "roughness": spec.roughness, "angular_map": spec.angular_map,
-                   **({"finish": spec.finish_spec.metadata()} if spec.finish_spec is not None else {})},
+                   **({"finish": spec.finish_spec.metadata()} if spec.finish_spec is not None else {}),
+                   "finishes": list(spec.finishes), "finish_params": finish_params(spec.finishes),
+                   **({"mesh": mesh_json(spec, data.context.mesh)} if spec.mesh is not None else {})},
         "tolerance": {"scheme": tol.scheme, "grade": tol.label, "metric": tol.metric, "max": tol.max,
                       "metric_name": METRICS[tol.metric], "text": tol.text,
                       "grade_description": tol.description,
@@ -128,7 +132,54 @@ def catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
     }
 
 
-def final_records(spec, data, preset_entries: Sequence[dict | None], hero_entries: list) -> list[dict]:
+def finish_params(finishes: Sequence[str]) -> dict:
+    """``catalog.render.finish_params``: each offered finish's lobe, for the page's live view.
+
+    Parameters
+    ----------
+    finishes : sequence of str
+        Finish names (:data:`swatch.core.choices.FINISHES`).
+
+    Returns
+    -------
+    dict
+        Name to ``roughness_alpha`` (the isotropic GGX α of the same lobe area), ``anisotropic``, ``alpha_u`` and
+        ``alpha_v`` (along and across the grain, anisotropic finishes only), ``label`` and ``description``.
+
+    Examples
+    --------
+    >>> finish_params(["polished", "brushed"])["brushed"]["alpha_v"]
+    0.4
+    """
+    out = {}
+    for name in finishes:
+        f = get_finish(name)
+        out[name] = {"roughness_alpha": f.roughness_alpha, "anisotropic": f.anisotropic,
+                     **({"alpha_u": f.alpha_u, "alpha_v": f.alpha_v} if f.anisotropic else {}),
+                     "label": f.label(), "description": f.description}
+    return out
+
+
+def mesh_json(spec: CatalogSpec, mesh) -> dict:
+    """``catalog.render.mesh``: the designer's part the heroes and sheets show.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+        The validated spec (the part's name as given and its hash).
+    mesh : swatch.render.mesh.MeshShape
+        The part, read (its triangle count).
+
+    Returns
+    -------
+    dict
+        ``file`` (as the spec names it), ``sha256`` (its bytes) and ``triangles``.
+    """
+    return {"file": spec.mesh, "sha256": spec.mesh_sha256, "triangles": mesh.triangles}
+
+
+def final_records(spec, data, preset_entries: Sequence[dict | None], hero_entries: list,
+                  hero_finishes: Sequence[dict | None] | None = None) -> list[dict]:
     """The typed records with the stages' entries (print chip, presets, hero), serialised once.
 
     Parameters
@@ -139,6 +190,8 @@ def final_records(spec, data, preset_entries: Sequence[dict | None], hero_entrie
         The computed swatches and records.
     preset_entries, hero_entries : list of dict or None
         Each swatch's presets and hero entry (None: none).
+    hero_finishes : list of dict or None, optional
+        Each swatch's heroes by finish (``hero_finishes``; None: none).
 
     Returns
     -------
@@ -147,9 +200,11 @@ def final_records(spec, data, preset_entries: Sequence[dict | None], hero_entrie
     """
 
     out = []
-    for swatch, rec, presets, hero in zip(data.swatches, data.records, preset_entries, hero_entries, strict=True):
+    by_finish = [None] * len(data.swatches) if hero_finishes is None else hero_finishes
+    for swatch, rec, presets, hero, finishes in zip(data.swatches, data.records, preset_entries, hero_entries,
+                                                    by_finish, strict=True):
         chip = PrintChip(*chip_names(rec), spec.chip_size_mm, spec.chip_dpi) if spec.chips else None
-        out.append(replace(swatch, print_chip=chip, presets=presets, hero=hero).to_json())
+        out.append(replace(swatch, print_chip=chip, presets=presets, hero=hero, hero_finishes=finishes).to_json())
     return out
 
 
@@ -174,5 +229,9 @@ def page(spec, data, page_doc: dict, cache: Path | None = None) -> str:
         The page's HTML.
     """
 
+    # the heroes' studio set around each shape of the live view (baked by Mitsuba) where the catalog has heroes
+    studio = baked_set(data.context.mesh, spec.mesh_sha256, cache) if spec.hero else None
     return index_html(page_doc, explorer_data(data.context), tile_rects(spec, page_doc["swatches"]),
-                      chip_colours(data), environment_data_cached(spec.roughness, COS_NODES, cache))
+                      chip_colours(data), environment_data_cached(
+                          spec.roughness, COS_NODES, cache, studio,
+                          {f: get_finish(f).roughness_alpha for f in spec.finishes} if len(spec.finishes) > 1 else None))

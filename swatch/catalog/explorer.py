@@ -52,10 +52,10 @@ from swatch.catalog.tiles import AMAP_ANGLES_DEG
 from swatch.colorimetry.names import NAME_RULES
 from swatch.colorimetry.observers import srgb_to_document_XYZ
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_GRID_NODES, MAX_THICKNESS_NM
+from swatch.core.limits import MAX_GRID_NODES, MAX_PAGE_MESH_TRIANGLES, MAX_THICKNESS_NM
 from swatch.fit.matching import MATCH_MIN_SEPARATION_NM
 from swatch.physics import geometry
-from swatch.physics.finishes import HAIRLINE_OCTAVES, HAIRLINE_SLOPE, HAIRLINE_STRETCH
+from swatch.physics.finishes import HAIRLINE_OCTAVES, HAIRLINE_SLOPE, HAIRLINE_STRETCH, get_finish
 from swatch.render.camera import FRAME_FILL
 from swatch.render.scene import DEFAULT_VIEW_DEG, HalfCylinder, make_scene
 
@@ -124,8 +124,20 @@ def _page(v) -> list:
     return (np.asarray(v, dtype=np.float64) @ PAGE_FROM_RENDER.T).tolist()
 
 
-def scene_data() -> dict:
+def _float32_block(a) -> dict:
+    a = np.ascontiguousarray(a, dtype="<f4")
+    return {"type": "float32", "shape": list(a.shape), "data": base64.b64encode(a.tobytes()).decode("ascii")}
+
+
+def scene_data(mesh=None) -> dict:
     """The live view's scene, from :func:`swatch.render.scene.make_scene` (see the module doc), page coordinates.
+
+    Parameters
+    ----------
+    mesh : swatch.render.mesh.MeshShape, optional
+        The catalog's part: an entry ``mesh`` as the other shapes', with its triangles (``corners`` and ``normals``,
+        float32 blocks of shape (F, 3, 3): :meth:`~swatch.render.mesh.MeshShape.triangle_soup`, creases split) for the
+        page's WebGL2 rasteriser; at most :data:`swatch.core.limits.MAX_PAGE_MESH_TRIANGLES`.
 
     Returns
     -------
@@ -146,19 +158,25 @@ def scene_data() -> dict:
     """
     out: dict = {"fill": FRAME_FILL}
     c45 = math.cos(math.radians(45.0))
-    for shape in ("flat", "cylinder", "sphere"):
-        s0, s45 = make_scene(shape, 0.0), make_scene(shape, 45.0)
+    for shape in ("flat", "cylinder", "sphere") + (("mesh",) if mesh is not None else ()):
+        s0, s45 = make_scene(shape, 0.0, mesh=mesh), make_scene(shape, 45.0, mesh=mesh)
         c = s0.light
         w = (s45.light - c45 * c) / math.sin(math.radians(45.0))
         entry: dict = {"distance": round(float(np.linalg.norm(s0.camera.position)), 9),
-                       "default_view_deg": DEFAULT_VIEW_DEG[shape],
+                       "default_view_deg": DEFAULT_VIEW_DEG["sphere" if shape == "mesh" else shape],
                        "light_axes": [[round(x, 12) + 0.0 for x in v] for v in _page(np.stack([c, w]))]}
         if shape == "sphere":
             entry["window_half"] = float(s0.camera.half)
         else:
-            pts = np.asarray(_page(s0.shape.points()), dtype="<f4")
-            entry["points"] = {"type": "float32", "shape": list(pts.shape),
-                               "data": base64.b64encode(pts.tobytes()).decode("ascii")}
+            entry["points"] = _float32_block(_page(s0.shape.points()))
+        if shape == "mesh":
+            assert mesh is not None
+            if mesh.triangles > MAX_PAGE_MESH_TRIANGLES:
+                raise SwatchError(f"{mesh.file_name}: {mesh.triangles} triangles; the catalog page draws at most "
+                                  f"{MAX_PAGE_MESH_TRIANGLES} (MAX_PAGE_MESH_TRIANGLES): give a simplified part")
+            corners, normals = mesh.triangle_soup()
+            entry.update(file=mesh.file_name, triangles=int(corners.shape[0]),
+                         corners=_float32_block(_page(corners)), normals=_float32_block(_page(normals)))
         if shape == "cylinder":
             entry.update(radius=1.0, half_height=HalfCylinder().h, half_angle_deg=90.0, axis=_page([0.0, 1.0, 0.0]),
                          middle=_page([0.0, 0.0, 1.0]))  # HalfCylinder: radius 1 about y, the half z >= 0
@@ -280,9 +298,10 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
         "match": {"min_separation_nm": MATCH_MIN_SEPARATION_NM, "step_nm": MATCH_STEP_NM},
         "name_rules": [list(r) for r in NAME_RULES],
         "render": {"model": spec.model, "roughness": spec.roughness, "shapes": list(spec.shapes),
-                   **({"hairlines": hairline_data()} if spec.finish_spec is not None and spec.finish_spec.anisotropic
-                      else {})},
-        "scene": scene_data(),
+                   # a brushed finish's hairlines, where the catalog's finish or one it offers is anisotropic
+                   **({"hairlines": hairline_data()} if (spec.finish_spec is not None and spec.finish_spec.anisotropic)
+                      or any(get_finish(f).anisotropic for f in spec.finishes) else {})},
+        "scene": scene_data(ctx.mesh),
     }
 
 
@@ -339,14 +358,14 @@ def tile_rects(spec, records: list[dict]) -> dict:
     Returns
     -------
     dict
-        ``sheet_px`` [w, h], ``renders`` [[x, y, w, h] per shape] and ``amap`` ([x, y, w, h] or None)
+        ``sheet_px`` [w, h], ``renders`` [[x, y, w, h] per shape, then the part] and ``amap`` ([x, y, w, h] or None)
         relative to the tile's origin, ``origins`` per swatch id, ``amap_deg``; pixels.
     """
 
     lay = Layout(spec)
     s = lay.size
     x = lay.PAD + (lay.tile_w - 2 * lay.PAD - lay.renders_w) // 2  # as sheets.compose_sheet centres them
-    renders = [[x + k * (s + lay.GAP), lay.PAD, s, s] for k in range(len(spec.shapes))]
+    renders = [[x + k * (s + lay.GAP), lay.PAD, s, s] for k in range(len(spec.tile_renders))]  # the shapes, the part
     amap = None
     if lay.amap:
         amap = [lay.tile_w - lay.PAD - lay.amap, lay.PAD + s + lay.GAP, lay.amap, lay.amap]

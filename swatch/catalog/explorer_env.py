@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from swatch.catalog.explorer_set import set_geometry
 from swatch.catalog.folder import read_cache_json, remove_tree
 from swatch.core.choices import LIGHTINGS
 from swatch.core.errors import SwatchError
@@ -152,10 +153,14 @@ def moment_weights(cos_d: np.ndarray, w: np.ndarray, basis: int = BASIS) -> np.n
     return sw[..., None] * Q
 
 
-def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int) -> tuple[dict, list[int]]:
+def _sample_levels(roughness_alpha: float, maps) -> np.ndarray:
+    """The blur level of every sample of the renderer's set at ``roughness_alpha`` (an index into LEVELS)."""
+    return maps.level_for(env_shading.sample_set(roughness_alpha).sigma_deg)
+
+
+def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int, used: list[int]) -> dict:
     ss = env_shading.sample_set(roughness_alpha)
     level = maps.level_for(ss.sigma_deg)  # (M, N) index into the environment's LEVELS
-    used = sorted(int(k) for k in np.unique(level))
     local = np.searchsorted(np.asarray(used), level)  # index into the embedded levels
     u = moment_weights(ss.cos_d, ss.w)
     H = env_shading.albedo_matrix(ss, int(cos_nodes))  # (M, K): albedo = H @ F table
@@ -170,7 +175,7 @@ def _sample_blocks(roughness_alpha: float, maps, cos_nodes: int) -> tuple[dict, 
         "moment_weights": _block(u, "int16"),
         "albedo_matrix": _block(H, "uint16"),
         "cos_theta_d_nodes": int(cos_nodes),
-    }, used
+    }
 
 
 def _environment_block(env, used: list[int]) -> dict:
@@ -195,7 +200,8 @@ def _environment_block(env, used: list[int]) -> dict:
     return {"name": env.name, "description": env.description, "levels": meta, "atlas": _block(atlas, "float16")}
 
 
-def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
+def environment_data(roughness_alpha: float, cos_nodes: int, studio: tuple | None = None,
+                     finishes: dict[str, float] | None = None) -> dict:
     """The JSON block the page reads for its environment lighting (module doc).
 
     Parameters
@@ -206,13 +212,21 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
         Nodes of the colour table's uniform ``cos θ_d`` axis on [0, 1]
         (:data:`swatch.catalog.explorer.COS_NODES`): the albedo matrix maps the table's row to the
         directional albedo per view bin.
+    studio : tuple, optional
+        :func:`swatch.catalog.explorer_set.baked_set`'s result: the heroes' studio set baked around each shape
+        (embedded as ``set``: its geometry, per shape the lightmaps and the set seen from the object as an
+        environment); None: the built-in studio alone.
+    finishes : dict, optional
+        The catalog's offered finishes and their GGX ``α`` (the first is ``roughness_alpha``'s): a sample set per
+        finish (``finish_samples``), so the page's live view changes finish without a rebuild.
 
     Returns
     -------
     dict
         ``samples`` (bins, samples, basis, the encoded sample set, projection weights and albedo
-        matrix) and ``environments`` (per built-in environment its blur levels and half-float
-        atlas, radiance with 1 = a white diffuser facing the normal reflects 1), JSON-ready.
+        matrix), ``environments`` (per built-in environment its blur levels and half-float
+        atlas, radiance with 1 = a white diffuser facing the normal reflects 1) and, with ``studio``, ``set``,
+        JSON-ready.
     """
 
     envs = {}
@@ -220,9 +234,13 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
         env = get_environment(name)
         assert env is not None, "LIGHTINGS[1:] are environments"
         envs[name] = env
-    # the blur level of a sample depends on its footprint only, not on the map: any environment gives it
-    samples, used = _sample_blocks(roughness_alpha, levels(next(iter(envs.values()))), cos_nodes)
-    return {
+    # the blur level of a sample depends on its footprint only, not on the map: any environment gives it; the levels
+    # embedded are those any finish's samples use
+    maps = levels(next(iter(envs.values())))
+    alphas = [float(roughness_alpha)] + [float(a) for a in (finishes or {}).values()]
+    used = sorted({int(k) for a in alphas for k in np.unique(_sample_levels(a, maps))})
+    samples = _sample_blocks(roughness_alpha, maps, cos_nodes, used)
+    doc = {
         "format": FORMAT, "format_version": _VERSION,
         "method": "GGX visible-normal samples per view bin (swatch.render.env_shading), F at each sample's theta_d from the "
                   "colour table, per-sample blurred environment, level fixed by the dense directional albedo; F "
@@ -234,51 +252,95 @@ def environment_data(roughness_alpha: float, cos_nodes: int) -> dict:
         "samples": samples,
         "environments": {name: _environment_block(env, used) for name, env in envs.items()},
     }
+    if finishes:
+        doc["finish_samples"] = {name: samples if float(a) == float(roughness_alpha) else
+                                 _sample_blocks(float(a), maps, cos_nodes, used) for name, a in finishes.items()}
+    if studio is not None:
+        shapes, set_envs = studio
+        doc["set"] = set_geometry() | {"shapes": {
+            name: {"floor_y": v["floor_y"], "scale": v["scale"], "texels": v["texels"],
+                   "shadow": _block(v["shadow"], "float16"), "bounce": _block(v["bounce"], "float16"),
+                   "environment": _environment_block(set_envs[name], used)} for name, v in shapes.items()}}
+    return doc
 
 
 # -- the build cache ---------------------------------------------------------------------------
-def _key(roughness_alpha: float, cos_nodes: int) -> str:
+def _key(roughness_alpha: float, cos_nodes: int, studio: tuple | None, finishes: dict[str, float] | None) -> str:
     code = code_hash(__name__)  # this module and every module it imports
+    bakes = None if studio is None else {
+        name: hashlib.sha256(v["shadow"].tobytes() + v["bounce"].tobytes() + repr((v["scale"], v["floor_y"])).encode()).hexdigest()
+        for name, v in studio[0].items()}
     blob = {"alpha": float(roughness_alpha), "nodes": int(cos_nodes), "code": code,
-            "numpy": metadata.version("numpy")}
+            "numpy": metadata.version("numpy"), "set": bakes, "finishes": finishes}
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
 
 
-def _valid(doc) -> bool:
-    """Whether a cached document (untrusted: read back from the catalog folder) is well formed."""
+def _atlas_ok(e: dict, n_levels: int) -> bool:
+    atlas = decode_block(e["atlas"])
+    if atlas.ndim != 2 or len(e["levels"]) != n_levels or not np.all(np.isfinite(atlas)):
+        return False
+    for lv in e["levels"]:
+        x0, res = lv["x0"], lv["res"]
+        if not (isinstance(x0, int) and isinstance(res, int) and x0 >= 0 and res >= 1):
+            return False
+        if x0 + res + 2 > atlas.shape[1] or res + 2 > atlas.shape[0]:
+            return False
+    return True
+
+
+def _samples_ok(s: dict) -> bool:
+    m, n = int(s["bins"]), int(s["samples"])
+    want = {"directions": (m, n, 3), "level": (m, n), "cos_theta_d": (m, n, 1), "weight": (m, n, 1),
+            "moment_weights": (m, n, BASIS), "albedo_matrix": (m, int(s["cos_theta_d_nodes"]))}
+    for name, shape in want.items():
+        a = decode_block(s[name])
+        if a.shape != shape or not np.all(np.isfinite(a)):
+            return False
+    return True
+
+
+def _valid(doc, shapes: set[str] | None, finishes: list[str]) -> bool:
+    """Whether a cached document (untrusted: read back from the catalog folder) is well formed, with the set
+    baked around ``shapes`` (None: no set)."""
     try:
         if doc["format"] != FORMAT or doc["format_version"] != _VERSION or doc["lightings"] != list(LIGHTINGS):
             return False
         s = doc["samples"]
-        m, n = int(s["bins"]), int(s["samples"])
-        want = {"directions": (m, n, 3), "level": (m, n), "cos_theta_d": (m, n, 1), "weight": (m, n, 1),
-                "moment_weights": (m, n, BASIS), "albedo_matrix": (m, int(s["cos_theta_d_nodes"]))}
-        for name, shape in want.items():
-            a = decode_block(s[name])
-            if a.shape != shape or not np.all(np.isfinite(a)):
+        if not _samples_ok(s) or list(doc.get("finish_samples", {})) != finishes:
+            return False
+        if not all(_samples_ok(f) for f in doc.get("finish_samples", {}).values()):
+            return False
+        n_levels = len(doc["environments"][LIGHTINGS[1]]["levels"])
+        if any(int(decode_block(f["level"]).max()) >= n_levels for f in [s, *doc.get("finish_samples", {}).values()]):
+            return False
+        if not all(_atlas_ok(e, n_levels) for e in doc["environments"].values()):
+            return False
+        if ("set" in doc) != (shapes is not None):
+            return False
+        if shapes is not None:
+            baked = doc["set"]["shapes"]
+            if set(baked) != shapes:
                 return False
-        n_levels = int(decode_block(s["level"]).max()) + 1
-        for e in doc["environments"].values():
-            atlas = decode_block(e["atlas"])
-            if atlas.ndim != 2 or len(e["levels"]) != n_levels or not np.all(np.isfinite(atlas)):
-                return False
-            for lv in e["levels"]:
-                x0, res = lv["x0"], lv["res"]
-                if not (isinstance(x0, int) and isinstance(res, int) and x0 >= 0 and res >= 1):
+            for v in baked.values():
+                nx, ns = (int(t) for t in v["texels"])
+                if not _atlas_ok(v["environment"], n_levels):
                     return False
-                if x0 + res + 2 > atlas.shape[1] or res + 2 > atlas.shape[0]:
-                    return False
+                for k in ("shadow", "bounce"):
+                    a = decode_block(v[k])
+                    if a.shape != (ns, nx) or not np.all(np.isfinite(a)):
+                        return False
         return set(doc["environments"]) == set(LIGHTINGS[1:])
     except (KeyError, TypeError, ValueError):
         return False
 
 
-def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path | None) -> dict:
+def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path | None, studio: tuple | None = None,
+                            finishes: dict[str, float] | None = None) -> dict:
     """:func:`environment_data`, from the build cache when it holds a well-formed entry.
 
     Parameters
     ----------
-    roughness_alpha, cos_nodes
+    roughness_alpha, cos_nodes, studio, finishes
         As :func:`environment_data`.
     cache : pathlib.Path or None
         The catalog's cache folder (``explorer-env-<key>.json``, the key a hash of the inputs,
@@ -293,12 +355,12 @@ def environment_data_cached(roughness_alpha: float, cos_nodes: int, cache: Path 
     """
 
     if cache is None:
-        return environment_data(roughness_alpha, cos_nodes)
-    path = cache / f"explorer-env-{_key(roughness_alpha, cos_nodes)}.json"
+        return environment_data(roughness_alpha, cos_nodes, studio, finishes)
+    path = cache / f"explorer-env-{_key(roughness_alpha, cos_nodes, studio, finishes)}.json"
     doc = read_cache_json(path)
-    if doc is not None and _valid(doc):
+    if doc is not None and _valid(doc, None if studio is None else set(studio[0]), list(finishes or ())):
         return doc
-    doc = environment_data(roughness_alpha, cos_nodes)
+    doc = environment_data(roughness_alpha, cos_nodes, studio, finishes)
 
     for stale in cache.glob("explorer-env-*.json"):
         remove_tree(stale)

@@ -19,6 +19,7 @@ import json
 import re
 from importlib import resources
 
+from swatch.catalog.words import METRIC_SYMBOLS, explain_html, geometry_list_html, geometry_words, tolerance_words
 from swatch.colorimetry.names import colour_names
 from swatch.core.choices import LIGHTINGS
 from swatch.physics.growth import voltage_text
@@ -27,9 +28,10 @@ __all__ = ["index_html", "embed_json", "hero_png", "page_script", "page_style", 
 
 #: The page's script files, concatenated in this order inside one strict-mode function.
 SCRIPTS = ("colour.js", "microfacet.js", "envlight.js", "view.js", "link.js", "page.js")
-#: Labels of the live view's lighting choices (swatch.core.choices.LIGHTINGS).
-LIGHTING_LABELS = {"point": "point light (light angle)", "uniform": "uniform (radiance 1 everywhere)",
-                   "studio": "studio: soft boxes, dark walls, floor and horizon (as the sheets' renders)"}
+#: Labels of the live view's lighting choices (swatch.core.choices.LIGHTINGS): plain words, the name after
+#: (short: the menu fits a phone's width).
+LIGHTING_LABELS = {"point": "one lamp (point light)", "uniform": "even white light (uniform)",
+                   "studio": "photo studio (as the sheets)"}
 #: Width (CSS px) of a render and of the angular map in a card.
 CARD_IMAGE_PX = 96
 
@@ -141,7 +143,7 @@ def _sprite(sheet: str, rect, origin, sheet_px, px: int, cls: str, label: str) -
     style = (f"width:{px}px;height:{round(h * k)}px;background-image:url({html.escape(sheet)});"
              f"background-size:{sheet_px[0] * k:.2f}px {sheet_px[1] * k:.2f}px;"
              f"background-position:{-(origin[0] + x) * k:.2f}px {-(origin[1] + y) * k:.2f}px")
-    return f'<div class="{cls}" role="img" aria-label="{html.escape(label)}" style="{style}"></div>'
+    return f'<div class="{cls}" role="img" aria-label="{html.escape(label)}" data-src-px="{int(w)}" style="{style}"></div>'
 
 
 #: A hero's file as the page accepts it: a relative path of plain characters, a PNG (the build writes
@@ -178,15 +180,17 @@ def _hero_img(s: dict) -> str:
     size = s["hero"].get("size_px")
     px = min(CARD_HERO_MAX_PX, max(CARD_IMAGE_PX, int(size) // 2)) if isinstance(size, int) and size > 0 else 96
     what = f'{s["hero"].get("shape", "sphere")} under the {s["hero"].get("lighting", "studio")} light'
-    return (f'<img class="hero" src="{html.escape(png)}" width="{px}" height="{px}" loading="lazy" '
+    data = f' data-px="{int(size)}"' if isinstance(size, int) and size > 0 else ""
+    return (f'<img class="hero" src="{html.escape(png)}" width="{px}" height="{px}"{data} loading="lazy" '
             f'alt="{html.escape(s["id"])}: {_fmt(s["thickness_nm"], 1)} nm, path-traced {html.escape(what)}">')
 
 
 def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
     e = html.escape
     ref = c["reference_geometry"]["name"]
+    seen = f'seen {geometry_words(c["reference_geometry"])}'  # the reference geometry in plain words
     gam = "" if s["in_srgb_gamut"] else '<span class="gamut">outside sRGB</span>'
-    chip_html = (f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="sRGB {e(s["srgb_hex"])} at {e(ref)}">'
+    chip_html = (f'<div class="chip{"" if s["in_srgb_gamut"] else " out-of-gamut"}" style="{_chip_style(s["srgb_hex"], chips and chips["p3"])}" title="{e(s["srgb_hex"])} {seen} (sRGB at {e(ref)})">'
                  f'{gam}</div>')
     out = [f'<article class="card" id="card-{e(s["id"])}" data-id="{e(s["id"])}">']
     hero = _hero_img(s)
@@ -199,43 +203,50 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
             oog = chips is not None and not chips["multi_in_srgb_gamut"].get(g["name"], True)
             cls, note = (' class="out-of-gamut"', " (outside sRGB: clipped)") if oog else ("", "")
             out.append(f'<span{cls} style="background-color:{e(s["multi_angle_srgb_hex"][g["name"]])}" '
-                       f'title="{e(g["name"])}: L*a*b* {lab}{note}"></span>')
+                       f'title="seen {geometry_words(g)} ({e(g["name"])}): L*a*b* {lab}{note}"></span>')
         out.append("</div>")
     if tiles is not None:
         origin = tiles["origins"][s["id"]]
         out.append('<div class="imgs">')
-        for shape, rect in zip(c["render"]["shapes"], tiles["renders"], strict=True):
+        names = list(c["render"]["shapes"]) + (["part"] if c["render"].get("mesh") else [])
+        for shape, rect in zip(names, tiles["renders"], strict=True):
             out.append(_sprite(s["sheet_png"], rect, origin, tiles["sheet_px"], CARD_IMAGE_PX, "render",
                                f"{shape} render, light 45°"))
         if tiles["amap"] is not None:
             lo, hi = tiles["amap_deg"]
             out.append(f'<figure class="map"><span class="ylab">light {lo:g}–{hi:g}° →</span>'
                        + _sprite(s["sheet_png"], tiles["amap"], origin, tiles["sheet_px"], CARD_IMAGE_PX, "amap",
-                                 "angular map: colour over light (up) and view (across) polar angle")
+                                 "the colour at every light and view angle (angular map: light up, view across)")
                        + f'<span></span><span class="xlab">view {lo:g}–{hi:g}° →</span></figure>')
         out.append("</div>")
     pw = s["process_window"]
+    # plain words first, the code after them (label, code, value)
     rows = [
-        (f"L*a*b* ({ref})", "  ".join(_fmt(v, 2) for v in s["Lab"])),
-        ("L*C*h", f'{_fmt(s["LCh"][0], 2)}  {_fmt(s["LCh"][1], 2)}  {_fmt(s["LCh"][2], 1)}°'),
-        (f'window ({pw["metric"]} ≤ {pw["max"]:g})',
+        (f"colour {seen}", f"L*a*b*, {ref}", "  ".join(_fmt(v, 2) for v in s["Lab"])),
+        ("lightness, chroma, hue", "L*C*h", f'{_fmt(s["LCh"][0], 2)}  {_fmt(s["LCh"][1], 2)}  {_fmt(s["LCh"][2], 1)}°'),
+        ("forgives a drift of", f'process window, {METRIC_SYMBOLS.get(pw["metric"], pw["metric"])} ≤ {pw["max"]:g}',
          f'−{_fmt(pw["thickness_minus_nm"], 1)} / +{_fmt(pw["thickness_plus_nm"], 1)} nm'),
-        ("", f'−{_fmt(pw["voltage_minus_V"], 2)} / +{_fmt(pw["voltage_plus_V"], 2)} V'),
-        ("ΔE00 prev / next", f'{_fmt(s["delta_E_00_to_neighbours"]["previous"], 2)} / '
-                             f'{_fmt(s["delta_E_00_to_neighbours"]["next"], 2)}'),
+        ("", "", f'−{_fmt(pw["voltage_minus_V"], 2)} / +{_fmt(pw["voltage_plus_V"], 2)} V'),
+        ("step to the neighbours", "ΔE00 previous / next", f'{_fmt(s["delta_E_00_to_neighbours"]["previous"], 2)} / '
+                                                           f'{_fmt(s["delta_E_00_to_neighbours"]["next"], 2)}'),
     ]
     out.append('<div class="body">')
     volts = "" if s["voltage_V"] is None else f' · {_fmt(s["voltage_V"], 1)} V'
     out.append(f'<div class="title">{_fmt(s["thickness_nm"], 1)} nm{volts}'
                f'<span class="hex">{e(s["srgb_hex"])}</span></div>')
-    out.append(f'<div class="name">{e(s.get("colour_name", ""))}</div>')
-    out.append("<table><tbody>" + "".join(f'<tr><td>{e(k)}</td><td class="num">{e(v)}</td></tr>' for k, v in rows)
-               + "</tbody></table>")
+    # the name holds at the reference geometry (the live view names the colour at its own angle)
+    name = s.get("colour_name", "")
+    out.append(f'<div class="name">{e(name)} {seen} <span class="code">({e(ref)})</span></div>' if name else
+               '<div class="name"></div>')
+    out.append("<table><tbody>" + "".join(f'<tr><td>{_label(k, code)}</td><td class="num">{e(v)}</td></tr>'
+                                          for k, code, v in rows) + "</tbody></table>")
     if c["multi_angle_geometries"]:
-        out.append("<details><summary>multi-angle L*a*b*</summary><table><tbody>")
+        out.append(f"<details><summary>colour at other angles {_label('', 'multi-angle L*a*b*')}</summary>"
+                   '<table class="multi"><tbody>')
         for g in c["multi_angle_geometries"]:
             lab = "  ".join(_fmt(v, 2) for v in s["multi_angle"][g["name"]])
-            out.append(f'<tr><td>{e(g["name"])} (θd {_fmt(g["theta_d_deg"], 1)}°)</td><td class="num">{lab}</td></tr>')
+            code = f'{g["name"]}, θd {_fmt(g["theta_d_deg"], 1)}°'
+            out.append(f'<tr><td>{_label("seen " + geometry_words(g), code)}</td><td class="num">{lab}</td></tr>')
         out.append("</tbody></table></details>")
     out.append(f'<div class="links"><a href="{e(s["sheet_png"])}">sheet {s["sheet"]} (PNG)</a>'
                f'<a href="{e(s["sheet_exr"])}">EXR</a></div>')
@@ -249,7 +260,7 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
                  ("materialx", "MaterialX", "materialx_max_delta_E_00"))
         title = ("3-D material presets; max " + str(p.get("conditions", "")) + "; at 0–45°: "
                  + ", ".join(f"{label} {_fmt(p.get(dk + '_45'), 1)}" for _, label, dk in kinds))
-        out.append(f'<div class="links presets" title="{e(title)}"><span>3-D material presets, largest ΔE00 from this swatch:</span>'
+        out.append(f'<div class="links presets" title="{e(title)}"><span>3-D material presets (largest colour error, ΔE00):</span>'
                    + "".join(f' <a href="{e(str(p[k]))}">{label} {_fmt(p.get(dk), 1)}</a>'
                              for k, label, dk in kinds if p.get(k))  # a space before each: the line may break there
                    + (f' <a href="{e(str(p["mitsuba"]))}" title="Mitsuba 3 with swatch\'s anodic_film BSDF: the exact '
@@ -258,6 +269,13 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
                    + "</div>")
     out.append("</div></article>")
     return "".join(out)
+
+
+def _label(words: str, code: str) -> str:
+    """A label in plain words with its code after it, in parentheses (smaller, on its own line in a card)."""
+    e = html.escape
+    tail = f' <span class="code">({e(code)})</span>' if code else ""
+    return f'<span class="words">{e(words)}</span>{tail}' if words else tail.lstrip()
 
 
 def _growth_text(process: dict) -> str:
@@ -269,33 +287,6 @@ def _growth_text(process: dict) -> str:
     if "spread_nm" in process:
         text += f"; thickness spread {process['spread_nm']:g} nm + {100 * process['spread_fraction']:g} % (1σ)"
     return text
-
-
-def _explain(c: dict) -> str:
-    e = html.escape
-    ref = c["reference_geometry"]
-    pw = c["tolerance"]
-    names = ", ".join(e(g["name"]) for g in c["multi_angle_geometries"]) or "none"
-    return f"""<div class="explain">
-<details><summary>What is {e(ref["name"])}?</summary><p>The colour numbers are measured as a
-colour instrument does: light from {ref["light_deg"]:g}° off the surface's normal, viewed at
-{ref["view_deg"]:g}° (straight on for 0°). The film's colour is that of the tiny facets tilted to
-reflect the light into your eye; at {e(ref["name"])} they meet the light at θd = {ref["theta_d_deg"]:g}°.
-Anodised titanium changes colour with angle, so every number says its geometry.</p></details>
-<details><summary>Multi-angle codes</summary><p>Under each chip, left to right: {names}. The light
-stays at 45°; “as15” means the viewer is 15° away from the gloss (the mirror direction), “as−15” 15°
-past it on the light's side, “as110” far from it. Near the gloss the colour is the brightest and
-shifts most; far from it you see the colour at grazing facets.</p></details>
-<details><summary>Process window and grade</summary><p>How far the oxide may drift (thinner / thicker,
-and the anodising voltage that makes that drift) before the colour moves further from the nominal swatch
-than the tolerance, {e(pw["text"])}, judged in the metric it is defined in{
-"" if not pw.get("grade_description") else f" ({e(pw['grade_description'])})"}. A wide window means a forgiving
-colour; a narrow one needs tight voltage control.</p></details>
-<details><summary>sRGB, Display P3 and dashed chips</summary><p>Chips are CIE 1931 2° colorimetry
-shown in sRGB, or in Display P3 on wide-gamut screens. Some interference colours lie outside sRGB:
-those chips are clipped, marked “outside sRGB” and outlined with a dashed line (multi-angle patches
-too).</p></details>
-</div>"""
 
 
 def _palette(swatches: list[dict]) -> str:
@@ -314,7 +305,9 @@ def _lighting_select(env: dict | None) -> str:
     """The live view's lighting choice: the point light, and the environments the page embeds."""
 
     names = [n for n in LIGHTINGS if n == "point" or (env is not None and n in env["environments"])]
-    opts = "".join(f'<option value="{html.escape(n)}">{html.escape(LIGHTING_LABELS.get(n, n))}</option>' for n in names)
+    # with the heroes' studio set, the studio is theirs (the path tracer's), not the sheets'
+    labels = LIGHTING_LABELS | ({"studio": "photo studio (as the path-traced pictures)"} if env is not None and "set" in env else {})
+    opts = "".join(f'<option value="{html.escape(n)}">{html.escape(labels.get(n, n))}</option>' for n in names)
     return f'<label>lighting<select id="lighting">{opts}</select></label>'
 
 
@@ -324,6 +317,7 @@ def _tools(c: dict, env: dict | None = None) -> str:
 <div class="stage"><div class="frame"><canvas id="view" width="800" height="600" tabindex="0" role="img"
 aria-label="live view of the swatch: drag, or use the arrow keys, to turn it"></canvas>
 <p id="hero-badge" hidden></p></div>
+<div id="finish-bar" class="finish-bar" role="group" aria-label="finish of the metal" hidden></div>
 <p class="hint stage-hint">Drag the picture to turn the part, or focus it and use the arrow keys.</p></div>
 <div class="panel">
 <h2>Live view</h2>
@@ -332,25 +326,25 @@ aria-label="live view of the swatch: drag, or use the arrow keys, to turn it"></
 <input id="thickness" type="range" step="0.1" aria-label="thickness (nm)"></label>
 <label id="voltage-range-label"><span>voltage (through the process's growth law)</span>
 <input id="voltage-range" type="range" step="0.05" aria-label="voltage (V)"></label>
-<div class="pair"><label>voltage V<input id="voltage" type="number" step="0.1"></label>
+<div class="pair"><label>voltage (V)<input id="voltage" type="number" step="0.1"></label>
 <label>shape<select id="shape"><option value="plate">plate</option><option value="bent sheet">bent sheet (half cylinder)</option>
 <option value="sphere">sphere</option></select></label>
-<label>shading<select id="model"><option value="microfacet">microfacet (D·G)</option>
-<option value="paper">paper (facet colour only)</option></select></label></div>
+<label>surface<select id="model"><option value="microfacet">realistic metal (microfacet D·G)</option>
+<option value="paper">flat colour, no gloss (paper model)</option></select></label></div>
 <div class="pair">{_lighting_select(env)}</div>
 <label><span>light angle <strong id="l-out"></strong></span><input id="light" type="range" min="0" max="85" step="0.5"></label>
-<label><span>light azimuth <strong id="la-out"></strong></span><input id="light-azimuth" type="range" min="-180" max="180" step="1"></label>
-<label><span>fill <strong id="f-out"></strong> (point light: a uniform white surround, 1 = the light that shows
-white paper as white; 0 = the bare light, black where it does not reach)</span><input id="fill" type="range" min="0" max="1" step="0.01"></label>
+<label><span>light direction around the part <strong id="la-out"></strong> (azimuth)</span><input id="light-azimuth" type="range" min="-180" max="180" step="1"></label>
+<label><span>fill light <strong id="f-out"></strong> (with the lamp: white light from all around; 1 shows white paper
+as white, 0 is the bare lamp, black where it does not reach)</span><input id="fill" type="range" min="0" max="1" step="0.01"></label>
 <label><span>view angle <strong id="w-out"></strong></span><input id="view-deg" type="range" min="0" max="85" step="0.5"></label>
 </form>
 <div class="readout">
 <div class="chip" id="state-chip"></div><div><strong id="state-label">this light and view</strong> <span id="state-gamut" class="gamut-note">(outside sRGB)</span><br><span id="state-text" class="num"></span></div>
-<div class="chip" id="ref-chip"></div><div><strong>reference {html.escape(ref["name"])}</strong><br><span id="ref-text" class="num"></span></div>
+<div class="chip" id="ref-chip"></div><div><strong>the catalog's colour, seen {geometry_words(ref)} (reference {html.escape(ref["name"])})</strong><br><span id="ref-text" class="num"></span></div>
 </div>
 <div><button type="button" id="pin">pin for comparison</button></div>
 <p class="hint" id="view-note">The light stays where it is when you turn the part. Lighting: the photo studio of
-the sheets' renders, uniform white, or one point light with a fill (a uniform white surround).</p>
+the sheets' renders, even white light, or one lamp with a fill light (white light from all around).</p>
 <details class="how"><summary>How the live view is drawn</summary><p class="hint">Colours are the thin-film
 physics of this catalog (embedded table), shaded with the microfacet model. Under the studio or uniform white
 the light is integrated over the microfacet lobe at exposure 1 (a white diffuser would be white), as
@@ -363,12 +357,13 @@ film's colour, dimmed rather than black. Outlines are antialiased. Where the cat
 <section id="find" class="tool" hidden aria-label="find by colour">
 <h2>Find by colour</h2>
 <form id="find-form" class="pair" autocomplete="off">
-<label>hex<input id="find-hex" type="text" size="9" placeholder="#2275b5"></label>
-<label>or L*a*b*<input id="find-lab" type="text" size="16" placeholder="47.5, -1.5, -40.8"></label>
-<label>picker<input id="find-picker" type="color" value="#2275b5"></label>
+<label>colour code (hex)<input id="find-hex" type="text" size="9" placeholder="#2275b5"></label>
+<label>or lightness, a, b (L*a*b*)<input id="find-lab" type="text" size="16" placeholder="47.5, -1.5, -40.8"></label>
+<label>or pick a colour<input id="find-picker" type="color" value="#2275b5"></label>
 <button type="submit">find</button>
 </form>
 <div class="find-target" id="find-target"></div>
+<div class="find-verdict" id="find-verdict" role="status" hidden></div>
 <ol id="find-results"></ol>
 </section>
 <section id="compare" class="tool" hidden aria-label="compare">
@@ -408,7 +403,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     csp = (f"default-src 'none'; style-src 'unsafe-inline'; script-src 'sha256-{script_hash}'; "
            "img-src 'self'; base-uri 'none'; form-action 'none'")
     ref = c["reference_geometry"]
-    multi = ", ".join(g["name"] for g in c["multi_angle_geometries"]) or "none"
+    multi = geometry_list_html(c["multi_angle_geometries"])
     files = [("catalog.json", "catalog.json"), ("catalog.csv", "catalog.csv"), (c["exports"]["cxf"], "CxF3"),
              (c["exports"]["ase"], "ASE (Lab D50/2°)")]
     if c["exports"].get("ase_srgb"):
@@ -449,16 +444,18 @@ interference, not dye. Each card is one film thickness{volts_text}. The picture 
 photo studio: turn it, or slide through the colours.</p>
 <p class="lede how-to"><strong>Choosing:</strong> pick a colour you like; the strip under its chip shows how it
 shifts with the viewing angle; prefer a wide process window (it forgives small voltage changes). “Compare”
-sets colours side by side; “Find by colour” finds the nearest to a hex code or L*a*b*.</p>
+sets colours side by side; “Find by colour” finds the nearest to a colour code (hex) or L*a*b* numbers, and says
+when anodised titanium cannot make it.</p>
 <details class="tech"><summary>Technical details: geometry, codes, tolerance, files</summary>
 <p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
 process {e(c["process"]["name"])}: {e(_growth_text(c["process"]))} · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·
-L*a*b* at {e(ref["name"])} (light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}
+L*a*b* seen {geometry_words(ref)} ({e(ref["name"])}: light {ref["light_deg"]:g}°, view {ref["view_deg"]:g}°) · model: {e(c["model"])}
 (in plain words: the colour the oxide film's light interference gives, on the tiny facets that mirror the light into the eye)</p>
-<p class="sub">Multi-angle (flop strip under each chip, left to right): {e(multi)} (“45as15”: light at 45°, viewer 15° from
-the gloss, the mirror direction; “as−15” 15° past it). Process window: thickness and
-voltage deviations that keep the colour difference to the nominal colour within {e(pw["text"])}.</p>
-{_explain(c)}
+<p class="sub">The colour at other angles (multi-angle; the strip under each chip, left to right): {multi} (“45as15”: light
+at 45°, viewer 15° from the gloss, the mirror direction; “as−15” 15° past it). How forgiving a colour is (process window):
+the thickness and voltage deviations that keep the colour difference to the nominal colour within the colour tolerance,
+{e(tolerance_words(pw))}{"" if not pw.get("grade_description") else f" ({e(pw['grade_description'])})"}.</p>
+{explain_html(c)}
 <p class="sub files phone">Download: {links}</p>
 </details>
 <p class="sub files wide">Download: {links}</p>
@@ -467,15 +464,18 @@ voltage deviations that keep the colour difference to the nominal colour within 
 {tools}
 <section id="filters" aria-label="filter and sort the swatches"><form id="controls" autocomplete="off">
 <fieldset><label>sort by<select id="sort"><option value="thickness">thickness</option>
-<option value="voltage">voltage</option><option value="hue">hue angle</option></select></label>
+<option value="voltage">voltage</option><option value="hue">hue (h°)</option>
+<option value="lightness">lightness (L*)</option></select></label>
 <label>order<select id="order"><option value="asc">ascending</option><option value="desc">descending</option></select></label></fieldset>
-<fieldset><label>thickness ≥ nm<input id="tmin" type="number" step="any"></label>
-<label>≤ nm<input id="tmax" type="number" step="any"></label></fieldset>
-<fieldset><label>voltage ≥ V<input id="vmin" type="number" step="any"></label>
-<label>≤ V<input id="vmax" type="number" step="any"></label></fieldset>
-<fieldset><label>colour<select id="family"><option value="">any</option>{families}</select></label>
-<label>hue from °<input id="hmin" type="number" min="0" max="360" step="any"></label>
-<label>to °<input id="hmax" type="number" min="0" max="360" step="any"></label></fieldset>
+<fieldset><label>thickness from (nm)<input id="tmin" type="number" step="any"></label>
+<label>to (nm)<input id="tmax" type="number" step="any"></label></fieldset>
+<fieldset><label>voltage from (V)<input id="vmin" type="number" step="any"></label>
+<label>to (V)<input id="vmax" type="number" step="any"></label></fieldset>
+<fieldset><label>colour name<select id="family"><option value="">any</option>{families}</select></label>
+<label>hue from (h°)<input id="hmin" type="number" min="0" max="360" step="any"></label>
+<label>to (h°)<input id="hmax" type="number" min="0" max="360" step="any"></label></fieldset>
+<fieldset><label>lightness from (L*)<input id="lmin" type="number" min="0" max="100" step="any"></label>
+<label>to (L*)<input id="lmax" type="number" min="0" max="100" step="any"></label></fieldset>
 <fieldset><button type="reset">reset</button></fieldset>
 <span id="count" role="status"></span>
 </form></section>

@@ -18,7 +18,7 @@ from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, 
 from swatch.presets import EXACT_FORMATS, PRESET_FORMATS
 
 __all__ = ["SUBFOLDERS", "SHEETS", "CHIPS", "PRESETS", "HEROES", "output_name", "subfolders_of", "check_subfolders",
-           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary", "sheet_count"]
+           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary", "sheet_count", "extra_hero_files"]
 
 #: The catalog folder's subfolders (issue 21); everything else (page, JSON/CSV, exports) lies at the top.
 SHEETS, CHIPS, PRESETS, HEROES = "sheets", "chips", "presets", "heroes"
@@ -174,7 +174,8 @@ def drop_empty_subfolders(out: Path, files) -> None:
 PRESET_FILES_PER_SWATCH = len(PRESET_FORMATS) + 2 * len(EXACT_FORMATS)
 
 
-def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, presets: bool = True) -> str:
+def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, presets: bool = True,
+                   hero_extra: int = 0) -> str:
     """One line: what a build of ``swatches`` swatches on ``sheets`` sheets writes where (``catalog validate``).
 
     Parameters
@@ -183,6 +184,8 @@ def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, preset
         Swatches and sheets of the catalog.
     chips, heroes, presets : bool
         Whether the spec asks for print chips, hero renders and 3-D presets.
+    hero_extra : int, optional
+        Hero files besides one per swatch (:func:`extra_hero_files`: the cover, the other finishes').
 
     Returns
     -------
@@ -190,11 +193,36 @@ def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, preset
         E.g. ``"index.html, catalog.json/.csv, CxF and ASE at the top; sheets/ 10 files, chips/ 114, presets/ 285"``.
     """
     counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, PRESET_FILES_PER_SWATCH * swatches if presets else 0),
-              (HEROES, swatches if heroes else 0)]
+              (HEROES, swatches + hero_extra if heroes else 0)]
     subs = [f"{sub}/ {n}" for sub, n in counts if n]
     if subs:
         subs[0] += " files"
     return "index.html, catalog.json/.csv, CxF and ASE at the top; " + ", ".join(subs)
+
+
+def extra_hero_files(cover: bool, finishes: int) -> int:
+    """Hero files besides one per swatch: the cover, and the cover swatch's hero (and cover) in each finish offered
+    after the first (swatch.catalog.hero).
+
+    Parameters
+    ----------
+    cover : bool
+        Whether the spec asks for a cover (``hero_cover_px`` > 0).
+    finishes : int
+        Finishes offered (0 or 1: one).
+
+    Returns
+    -------
+    int
+        How many files ``heroes/`` holds beyond one per swatch.
+
+    Examples
+    --------
+    >>> extra_hero_files(True, 4), extra_hero_files(False, 4), extra_hero_files(True, 0)
+    (7, 3, 1)
+    """
+    per_finish = 2 if cover else 1
+    return (1 if cover else 0) + per_finish * max(finishes - 1, 0)
 
 
 def sheet_count(manifest: dict) -> int:

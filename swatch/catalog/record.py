@@ -1,7 +1,7 @@
 """One swatch's record: a typed, immutable object with one serialiser (``catalog.json`` → ``swatches``).
 
 :func:`swatch.catalog.records.compute` makes a :class:`SwatchRecord` per swatch; the build adds the
-print chip, the 3-D presets and the hero render (each stage returns its entry, the build puts them
+print chip, the 3-D presets and the hero renders (each stage returns its entry, the build puts them
 on with :func:`dataclasses.replace`) and serialises every record once with :meth:`SwatchRecord.to_json`.
 The JSON view is what the writers (sheets, chips, exports, page) read; nothing mutates it.
 The keys and their order are those of ``catalog.json`` (docs/catalog.md).
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 __all__ = ["SwatchRecord", "ProcessWindowEntry", "Neighbours", "PrintChip", "to_json"]
 
 #: Trailing entries written only when a stage set them (in this order).
-OPTIONAL = ("print_chip", "presets", "hero")
+OPTIONAL = ("print_chip", "presets", "hero", "hero_finishes")
 
 
 def to_json(value):
@@ -146,6 +146,9 @@ class SwatchRecord:
         (row, column) on ``sheet``, from 1.
     print_chip, presets, hero : PrintChip, dict or None
         Set by their stages (None: absent from the JSON).
+    hero_finishes : dict or None
+        Finish name to a hero entry shaped as ``hero`` (every finish the swatch has a hero in, the first
+        included); set by the hero stage when the spec names finishes.
     """
 
     id: str
@@ -173,6 +176,7 @@ class SwatchRecord:
     print_chip: PrintChip | None = None
     presets: dict | None = None
     hero: dict | None = None
+    hero_finishes: dict | None = None
 
     def to_json(self) -> dict:
         """The record as ``catalog.json`` writes it (the one serialiser): keys in field order, the

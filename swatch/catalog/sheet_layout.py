@@ -54,7 +54,7 @@ class Layout:
 
     def __init__(self, spec: CatalogSpec):
         s = spec.size_px
-        n = len(spec.shapes)
+        n = len(spec.tile_renders)  # the shapes, and the part
         self.size = s
         self.amap = (AMAP_ANGLES_DEG.size * AMAP_CELL_PX) if spec.angular_map else 0
         self.renders_w = n * s + (n - 1) * self.GAP

@@ -96,7 +96,8 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
              + (f" to {voltage_text(spec.knee_V)} V, then {spec.nm_per_V_above_knee:g} nm/V" if spec.knee_V is not None else "")
              + (f", spread {spec.spread.text().strip(' ±')}" if not spec.spread.is_zero else "")
              + (f", film index ×{spec.film_index_scale:g}" if spec.film_index_scale != 1 else "")
-             + (f"  ·  finish {spec.finish_spec.label()}" if spec.finish_spec is not None else ""))
+             + (f"  ·  finish {spec.finish_spec.label()}" if spec.finish_spec is not None else "")
+             + (f", also offered: {', '.join(spec.finishes[1:])}" if len(spec.finishes) > 1 else ""))
     img = draw_text(img, fit_text(line2, 16, w, "DroidSans"), 0, 66, 16, INK)
     line3 = (f"L*a*b* at {ref['name']} (light {ref['light_deg']:g}°, view {ref['view_deg']:g}° from the normal)  ·  "
              f"window: the thickness and voltage deviations that keep the colour difference to the nominal "
@@ -110,7 +111,9 @@ def _header(spec: CatalogSpec, header: dict, lay: Layout, number: int, of: int) 
 def _footer(spec: CatalogSpec, header: dict, lay: Layout) -> np.ndarray:
     w = lay.width - 2 * lay.MARGIN
     img = _strip(w, lay.FOOTER - 8, PAGE)
-    shapes = " and ".join({"flat": "flat plate", "cylinder": "half cylinder", "sphere": "sphere"}[s] for s in spec.shapes)
+    names = {"flat": "flat plate", "cylinder": "half cylinder", "sphere": "sphere", "mesh": f"the part ({spec.mesh})"}
+    shapes = ", ".join(names[s] for s in spec.tile_renders[:-1]) + (" and " if len(spec.tile_renders) > 1 else "") \
+        + names[spec.tile_renders[-1]]
     model = ("paper model" if spec.model != "microfacet" else f"microfacet GGX, {spec.finish_spec.label()}"
              if spec.finish_spec is not None else f"microfacet GGX, roughness {spec.roughness:g}")
     line1 = (f"Renders: {shapes}, {model}, {lighting_caption(spec)}."
@@ -265,13 +268,14 @@ def compose_sheet(spec: CatalogSpec, tile_job: TileRender, header: dict, records
         rx = x0 + lay.PAD + (lay.tile_w - 2 * lay.PAD - lay.renders_w) // 2
         ry = y0 + lay.PAD
         renders = []
-        for i, shape in enumerate(spec.shapes):
+        for i, shape in enumerate(spec.tile_renders):
             s = lay.size
             xx = rx + i * (s + lay.GAP)
             disp[ry:ry + s, xx:xx + s] = arrays[f"r{i}_display"]
             lin_patches.append((ry, xx, slot, f"r{i}"))  # pasted on the linear page below (tile read again)
             renders.append({"shape": shape, "rect_px": [xx, ry, s, s], "exposure": float(arrays[f"r{i}_exposure"]),
-                            "lighting": tile_environment(spec) or f"light {LIGHT_DEG:g} deg"})
+                            "lighting": tile_environment(spec) or f"light {LIGHT_DEG:g} deg",
+                            **({"mesh": spec.mesh} if shape == "mesh" else {})})
         ly = ry + lay.size + lay.GAP
         labels = _tile_labels(rec, spec, lay)
         lx = x0 + lay.PAD

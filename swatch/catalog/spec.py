@@ -15,10 +15,12 @@ from pathlib import Path
 
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
 from swatch.catalog.spec_checks import SpecChecker, spec_material, spec_process, spec_range
+from swatch.catalog.spec_files import SPECS_DIR, bundled_specs, resolve_spec_path
+from swatch.catalog.spec_render import parse_render
 from swatch.colorimetry import tolerance
 from swatch.colorimetry.geometry import DEFAULT_ASPECULAR_DEG, Geometry, geometry_name
 from swatch.colorimetry.tolerance import get_tolerance
-from swatch.core.choices import FINISHES, MODELS, SHAPES
+from swatch.core.choices import MODELS, SHAPES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CHIP_PX, MAX_SPEC_BYTES, MAX_THICKNESS_NM, MAX_VOLTAGE_V, read_text_capped
 from swatch.physics.finishes import get_finish
@@ -28,10 +30,6 @@ from swatch.physics.spread import ThicknessSpread
 
 __all__ = ["spec_summary", "CatalogSpec", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS",
            "SPECS_DIR", "bundled_specs", "resolve_spec_path"]
-
-#: The catalog specs shipped inside the package (``swatch/catalog/specs/*.toml``, package data; in the
-#: repository a link to its ``catalog/`` folder), found by name: ``swatch catalog build titanium``.
-SPECS_DIR = Path(__file__).resolve().parent / "specs"
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
 RENDER_SHAPES, RENDER_MODELS = SHAPES, MODELS
@@ -63,7 +61,13 @@ class CatalogSpec:
     multi_angle : tuple of swatch.colorimetry.geometry.Geometry
         The multi-angle geometries (default 45as-15 … 45as110, ASTM E2194 / E2539).
     shapes, size_px, model, roughness, angular_map, finish, hero
-        The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it).
+        The tiles' renders (``roughness`` is GGX α; a named ``finish`` sets it: the first of ``finishes``).
+    finishes : tuple of str
+        The finishes offered (the page's live view and the heroes), the first shown first and used by the sheets
+        and chips; ``(finish,)`` for ``finish = X`` alone; empty with a bare ``roughness``.
+    mesh, mesh_path, mesh_sha256 : str or None
+        The designer's part (``[render] mesh``): the name as given, its resolved path and the SHA-256 of its
+        bytes (None without one; the path is not part of :meth:`canonical`).
     hero_size_px, hero_spp, hero_cover_px, denoise
         The hero renders' side (pixels), samples per pixel, the page's cover's side (0: no cover), denoised or not.
     scheme, grade, metric, max_delta_E : str or None, str or None, str, float
@@ -125,6 +129,10 @@ class CatalogSpec:
     hero_cover_px: int = 0  # the page's first view: the most vivid swatch's hero at this side (0: none)
     denoise: bool = True  # heroes denoised (Intel Open Image Denoise, swatch.render.mitsuba.denoise)
     presets: bool = True  # per-swatch 3-D material presets (swatch.catalog.presets)
+    finishes: tuple[str, ...] = ()  # the finishes offered, the first shown first (= finish); () with a bare roughness
+    mesh: str | None = None  # the designer's part, as the spec names it (relative to the spec's folder)
+    mesh_sha256: str | None = None  # its bytes' hash (in the fingerprint: an edited part rebuilds)
+    mesh_path: str | None = field(default=None, compare=False)  # where it was read (not hashed: a moved folder)
 
     @property
     def finish_spec(self):
@@ -136,6 +144,17 @@ class CatalogSpec:
             The named finish (its GGX α, and α_u/α_v when brushed).
         """
         return None if self.finish is None else get_finish(self.finish)
+
+    @property
+    def tile_renders(self) -> tuple[str, ...]:
+        """What a sheet tile shows rendered, in order: the spec's shapes, then the part (``mesh``) when it names one.
+
+        Returns
+        -------
+        tuple of str
+            ``shapes``, plus ``"mesh"`` with a part.
+        """
+        return self.shapes + (("mesh",) if self.mesh else ())
 
     @property
     def tolerance(self):
@@ -214,7 +233,8 @@ class CatalogSpec:
         Returns
         -------
         dict
-            The fields as JSON values, less ``source`` and the unused keys named above.
+            The fields as JSON values, less ``source``, ``mesh_path`` (the part counts by its bytes' hash) and the
+            unused keys named above.
         """
         d = asdict(self)
         d.pop("source")
@@ -224,7 +244,10 @@ class CatalogSpec:
         if d["knee_V"] is None:  # a linear law: the hashes of before
             d.pop("knee_V")
             d.pop("nm_per_V_above_knee")
-        for key, default in (("presets", True), ("hero_cover_px", 0)):  # presets written, no cover (the defaults):
+        d.pop("mesh_path")
+        if len(d["finishes"]) <= 1:  # one finish (it is ``finish``) or none: the hashes of before
+            d.pop("finishes")
+        for key, default in (("presets", True), ("hero_cover_px", 0), ("mesh", None), ("mesh_sha256", None)):
             if d[key] == default:  # the hashes of before
                 d.pop(key)
         return d
@@ -325,33 +348,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     if len({g.name for g in multi}) != len(multi):
         c.fail("geometry.multi_angle.aspecular_deg", "must not repeat an angle", asp)
 
-    ren = c.table(data.get("render", {}), "render", ("shapes", "size_px", "model", "roughness", "finish",
-                                                    "angular_map", "hero", "hero_size_px", "hero_spp", "hero_cover_px", "denoise"))
-    shapes = ren.get("shapes", ["flat", "cylinder"])
-    if not isinstance(shapes, list) or not 1 <= len(shapes) <= 2:
-        c.fail("render.shapes", f"must be a list of one or two of {', '.join(RENDER_SHAPES)}", shapes)
-    shapes = tuple(c.string(s, f"render.shapes[{i}]", 20, RENDER_SHAPES) for i, s in enumerate(shapes))
-    if len(set(shapes)) != len(shapes):
-        c.fail("render.shapes", "must not repeat a shape", ren["shapes"])
-    size = c.integer(ren.get("size_px", 192), "render.size_px", 64, 512)
-    model = c.string(ren.get("model", "microfacet"), "render.model", 20, RENDER_MODELS)
-    rough = c.number(ren.get("roughness", 0.3), "render.roughness", 0.01, 1.0)
-    finish = None
-    if "finish" in ren:
-        if "roughness" in ren:
-            c.fail("render.finish", "give either finish or roughness, not both (a finish sets the roughness)", ren["finish"])
-        finish = c.string(ren["finish"], "render.finish", 20, FINISHES)
-        rough = get_finish(finish).roughness_alpha
-        if get_finish(finish).anisotropic and model != "microfacet":
-            c.fail("render.finish", f"{finish} is anisotropic: it needs model = \"microfacet\"", finish)
-    amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
-    if (hero := c.boolean(ren.get("hero", False), "render.hero")) and model != "microfacet":
-        c.fail("render.hero", "hero renders are of the microfacet model (Mitsuba); set model = \"microfacet\"", True)
-    hero_size = c.integer(ren.get("hero_size_px", 256), "render.hero_size_px", 32, 1024)
-    hero_spp = c.integer(ren.get("hero_spp", 16), "render.hero_spp", 1, 1024)
-    if (cover := c.integer(ren.get("hero_cover_px", 0), "render.hero_cover_px", 0, 2048)) and not hero:
-        c.fail("render.hero_cover_px", "the cover is the most vivid swatch's hero rendered larger: set hero = true", cover)
-    denoise = c.boolean(ren.get("denoise", True), "render.denoise")
+    render = parse_render(c, data.get("render", {}), base_dir)
 
     tol = c.table(data.get("tolerance", {}), "tolerance", ("scheme", "grade", "metric", "max", "search_nm"))
 
@@ -389,14 +386,12 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
         voltage_V=None if volts is None else tuple(float(v) for v in volts),
         illuminant=illuminant, observer=observer, wavelength_step_nm=wl_step,
-        reference=reference, multi_angle=tuple(multi), shapes=shapes, size_px=size, model=model,
-        roughness=rough, angular_map=amap, scheme=scheme, grade=grade, metric=metric, max_delta_E=max_dE,
+        reference=reference, multi_angle=tuple(multi), scheme=scheme, grade=grade, metric=metric, max_delta_E=max_dE,
         search_nm=search, columns=columns, rows=rows, chips=chips, chip_size_mm=chip_size, chip_dpi=chip_dpi,
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
-        finish=finish, hero=hero, hero_size_px=hero_size, hero_spp=hero_spp, hero_cover_px=cover, denoise=denoise,
-        presets=presets)
+        presets=presets, **render)
 
 
 def load_spec(path) -> tuple[CatalogSpec, bytes]:
@@ -430,53 +425,9 @@ def load_spec(path) -> tuple[CatalogSpec, bytes]:
     return parse_spec(data, source, p.parent), text.encode("utf-8")  # valid UTF-8: the file's bytes again
 
 
-def bundled_specs() -> dict[str, Path]:
-    """The catalog specs shipped with the package, by name.
-
-    Returns
-    -------
-    dict of str to pathlib.Path
-        Name (the file's stem, e.g. ``"titanium"``) to the spec file in :data:`SPECS_DIR`, sorted by name.
-    """
-    return {p.stem: p for p in sorted(SPECS_DIR.glob("*.toml"))}
-
-
-def resolve_spec_path(spec) -> Path:
-    """The spec file that ``spec`` names: a path to a TOML file, or the name of a bundled spec.
-
-    A file that exists wins; otherwise a bare name (no folder, no suffix) is looked up in
-    :func:`bundled_specs`, so ``"titanium"`` works in an empty folder, and in one where a catalog was
-    built into ``titanium/``.
-
-    Parameters
-    ----------
-    spec : str or path-like
-        A spec file's path (``"catalog/titanium.toml"``, ``"mine.toml"``) or a bundled name (``"titanium"``).
-
-    Returns
-    -------
-    pathlib.Path
-        The file to read (:func:`load_spec` reports a missing one).
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        ``spec`` is a bare name that is neither a file here nor a bundled spec.
-    """
-    p = Path(spec)
-    if p.is_file() or p.suffix or len(p.parts) != 1:
-        return p
-    bundled = bundled_specs()
-    if p.name in bundled:
-        return bundled[p.name]
-    if p.exists():
-        raise SwatchError(f"{spec} is a folder, not a catalog spec; give a TOML file or one of: {', '.join(bundled)}")
-    raise SwatchError(f"{spec}: no such file here, nor a bundled catalog spec; give a TOML file or one of: "
-                      f"{', '.join(bundled) or '(none bundled)'}")
-
-
 def spec_summary(s: CatalogSpec) -> str:
-    """One line: name, swatches, thickness range, sheets, materials, colorimetry, geometries, tolerance.
+    """One line: name, swatches, thickness range, sheets, materials, colorimetry, geometries, tolerance, the
+    finishes offered and the part.
 
     Parameters
     ----------
@@ -486,7 +437,8 @@ def spec_summary(s: CatalogSpec) -> str:
     Returns
     -------
     str
-        ``'NAME': N swatches, A–B nm, S sheet(s) of C×R; film on substrate; D65/10°; …; tolerance …``.
+        ``'NAME': N swatches, A–B nm, S sheet(s) of C×R; film on substrate; D65/10°; …; tolerance …``, then
+        ``; finishes polished, satin`` and ``; part part.glb`` when the spec offers them.
     """
     d, per = s.thickness_nm, s.per_sheet
     nm = f"{round(d[0], 1):g}–{round(d[-1], 1):g} nm"  # as the sheets print them (0.1 nm)
@@ -497,4 +449,6 @@ def spec_summary(s: CatalogSpec) -> str:
     return (f"{s.name!r}: {len(d)} swatches, {nm}, "
             f"{(len(d) + per - 1) // per} sheet(s) of {s.columns}×{s.rows}; {s.film} on {s.substrate}; "
             f"{s.illuminant}/{s.observer}°; reference {s.reference.name}; "
-            f"{len(s.multi_angle)} multi-angle geometries; {tol}")
+            f"{len(s.multi_angle)} multi-angle geometries; {tol}"
+            + (f"; finishes {', '.join(s.finishes)}" if len(s.finishes) > 1 else f"; finish {s.finish}" if s.finish else "")
+            + (f"; part {s.mesh}" if s.mesh else ""))

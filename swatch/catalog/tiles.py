@@ -27,6 +27,7 @@ from swatch.catalog.context import CatalogContext
 from swatch.catalog.folder import remove_tree
 from swatch.catalog.spec import CatalogSpec
 from swatch.colorimetry.colorimeter import Colorimeter
+from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.procguard import (
     exit_with,
@@ -41,6 +42,7 @@ from swatch.physics.finishes import get_finish
 from swatch.physics.model import Coating
 from swatch.render import render_swatch
 from swatch.render.angular import angular_map
+from swatch.render.mesh import MeshShape, load_mesh
 
 if TYPE_CHECKING:
     from multiprocessing.context import BaseContext
@@ -127,6 +129,7 @@ def tile_key(spec: CatalogSpec, thickness_nm: float, fp: dict) -> str:
         "amap": spec.angular_map, "amap_angles": AMAP_ANGLES_DEG.tolist(), "light": LIGHT_DEG,
         "environment": tile_environment(spec), **spec.spread.metadata(),
         **({"finish": spec.finish} if spec.finish else {}),
+        **({"mesh": spec.mesh_sha256} if spec.mesh else {}),  # the part, by its bytes
     }
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:40]
 
@@ -146,7 +149,7 @@ class TileRender:
     colorimeter : swatch.colorimetry.colorimeter.Colorimeter
         The catalog's illuminant and observer (the context's); display RGB from its 2° twin.
     shapes : tuple of str
-        The shapes rendered, in order (``r0``, ``r1``, ... in the tile).
+        The shapes rendered, in order (``r0``, ``r1``, ... in the tile); ``mesh`` is the spec's part.
     size_px : int
         Pixels per side of each render.
     model : str
@@ -157,6 +160,9 @@ class TileRender:
         Whether the tile holds the angular map.
     finish : str or None
         A named finish (:func:`swatch.physics.finishes.get_finish`).
+    mesh_path, mesh_key : str or None
+        The part's file and its :attr:`swatch.render.mesh.MeshShape.key` (``mesh:<sha256>``; a worker reads the
+        file once and refuses other bytes); None without a part.
     """
 
     coating: Coating
@@ -167,6 +173,28 @@ class TileRender:
     roughness_alpha: float
     angular_map: bool
     finish: str | None
+    mesh_path: str | None = None
+    mesh_key: str | None = None
+
+    @property
+    def tile_renders(self) -> tuple[str, ...]:
+        """The renders of a tile, in order (as :attr:`swatch.catalog.spec.CatalogSpec.tile_renders`).
+
+        Returns
+        -------
+        tuple of str
+            :attr:`shapes`.
+        """
+        return self.shapes
+
+
+@functools.lru_cache(maxsize=2)
+def _part(path: str, key: str) -> MeshShape:
+    """The catalog's part, read once per process (a worker's tiles share it and its prepared scene)."""
+    mesh = load_mesh(path)
+    if mesh.key != key:
+        raise SwatchError(f"{Path(path).name} changed while the catalog was being built; build again")
+    return mesh
 
 
 def tile_render(ctx: CatalogContext) -> TileRender:
@@ -183,8 +211,9 @@ def tile_render(ctx: CatalogContext) -> TileRender:
         The coating, colorimeter and render options of every tile (picklable).
     """
     spec = ctx.spec
-    return TileRender(ctx.coating, ctx.colorimeter, tuple(spec.shapes), spec.size_px, spec.model, spec.roughness,
-                      spec.angular_map, spec.finish)
+    return TileRender(ctx.coating, ctx.colorimeter, spec.tile_renders, spec.size_px, spec.model, spec.roughness,
+                      spec.angular_map, spec.finish, spec.mesh_path if ctx.mesh is not None else None,
+                      ctx.mesh.key if ctx.mesh is not None else None)
 
 
 def render_tile(job: TileRender, thickness_nm: float) -> dict:
@@ -200,14 +229,16 @@ def render_tile(job: TileRender, thickness_nm: float) -> dict:
     Returns
     -------
     dict
-        Name → array (:func:`tile_shapes`): per shape the exposed linear render (half), its coverage,
-        its display sRGB and exposure; the angular map (linear and display) when the job asks for it.
+        Name → array (:func:`tile_shapes`): per shape (and the part) the exposed linear render (half), its
+        coverage, its display sRGB and exposure; the angular map (linear and display) when the job asks for it.
     """
     d = float(thickness_nm)
     coating, cm = job.coating, job.colorimeter
     out: dict[str, Any] = {}
     for i, shape in enumerate(job.shapes):
-        im = render_swatch(d, shape, job.size_px, light_deg=LIGHT_DEG, roughness_alpha=job.roughness_alpha,
+        part = _part(job.mesh_path, job.mesh_key) if shape == "mesh" and job.mesh_path and job.mesh_key else None
+        im = render_swatch(d, "sphere" if part is not None else shape, job.size_px, mesh=part, light_deg=LIGHT_DEG,
+                           roughness_alpha=job.roughness_alpha,
                            model=job.model, coating=coating, colorimeter=cm, space="srgb", workers=1,
                            environment=ENVIRONMENT if job.model == "microfacet" else None,
                            finish=None if job.finish is None else get_finish(job.finish))
@@ -243,7 +274,7 @@ def tile_shapes(spec: CatalogSpec | TileRender) -> dict:
     Parameters
     ----------
     spec : swatch.catalog.spec.CatalogSpec or TileRender
-        Its ``shapes``, ``size_px`` and ``angular_map`` decide.
+        Its ``tile_renders`` (the shapes and the part), ``size_px`` and ``angular_map`` decide.
 
     Returns
     -------
@@ -252,7 +283,7 @@ def tile_shapes(spec: CatalogSpec | TileRender) -> dict:
     """
     s = spec.size_px
     want = {}
-    for i in range(len(spec.shapes)):
+    for i in range(len(spec.tile_renders)):
         want.update({f"r{i}_linear": ((s, s, 3), np.float16), f"r{i}_alpha": ((s, s), np.float16),
                      f"r{i}_display": ((s, s, 3), np.uint8), f"r{i}_exposure": ((), np.float64)})
     if spec.angular_map:

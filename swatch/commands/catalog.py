@@ -48,14 +48,15 @@ def build(spec, out, jobs, quiet):
 def validate(spec):
     """Check a catalog spec (a file or a bundled name) and summarise it (nothing is written)."""
     from swatch.catalog.execute import check_buildable
-    from swatch.catalog.layout import layout_summary
+    from swatch.catalog.layout import extra_hero_files, layout_summary
     from swatch.catalog.spec import load_spec, resolve_spec_path, spec_summary
 
     s, _ = load_spec(resolve_spec_path(spec))
     check_buildable(s)  # validate refuses what build refuses, by the same checks
     click.echo(f"{spec}: ok — {spec_summary(s)}")
     n = len(s.thickness_nm)
-    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero, s.presets)}")
+    extra = extra_hero_files(bool(s.hero_cover_px), len(s.finishes))
+    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero, s.presets, extra)}")
 
 
 @catalog.command(name="list")
@@ -65,7 +66,8 @@ def list_specs():
 
     for name, path in bundled_specs().items():
         s, _ = load_spec(path)
-        click.echo(f"{name:<14} {s.name}: {len(s.thickness_nm)} swatches")
+        offered = f", finishes {', '.join(s.finishes)}" if len(s.finishes) > 1 else ""
+        click.echo(f"{name:<14} {s.name}: {len(s.thickness_nm)} swatches{offered}")
 
 
 @catalog.command()

@@ -18,7 +18,7 @@ __all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MA
            "MAX_ANGULAR_SAMPLES", "MAX_ENV_PIXELS", "MAX_ENV_SIDE", "MAX_ENV_FILE_BYTES", "MAX_ENV_RENDER_PX",
            "MAX_SWATCHES", "MAX_CHIP_PX", "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES",
            "MAX_COUPON_ROWS", "MAX_COUPONS", "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE",
-           "MAX_REFLECTANCE", "MIN_REFLECTANCE", "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_MESH_COORDINATE",
+           "MAX_REFLECTANCE", "MIN_REFLECTANCE", "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_PAGE_MESH_TRIANGLES", "MAX_MESH_COORDINATE",
            "MAX_INSTRUMENT_SAMPLES",
            "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
            "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MAX_PASS_SPP", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
@@ -145,6 +145,9 @@ MIN_REFLECTANCE = -0.05
 #: triangles (Embree's scene and the per-corner normals stay near 0.3 GB).
 MAX_MESH_BYTES = 64 * 1024 * 1024
 MAX_MESH_TRIANGLES = 2_000_000
+#: A catalog's part on its page (the live view's WebGL2 triangles, embedded as float32 corners and normals:
+#: 72 bytes a triangle in the page, 14 MB at the cap; software GL draws 200 000 in about a frame's time).
+MAX_PAGE_MESH_TRIANGLES = 200_000
 #: A mesh vertex coordinate's magnitude (the file's units; the mesh is placed in the unit sphere):
 #: beyond it the areas and normals overflow float64 (1e300 made "every triangle is degenerate").
 MAX_MESH_COORDINATE = 1e15

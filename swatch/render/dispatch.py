@@ -27,7 +27,7 @@ from swatch.render.metadata import common_metadata
 from swatch.render.pointlight import render_pointlight
 from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
-__all__ = ["ENGINES", "Engine", "render_builtin", "render_swatch", "engine_unavailable", "engine_version"]
+__all__ = ["ENGINES", "Engine", "render_builtin", "render_swatch", "engine_unavailable", "engine_version", "studio_lightmap"]
 
 #: An engine: a checked request and an optional progress callback in, a :class:`SwatchImage` out.
 Engine = Callable[[RenderRequest, Progress | None], SwatchImage]
@@ -112,6 +112,28 @@ def engine_version(engine: str) -> str:
     if engine == "builtin":
         return __version__
     return str(_mitsuba_engine().mi.__version__)
+
+
+def studio_lightmap(shape: str, mesh=None) -> tuple:
+    """The path tracer's studio set baked around ``shape`` (:func:`swatch.render.mitsuba.bake.cyclorama_lightmap`:
+    the cyclorama's radiance with the object's shadow, and what the object throws onto it); Mitsuba loads here.
+
+    Parameters
+    ----------
+    shape : str
+        ``flat``, ``cylinder``, ``sphere`` or ``mesh``.
+    mesh : swatch.render.mesh.MeshShape, optional
+        With ``shape="mesh"``.
+
+    Returns
+    -------
+    shadow, bounce : numpy.ndarray, shape (ns, nx), float32
+        Radiance on the grid of :func:`swatch.render.studio_set.lightmap_axes` (renders' units).
+    scale, floor_y : float
+        The render's radiance scale and the floor's height.
+    """
+    from swatch.render.mitsuba import bake
+    return bake.cyclorama_lightmap(shape, mesh)
 
 
 #: The engines by name (the keys are :data:`swatch.core.choices.ENGINES`).

@@ -128,7 +128,7 @@ def _neighbours(angle, bins: int):
     return i0, i1, np.where(i1 == i0, 0.0, f)
 
 
-def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
+def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent, occluded=None):
     """Environment samples for each point's four neighbouring view bins.
 
     Parameters
@@ -141,6 +141,8 @@ def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
         The anisotropic lobe's fixed samples per view bin (:func:`aniso_sample_set`).
     table : numpy.ndarray
         :func:`swatch.render.env_shading.level_table` of ``samples`` on ``maps``.
+    occluded : callable, optional
+        As :func:`swatch.render.env_shading.gather`'s: the sample directions the object hides are dark.
 
     Returns
     -------
@@ -165,6 +167,8 @@ def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent):
             dirs = [loc[..., 0] * t[:, None, k] + loc[..., 1] * b[:, None, k] + loc[..., 2] * nn[:, None, k]
                     for k in range(3)]
             E[q, sl] = maps.bilinear(*dirs, loc[..., 3], loc[..., 4])
+            if occluded is not None:
+                E[q, sl] *= ~occluded(sl, np.stack(dirs, -1))[..., None]
     return E.reshape(4 * P, samples.n, 3), J.reshape(-1), W
 
 

@@ -190,6 +190,21 @@ def _normals_views(scene, x, y, size):
     return hit, n, -d
 
 
+def _self_occlusion(scene, v):
+    """For a mesh, ``occluded(rows, directions)`` of :func:`swatch.render.env_shading.gather`: the sample
+    directions the mesh hides from the points seen along ``-v`` (each camera ray cast again to find its point);
+    None for the built-in shapes (convex, or the bent sheet, whose inner face sees the map as before)."""
+    shape = scene.shape
+    if not hasattr(shape, "blocked"):
+        return None
+    hit, where, geo = shape.surface(scene.camera.position, -np.asarray(v, dtype=np.float64).reshape(-1, 3))
+
+    def occluded(rows, directions):
+        return shape.blocked(where[rows], geo[rows], directions) & hit[rows, None]
+
+    return occluded
+
+
 _CACHE: dict = {}
 
 
@@ -232,12 +247,13 @@ def prepared(scene, scene_key, size: int, env, roughness_alpha: float, backgroun
     shape_name = getattr(scene.shape, "name", "sphere")
 
     def points(n, v, slope=None):  # slope: the hairlines' tilt of the normals (brushed)
+        hidden = _self_occlusion(scene, v)
         if aniso:
             t = brush_tangent(shape_name, n)
             if slope is not None:
                 n = tilt_normals(n, t, slope)
-            return _Points(*gather_aniso(n, v, maps, ss, table, t))
-        return _Points(*env_shading.gather(n, v, maps, ss, table))
+            return _Points(*gather_aniso(n, v, maps, ss, table, t, hidden))
+        return _Points(*env_shading.gather(n, v, maps, ss, table, hidden))
 
     hairy = aniso and brush_coordinates(shape_name, np.zeros((1, 3))) is not None  # brushed plate, cylinder, sphere
 
@@ -446,5 +462,6 @@ def render_swatch_environment(request, meta: dict) -> SwatchImage:
                               f"{coating.wavelength_nm[1] - coating.wavelength_nm[0]:g}",
     })
     if shape == "mesh":
-        meta["lighting"] += "; not occluded by the mesh itself (no self-shadowing or interreflection)"
+        meta["lighting"] += ("; the mesh hides the environment from itself (self-occlusion: what it hides is dark, "
+                             "no interreflection)")
     return SwatchImage(linear, coverage, display, meta | mesh_metadata(scene.shape if shape == "mesh" else None), 1.0)

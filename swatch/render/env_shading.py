@@ -344,7 +344,7 @@ def level_table(samples, maps) -> np.ndarray:
                            maps.offset[k][..., None].astype(np.float32)], -1)
 
 
-def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.ndarray]:
+def gather(n, v, maps, samples: SampleSet, table=None, occluded=None) -> tuple[np.ndarray, np.ndarray]:
     """Environment samples in each pixel's sample directions, and its view bin.
 
     Parameters
@@ -358,6 +358,10 @@ def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.n
         The lobe's fixed samples per view bin (:func:`sample_set`).
     table : numpy.ndarray, optional
         :func:`level_table` (computed when None).
+    occluded : callable, optional
+        ``occluded(rows, directions)``: for the points ``rows`` (a slice) and their sample directions (p, N, 3),
+        which the object itself hides (bool (p, N)); those samples are dark (no interreflection). None: nothing
+        is hidden (a convex shape).
 
     Returns
     -------
@@ -380,6 +384,8 @@ def gather(n, v, maps, samples: SampleSet, table=None) -> tuple[np.ndarray, np.n
         dirs = [loc[..., 0] * t[:, None, k] + loc[..., 1] * b[:, None, k] + loc[..., 2] * n[sl][:, None, k]
                 for k in range(3)]
         out[sl] = maps.bilinear(*dirs, loc[..., 3], loc[..., 4])
+        if occluded is not None:
+            out[sl] *= ~occluded(sl, np.stack(dirs, -1))[..., None]
     return out, j_all
 
 

@@ -43,6 +43,7 @@ from swatch.render.octahedral import (
     texel_solid_angles,
 )
 from swatch.render.studio import studio_radiance
+from swatch.render.studio_set import set_radiance
 
 __all__ = [
     "BUILTIN",
@@ -51,6 +52,7 @@ __all__ = [
     "Environment",
     "get_environment",
     "levels",
+    "set_environment",
 ]
 
 #: Built-in environments (``none`` = no environment: the single directional light).
@@ -234,6 +236,51 @@ def _studio(res: int = MAP_RES, sub: int = 4) -> Environment:
     return _normalised("studio", num / den,
                        "studio (built in): overhead soft box, tall strip boxes left and right, dark-grey walls, "
                        "light floor with a horizon; neutral")
+
+
+def _octa_mean(radiance_fn, res: int, sub: int) -> np.ndarray:
+    """An octahedral map of ``radiance_fn(directions)``, each texel the solid-angle-weighted mean of
+    ``sub × sub`` points (shape ``(res, res, 3)``)."""
+    c = (np.arange(res * sub) + 0.5) / (res * sub)
+    s, t = np.meshgrid(c, c, indexing="xy")
+    d = octa_decode(s, t)
+    x = d / np.abs(d).sum(-1, keepdims=True)
+    w = np.linalg.norm(x, axis=-1) ** -3  # dω ∝ 1/|p|³ (p on the octahedron)
+    L = radiance_fn(d) * w[..., None]
+    num = L.reshape(res, sub, res, sub, 3).sum(axis=(1, 3))
+    den = w.reshape(res, sub, res, sub).sum(axis=(1, 3))[..., None]
+    return num / den
+
+
+def set_environment(name: str, floor_y: float, lightmap: np.ndarray, scale: float, res: int = MAP_RES,
+                    sub: int = 4) -> Environment:
+    """The path tracer's studio set seen from the object's centre without its soft boxes
+    (:func:`swatch.render.studio_set.set_radiance`; the page meets the boxes along each sample's own ray), as an
+    environment in the renders' own units (not renormalised: the set's radiance scale is the hero's).
+
+    Parameters
+    ----------
+    name : str
+        Its name (the shape it was baked around).
+    floor_y : float
+        The floor's height under that shape.
+    lightmap : numpy.ndarray, shape (ns, nx)
+        The cyclorama's radiance (:func:`swatch.render.dispatch.studio_lightmap`).
+    scale : float
+        The render's radiance scale (multiplies the soft boxes and the fill).
+    res, sub : int, optional
+        The map's side in texels and the points averaged per texel along each side.
+
+    Returns
+    -------
+    Environment
+        Neutral radiance, 1 = a white diffuser facing up at the object, lit directly by the set's emitters, reflects 1.
+    """
+    def radiance(d):
+        return np.repeat(set_radiance(d, floor_y, lightmap, scale, boxes=False)[..., None], 3, axis=-1)
+
+    return Environment(name, _octa_mean(radiance, res, sub).astype(np.float32),
+                       "the path tracer's studio set without its soft boxes (cyclorama, fill) from the object's centre", 1.0)
 
 
 @functools.lru_cache(maxsize=4)

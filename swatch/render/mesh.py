@@ -9,7 +9,8 @@ Functions
   +y up as written (the glTF convention; most OBJ and PLY exports agree).
 * :class:`MeshShape`: the :class:`swatch.render.scene.Shape` protocol for a mesh: ``intersect`` (hit and
   the shading normal per ray) and ``trace`` (hit, ``cos θ_l``, ``cos θ_v``, with the point light
-  shadowed by the object itself), ray-cast by Embree through trimesh.
+  shadowed by the object itself), ray-cast by Embree through trimesh; ``surface`` and ``blocked``
+  (the directions the object hides from its own points: the environment renderer's self-occlusion).
 
 Shading normals: the vertex normals (from the file where it has them, otherwise trimesh's
 area-weighted ones over the triangles sharing a position: vertices at one position are merged
@@ -344,6 +345,49 @@ class MeshShape:
             blocked = self._rays.intersects_any(start, np.broadcast_to(light, start.shape))
             cos_l[lit[blocked]] = 0.0
         return hit.reshape(shape), cos_l.astype(t).reshape(shape), cos_v.astype(t).reshape(shape)
+
+    def surface(self, o, d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where rays from ``o`` first meet the mesh: the points and the geometric normals there (turned
+        towards the ray's origin), for :meth:`blocked`.
+
+        Parameters
+        ----------
+        o : array_like, shape (3,)
+            The rays' origin (the camera).
+        d : array_like, shape (N, 3)
+            Unit directions.
+
+        Returns
+        -------
+        (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+            Hit (N,) bool, points (N, 3) and unit geometric normals (N, 3), float64 (zeros where missed).
+        """
+        hit, _, geo, point = self._cast(o, np.asarray(d, dtype=np.float64).reshape(-1, 3))
+        return hit, point, geo
+
+    def blocked(self, points, normals, directions) -> np.ndarray:
+        """Which directions the mesh itself hides from surface points (rays started just off the surface, along
+        its geometric normal; a direction below the surface is hidden).
+
+        Parameters
+        ----------
+        points, normals : array_like, shape (P, 3)
+            Surface points and their geometric normals on the viewer's side (:meth:`surface`).
+        directions : array_like, shape (P, K, 3)
+            Unit directions from each point.
+
+        Returns
+        -------
+        numpy.ndarray of bool, shape (P, K)
+            True where a ray from the point along the direction meets the mesh.
+        """
+        dirs = np.asarray(directions, dtype=np.float64)
+        p, k = dirs.shape[:2]
+        start = np.asarray(points, dtype=np.float64) + _SHADOW_OFFSET * np.asarray(normals, dtype=np.float64)
+        origins = np.broadcast_to(start[:, None, :], (p, k, 3)).reshape(-1, 3)
+        if origins.shape[0] == 0:
+            return np.zeros((p, k), dtype=bool)
+        return np.asarray(self._rays.intersects_any(origins, dirs.reshape(-1, 3)), dtype=bool).reshape(p, k)
 
     def triangle_soup(self) -> tuple[np.ndarray, np.ndarray]:
         """The placed triangles' corners and their shading normals (creases split), for renderers that take a

@@ -142,6 +142,21 @@ def test_filter_and_sort(page):
     pg.select_option("#order", "asc")
     ids = pg.eval_on_selector_all("article.card", "els => els.map(e => e.dataset.id)")
     assert ids == [r["id"] for r in sorted(recs, key=lambda r: r["voltage_V"])]
+    # lightness L* (issue 46: docs/designer.md promised it, the page had no such filter): a band, then sorted by it
+    lights = sorted(r["LCh"][0] for r in recs)
+    lo, hi = (lights[1] + lights[2]) / 2, (lights[4] + lights[5]) / 2  # between swatches: three inside
+    assert pg.locator("label:has(#lmin)").text_content() == "lightness from (L*)"
+    pg.fill("#lmin", f"{lo:.3f}")
+    pg.fill("#lmax", f"{hi:.3f}")
+    want = [r["id"] for r in recs if lo <= r["LCh"][0] <= hi]
+    assert len(want) == 3 and sorted(pg.eval_on_selector_all("article.card", "els => els.map(e => e.dataset.id)")) == sorted(want)
+    pg.select_option("#sort", "lightness")
+    pg.select_option("#order", "desc")
+    ids = pg.eval_on_selector_all("article.card", "els => els.map(e => e.dataset.id)")
+    assert ids == [r["id"] for r in sorted(recs, key=lambda r: -r["LCh"][0]) if r["id"] in want]
+    pg.fill("#lmin", "")
+    pg.fill("#lmax", "")
+    assert len(shown(pg)) == len(recs)
     # nothing matches
     pg.fill("#tmin", "5000")
     assert pg.locator("article.card").count() == 0

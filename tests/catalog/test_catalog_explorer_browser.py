@@ -173,7 +173,9 @@ def test_compare_and_find(page):
     pg.click("#find-form button[type=submit]")
     first = pg.locator("#find-results li").first.text_content()
     best = pg.evaluate("swatchCatalog.match({hex: '#2275b5'}, 1)[0]")  # = swatch match (test above)
-    assert first.startswith(f"{best['thickness_nm']:.2f} nm · {best['voltage_V']:.1f} V")
+    # plain words first: the colour's name at the geometry it holds at, then the numbers
+    name, rest = first.split(" seen face on (45:0) · ", 1)
+    assert name and rest.startswith(f"{best['thickness_nm']:.2f}\xa0nm · {best['voltage_V']:.1f}\xa0V · colour difference ΔE00 ")
     # the target's L*a*b* is the one matched: in the catalog's observer (a hex brought into it, swatch match --hex)
     from swatch.colorimetry.colorimeter import get_colorimeter
     from swatch.colorimetry.observers import hex_to_document_Lab

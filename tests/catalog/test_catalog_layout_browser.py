@@ -43,7 +43,7 @@ def test_phone_widths_have_no_horizontal_scroll(phone, width):
     """Issue 21: at 390 px the live-view panel was 429 px wide (scrollWidth 455); every control cut off.
     The live view's drawing buffer is its displayed size in device pixels (issue 17: it was a fixed
     800 × 600, resampled by the browser: ~6 times the pixels shown on a phone), and follows the page when it
-    is resized, at most 800 × 600's worth (at 1280 px wide and 2 device pixels a CSS pixel)."""
+    is resized, at most 1100 × 830's worth (at 1280 px wide and 2 device pixels a CSS pixel)."""
     ctx, pg, events = phone
     pg.set_viewport_size({"width": width, "height": 800})
     # the buffer follows the displayed size (a ResizeObserver: after the next layout)
@@ -69,7 +69,9 @@ def test_phone_widths_have_no_horizontal_scroll(phone, width):
                      {"width": 1280, "height": 900, "deviceScaleFactor": 2, "mobile": False})
             wait_until(pg, "() => document.getElementById('view').width > 400")
             bw, bh, cw, ch, alpha = pg.evaluate(_BUFFER_JS)
-            assert (cw, ch) == (640, 480) and (bw, bh, alpha) == (800, 600, 255)  # not 1280 x 960
+            # not 1280 x 960: at most 1100 x 830's worth of pixels (a phone's full width at 3x), the canvas's shape
+            assert (cw, ch) == (640, 480) and alpha == 255 and 0.99 * 1100 * 830 <= bw * bh <= 1100 * 830
+            assert abs(bw / bh - 4 / 3) < 0.01 and bw < 1280
         finally:  # the phone again, one device pixel a CSS pixel, for the other widths
             cdp.send("Emulation.setDeviceMetricsOverride", {"width": width, "height": 800, "deviceScaleFactor": 1,
                                                             "mobile": False})
@@ -143,10 +145,12 @@ def test_find_by_colour_shows_the_target_and_clears_it_after_an_error(page):
     tol = pg.evaluate("swatchCatalog.swatches.length && JSON.parse(document.getElementById('catalog-data')"
                       ".textContent).catalog.tolerance")
     flag = first.locator(".tol").text_content()
-    assert re.match(rf"(within|outside) {tol['metric']} ≤ {tol['max']:g} · window −[\d.]+ / \+[\d.]+ nm", flag)
+    assert tol["scheme"] == "csaj" and tol["metric"] == "dEab"  # the default tolerance, in plain words:
+    assert re.match(rf"(close enough|too far) \(colour tolerance CSAJ grade {tol['grade']}, ΔE\*ab ≤ {tol['max']:g}\) · "
+                    r"forgives a drift of −[\d.]+ / \+[\d.]+ nm \(process window\)", flag), flag
     # the flag is judged in the tolerance's own metric: ΔE*ab for the default CSAJ grade
     m = re.search(r"ΔE\*ab ([\d.]+)", first.text_content())
-    assert m and (float(m.group(1)) <= tol["max"]) == flag.startswith("within")
+    assert m and (float(m.group(1)) <= tol["max"]) == flag.startswith("close enough")
     pg.fill("#find-hex", "")
     pg.fill("#find-lab", "60 5")  # two numbers: an error
     pg.click("#find-form button[type=submit]")
@@ -162,6 +166,137 @@ def test_find_by_colour_shows_the_target_and_clears_it_after_an_error(page):
     assert pg.locator("#find-results li.error").count() == 0
     assert "60.00  5.00  30.00" in pg.locator("#find-target").text_content()
     assert events["errors"] == []
+
+
+#: The sentence above the list of matches when no thickness comes within the catalog's tolerance (issue 46).
+_CANNOT = re.compile(r"Anodised titanium cannot make this colour\. The closest colour it makes is (?P<name>[a-z ]+) seen "
+                     r"face on \(45:0\): (?P<nm>[\d.]+)\xa0nm of oxide \((?P<V>[\d.]+)\xa0V\), (?P<hex>#[0-9a-f]{6}), "
+                     r"a colour difference of (?P<dE>[\d.]+) \(ΔE00\); no oxide thickness from 20 to 300\xa0nm comes "
+                     r"within the catalog's colour tolerance \(CSAJ grade C, ΔE\*ab ≤ 6\.5\)\.")
+
+
+def test_find_says_in_a_sentence_when_titanium_cannot_make_the_colour(page):
+    """Issue 46: a saturated green found only a list of far matches in small red text. Above the list the page
+    now says in a sentence, in the page's ink and larger type, that anodised titanium cannot make the colour,
+    which colour it makes is closest (thickness, voltage, hex, name: as ``swatch match`` and ``swatch color``
+    find them) and how far (ΔE2000); a colour it can make says so, and an error leaves no sentence."""
+    from swatch.colorimetry.names import colour_name
+    from tests.cli_helpers import run_json
+
+    pg, events, _ = page
+    pg.fill("#find-lab", "")
+    pg.fill("#find-hex", "#00ff00")
+    pg.click("#find-form button[type=submit]")
+    verdict = pg.locator("#find-verdict")
+    assert verdict.is_visible() and "unreachable" in (verdict.get_attribute("class") or "")
+    m = _CANNOT.fullmatch(verdict.text_content())
+    assert m, verdict.text_content()
+    best = run_json("match", "--hex", "00ff00", "--range", "20:300", "--top", "1")
+    assert not best["any_within_grade"]  # the CLI agrees that nothing is within grade C
+    cand = best["candidates"][0]
+    assert float(m["nm"]) == pytest.approx(cand["thickness_nm"], abs=0.15)
+    assert float(m["V"]) == pytest.approx(cand["voltage_V"], abs=0.1)
+    assert float(m["dE"]) == pytest.approx(cand["delta_E_00"], abs=0.06) and float(m["dE"]) > 5
+    row = run_json("color", "--thickness", m["nm"])["rows"][0]  # the colour at 45:0 of the thickness named
+    assert m["hex"] == row["srgb_hex"] and m["name"] == colour_name(*row["LCh"])
+    # prominent: the page's ink (not the red of the flags), larger than the list, above the list
+    strong = verdict.locator("strong")
+    assert strong.evaluate("e => getComputedStyle(e).color") == pg.evaluate("getComputedStyle(document.body).color")
+    assert strong.evaluate("e => parseFloat(getComputedStyle(e).fontSize)") >= 16
+    box, first = verdict.bounding_box(), pg.locator("#find-results li").first.bounding_box()
+    assert box["y"] + box["height"] <= first["y"] and pg.locator("#find-results li").count() >= 3
+    # a colour titanium makes: said so, not flagged
+    pg.fill("#find-hex", "#2275b5")
+    pg.click("#find-form button[type=submit]")
+    assert verdict.text_content().startswith("Anodised titanium can make this colour. The nearest within the catalog's "
+                                             "colour tolerance (CSAJ grade C, ΔE*ab ≤ 6.5) is ")
+    assert "unreachable" not in (verdict.get_attribute("class") or "")
+    pg.fill("#find-hex", "")
+    pg.fill("#find-lab", "60 5")  # an error: no sentence
+    pg.click("#find-form button[type=submit]")
+    assert verdict.is_hidden()
+    assert events["errors"] == []
+
+
+#: The multi-angle geometries in plain words (issue 46: the codes alone meant nothing to a designer).
+GEOMETRY_WORDS = {"45as-15": "from the side", "45as15": "near the gloss", "45as25": "off the gloss",
+                  "45as45": "face on", "45as75": "far from the gloss", "45as110": "from beside the light"}
+
+
+def test_colour_names_say_the_geometry_they_hold_at(page):
+    """Issue 46: a swatch was "purple" on its card (at 45:0) and "magenta" in the live view (at the view's
+    facet angle), each without its angle. Every name now says it: the cards', the reference readout's and
+    compare's at 45:0 ("seen face on"), the live readout's at its θd; and every multi-angle code has its
+    plain name first, the same in the cards (written by the build) and in compare (by the page's script)."""
+    import numpy as np
+
+    from swatch.colorimetry.names import colour_name
+
+    pg, events, _ = page
+    doc = pg.evaluate("JSON.parse(document.getElementById('catalog-data').textContent)")
+    assert [g["name"] for g in doc["catalog"]["multi_angle_geometries"]] == list(GEOMETRY_WORDS)
+    for rec in doc["swatches"]:
+        card = pg.locator(f"#card-{rec['id']}")
+        assert card.locator(".name").text_content() == f"{rec['colour_name']} seen face on (45:0)"
+        rows = card.locator("details tr td:first-child").all_text_contents()
+        assert rows == [f"seen {GEOMETRY_WORDS[g['name']]} ({g['name']}, θd {g['theta_d_deg']:.1f}°)"
+                        for g in doc["catalog"]["multi_angle_geometries"]]
+
+    def lch(lab):
+        L, a, b = lab
+        return L, float(np.hypot(a, b)), float(np.degrees(np.arctan2(b, a)) % 360)
+
+    rec = doc["swatches"][2]
+    for view in (0, 70):  # the live view turned: the name at its own facet angle
+        st = pg.evaluate("q => swatchCatalog.show(q)", {"thickness_nm": rec["thickness_nm"], "shape": "sphere",
+                                                        "light_deg": 45, "view_deg": view, "view_azimuth_deg": 180})
+        here = pg.evaluate("q => swatchCatalog.colorAt(q)", {k: st[k] for k in ("thickness_nm", "light_deg", "view_deg",
+                                                                                  "light_azimuth_deg", "view_azimuth_deg")})
+        assert pg.locator("#state-text").text_content().startswith(
+            f"{colour_name(*lch(here['Lab']))} at this angle (θd {here['theta_d_deg']:.1f}°) · L*a*b* ")
+        ref = pg.evaluate("d => swatchCatalog.colorAt({thickness_nm: d, light_deg: 45, view_deg: 0})", rec["thickness_nm"])
+        assert pg.locator("#ref-text").text_content().startswith(f"{colour_name(*lch(ref['Lab']))} seen face on (45:0) · ")
+    # compare: the name at 45:0, each multi-angle chip's plain name before its code
+    pg.locator(f"#card-{rec['id']} .tools button", has_text="compare").click()
+    pin = pg.locator("#compare .pin").last
+    assert pin.locator(".pin-sub").first.text_content().startswith(f"{rec['colour_name']} seen face on (45:0) · ")
+    assert pin.locator(".strip .chip-label").all_text_contents() == [f"{w} ({g})" for g, w in GEOMETRY_WORDS.items()]
+    assert events["errors"] == []
+
+
+#: Every visible control at the page's width: its box, and the widest text it must show (a menu's options, a
+#: button's label, a field's placeholder) against the room inside it (less the padding and a menu's arrow).
+_CONTROLS_JS = """() => { const cx = document.createElement('canvas').getContext('2d'), out = [];
+  for (const e of document.querySelectorAll('select, input, button, textarea')) {
+    if (!e.checkVisibility()) continue;
+    const r = e.getBoundingClientRect(), st = getComputedStyle(e);
+    cx.font = st.fontStyle + ' ' + st.fontWeight + ' ' + st.fontSize + ' ' + st.fontFamily;
+    const texts = e.tagName === 'SELECT' ? [...e.options].map((o) => o.textContent)
+      : e.tagName === 'BUTTON' ? [e.textContent] : (e.placeholder ? [e.placeholder] : []);
+    const text = Math.max(0, ...texts.map((t) => cx.measureText(t.trim()).width));
+    const room = e.clientWidth - parseFloat(st.paddingLeft) - parseFloat(st.paddingRight) - (e.tagName === 'SELECT' ? 20 : 0);
+    out.push({what: e.id || e.tagName + ':' + e.textContent.trim().slice(0, 24), left: r.left, right: r.right, text, room});
+  }
+  return out; }"""
+
+
+def test_no_control_is_cut_off_on_a_phone(chromium, small_catalog):
+    """Issue 46: at 390 CSS px (3 device pixels a CSS pixel) the live view's menus showed their choice cut
+    off ("microfacet (" of "microfacet (D·G)"). Every visible control (with a match list and a pin on the page)
+    lies within the screen and shows the whole of its longest text."""
+    ctx, pg, events = open_catalog_page(chromium, small_catalog, viewport=(390, 844), scale=3, fragment=POINT_LIGHT)
+    try:
+        pg.fill("#find-hex", "#00ff00")
+        pg.click("#find-form button[type=submit]")
+        pg.locator("article.card .tools button", has_text="compare").first.click()
+        controls = pg.evaluate(_CONTROLS_JS)
+        assert len(controls) > 20 and {"shape", "model", "lighting", "sort", "family", "lmin"} <= {c["what"] for c in controls}
+        assert [c for c in controls if c["right"] > 390 + 0.5 or c["left"] < -0.5] == []
+        assert [c for c in controls if c["text"] > c["room"] + 1.5] == []  # a button sized to its text: ±0.5 px
+        assert pg.evaluate("() => document.documentElement.scrollWidth") <= 390
+        assert events["errors"] == []
+    finally:
+        ctx.close()
 
 
 def _require_pdftotext() -> str:

@@ -111,7 +111,7 @@ def test_cli_mesh_render_writes_metadata(tmp_path, torus_files):
 
     meta = imageio.read_metadata(tmp_path / "out" / "mesh_050.8nm.png")
     assert meta["shape"] == "mesh" and meta["mesh"]["file"] == "torus.glb" and len(meta["mesh"]["sha256"]) == 64
-    assert "torus.glb" in meta["geometry"] and "not occluded" in meta["lighting"]
+    assert "torus.glb" in meta["geometry"] and "self-occlusion" in meta["lighting"]
     again = run_swatch("render", "--mesh", torus_files / "torus.glb", "--thickness", "50.8", "--size", "48",
                        "--environment", "studio", "--out", tmp_path / "out2")
     assert again.returncode == 0

@@ -7,8 +7,8 @@
 // the names of the fragment, each the key of show() it sets, and what it takes
 const LINK_NUMBERS = {thickness: "thickness_nm", voltage: "voltage_V", light: "light_deg", light_azimuth: "light_azimuth_deg",
   view: "view_deg", view_azimuth: "view_azimuth_deg", fill: "fill"};
-const LINK_WORDS = {shape: ["plate", "bent sheet", "sphere"], model: ["microfacet", "paper"],
-  lighting: ["point", "uniform", "studio"]};
+const LINK_WORDS = {shape: ["plate", "bent sheet", "sphere", "part"], model: ["microfacet", "paper"],
+  lighting: ["point", "uniform", "studio"], finish: ["polished", "satin", "brushed", "bead-blasted"]};
 // a plain decimal number (no hex, no Infinity, no empty string: Number("") is 0)
 const LINK_NUMBER = /^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d{1,3})?$/;
 const LINK_MAX_CHARS = 2000;  // a longer fragment is not a view link

@@ -53,13 +53,15 @@ function inHue(h, lo, hi) { return lo <= hi ? (h >= lo && h <= hi) : (h >= lo ||
 function update() {
   const tmin = num("tmin"), tmax = num("tmax"), vmin = num("vmin"), vmax = num("vmax");
   const hmin = num("hmin"), hmax = num("hmax"), fam = $("family").value;
+  const lmin = num("lmin"), lmax = num("lmax");  // lightness L* at the reference geometry
   const key = $("sort").value, dir = $("order").value === "desc" ? -1 : 1;
   const shown = swatches.filter((s) =>
     (tmin === null || s.thickness_nm >= tmin) && (tmax === null || s.thickness_nm <= tmax) &&
     (vmin === null || s.voltage_V >= vmin) && (vmax === null || s.voltage_V <= vmax) &&
     (fam === "" || s.colour_name === fam) &&
-    ((hmin === null && hmax === null) || inHue(s.LCh[2], hmin === null ? 0 : hmin, hmax === null ? 360 : hmax)));
-  const val = (s) => key === "hue" ? s.LCh[2] : key === "voltage" ? s.voltage_V : s.thickness_nm;
+    ((hmin === null && hmax === null) || inHue(s.LCh[2], hmin === null ? 0 : hmin, hmax === null ? 360 : hmax)) &&
+    (lmin === null || s.LCh[0] >= lmin) && (lmax === null || s.LCh[0] <= lmax));
+  const val = (s) => key === "hue" ? s.LCh[2] : key === "lightness" ? s.LCh[0] : key === "voltage" ? s.voltage_V : s.thickness_nm;
   shown.sort((a, b) => dir * (val(a) - val(b)) || (a.index - b.index));
   main.replaceChildren(...shown.map((s) => cards.get(s.id)));
   if (!shown.length) main.appendChild(empty);
@@ -75,24 +77,61 @@ $("controls").addEventListener("submit", (e) => e.preventDefault());
 const DEFAULT_FILL = 0.1;
 const state = {thickness_nm: C.range[0], light_deg: ref.light_deg,
   view_deg: ref.view_deg, light_azimuth_deg: 0, view_azimuth_deg: ref.view_side === "light" ? 0 : 180,
-  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point", fill: DEFAULT_FILL};
+  shape: "plate", model: T.render.model === "paper" ? "paper" : "microfacet", lighting: "point", fill: DEFAULT_FILL,
+  finish: null};
+// the finishes the catalog offers (its spec's list; the first is the sheets' and opens the page), each one click away
+const FINISH_PARAMS = (cat.catalog.render && cat.catalog.render.finish_params) || {};
+const FINISHES = ((cat.catalog.render && cat.catalog.render.finishes) || []).filter((f) => typeof f === "string" && f in FINISH_PARAMS);
+state.finish = FINISHES[0] || null;
 const canvas = $("view");
 let view = null;
-try { view = makeView(canvas, C, {roughness: T.render.roughness, scene: T.scene, hairlines: T.render.hairlines || null}, ENV); } catch (e) { view = null; console.warn(String(e)); }
+try {
+  view = makeView(canvas, C, {roughness: T.render.roughness, scene: T.scene, hairlines: T.render.hairlines || null,
+    finishes: ENV && ENV.finish_samples ? FINISH_PARAMS : null}, ENV);
+} catch (e) { view = null; console.warn(String(e)); }
+// the finish bar: a button per offered finish (where the live view can show more than one)
+const finishHere = (f) => view && ENV && ENV.finish_samples && f in ENV.finish_samples;
+if (FINISHES.filter(finishHere).length > 1) {
+  const bar = $("finish-bar");
+  bar.appendChild(el("span", "finish-label", "finish:"));
+  for (const f of FINISHES.filter(finishHere)) {
+    const b = el("button", "", f);
+    b.type = "button"; b.dataset.finish = f; b.title = FINISH_PARAMS[f].description || f;
+    b.addEventListener("click", () => show({finish: f}));
+    bar.appendChild(b);
+  }
+  const note = el("p", "finish-note"); note.id = "finish-note";
+  bar.appendChild(note);
+  bar.hidden = false;
+}
 if (!view) {
   $("view-note").textContent = "This browser has no WebGL2: the live view is off (the colours below still follow the sliders).";
   $("lighting").disabled = true;
 }
 for (const o of [...$("lighting").options]) if (!(view ? view.lightings : ["point"]).includes(o.value)) o.remove();
+// the catalog's own part (its spec's mesh) as a shape of the live view
+if (view && view.SHAPES.includes("part")) {
+  const o = el("option", "", "your part (" + T.scene.mesh.file + ")");
+  o.value = "part";
+  $("shape").appendChild(o);
+}
 // the live view opens under the studio light box (as the sheets' renders), where the page has it
 if (view && view.lightings.includes("studio") && state.model === "microfacet") state.lighting = "studio";
 const clampT = (d) => Math.min(Math.max(d, C.range[0]), C.range[1]);
 // -- heroes: the catalog's path-traced pictures (records' "hero", swatch.catalog.hero), shown over the canvas
 // while the view is at a hero's state (its thickness, shape, camera and lighting); the live render once changed
-const HERO_SHAPES = {sphere: "sphere", cylinder: "bent sheet", flat: "plate"};
+const HERO_SHAPES = {sphere: "sphere", cylinder: "bent sheet", flat: "plate", mesh: "part"};
 const HERO_PNG = /^[A-Za-z0-9_-]+(\/[A-Za-z0-9_-]+)*\.png$/;  // a plain relative PNG path (swatch.catalog.html.HERO_PATH)
-const heroes = swatches.filter((s) => s.hero && typeof s.hero.png === "string" && HERO_PNG.test(s.hero.png) &&
-  HERO_SHAPES[s.hero.shape || "sphere"] !== undefined);
+const heroOk = (h) => h && typeof h === "object" && typeof h.png === "string" && HERO_PNG.test(h.png) &&
+  HERO_SHAPES[h.shape || "sphere"] !== undefined;
+const heroes = swatches.filter((s) => heroOk(s.hero));
+// a swatch's hero in a finish: its entry in hero_finishes (the cover swatch has one per offered finish), else its
+// hero where that is in the finish (or the catalog has no finishes)
+function heroIn(s, finish) {
+  const f = s.hero_finishes && typeof s.hero_finishes === "object" && Object.hasOwn(s.hero_finishes, finish || "") ? s.hero_finishes[finish] : null;
+  if (heroOk(f)) return f;
+  return (!finish || !s.hero.finish || s.hero.finish === finish) ? s.hero : null;
+}
 const lightingsHere = () => (view ? view.lightings : ["point"]);
 function heroState(s) {
   const shape = HERO_SHAPES[s.hero.shape || "sphere"], cam = shapeCamera(shape);
@@ -107,10 +146,18 @@ const near = (a, b) => Math.abs(a - b) < 1e-6;
 function heroAt(st) {
   return heroes.find((s) => {
     const h = heroState(s);
-    return near(h.thickness_nm, st.thickness_nm) && h.shape === st.shape && st.model === "microfacet" &&
+    return heroIn(s, st.finish) !== null && near(h.thickness_nm, st.thickness_nm) && h.shape === st.shape && st.model === "microfacet" &&
       (h.lighting === undefined || h.lighting === st.lighting) && near(h.view_deg, st.view_deg) &&
       near((((h.view_azimuth_deg - st.view_azimuth_deg) % 360) + 540) % 360 - 180, 0);
   }) || null;
+}
+// the largest of a hero's pictures (its cover, its hero) with at least one rendered pixel for each device pixel of
+// the frame's height (no picture is shown larger than it was made: else the live view shows instead), or null
+function sharpPicture(h) {
+  const need = canvas.getBoundingClientRect().height * (window.devicePixelRatio || 1);
+  const px = (p) => Number.isFinite(p.size_px) ? p.size_px : 0;
+  const options = [h.cover, h].filter((p) => p && typeof p.png === "string" && HERO_PNG.test(p.png));
+  return options.find((p) => px(p) >= need - 0.5) || null;
 }
 // the image over the canvas, made only where the catalog has heroes (the page itself has no <img> otherwise)
 const heroBadge = $("hero-badge"), heroImg = heroes.length ? el("img") : null;
@@ -124,20 +171,17 @@ function edgeBackground(edges) {
   return g(edges.left) + " left top / 50% 100% no-repeat, " + g(edges.right) + " right top / 50% 100% no-repeat";
 }
 function updateHero() {
-  const s = heroImg ? heroAt(state) : null;
-  heroBadge.hidden = !s;
-  if (heroImg) heroImg.hidden = !s;
-  if (!s) return;
-  // the cover (the same picture, larger: sharp at the live view's size) where the catalog made one
-  const cover = s.hero.cover && typeof s.hero.cover.png === "string" && HERO_PNG.test(s.hero.cover.png) ? s.hero.cover.png : null;
-  const src = cover || s.hero.png;
-  if (heroImg.getAttribute("src") !== src) {
-    heroImg.setAttribute("src", src);
-    heroImg.style.background = edgeBackground(s.hero.edges) || "#2b2b2e";
+  const s = heroImg ? heroAt(state) : null, h = s ? heroIn(s, state.finish) : null, pic = h ? sharpPicture(h) : null;
+  heroBadge.hidden = !pic;
+  if (heroImg) heroImg.hidden = !pic;
+  if (!pic) return;
+  if (heroImg.getAttribute("src") !== pic.png) {
+    heroImg.setAttribute("src", pic.png);
+    heroImg.style.background = edgeBackground(h.edges) || "#2b2b2e";
   }
-  heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, path-traced" +
-    (Number.isFinite(s.hero.spp) ? " (" + s.hero.spp + " samples a pixel)" : "") + ": a " + (s.hero.shape || "sphere") +
-    " under the " + (s.hero.lighting || "studio") + " light";
+  heroImg.alt = s.id + " at " + fmt(s.thickness_nm, 1) + " nm, " + (h.finish ? h.finish + ", " : "") + "path-traced" +
+    (Number.isFinite(h.spp) ? " (" + h.spp + " samples a pixel)" : "") + ": a " + (h.shape === "mesh" ? "part" : h.shape || "sphere") +
+    " under the " + (h.lighting || "studio") + " light";
   heroBadge.textContent = "path-traced · turn or slide for the live view";
 }
 // the first view sells the metal: a hero where the catalog has them, else the live sphere under the studio; at
@@ -162,18 +206,20 @@ function readout() {
   // under an environment there is no one light: the readout is the facet colour of the point-light
   // geometry the (greyed) light slider still sets, and says so
   $("state-label").textContent = state.lighting === "point" ? "this light and view"
-    : "facet at light " + fmt(state.light_deg, 0) + "°, view " + fmt(state.view_deg, 0) + "° (no single light under " + state.lighting + ")";
-  $("state-text").textContent = "L*a*b* " + c.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + c.hex +
-    " · θd " + fmt(c.theta_d_deg, 1) + "° · " + nameOf(lch);
+    : "at light " + fmt(state.light_deg, 0) + "°, view " + fmt(state.view_deg, 0) + "° (" +
+      lightingWords(state.lighting) + " has no single lamp)";
+  // plain words first (the colour's name, and the angle it holds at), the numbers after
+  $("state-text").textContent = nameHere(nameOf(lch), c.theta_d_deg) + " · L*a*b* " + c.Lab.map((v) => fmt(v, 2)).join("  ") +
+    " · " + c.hex;
   const r = C.refColour(state.thickness_nm);
   paint($("ref-chip"), r);
-  $("ref-text").textContent = ref.name + ": L*a*b* " + r.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + r.hex;
+  $("ref-text").textContent = nameSeen(nameOf(C.LCh(r.Lab))) + " · L*a*b* " + r.Lab.map((v) => fmt(v, 2)).join("  ") + " · " + r.hex;
   $("t-out").textContent = fmt(state.thickness_nm, 1) + " nm";
   $("v-out").textContent = fmt(toV(state.thickness_nm), 1) + " V";
   $("l-out").textContent = fmt(state.light_deg, 1) + "°";
   $("la-out").textContent = fmt(state.light_azimuth_deg, 0) + "°";
   $("f-out").textContent = fmt(state.fill, 2);
-  $("w-out").textContent = fmt(state.view_deg, 1) + "° (azimuth " + fmt(state.view_azimuth_deg, 0) + "°)";
+  $("w-out").textContent = fmt(state.view_deg, 1) + "°, turned " + fmt(state.view_azimuth_deg, 0) + "° (azimuth)";
   viewLinkA.href = viewLink(state);
 }
 // "link to this view": the page's address with the live view's state (link.js), to share or bookmark
@@ -195,11 +241,14 @@ function syncInputs() {
   $("light-azimuth").value = ((state.light_azimuth_deg + 540) % 360) - 180;
   $("light-azimuth").disabled = state.lighting !== "point";
   $("fill").value = state.fill; $("fill").disabled = state.lighting !== "point" || state.model === "paper";
+  for (const b of $("finish-bar").querySelectorAll("button")) b.setAttribute("aria-pressed", String(b.dataset.finish === state.finish));
+  const fn = $("finish-note");
+  if (fn && FINISH_PARAMS[state.finish]) fn.textContent = FINISH_PARAMS[state.finish].description || "";
 }
 // the checks of show(), in its order: each key of q as given (numbers clamped to their range), or an Error
 // before it changes anything (one key at a time: the page's address applies what is good, link.js)
 const SHOW_KEYS = ["thickness_nm", "voltage_V", "light_deg", "view_deg", "light_azimuth_deg", "view_azimuth_deg", "fill",
-  "shape", "model", "lighting"];
+  "shape", "model", "lighting", "finish"];
 function setState(q) {
   const n = (v, lo, hi) => { const x = Number(v); if (!Number.isFinite(x)) throw new Error("show: numbers expected"); return Math.min(Math.max(x, lo), hi); };
   if (q.thickness_nm !== undefined) state.thickness_nm = clampT(n(q.thickness_nm, -1e9, 1e9));
@@ -217,6 +266,10 @@ function setState(q) {
     state.model = q.model;
     if (q.model === "paper") state.lighting = "point"; // environments integrate the microfacet BRDF
   }
+  if (q.finish !== undefined) {
+    if (!FINISHES.includes(q.finish) || !finishHere(q.finish)) throw new Error("show: finish must be one of " + FINISHES.filter(finishHere).join(", "));
+    state.finish = q.finish;
+  }
   if (q.lighting !== undefined) {
     const allowed = view ? view.lightings : ["point"];
     if (!allowed.includes(q.lighting)) throw new Error("show: lighting must be one of " + allowed.join(", "));
@@ -232,7 +285,7 @@ function show(q) {
 }
 // a shape's own camera, as swatch render --shape (swatch.render.scene.DEFAULT_VIEW_DEG), seen from the front
 function shapeCamera(shape) {
-  const py = T.scene[{"plate": "flat", "bent sheet": "cylinder", "sphere": "sphere"}[shape]];
+  const py = T.scene[{"plate": "flat", "bent sheet": "cylinder", "sphere": "sphere", "part": "mesh"}[shape]];
   return {view_deg: py ? py.default_view_deg : state.view_deg, view_azimuth_deg: 180};
 }
 $("thickness").min = C.range[0]; $("thickness").max = C.range[1];
@@ -277,6 +330,24 @@ function nameOf(lch) {
   }
   return "";
 }
+// -- plain words first, the code after (swatch.catalog.words: the same rules) -----------------------
+// where a geometry looks from, by its view and aspecular angles (words.geometry_words)
+function geometryWords(g) {
+  if (g.view_deg < 2.5) return "face on";
+  const a = Number.isFinite(g.aspecular_deg) ? g.aspecular_deg : g.light_deg + (g.view_side === "light" ? g.view_deg : -g.view_deg);
+  return a < 0 ? "from the side" : a <= 20 ? "near the gloss" : a <= 60 ? "off the gloss" : a <= 90 ? "far from the gloss"
+    : "from beside the light";
+}
+// a tolerance: its grade where it has one, then its bound in its own metric (words.tolerance_words)
+function tolWords(t) {
+  const bound = ({dEab: "ΔE*ab", dE00: "ΔE00"}[t.metric] || t.metric) + " ≤ " + t.max;
+  return t.scheme ? ({csaj: "CSAJ", nbs: "NBS"}[t.scheme] || t.scheme) + " grade " + t.grade + ", " + bound : bound;
+}
+function lightingWords(n) { return {studio: "the photo studio", uniform: "even white light", point: "one lamp"}[n] || n; }
+// a colour name says the angle it holds at: the reference geometry (the cards' names) ...
+function nameSeen(name) { return (name ? name + " " : "") + "seen " + geometryWords(ref) + " (" + ref.name + ")"; }
+// ... or the live view's facet angle
+function nameHere(name, thetaD) { return (name ? name + " " : "") + "at this angle (θd " + fmt(thetaD, 1) + "°)"; }
 
 // -- compare ---------------------------------------------------------------------------------
 const pinned = [];
@@ -301,16 +372,17 @@ function renderCompare() {
     const d = item.thickness_nm;
     const r = C.refColour(d);
     box.appendChild(el("div", "pin-title", item.label));
-    box.appendChild(chip(r, "big", ref.name));
-    box.appendChild(el("div", "pin-sub", fmt(d, 1) + " nm · " + fmt(toV(d), 1) + " V · " + r.hex + " · " + nameOf(C.LCh(r.Lab))));
+    box.appendChild(chip(r, "big", geometryWords(ref) + " (" + ref.name + ")"));
+    box.appendChild(el("div", "pin-sub", nameSeen(nameOf(C.LCh(r.Lab))) + " · " + fmt(d, 1) + " nm · " + fmt(toV(d), 1) + " V · " + r.hex));
     const strip = el("div", "strip");
-    for (const g of geoms) strip.appendChild(chip(C.colorAt(Object.assign({thickness_nm: d}, geoArgs(g))), "", g.name));
+    for (const g of geoms) strip.appendChild(chip(C.colorAt(Object.assign({thickness_nm: d}, geoArgs(g))), "", geometryWords(g) + " (" + g.name + ")"));
     box.appendChild(strip);
     const w = windowOf(item);
     const ends = el("div", "ends");
     ends.appendChild(chip(C.refColour(d - w.minus), "", "thin end " + fmt(d - w.minus, 1) + " nm"));
     ends.appendChild(chip(C.refColour(d + w.plus), "", "thick end " + fmt(d + w.plus, 1) + " nm"));
-    box.appendChild(el("div", "pin-sub", "process window (" + tol.metric + " ≤ " + bound + "): −" + fmt(w.minus, 1) + " / +" + fmt(w.plus, 1) + " nm"));
+    box.appendChild(el("div", "pin-sub", "forgives a drift of −" + fmt(w.minus, 1) + " / +" + fmt(w.plus, 1) + " nm (process window, " +
+      tolWords(tol) + ")"));
     box.appendChild(ends);
     const rm = el("button", "unpin", "remove");
     rm.type = "button";
@@ -321,7 +393,7 @@ function renderCompare() {
   const tb = $("compare-delta");
   tb.replaceChildren();
   if (pinned.length > 1) {
-    const head = el("tr"); head.appendChild(el("th", "", "ΔE00 / ΔE*ab at " + ref.name));
+    const head = el("tr"); head.appendChild(el("th", "", "difference, seen " + geometryWords(ref) + " (ΔE00 / ΔE*ab at " + ref.name + ")"));
     pinned.forEach((p) => head.appendChild(el("th", "", p.label)));
     tb.appendChild(head);
     pinned.forEach((a) => {
@@ -365,6 +437,7 @@ function find(target) {
   let hits;
   try { hits = C.match(target, 5); } catch (e) {
     findTarget("");  // the previous target does not stay on screen beside an error
+    findVerdict([]);
     res.appendChild(el("li", "error", String(e.message)));
     return;
   }
@@ -373,16 +446,19 @@ function find(target) {
   // reflectance, as swatch match --hex (match's target_Lab)
   const how = target.Lab ? "" : "; the sRGB hex's smoothest reflectance";
   const tChip = target.Lab ? C.labColour(tLab) : C.hexColour(target.hex);
-  findTarget("target " + tChip.hex + " · L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " +
+  findTarget("your colour " + tChip.hex + " · L*a*b* " + tLab.map((v) => fmt(v, 2)).join("  ") + " (" + T.illuminant + ", " +
     T.observer + "°" + how + ")", tChip);
+  findVerdict(hits);
   for (const h of hits) {
     const li = el("li");
-    li.appendChild(chip(C.refColour(h.thickness_nm), "small"));
+    const r = C.refColour(h.thickness_nm);
+    li.appendChild(chip(r, "small"));
     const ok = withinTolerance(h, tol.metric, bound);
     const w = C.windowAt(h.thickness_nm, bound, tol.search_nm, tol.metric);
-    li.appendChild(el("span", "num", fmt(h.thickness_nm, 2) + " nm · " + fmt(h.voltage_V, 1) + " V · ΔE00 " + fmt(h.delta_E_00, 2) + " · ΔE*ab " + fmt(h.delta_E_ab, 2)));
-    li.appendChild(el("span", ok ? "tol ok" : "tol out", (ok ? "within " : "outside ") + tol.metric + " ≤ " + bound +
-      " · window −" + fmt(w.minus.nm, 1) + " / +" + fmt(w.plus.nm, 1) + " nm"));
+    li.appendChild(el("span", "num", nameSeen(nameOf(C.LCh(r.Lab))) + " · " + fmt(h.thickness_nm, 2) + "\u00a0nm · " + fmt(h.voltage_V, 1) +
+      "\u00a0V · colour difference ΔE00 " + fmt(h.delta_E_00, 2) + " · ΔE*ab " + fmt(h.delta_E_ab, 2)));
+    li.appendChild(el("span", ok ? "tol ok" : "tol out", (ok ? "close enough" : "too far") + " (colour tolerance " + tolWords(tol) +
+      ") · forgives a drift of −" + fmt(w.minus.nm, 1) + " / +" + fmt(w.plus.nm, 1) + " nm (process window)"));
     const b = el("button", "", "live view"); b.type = "button";
     b.addEventListener("click", () => show({thickness_nm: h.thickness_nm}));
     const p = el("button", "", "compare"); p.type = "button";
@@ -390,6 +466,31 @@ function find(target) {
     li.append(b, p);
     res.appendChild(li);
   }
+}
+// the answer in a sentence above the list: can the metal make this colour (a thickness within the catalog's
+// tolerance, in its own metric), and which colour it makes is closest (by ΔE2000) and how far
+function findVerdict(hits) {
+  const box = $("find-verdict");
+  box.replaceChildren();
+  box.hidden = !hits.length;
+  if (!hits.length) return;
+  const good = hits.find((h) => withinTolerance(h, tol.metric, bound)), best = good || hits[0];
+  const r = C.refColour(best.thickness_nm);
+  const metal = {Ti: "titanium", Nb: "niobium", Ta: "tantalum"}[String(cat.catalog.substrate).split("-")[0]] || "metal";
+  const what = nameSeen(nameOf(C.LCh(r.Lab))) + ": " + fmt(best.thickness_nm, 1) + "\u00a0nm of oxide" +
+    (growth === null ? "" : " (" + fmt(best.voltage_V, 1) + "\u00a0V)") + ", " + r.hex + ", a colour difference of " +
+    fmt(best.delta_E_00, 1) + " (ΔE00)";
+  const tolerance = "the catalog's colour tolerance (" + tolWords(tol) + ")";
+  box.classList.toggle("unreachable", !good);
+  const text = el("span");
+  if (good) {
+    text.append(el("strong", "", "Anodised " + metal + " can make this colour."), " The nearest within " + tolerance + " is " +
+      what + ".");
+  } else {
+    text.append(el("strong", "", "Anodised " + metal + " cannot make this colour."), " The closest colour it makes is " + what +
+      "; no oxide thickness from " + fmt(C.range[0], 0) + " to " + fmt(C.range[1], 0) + "\u00a0nm comes within " + tolerance + ".");
+  }
+  box.append(chip(r, "small"), text);
 }
 $("find-form").addEventListener("submit", (e) => {
   e.preventDefault();
@@ -418,9 +519,10 @@ document.documentElement.classList.add("js");
 update();
 // the drawing buffer is the canvas's displayed size in device pixels (sharp on a HiDPI screen, not resampled
 // by the browser; 640 x 480 beside the panel, about 310 x 233 on a phone at one device pixel a CSS pixel), at
-// most MAX_VIEW_PX pixels: the gather pass under an environment costs per pixel, and the 800 x 600 buffer the
-// page had before is the budget its frame times were measured at (benchmarks/bench_explorer.py)
-const MAX_VIEW_PX = 800 * 600;
+// most MAX_VIEW_PX pixels (the gather pass under an environment costs per pixel): a 390 px phone's full width at
+// 3 device pixels a CSS pixel, 1026 x 770, is drawn at one buffer pixel a device pixel, as no picture on the page
+// is shown larger than it was made; the bench's frame times are at 640 x 480 (benchmarks/bench_explorer.py)
+const MAX_VIEW_PX = 1100 * 830;
 function fitCanvas() {
   const r = canvas.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;
   let w = r.width * dpr, h = r.height * dpr;
@@ -431,6 +533,22 @@ function fitCanvas() {
   canvas.width = w; canvas.height = h;
   return true;
 }
+// no picture is shown larger than it was made: each card's hero and each render or angular map cut from a sheet
+// drawn at most one device pixel for each of its pixels (smaller on a screen of more device pixels a CSS pixel)
+function noUpscale() {
+  const dpr = window.devicePixelRatio || 1;
+  for (const img of document.querySelectorAll("img.hero")) {
+    const css = Number(img.getAttribute("width")), px = img.naturalWidth || Number(img.dataset.px) || 0;
+    if (css > 0 && px > 0) img.style.width = img.style.height = Math.min(css, Math.floor(px / dpr)) + "px";
+  }
+  for (const d of document.querySelectorAll("[data-src-px]")) {
+    const css = parseFloat(d.style.width), px = Number(d.dataset.srcPx);
+    d.style.zoom = css > 0 && px > 0 ? String(Math.min(1, px / (css * dpr))) : "";
+  }
+}
+noUpscale();
+for (const img of document.querySelectorAll("img.hero")) img.addEventListener("load", noUpscale);
+window.addEventListener("resize", noUpscale);
 if (view) {
   fitCanvas();  // before the first frame: the observer's first report then finds the size unchanged
   if (typeof ResizeObserver === "function") new ResizeObserver(() => { if (fitCanvas()) draw(); }).observe(canvas);

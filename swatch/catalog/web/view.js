@@ -11,6 +11,23 @@ const VS = `#version 300 es
 in vec2 p; out vec2 uv;
 void main() { uv = p; gl_Position = vec4(p, 0.0, 1.0); }`;
 
+// the designer's part (SHAPE 3): its triangles rasterised (page coordinates), the fragment's surface point and
+// interpolated normal passed on; the same camera as the rays of the other shapes, a depth buffer for hidden faces
+const MESH_VS = `#version 300 es
+in vec3 pos; in vec3 nrm;
+uniform vec3 eye, fwd, right, up;
+uniform float tanHalf, aspect;
+uniform vec2 win;
+out vec3 vP; out vec3 vN; out vec2 uv;
+void main() {
+  vec3 q = pos - eye;
+  float z = dot(q, fwd);
+  vec2 ndc = vec2((dot(q, right) / z - win.x) / (aspect * tanHalf), (dot(q, up) / z - win.y) / tanHalf);
+  const float zn = 0.05, zf = 60.0;
+  gl_Position = vec4(ndc * z, (z * (zf + zn) - 2.0 * zf * zn) / (zf - zn), z);
+  vP = pos; vN = nrm; uv = ndc;
+}`;
+
 // the scene (camera ray, plate / bent sheet / sphere) and the display transform, shared by the passes
 const GEOM = `#version 300 es
 precision highp float;
@@ -32,11 +49,13 @@ const float FAR = -1e3;
 // curved end (the hit at angle endPhi about the axis), else nothing that turns the normal (a straight edge)
 const int NONE = 0, SIL = 1, END = 2;
 int kind; vec3 sil, silD; float silR, endPhi;
+vec3 hitP;  // the surface point the pixel's ray meets (page coordinates; for the studio set's parallax)
 float edgePlate(vec3 o, vec3 d, out vec3 n) {
   n = vec3(0, 0, 1); kind = NONE;
   float t = abs(d.z) < 1e-6 ? -1.0 : -o.z / d.z;
   if (t <= 0.0) return FAR;
   vec3 q = o + t * d;
+  hitP = q;
   return 1.0 - max(abs(q.x), abs(q.y));
 }
 float edgeBend(vec3 o, vec3 d, out vec3 n) {
@@ -62,7 +81,7 @@ float edgeBend(vec3 o, vec3 d, out vec3 n) {
     float phi = atan(r.x, r.z), ey = bendH - abs(q.y), ep = (bendPhi - abs(phi)) * bendR;
     float et = i == 0 ? tangent : 1e3, e = min(min(ey, ep), et);
     if (e > best) {
-      best = e; n = normalize(vec3(r.x, 0, r.z));
+      best = e; n = normalize(vec3(r.x, 0, r.z)); hitP = q;
       kind = e == et ? SIL : e == ep ? END : NONE; endPhi = phi;
     }
     if (e >= 0.0) break;  // the front layer where it is there, else the back one
@@ -76,6 +95,7 @@ float edgeSphere(vec3 o, vec3 d, out vec3 n) {
   kind = SIL; sil = near / max(r, 1e-9); silD = d; silR = 1.0;
   if (b >= 0.0) { n = vec3(0, 0, 1); kind = NONE; return FAR; }
   n = r < 1.0 ? normalize(o - (b + sqrt(1.0 - r * r)) * d) : near / r;
+  hitP = n;  // the unit sphere about the origin
   return 1.0 - r;
 }
 vec3 bendToPage(vec3 v) { return v.x * bendX + v.y * bendY + v.z * bendZ; }
@@ -89,6 +109,7 @@ float edge(vec2 p, out vec3 d, out vec3 n) {  // the pixel's ray d, the outline 
   float e = edgeBend(vec3(dot(eye, bendX), dot(eye, bendY), dot(eye, bendZ) - bendR),
                      vec3(dot(d, bendX), dot(d, bendY), dot(d, bendZ)), nl);
   n = bendToPage(nl);
+  hitP = bendToPage(hitP + vec3(0.0, 0.0, bendR));  // from the sheet's frame (its middle at the origin)
   return e;
 #else
   return edgeSphere(eye, d, n);
@@ -115,6 +136,13 @@ vec3 tilt(vec3 n, float e2) {
 // uniform control flow), and the ray and normal to shade it with: the pixel's centre, or on the outline
 // the normal at the middle of the covered part (the silhouette itself is grazing: its shading is not the
 // pixel's)
+#if SHAPE == 3
+in vec3 vP; in vec3 vN;
+float pixelSurface(out vec3 d, out vec3 n) {  // a rasterised fragment of the part: all of it covered
+  d = normalize(vP - eye); n = normalize(vN); hitP = vP;
+  return 1.0;
+}
+#else
 float pixelSurface(out vec3 d, out vec3 n) {
   float e = edge(uv, d, n);
   vec2 g = vec2(dFdx(e), dFdy(e)), du = vec2(dFdx(uv.x), dFdy(uv.y));
@@ -126,6 +154,7 @@ float pixelSurface(out vec3 d, out vec3 n) {
   if (cover > 0.0 && cover < 1.0 && e2 > 0.0) n = tilt(n, e2);
   return cover;
 }
+#endif
 float tone(float x) { return x <= 0.8 ? x : 0.8 + 0.2 * (1.0 - exp(-(x - 0.8) / 0.2)); }
 // the shoulder on three channels: a branch, so pixels below it (most) skip the exponentials
 vec3 tone3(vec3 x) {
@@ -252,20 +281,40 @@ function makeView(canvas, C, settings, envData) {
   // one program per pass, shape and shading model (no branching on them per pixel: software GL is faster)
   const programs = new Map();
   const vs = compile(gl.VERTEX_SHADER, VS);
+  let meshVsShader = null;
+  const meshVs = () => meshVsShader || (meshVsShader = compile(gl.VERTEX_SHADER, MESH_VS));
   const UNIFORMS = ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
     "bendR", "bendPhi", "bendH", "bendX", "bendY", "bendZ", "win", "fill", "alb", "bins", "geo", "lod"];
   let env = null;  // the environment passes (envlight.js), when the page embeds them
+  // the finish in use: its GGX alpha and, brushed, its hairlines (settings.finishes: each offered finish; without
+  // them the catalog's one finish, settings.roughness and settings.hairlines)
+  const FIN = settings.finishes || {};
+  let roughness = settings.roughness, hairlines = settings.hairlines, finishNow = null;
+  function useFinish(name) {
+    if (!name || name === finishNow || !(name in FIN)) return false;
+    roughness = FIN[name].roughness_alpha;
+    hairlines = FIN[name].anisotropic ? settings.hairlines : null;
+    if (env) env.setFinish(name);
+    finishNow = name;
+    lastGather = null; lastGeom = null; lastKey = null;
+    return true;
+  }
   function program(pass, shape, model) {
-    const key = pass + "/" + shape + "/" + model;
+    const key = pass + "/" + shape + "/" + model + (hairlines ? "/hair" : "");
     if (programs.has(key)) return programs.get(key);
-    const body = {pgeom: POINT_GEOM, pshade: POINT_SHADE}[pass] || (pass === "gather" ? env.gatherSource : env.shadeSource);
-    const hair = settings.hairlines ? "\n#define HAIR 1" : "";
+    const body = {pgeom: POINT_GEOM, pshade: POINT_SHADE}[pass] ||
+      (pass === "gather" ? env.gatherSource : pass === "gatherset" ? env.gatherSetSource :
+        pass === "backdrop" ? env.backdropSource : env.shadeSource);
+    const hair = hairlines ? "\n#define HAIR 1" : "";
     const src = GEOM.replace("precision highp float;", "precision highp float;\n#define SHAPE " + shape + "\n#define MODEL " + model + hair) +
-      (settings.hairlines ? hairSource(settings.hairlines) : "") + body;
+      (hairlines ? hairSource(hairlines) : "") + body;
     const prog = gl.createProgram();
-    gl.attachShader(prog, vs);
+    const rasterised = shape === MESH && pass !== "pshade" && pass !== "shade" && pass !== "backdrop";
+    gl.attachShader(prog, rasterised ? meshVs() : vs);
     gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, src));
     gl.bindAttribLocation(prog, 0, "p");
+    gl.bindAttribLocation(prog, 1, "pos");
+    gl.bindAttribLocation(prog, 2, "nrm");
     gl.linkProgram(prog);
     if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
     const U = {};
@@ -276,7 +325,7 @@ function makeView(canvas, C, settings, envData) {
       gl.uniform1i(U.row, 0); gl.uniform1i(U.nodes, C.cosNodes); gl.uniform1i(U.alb, ALB_UNIT);
       gl.uniform1i(U.bins, env ? env.bins : 0); gl.uniform1i(U.geo, GEO_UNIT);
     }
-    else if (pass === "gather") env.setupGather(prog, U);
+    else if (pass === "gather" || pass === "gatherset") env.setupGather(prog, U);
     else env.setupShade(prog, U);
     const entry = {prog, U};
     programs.set(key, entry);
@@ -295,7 +344,46 @@ function makeView(canvas, C, settings, envData) {
   // the scene of swatch render (swatch.render.scene.make_scene), embedded by the build (swatch.catalog.explorer.
   // scene_data) in page coordinates: per shape the camera distance, the framing and the light's axes; the
   // bent sheet is --shape cylinder's half cylinder
-  const SC = settings.scene, PY_SHAPES = ["flat", "cylinder", "sphere"];
+  const SC = settings.scene, PY_SHAPES = ["flat", "cylinder", "sphere"].concat(SC.mesh ? ["mesh"] : []);
+  const MESH = 3;  // the part's shape index (SHAPE 3 in the shaders)
+  // the part's triangles (page coordinates): a vertex array of corners and normals, drawn with a depth buffer
+  let meshVao = null, meshCount = 0;
+  if (SC.mesh) {
+    const corners = decodeBlock(SC.mesh.corners), normals = decodeBlock(SC.mesh.normals);
+    meshCount = corners.length / 3;
+    meshVao = gl.createVertexArray();
+    gl.bindVertexArray(meshVao);
+    for (const [loc, data] of [[1, corners], [2, normals]]) {
+      const b = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.bufferData(gl.ARRAY_BUFFER, Float32Array.from(data), gl.STATIC_DRAW);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
+    }
+    gl.bindVertexArray(null);
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+  }
+  // draw the bound program over the target: the full-screen triangle, or the part's triangles (the target cleared
+  // to "nothing here" first, hidden faces by depth)
+  let depthRb = null, depthSize = [0, 0];
+  function drawShape(shape, wd, h) {
+    if (shape !== MESH) { gl.drawArrays(gl.TRIANGLES, 0, 3); return; }
+    if (!depthRb) depthRb = gl.createRenderbuffer();
+    gl.bindRenderbuffer(gl.RENDERBUFFER, depthRb);
+    if (depthSize[0] !== wd || depthSize[1] !== h) {
+      gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT24, wd, h);
+      depthSize = [wd, h];
+    }
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, depthRb);
+    gl.clearBufferuiv(gl.COLOR, 0, new Uint32Array(4));
+    gl.clearBufferfv(gl.DEPTH, 0, new Float32Array([1]));
+    gl.enable(gl.DEPTH_TEST);
+    gl.bindVertexArray(meshVao);
+    gl.drawArrays(gl.TRIANGLES, 0, meshCount);
+    gl.bindVertexArray(null);
+    gl.disable(gl.DEPTH_TEST);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, null);
+  }
   const CYL = SC.cylinder, BEND_R = CYL.radius, BEND_H = CYL.half_height, BEND_PHI = CYL.half_angle_deg * DEG;
   const BZ = CYL.middle, BY = CYL.axis;
   const BX = [BY[1] * BZ[2] - BY[2] * BZ[1], BY[2] * BZ[0] - BY[0] * BZ[2], BY[0] * BZ[1] - BY[1] * BZ[0]];
@@ -367,7 +455,7 @@ function makeView(canvas, C, settings, envData) {
   }
   function exposure(st, cam, light, aspect) {
     if (st.model === "paper") return 1;
-    const alpha = settings.roughness, off = [], all = [];
+    const alpha = roughness, off = [], all = [];
     const N = 28;
     for (let yi = 0; yi < N; yi++) for (let xi = 0; xi < N; xi++) {
       const d = ray(cam, (xi + 0.5) / N * 2 - 1, (yi + 0.5) / N * 2 - 1, aspect);
@@ -385,7 +473,7 @@ function makeView(canvas, C, settings, envData) {
     const m = pick[pick.length >> 1];
     return m > 0 ? 1 / m : 1;
   }
-  const SHAPES = ["plate", "bent sheet", "sphere"];
+  const SHAPES = ["plate", "bent sheet", "sphere"].concat(SC.mesh ? ["part"] : []);
   if (envData) {
     try { env = makeEnvLight(gl, envData, C); } catch (e) { env = null; console.warn("environment lighting is off: " + String(e)); }
   }
@@ -429,21 +517,33 @@ function makeView(canvas, C, settings, envData) {
     const lod = st.coarse ? 1 : 0;
     const key = [shape, st.view_deg, st.view_azimuth_deg, st.lighting, w, h, lod].join();
     if (key !== lastGather) {
-      const g = program("gather", shape, 0);
+      // in the studio set, each sample's direction corrected for where the surface point is (the set is near)
+      const inSet = st.lighting === "studio" && env.hasSet;
+      const g = program(inSet ? "gatherset" : "gather", shape, 0);
       gl.useProgram(g.prog);
       setCamera(g.U, cam, w / h);
-      env.gather(st.lighting, g.U, w, h, lod);
+      if (inSet) env.setStudio(g.U, PY_SHAPES[shape], true, true);
+      env.gather(env.mapName(st.lighting, PY_SHAPES[shape]), g.U, w, h, lod, (gw, gh) => drawShape(shape, gw, gh));
+      if (inSet) {  // the set behind the object, along each pixel's ray
+        const bp = program("backdrop", 0, 0);
+        gl.useProgram(bp.prog);
+        setCamera(bp.U, cam, w / h);
+        env.setStudio(bp.U, PY_SHAPES[shape], true, true);
+        env.backdropPass(w, h, lod);
+      }
       lastGather = key;
     }
     env.setThickness(st.thickness_nm);
     const {prog, U} = program("shade", 0, 0);
     gl.useProgram(prog);
+    env.setStudio(U, PY_SHAPES[shape], st.lighting === "studio", false);
     gl.uniform1i(U.lod, lod);
     gl.viewport(0, 0, w, h);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     return 1;  // exposure 1: the white diffuser under the same environment is display white
   }
   function draw(st) {
+    useFinish(st.finish);
     const w = canvas.width, h = canvas.height;
     const shape = Math.max(0, SHAPES.indexOf(st.shape));
     const ckey = [shape, st.view_deg, st.view_azimuth_deg].join();
@@ -478,11 +578,11 @@ function makeView(canvas, C, settings, envData) {
       gl.useProgram(g.prog);
       setCamera(g.U, cam, aspect);
       gl.uniform3fv(g.U.light, light);
-      gl.uniform1f(g.U.alpha, settings.roughness);
+      gl.uniform1f(g.U.alpha, roughness);
       geoTarget(gw, gh);
       gl.bindFramebuffer(gl.FRAMEBUFFER, geoFbo);
       gl.viewport(0, 0, gw, gh);
-      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      drawShape(shape, gw, gh);
       gl.bindFramebuffer(gl.FRAMEBUFFER, null);
       lastGeom = gkey;
     }

@@ -55,7 +55,7 @@ from swatch.render.mitsuba.setup import (
 from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
 __all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "mitsuba_lighting",
-           "render_swatch_mitsuba", "render_mitsuba", "Lighting"]
+           "render_swatch_mitsuba", "render_mitsuba", "Lighting", "studio_scale", "floor_y"]
 
 PATH_BOUNCES = 12
 #: Sun and sky: 1.0 = a white diffuser facing up under the reference sun (45° elevation, azimuth 0,
@@ -202,10 +202,22 @@ def _irradiance_scale(light_entries: dict, grid: int = 96) -> float:
 _SCALES: dict[str, float] = {}
 
 
-def _studio_scale(light_entries: dict) -> float:
-    """:func:`_irradiance_scale` of a lighting, kept for the process (a catalog's hero renders and a series of
-    thicknesses share one studio: the quadrature took ~0.3–0.6 s of each render). Keyed by the entries' text
-    (plain values and transforms)."""
+def studio_scale(light_entries: dict) -> float:
+    """The radiance scale of a lighting's scene entries (π / E_up: a white diffuser facing up at the object, lit
+    directly by the emitters, reflects 1; :func:`_irradiance_scale`), kept for the process (a catalog's hero renders
+    and a series of thicknesses share one studio: the quadrature took ~0.3–0.6 s of each render). Keyed by the
+    entries' text (plain values and transforms).
+
+    Parameters
+    ----------
+    light_entries : dict
+        Scene entries of :func:`swatch.render.mitsuba.scene.lighting`.
+
+    Returns
+    -------
+    float
+        The factor on Mitsuba's radiance, dimensionless.
+    """
     key = repr(sorted((name, repr(entry)) for name, entry in light_entries.items()))
     if key not in _SCALES:
         if len(_SCALES) >= 8:
@@ -240,7 +252,21 @@ def _sun_above_horizon(entry: dict) -> None:
                           "(local time of the sun's time zone, `timezone_h`)")
 
 
-def _floor_y(shape: str, mesh) -> float:
+def floor_y(shape: str, mesh) -> float:
+    """The floor's height under a shape (the object stands on it).
+
+    Parameters
+    ----------
+    shape : str
+        ``flat``, ``cylinder``, ``sphere`` or ``mesh``.
+    mesh : swatch.render.mesh.MeshShape or None
+        With ``shape="mesh"``.
+
+    Returns
+    -------
+    float
+        World y of the floor, scene units.
+    """
     if shape == "flat":
         return -0.02
     if shape == "cylinder":
@@ -340,7 +366,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
             bsdf["hairline_depth"] = HAIRLINE_DEPTH
     if bsdf_override is not None:
         bsdf = bsdf_override
-    lights = lighting(light.kind, _floor_y(shape, mesh), light.sun, light.hdri)
+    lights = lighting(light.kind, floor_y(shape, mesh), light.sun, light.hdri)
     if light.kind == "sun":
         _sun_above_horizon(lights["light"])
     if light.kind == "uniform":
@@ -350,7 +376,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
     elif light.kind == "sun":
         scale = SUN_SCALE  # one scale for every sun: a low sun is darker, as it is
     else:
-        scale = _studio_scale(lights)
+        scale = studio_scale(lights)
     # Samples per pass: a power of two dividing spp (so a pixel's samples, laid out together, never straddle
     # two of Dr.Jit's power-of-two thread blocks: the film's box-filter sums then run in one order, and the
     # image is byte-identical from run to run), and at most MAX_PASS_LANES samples and MAX_PASS_SPP per pixel a pass.

@@ -28,6 +28,7 @@ import math
 import mitsuba as mi
 import numpy as np
 
+from swatch.render import studio_set as ss
 from swatch.render.lighting import Sun
 from swatch.render.mitsuba.bsdf import PLUGIN_NAME
 from swatch.render.scene import Camera
@@ -240,16 +241,17 @@ def object_shapes(shape: str, bsdf: dict, mesh=None) -> dict:
 
 
 def _cyclorama(floor_y: float, bsdf) -> mi.Mesh:
-    """A floor at ``floor_y`` from z = +8 to −3, a quarter-circle cove (radius 2) and a back wall to y = 8."""
-    r, z_wall = 2.0, -5.0
+    """The set's cyclorama (:mod:`swatch.render.studio_set`): a floor at ``floor_y`` from z = FRONT_Z to the cove,
+    a quarter-circle cove and a back wall, tessellated (16 facets on the cove, smooth normals)."""
+    r, z_wall = ss.COVE_RADIUS, ss.WALL_Z
     a = np.linspace(0.0, math.pi / 2, 17)
-    prof = [(floor_y, 8.0), (floor_y, z_wall + r)]
+    prof = [(floor_y, ss.FRONT_Z), (floor_y, z_wall + r)]
     prof += [(floor_y + r - r * math.cos(t), z_wall + r - r * math.sin(t)) for t in a[1:]]
-    prof += [(floor_y + 10.0, z_wall)]
+    prof += [(floor_y + ss.WALL_HEIGHT, z_wall)]
     yz = np.array(prof)
     nrm_yz = np.array([(1.0, 0.0), (1.0, 0.0)] + [(math.cos(t), math.sin(t)) for t in a[1:]] + [(0.0, 1.0)])
     k = yz.shape[0]
-    xs = (-10.0, 10.0)
+    xs = (-ss.HALF_WIDTH, ss.HALF_WIDTH)
     pos = np.concatenate([np.stack([np.full(k, x), yz[:, 0], yz[:, 1]], -1) for x in xs])
     nrm = np.concatenate([np.stack([np.zeros(k), nrm_yz[:, 0], nrm_yz[:, 1]], -1)] * 2)
     i = np.arange(k - 1)
@@ -257,15 +259,14 @@ def _cyclorama(floor_y: float, bsdf) -> mi.Mesh:
     return triangle_mesh("cyclorama", pos, faces, nrm, bsdf)
 
 
-def _box(centre, normal_to, size, radiance: float) -> dict:
-    """A rectangular soft box (one-sided area light) at ``centre`` facing the point ``normal_to``; chosen for
-    next-event estimation in proportion to its power (radiance × area: ``sampling_weight``)."""
-    t = mi.ScalarTransform4f().look_at(origin=list(centre), target=list(normal_to), up=[0.0, 1.0, 0.0]
-                                       if abs(centre[1] - normal_to[1]) < 0.9 * math.dist(centre, normal_to)
-                                       else [0.0, 0.0, -1.0])
+def _box(box: ss.SoftBox) -> dict:
+    """A soft box of the set (one-sided area light) at its centre facing its target; chosen for next-event
+    estimation in proportion to its power (radiance × area: ``sampling_weight``)."""
+    t = mi.ScalarTransform4f().look_at(origin=list(box.centre), target=list(box.target), up=list(box.up()))
+    size = box.size
     return {"type": "rectangle", "to_world": t @ mi.ScalarTransform4f().scale([size[0] / 2, size[1] / 2, 1.0]),
-            "emitter": {"type": "area", "radiance": float(radiance),
-                        "sampling_weight": float(radiance) * size[0] * size[1]},
+            "emitter": {"type": "area", "radiance": float(box.radiance),
+                        "sampling_weight": float(box.radiance) * size[0] * size[1]},
             "bsdf": {"type": "diffuse", "reflectance": 0.0}}
 
 
@@ -292,11 +293,9 @@ def lighting(kind: str, floor_y: float, sun: Sun | None = None, hdri: np.ndarray
         return {"light": {"type": "constant", "radiance": 1.0}}
     if kind == "studio":
         return {
-            "cyclorama": _cyclorama(floor_y, mi.load_dict({"type": "diffuse", "reflectance": 0.45})),
-            "key": _box((0.0, 3.2, -0.4), (0.0, 0.0, 0.0), (3.0, 2.0), 8.0),
-            "strip_left": _box((-3.2, 0.8, 0.6), (0.0, 0.0, 0.0), (0.8, 3.0), 7.0),
-            "strip_right": _box((3.2, 0.8, -0.8), (0.0, 0.0, 0.0), (0.8, 3.0), 3.5),
-            "fill": {"type": "constant", "radiance": 0.05, "sampling_weight": FILL_SAMPLING_WEIGHT},
+            "cyclorama": _cyclorama(floor_y, mi.load_dict({"type": "diffuse", "reflectance": ss.CYCLORAMA_ALBEDO})),
+            **{box.name: _box(box) for box in ss.SOFT_BOXES},
+            "fill": {"type": "constant", "radiance": ss.FILL_RADIANCE, "sampling_weight": FILL_SAMPLING_WEIGHT},
         }
     if kind == "sun":
         assert sun is not None, "sun lighting needs a Sun"
