@@ -29,6 +29,7 @@ from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chro
 #: side: started together, both build tests.browser's small catalog at once and one worker waits ~4 s for the
 #: other's (its lock).
 LONGEST_FIRST = (
+    "tests/catalog/test_live_studio_browser.py",  # ~100 s (#46: two catalogs with heroes, the set baked; estimated)
     "tests/test_docs_commands.py",  # ~50 s (issue 39, estimated: 97 s on the loaded VM; the default catalog cold)
     "tests/mitsuba/test_mitsuba_checks.py",  # 38 s
     "tests/commands/test_hardening_memory_caps.py",  # 32

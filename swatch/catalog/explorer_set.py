@@ -85,11 +85,16 @@ def _key(shape: str, mesh_sha256: str | None) -> str:
     return hashlib.sha256(json.dumps(blob, sort_keys=True).encode()).hexdigest()[:32]
 
 
+#: Bakes made in this process, by key (a series of builds, the test suite's catalogs: the same set is baked once).
+_BAKED: dict[str, dict] = {}
+
+
 def _bake(shape: str, mesh, mesh_sha256: str | None, cache: Path | None, used: set[str]) -> dict:
     """One shape's bake (``shadow``, ``bounce``, ``scale``, ``floor_y``), from the cache when it holds it."""
+    key = _key(shape, mesh_sha256)
     path = None
     if cache is not None:
-        name = f"studio-set-{_key(shape, mesh_sha256)}.json"
+        name = f"studio-set-{key}.json"
         used.add(name)
         path = cache / name
         doc = read_cache_json(path)
@@ -103,7 +108,13 @@ def _bake(shape: str, mesh, mesh_sha256: str | None, cache: Path | None, used: s
                     return {"shadow": shadow, "bounce": bounce, "scale": scale, "floor_y": floor}
             except (KeyError, TypeError, ValueError):
                 pass
-    shadow, bounce, scale, floor = studio_lightmap(shape, mesh)
+    if key in _BAKED:
+        shadow, bounce, scale, floor = (_BAKED[key][k] for k in ("shadow", "bounce", "scale", "floor_y"))
+    else:
+        shadow, bounce, scale, floor = studio_lightmap(shape, mesh)
+        if len(_BAKED) >= 8:
+            _BAKED.pop(next(iter(_BAKED)))
+        _BAKED[key] = {"shadow": shadow, "bounce": bounce, "scale": scale, "floor_y": floor}
     if path is not None:
         ns, nx = shadow.shape
         atomic_write_text(path, json.dumps({"format": _FORMAT, "ns": ns, "nx": nx, "scale": scale, "floor_y": floor,
