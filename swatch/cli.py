@@ -6,18 +6,38 @@ one line ``error: ...`` with exit status 2; no traceback (``SWATCH_DEBUG=1`` sho
 """
 from __future__ import annotations
 
-import difflib
-import importlib
 import os
 import signal
 import sys
 
+#: The program (the ``swatch`` script, ``python -m swatch.cli``) holds SIGINT, SIGTERM and SIGHUP from its first
+#: statement, before the imports, until :func:`main` has its handlers in place and delivers what came meanwhile:
+#: a Ctrl-C during the imports is one line and 130 too (it was Python's traceback and a raw death, issue 49).
+#: The mask it replaced, or None (imported by another program, or no signal masks on this system).
+_START_MASK = (signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM, signal.SIGHUP})
+               if hasattr(signal, "pthread_sigmask")
+               and (__name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "") in ("swatch", "swatch.exe"))
+               else None)
+
+import difflib
+import importlib
+
 import click
 
 from swatch.commands.flags import speak_flags
+from swatch.commands.terminal import escaped_output
 from swatch.core.errors import SwatchError
+from swatch.core.escapes import printable
 from swatch.core.heap import keep_freed_memory
-from swatch.core.procguard import Terminated, guard_exit, handle_termination, settle, signal_received, stop_message
+from swatch.core.procguard import (
+    Terminated,
+    guard_exit,
+    handle_termination,
+    release_signals,
+    settle,
+    signal_received,
+    stop_message,
+)
 from swatch.core.version import __version__
 
 #: command name -> "module:attribute"
@@ -70,6 +90,12 @@ class _InterruptedError(Exception):
 
 
 class LazyGroup(click.Group):
+    def make_context(self, info_name, args, parent=None, **extra):
+        try:  # (parsing runs the --version and --help callbacks: click made a stop there "error: aborted")
+            return super().make_context(info_name, args, parent=parent, **extra)
+        except KeyboardInterrupt as exc:
+            raise _InterruptedError(exc) from None
+
     def invoke(self, ctx):
         try:
             return super().invoke(ctx)
@@ -100,7 +126,9 @@ class LazyGroup(click.Group):
         return super().resolve_command(ctx, args)
 
 
-@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+# color=True: click leaves escape sequences in what it is given (off a terminal it deleted the ones it knows,
+# silently); the output streams show every one escaped instead (swatch.commands.terminal). swatch prints no styles.
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"], "color": True})
 @click.version_option(__version__, prog_name="swatch")
 def cli():
     """Physics-based colour swatches for anodised titanium.
@@ -117,7 +145,7 @@ def _one_line(text: object) -> str:
 
     words = [w if len(w) <= MAX_ERROR_WORD_CHARS else f"{w[:MAX_ERROR_WORD_CHARS]}…[{len(w)} characters]"
              for w in str(text).split()]  # a quoted huge input is cut, what follows it (what is allowed) kept
-    line = "".join(ch if ch.isprintable() else repr(ch)[1:-1] for ch in " ".join(words))
+    line = printable(" ".join(words), one_line=True)
     return line if len(line) <= MAX_ERROR_CHARS else line[:MAX_ERROR_CHARS] + f" …[{len(line)} characters]"
 
 
@@ -127,27 +155,59 @@ def main(argv: list[str] | None = None) -> int:
 
     Called without ``argv`` it is the program (the ``swatch`` script, ``python -m swatch.cli``): its outcome
     is then settled for the process's exit too (:func:`swatch.core.procguard.settle`: a signal during the
-    exit is not a traceback, nor a silent death).
+    exit is not a traceback, nor a silent death). Everything the run prints is escaped
+    (:mod:`swatch.commands.terminal`).
     """
+    global _START_MASK
+    held, _START_MASK = _START_MASK, None  # (the program's: main() runs once there)
     handle_termination()  # SIGTERM/SIGHUP unwind like Ctrl-C: temporary files removed, one line
     keep_freed_memory()  # array temporaries reused from the heap, not mapped and faulted in again (swatch.core.heap)
     if argv is None:
         guard_exit()
-    try:
-        status = _run(argv)
-    except KeyboardInterrupt as intr:  # (one that came while a failure was being reported)
-        status = _report_stop(intr)
-    sig = signal_received()
-    if status == 0 and sig is not None:  # a stop lost on its way (a finaliser dropped it): not a success
-        line, status = stop_message(sig)
-        click.echo(line, err=True)
-    if argv is None:
-        settle(status)
+    with escaped_output():
+        status = _outcome(argv, held)
+        if argv is None:
+            settle(status)  # from here a signal is recorded, not raised (the exit handler reports a late one)
+        sig = signal_received()
+        if status == 0 and sig is not None:  # a stop lost on its way (a finaliser dropped it): not a success
+            line, status = stop_message(sig)
+            click.echo(line, err=True)
+            if argv is None:
+                settle(status)
     return status
 
 
+def _outcome(argv: list[str] | None, held) -> int:
+    """The run's exit status, its line printed: a stop is one line, also one that comes while a failure is
+    being reported, and a second one while the first one's line is."""
+    try:
+        try:
+            if held is not None:
+                release_signals(held)  # the handlers are in place: a signal held since the start is raised here
+            return _run(argv)
+        except KeyboardInterrupt as intr:  # (one that came while a failure was being reported)
+            return _report_stop(intr)
+    except KeyboardInterrupt as again:
+        return stop_message(signal_received() or _signum(again))[1]
+
+
+def _signum(intr: KeyboardInterrupt) -> int:
+    return intr.signum if isinstance(intr, Terminated) else signal.SIGINT
+
+
 def _report_stop(intr: KeyboardInterrupt) -> int:
-    line, status = stop_message(intr.signum if isinstance(intr, Terminated) else signal.SIGINT)
+    line, status = stop_message(_signum(intr))
+    click.echo(line, err=True)
+    return status
+
+
+def _stopped() -> int | None:
+    """The exit status of a run that a signal stopped, its line printed, or None: an error raised while a
+    run is being stopped (a worker gone, a pool broken, a file a stopped library left unread) is the stop."""
+    sig = signal_received()
+    if sig is None:
+        return None
+    line, status = stop_message(sig)
     click.echo(line, err=True)
     return status
 
@@ -156,12 +216,18 @@ def _run(argv: list[str] | None) -> int:
     try:
         rv = cli.main(args=argv, prog_name="swatch", standalone_mode=False)
     except SwatchError as exc:  # the library names parameters; the CLI speaks its flags
+        if (stop := _stopped()) is not None:
+            return stop
         click.echo(f"error: {speak_flags(_one_line(exc))}", err=True)
         return 2
-    except click.exceptions.Abort:
+    except click.exceptions.Abort as exc:
+        if isinstance(exc.__cause__, KeyboardInterrupt):  # (click's, around what it runs itself)
+            return _report_stop(exc.__cause__)
         click.echo("error: aborted", err=True)
         return 130
     except click.ClickException as exc:
+        if (stop := _stopped()) is not None:
+            return stop
         ctx = getattr(exc, "ctx", None)
         cmd = f" (see 'swatch {ctx.command_path.split(' ', 1)[1]} --help')" if ctx and " " in ctx.command_path else ""
         click.echo(f"error: {_one_line(exc.format_message())}{cmd}", err=True)
@@ -171,14 +237,14 @@ def _run(argv: list[str] | None) -> int:
     except BrokenPipeError:
         return 0
     except OSError as exc:
-        click.echo(f"error: {_one_line(exc.strerror or exc)}: {exc.filename or ''}".rstrip(": "), err=True)
+        if (stop := _stopped()) is not None:
+            return stop
+        where = printable(str(exc.filename), one_line=True) if exc.filename else ""
+        click.echo(f"error: {_one_line(exc.strerror or exc)}: {where}".rstrip(": "), err=True)
         return 2
     except Exception as exc:  # a bug: still one line unless debugging
-        sig = signal_received()
-        if sig is not None:  # (a worker gone or a pool broken while the run was being stopped)
-            line, status = stop_message(sig)
-            click.echo(line, err=True)
-            return status
+        if (stop := _stopped()) is not None:  # (a worker gone or a pool broken while the run was being stopped)
+            return stop
         if os.environ.get("SWATCH_DEBUG"):
             raise
         click.echo(f"error: internal error ({type(exc).__name__}: {_one_line(exc)}); set SWATCH_DEBUG=1 for a traceback", err=True)

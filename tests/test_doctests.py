@@ -13,6 +13,7 @@ import pytest
 MODULES_WITH_EXAMPLES = [
     "swatch",
     "swatch.core.errors",
+    "swatch.core.escapes",
     "swatch.physics.materials",
     "swatch.physics.model",
     "swatch.physics.overcoat",
@@ -22,6 +23,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.colorimetry.appearance",
     "swatch.colorimetry.names",
     "swatch.colorimetry.tolerance",
+    "swatch.colorimetry.grid",
     "swatch.catalog.context",
     "swatch.catalog.record",
     "swatch.colorimetry.geometry",
@@ -42,6 +44,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch.fit.multi_match",
     "swatch.fit.fitting",
     "swatch.fit.result",
+    "swatch.fit.resampling",
     "swatch.io.instruments",
     "swatch.io.cgats",
     "swatch.io.cxf_in",

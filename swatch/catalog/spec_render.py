@@ -17,7 +17,7 @@ from typing import Any
 from swatch.catalog.spec_checks import SpecChecker
 from swatch.core.choices import FINISHES, MESH_FORMATS, MODELS, SHAPES
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_MESH_BYTES, read_capped
+from swatch.core.limits import MAX_DENOISE_PX, MAX_MESH_BYTES, MAX_MITSUBA_PX, read_capped
 from swatch.core.safepath import inside
 from swatch.physics.finishes import get_finish
 
@@ -182,11 +182,13 @@ def parse_render(c: SpecChecker, data, base_dir: Path | None) -> dict[str, Any]:
     amap = c.boolean(ren.get("angular_map", True), "render.angular_map")
     if (hero := c.boolean(ren.get("hero", False), "render.hero")) and model != "microfacet":
         c.fail("render.hero", "hero renders are of the microfacet model (Mitsuba); set model = \"microfacet\"", True)
-    hero_size = c.integer(ren.get("hero_size_px", 256), "render.hero_size_px", 32, 1024)
-    hero_spp = c.integer(ren.get("hero_spp", 16), "render.hero_spp", 1, 1024)
-    if (cover := c.integer(ren.get("hero_cover_px", 0), "render.hero_cover_px", 0, 2048)) and not hero:
-        c.fail("render.hero_cover_px", "the cover is the most vivid swatch's hero rendered larger: set hero = true", cover)
     denoise = c.boolean(ren.get("denoise", True), "render.denoise")
+    # (a denoised picture is at most MAX_DENOISE_PX a side, an undenoised one MAX_MITSUBA_PX: their time and memory)
+    top = MAX_DENOISE_PX if denoise else MAX_MITSUBA_PX
+    hero_size = c.integer(ren.get("hero_size_px", 256), "render.hero_size_px", 32, min(1024, top))
+    hero_spp = c.integer(ren.get("hero_spp", 16), "render.hero_spp", 1, 1024)
+    if (cover := c.integer(ren.get("hero_cover_px", 0), "render.hero_cover_px", 0, top)) and not hero:
+        c.fail("render.hero_cover_px", "the cover is the most vivid swatch's hero rendered larger: set hero = true", cover)
     mesh, mesh_path, mesh_sha256 = spec_mesh(c, ren["mesh"], base_dir) if "mesh" in ren else (None, None, None)
     return {"shapes": shapes, "size_px": size, "model": model, "roughness": rough,
             "finish": finishes[0] if finishes else None, "finishes": finishes, "angular_map": amap, "hero": hero,

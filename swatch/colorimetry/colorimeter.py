@@ -27,6 +27,7 @@ import warnings
 import colour
 import numpy as np
 
+from swatch.colorimetry.grid import ASTM_E308_STEPS_NM, GRID_TOLERANCE_NM, astm_e308_grid
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_LAB_AB
 from swatch.core.ranges import parse_hex
@@ -41,8 +42,6 @@ OBSERVERS = {
 RGB_SPACES = {"srgb": "sRGB", "display-p3": "Display P3", "acescg": "ACEScg"}
 #: The observer display RGB is defined on (sRGB: IEC 61966-2-1 uses CIE 1931 2° colorimetry).
 DISPLAY_OBSERVER = "2"
-#: Wavelength steps the ASTM E308 practice (colour.sd_to_XYZ's default) accepts.
-ASTM_E308_STEPS_NM = (1.0, 5.0, 10.0, 20.0)
 
 
 def check_rgb_space(space: str) -> str:
@@ -140,6 +139,11 @@ class Colorimeter:
         if not np.isclose(wl[0] / step, round(float(wl[0] / step)), rtol=0.0, atol=1e-6):
             raise SwatchError(f"colorimetry needs a grid on the ASTM E308 tables' wavelengths (a start that is a "
                               f"multiple of the {step:g} nm step), got a start of {wl[0]:g} nm; e.g. 380:780:5")
+        exact = astm_e308_grid(wl)  # the grid colour-science integrates on (its steps exactly equal)
+        if exact is None:
+            raise SwatchError(f"colorimetry needs an evenly spaced 1, 5, 10 or 20 nm grid (ASTM E308), every "
+                              f"wavelength within {GRID_TOLERANCE_NM:g} nm of it; {wl[0]:g}–{wl[-1]:g} nm "
+                              f"drifts off the {step:g} nm grid")
         self.observer_name = _observer_name(observer)
         self.illuminant_name = _illuminant_name(illuminant)
         cmfs = colour.MSDS_CMFS[self.observer_name]
@@ -153,7 +157,7 @@ class Colorimeter:
         self.illuminant = self.illuminant_name
         self.cmfs = cmfs
         self.illuminant_sd = colour.SDS_ILLUMINANTS[self.illuminant_name]
-        basis = colour.MultiSpectralDistributions(np.eye(wl.size), wl)
+        basis = colour.MultiSpectralDistributions(np.eye(wl.size), exact)
         with warnings.catch_warnings():
             # ASTM E308 aligns the spectra to its practice range (and says so); that is exactly
             # what colour.sd_to_XYZ does to a single spectrum, which these weights reproduce.

@@ -74,6 +74,7 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
 
     from swatch.core.errors import SwatchError
     from swatch.core.fileio import atomic_path, atomic_write_text, check_new, check_writable_dir
+    from swatch.fit.resampling import resampling_notes
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.instruments import Request
     from swatch.production.advice import spec_notes
@@ -97,7 +98,8 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
         out = Path(report_dir)
         paths = [out / "check.png", out / "check.json"]
         check_new([p for p in paths if out.exists()], force)
-    results = [r for p in files for r in check_file(read_instrument_file(p, request), spec)]
+    read = [read_instrument_file(p, request) for p in files]
+    results = [r for f in read for r in check_file(f, spec)]
     ids = [r["id"] for r in results]
     if len(set(ids)) != len(ids):
         for r in results:
@@ -111,16 +113,17 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
                      "failing part or one near the window's edge, and only where the model at the best-fit thickness "
                      "explains the part within the tolerance (max_residual_delta_E); calibrate first where the spec's "
                      "uncalibrated model is the suspect; otherwise voltage_correction_reason says why not",
-           "nominal": spec["nominal"], "notes": spec_notes(spec), "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
+           "nominal": spec["nominal"], "notes": [*spec_notes(spec), *(n for f in read for n in resampling_notes(f))],
+           "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
            "measurements": results}
     text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     if report_dir is not None:
         check_writable_dir(out)
         with atomic_path(paths[0]) as tmp:
-            check_figure(results, spec, doc["notes"]).save(tmp, format="PNG")
+            check_figure(results, spec, spec_notes(spec)).save(tmp, format="PNG")
         atomic_write_text(paths[1], text)
     if as_json:
-        click.echo(text, nl=False)
+        common.echo_json_text(text)
     else:
         judged = spec["tolerance"].get("geometry", spec["reference"]["geometry"])
         click.echo(f"# {spec['tolerance']['label']} at every measured geometry, required at {judged}; CIELAB under "

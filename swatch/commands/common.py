@@ -3,10 +3,12 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 
 import click
 import numpy as np
 
+from swatch.commands.terminal import unescaped
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_OVERCOATS, MAX_THICKNESS_NM
 from swatch.core.ranges import parse_grid, parse_range
@@ -338,7 +340,19 @@ def echo_json(obj) -> None:
     obj : object
         JSON-ready.
     """
-    click.echo(json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False))
+    echo_json_text(json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False) + "\n")
+
+
+def echo_json_text(text: str) -> None:
+    """Print a JSON text as it is: JSON escapes the control characters itself, and the bytes stay those of the
+    file a command writes (the stream underneath the escaping one, :mod:`swatch.commands.terminal`).
+
+    Parameters
+    ----------
+    text : str
+        The JSON, with its final newline.
+    """
+    click.echo(text, file=unescaped(sys.stdout), nl=False)
 
 
 def instrument_request(percent=None):

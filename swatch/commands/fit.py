@@ -170,12 +170,14 @@ def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, 
     from swatch.colorimetry.colorimeter import get_colorimeter, parse_Lab
     from swatch.colorimetry.observers import hex_to_document_Lab
     from swatch.fit.multi_match import match_angles, parse_angles
+    from swatch.fit.resampling import resampling_note
     from swatch.fit.result import colour_grid, interp_rows
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.measurements import LabMeasurement
 
     if sum(x is not None for x in (lab, hex_code, measurement)) != 1:
         raise SwatchError("give exactly one of --lab L,a,b, --hex RRGGBB or --measurement FILE")
+    notes: list[str] = []
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     coating = proc.coating(common.resolve_grid(wavelengths))
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
@@ -195,19 +197,22 @@ def _match_angles(lab, hex_code, measurement, angles, rank, tol, process, film, 
             R = interp_rows(wl, m.wavelength_nm, m.reflectance) if interp else m.reflectance
             mcm = get_colorimeter(wl, f.illuminant, f.observer)
             target = mcm.Lab(mcm.XYZ(R))
+            notes = [n for n in [resampling_note(f.source, m.wavelength_nm)] if n is not None]
     else:
         geoms = parse_angles(angles)
         target = parse_Lab(lab, "--lab") if lab is not None else hex_to_document_Lab(hex_code, cm)
     out = match_angles(target, geoms, coating, cm, tol, rank=rank, thickness_range=parse_pair(thickness_range, "--range"),
                        step_nm=step, top=top, voltage_of=proc.voltage_V)
     out.update({"illuminant": cm.illuminant, "observer": cm.observer, "tolerance": tol.to_json(),
-                "process": proc.metadata()})
+                "process": proc.metadata(), "notes": notes})
     if as_json:
         common.echo_json(out)
         return
     names = [g["name"] for g in out["geometries"]]
     click.echo(f"# ranked by the {rank} ΔE2000 over {', '.join(names)}; {cm.illuminant}, {cm.observer}° observer; "
                f"process {proc.name}; within = every geometry within {tol.text}")
+    for note in notes:
+        click.echo(f"note: {note}")
     click.echo(f"{'rank':>4} {'d_nm':>8} {'volt_V':>7} {'worst':>6} {'mean':>6}  " + " ".join(f"{n:>9}" for n in names)
                + "  within")
     for k, c in enumerate(out["candidates"], start=1):

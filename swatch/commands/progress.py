@@ -12,6 +12,9 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from swatch.commands.terminal import unescaped
+from swatch.core.escapes import printable
+
 if TYPE_CHECKING:  # the type only: `swatch render` does not load the catalog build
     from swatch.catalog.build import ProgressBarFactory
 
@@ -29,7 +32,10 @@ def terminal_bar_factory() -> ProgressBarFactory | None:
     """
     if not sys.stderr.isatty():
         return None
-    return lambda label, total: click.progressbar(length=total, label=label, file=sys.stderr, show_pos=True)
+    # (the bar's carriage returns and cursor codes are its own: it draws on the stream underneath the escaping
+    # one, its label escaped; swatch.commands.terminal)
+    return lambda label, total: click.progressbar(length=total, label=printable(label), file=unescaped(sys.stderr),
+                                                  show_pos=True)
 
 
 class PassBar:
@@ -53,7 +59,7 @@ class PassBar:
         if total <= 1 or not sys.stderr.isatty():
             return
         if self._bar is None:
-            self._bar = click.progressbar(length=total, label=self.label, file=sys.stderr)
+            self._bar = click.progressbar(length=total, label=printable(self.label), file=unescaped(sys.stderr))
         self._bar.update(done - self._done)
         self._done = done
 

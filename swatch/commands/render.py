@@ -10,6 +10,7 @@ import numpy as np
 
 from swatch.commands import common
 from swatch.commands.progress import PassBar
+from swatch.commands.terminal import unescaped
 from swatch.core.choices import (
     BACKGROUNDS,
     DISTRIBUTIONS,
@@ -21,6 +22,7 @@ from swatch.core.choices import (
     SHAPES,
 )
 from swatch.core.errors import SwatchError
+from swatch.core.escapes import printable
 
 ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view angle, first value at the "
                "left (as the PNG figure and the catalog sheets)")
@@ -29,7 +31,7 @@ ORIENTATION = ("rows: light angle, first value at the bottom row; columns: view 
 def _iterate(items, label: str):
     """Items with a progress bar on stderr when it is a terminal and there is more than one."""
     if len(items) > 1 and sys.stderr.isatty():
-        return click.progressbar(items, label=label, file=sys.stderr, show_pos=True)
+        return click.progressbar(items, label=printable(label), file=unescaped(sys.stderr), show_pos=True)
     return nullcontext(items)
 
 

@@ -98,7 +98,7 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     unreachable = reach is not None and not reach["within_tolerance"]
     status = 1 if unreachable and not reach["accepted_closest"] else 0
     if as_json:
-        click.echo(text, nl=False)
+        common.echo_json_text(text)
         return status
     nom, pw = data["nominal"], data["process_window"]
     col = data["colorimetry"]

@@ -19,9 +19,12 @@ __all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MA
            "MAX_SWATCHES", "MAX_CHIP_PX", "MAX_GRID_NODES", "MAX_SEARCH_POINTS", "MAX_RA_NM", "MAX_COUPON_BYTES",
            "MAX_COUPON_ROWS", "MAX_COUPONS", "MAX_PROFILE_BYTES", "MAX_PROFILE_TEXT_CHARS", "MAX_TOLERANCE",
            "MAX_REFLECTANCE", "MIN_REFLECTANCE", "MAX_MESH_BYTES", "MAX_MESH_TRIANGLES", "MAX_PAGE_MESH_TRIANGLES", "MAX_MESH_COORDINATE",
+           "MIN_MESH_EXTENT", "MAX_MESH_VERTICES", "MAX_MESH_NODES", "MAX_MESH_NODE_DEPTH", "MAX_MESH_JSON_ITEMS",
            "MAX_INSTRUMENT_SAMPLES",
-           "MAX_INSTRUMENT_FIELDS", "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
-           "MAX_MITSUBA_SAMPLES", "MAX_PASS_LANES", "MAX_PASS_SPP", "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
+           "MAX_INSTRUMENT_FIELDS", "MAX_HEADER_COUNT_CHARS", "MIN_MEASURED_WAVELENGTH_NM", "MAX_MEASURED_WAVELENGTH_NM",
+           "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
+           "MAX_MITSUBA_SAMPLES", "MAX_DENOISE_PX", "MAX_DENOISE_MEMORY_MB", "MAX_PASS_LANES", "MAX_PASS_SPP",
+           "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
            "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX", "MIN_FILM_INDEX_SCALE", "MAX_FILM_INDEX_SCALE",
            "MAX_DISPLAY_EXPOSURE", "MAX_FIGURE_ROWS"]
 
@@ -151,19 +154,57 @@ MAX_PAGE_MESH_TRIANGLES = 200_000
 #: A mesh vertex coordinate's magnitude (the file's units; the mesh is placed in the unit sphere):
 #: beyond it the areas and normals overflow float64 (1e300 made "every triangle is degenerate").
 MAX_MESH_COORDINATE = 1e15
+#: A mesh's smallest size (its bounding box's largest side, the file's units). A smaller mesh is scaled up by a
+#: power of two (exact) before it is placed, so any size renders alike; what this bounds is the file's own
+#: precision: glTF, binary STL and PLY store float32, whose normal numbers end at 1.2e-38, so a mesh of 1e-30
+#: keeps its detail down to a millionth of its size, and Mitsuba traces float32. (Placing a mesh under ~1e-290
+#: overflowed: 10^digits of trimesh's vertex merge.)
+MIN_MESH_EXTENT = 1e-30
+#: A mesh's vertices (a triangle soup's corners: three a triangle), the triangle cap's companion: a glTF's
+#: nodes place a copy of their mesh's vertices each, however few triangles use them.
+MAX_MESH_VERTICES = 3 * MAX_MESH_TRIANGLES
+#: A glTF's scene graph, checked in its JSON before the reader builds anything: nodes (with the primitives of
+#: each placed mesh that has several: a frame each in trimesh's scene, 10 000 flatten in ~3 s and ~0.2 GB) and
+#: the depth of its node trees (trimesh multiplies each node's transforms from its root with numpy's multi_dot,
+#: whose chain ordering is cubic in the depth: 10 000 nodes 20 deep take ~11 s of CPU, 64 deep ~90 s).
+MAX_MESH_NODES = 10_000
+MAX_MESH_NODE_DEPTH = 20
+#: Objects and lists in a glTF's JSON, counted (its ``{`` and ``[``) before it is parsed: a 64 MB JSON of empty
+#: objects parses into 22 M dicts, 1.9 GB; a part at the caps above has tens of thousands.
+MAX_MESH_JSON_ITEMS = 1_000_000
 #: An instrument file (CGATS text, CxF3 XML, CSV; ``fit``, ``calibrate``, ``check``; its bytes are
 #: capped by MAX_MEASUREMENT_BYTES): samples, fields of a CGATS table (a 1 nm spectrum 360–830 nm
 #: has 471) and geometries of one sample.
 MAX_INSTRUMENT_SAMPLES = 10_000
 MAX_INSTRUMENT_FIELDS = 2_000
 MAX_INSTRUMENT_GEOMETRIES = 32
+#: A count in a measurement file's header (CGATS ``NUMBER_OF_SETS``, ``NUMBER_OF_FIELDS``, ``SPECTRAL_BANDS``):
+#: characters read before it is converted (the largest count allowed, MAX_WAVELENGTHS, has 5 digits).
+MAX_HEADER_COUNT_CHARS = 12
+#: The wavelengths a measured spectrum may hold, nm: a UV–visible–NIR spectrophotometer's span and the
+#: optical tables' (a spectral fit uses what the film's and substrate's tables cover; colorimetry uses
+#: 360–830 nm of it).
+MIN_MEASURED_WAVELENGTH_NM = 200.0
+MAX_MEASURED_WAVELENGTH_NM = 2500.0
 
 #: ``swatch render --engine mitsuba``: samples per pixel, the seed, the image side, and the total
-#: samples (size² × spp; 512² at 256 spp is 6.7e7, about a minute on 2 cores), which bound the time.
+#: samples (size² × spp), which bound the time: the studio sphere traces about 4e6 samples a second on
+#: 2 cores (512² at 256 spp, 6.7e7 samples, 16.8 s), the plate (more bounces) about 2.2e6 (loaded: 1024² at
+#: 128 spp, 1.3e8 samples, denoised, took 140 s at load 4.7; 2048² at 32 spp, 102 s), so 2**26 (6.7e7) samples
+#: keeps a render within the minute it is promised (256² at 16384 spp, 1.1e9 samples, ran past 180 s).
 MAX_SPP = 16384
 MAX_SEED = 2**31 - 1
-MAX_MITSUBA_PX = 4096
-MAX_MITSUBA_SAMPLES = 4 * 1024**3
+#: The side: at 4096² one sample a pixel took 57 s and 2.1 GB without denoising (the film, its develop and the
+#: EXR and PNG of 16.7e6 pixels), 7.4 GB denoised; 2048² at 16 spp (the sample cap) 0.73 GB.
+MAX_MITSUBA_PX = 2048
+MAX_MITSUBA_SAMPLES = 2**26
+#: The largest side Intel Open Image Denoise is run on (a Mitsuba render's ``denoise``; its default quality
+#: ``high``): at 2048² the filter alone took 95 s (``balanced``: 8.7 s) on a loaded 2-core machine and the render
+#: 1.7 GB; at 1024² a quarter of that. Larger renders are made without denoising (more samples instead).
+MAX_DENOISE_PX = 1024
+#: The denoiser's working memory, MB (OIDN's ``maxMemoryMB``: above it OIDN filters the image in tiles, the
+#: same bytes for an image that fits: the 256 px heroes are unchanged; 2.6 GB at 2048² without it).
+MAX_DENOISE_MEMORY_MB = 512
 #: Samples one Mitsuba pass traces at once, and samples per pixel in one pass: a render is split into
 #: passes of at most these. Mitsuba's loops are symbolic (one kernel per path, its state in registers), so a
 #: pass's memory hardly grows with its lanes (peak RSS of a whole render, llvm_ad_spectral, studio sphere:

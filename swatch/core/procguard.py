@@ -19,7 +19,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 
 __all__ = ["exit_with", "Terminated", "handle_termination", "ignore_interrupts", "start_forkserver_ignoring_interrupts",
-           "signal_received", "raise_if_signalled", "signals_held", "settle", "guard_exit", "stop_message"]
+           "signal_received", "raise_if_signalled", "signals_held", "release_signals", "settle", "guard_exit",
+           "stop_message"]
 
 
 class Terminated(KeyboardInterrupt):
@@ -106,6 +107,35 @@ def signals_held() -> Iterator[None]:
         raise _stop(sig)
 
 
+def release_signals(mask) -> None:
+    """Put back the signal mask ``mask`` that a block of SIGINT/SIGTERM/SIGHUP replaced (the program's
+    start, held from the first statement of ``swatch.cli`` until the handlers are in place): the signals
+    that came meanwhile are all recorded, and the first is raised, once (unmasked with the handlers
+    raising, a second one, SIGHUP and SIGTERM from a closed terminal, was raised again while the first
+    was being reported: a traceback).
+
+    Parameters
+    ----------
+    mask : set of int
+        What ``signal.pthread_sigmask`` returned when the block began.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        After a SIGINT held meanwhile.
+    Terminated
+        After a SIGTERM or SIGHUP held meanwhile.
+    """
+    start = len(_RECEIVED)
+    _HOLD[0] += 1
+    try:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # (the held signals run their handlers here: recorded)
+    finally:
+        _HOLD[0] -= 1
+    if not _HOLD[0] and len(_RECEIVED) > start:
+        raise _stop(_RECEIVED[start])
+
+
 def signal_received() -> int | None:
     """The first termination signal the current run received (since :func:`handle_termination`), or None:
     an error raised while a run is being stopped (a worker gone, a pool broken) is reported as the stop,
@@ -166,6 +196,9 @@ def settle(status: int) -> None:
     handlers, or printed a traceback from an atexit callback). For the program only (``swatch`` itself),
     never in a process that goes on.
 
+    Called again (the CLI settles as soon as its run is over, then once more if a stop lost on its way turned
+    a success into 130), it settles on the new status; the signals up to then count as seen.
+
     Parameters
     ----------
     status : int
@@ -175,9 +208,10 @@ def settle(status: int) -> None:
     -------
     None
     """
-    if _SETTLED or threading.current_thread() is not threading.main_thread():
+    if threading.current_thread() is not threading.main_thread():
         return
-    _HOLD[0] += 1  # (for good: the handlers record from here on)
+    if not _SETTLED:
+        _HOLD[0] += 1  # (for good: the handlers record from here on)
     _SETTLED[:] = [status, len(_RECEIVED)]
 
 
@@ -260,8 +294,10 @@ def start_forkserver_ignoring_interrupts() -> None:
     The blocked mask survives the server's exec and every fork (the server then ignores SIGINT
     itself; a worker's initializer ignores both). In this process the signals are only held, not
     ignored: one that arrives meanwhile is delivered when the server is up (setting SIG_IGN here
-    instead lost a Ctrl-C sent in that second: the build went on and exited 0). A server already
-    running is left as it is.
+    instead lost a Ctrl-C sent in that second: the build went on and exited 0); the handlers record
+    meanwhile (the kernel may give the signal to another thread, and Python ran the handler in this one
+    at once, in the middle of the start), and the first signal is raised once the server is up. A server
+    already running is left as it is.
 
     Returns
     -------
@@ -273,15 +309,20 @@ def start_forkserver_ignoring_interrupts() -> None:
         forkserver.ensure_running()
         return
     held = {signal.SIGINT, signal.SIGHUP}
+    start = len(_RECEIVED)
+    _HOLD[0] += 1
     old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         # the tracker first: it ignores SIGINT and SIGTERM itself, inherits SIGHUP held, and unblocks
-        # SIGINT and SIGTERM here when it has started (a Ctrl-C then is this process's, as it should be)
+        # SIGINT and SIGTERM here when it has started (a Ctrl-C then is recorded, and raised below)
         resource_tracker.ensure_running()
         signal.pthread_sigmask(signal.SIG_BLOCK, held)
         forkserver.ensure_running()
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)  # (a signal held meanwhile is raised here)
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)  # (a signal held meanwhile is recorded here)
+        _HOLD[0] -= 1
+    if not _HOLD[0] and len(_RECEIVED) > start:
+        raise _stop(_RECEIVED[start])
 
 
 def _watch_pidfd(fd: int) -> None:

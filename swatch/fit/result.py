@@ -7,7 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from swatch.colorimetry.colorimeter import ASTM_E308_STEPS_NM, delta_E_00, delta_E_ab
+from swatch.colorimetry.colorimeter import delta_E_00, delta_E_ab
+from swatch.colorimetry.grid import astm_e308_grid
 from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.errors import SwatchError
 from swatch.fit.fitting import mirror_angle_deg
@@ -15,8 +16,8 @@ from swatch.physics import geometry
 from swatch.physics.growth import DEFAULT_NM_PER_V, thickness_to_voltage_V
 from swatch.physics.materials import wavelength_grid
 
-__all__ = ["FitResult", "colour_grid", "interp_rows", "geometry_arrays", "used_geometries", "colour_summary",
-           "search_fields", "geometry_fields", "delta_e_grid", "MIN_COLOUR_SAMPLES"]
+__all__ = ["FitResult", "colour_grid", "resampled_words", "interp_rows",
+           "geometry_arrays", "used_geometries", "colour_summary", "search_fields", "geometry_fields", "delta_e_grid", "MIN_COLOUR_SAMPLES"]
 
 _COLOUR_GRID_STEP_NM = 5.0
 _CMF_RANGE_NM = (360.0, 830.0)
@@ -208,14 +209,9 @@ def colour_grid(wavelength_nm) -> tuple[np.ndarray, bool]:
     """
     wl = np.asarray(wavelength_nm, dtype=np.float64)
     lo_cmf, hi_cmf = _CMF_RANGE_NM
-    if wl.size >= MIN_COLOUR_SAMPLES:
-        steps = np.diff(wl)
-        step = float(steps[0])
-        even = np.allclose(steps, step, rtol=0, atol=1e-6)
-        astm = any(np.isclose(step, s) for s in ASTM_E308_STEPS_NM)
-        aligned = np.isclose(wl[0] / step, np.round(wl[0] / step), rtol=0, atol=1e-6)
-        if even and astm and aligned and wl[0] >= lo_cmf and wl[-1] <= hi_cmf:
-            return wl, False
+    exact = astm_e308_grid(wl) if wl.size >= MIN_COLOUR_SAMPLES else None
+    if exact is not None and exact[0] >= lo_cmf and exact[-1] <= hi_cmf:
+        return exact, False  # (within GRID_TOLERANCE_NM of wl: the measured values are used as they are)
     s = _COLOUR_GRID_STEP_NM
     a = np.ceil(max(wl[0], lo_cmf) / s - 1e-9) * s
     b = np.floor(min(wl[-1], hi_cmf) / s + 1e-9) * s
@@ -225,6 +221,26 @@ def colour_grid(wavelength_nm) -> tuple[np.ndarray, bool]:
             f"it needs at least {(MIN_COLOUR_SAMPLES - 1) * s:g} nm inside {lo_cmf:g}–{hi_cmf:g} nm"
         )
     return wavelength_grid(a, b, s), True
+
+
+def resampled_words(colour_wavelength_nm) -> str:
+    """Why and onto what :func:`colour_grid` interpolated a measurement, in the words every report uses.
+
+    Parameters
+    ----------
+    colour_wavelength_nm : sequence of float
+        The colorimetry grid's first and last wavelength and its step, nm (``FitResult.to_dict``'s
+        ``colour_wavelength_nm``).
+
+    Returns
+    -------
+    str
+        ``not an even … grid …; colour from the spectra interpolated linearly onto A–B nm at S nm``.
+    """
+    a, b, step = (float(x) for x in colour_wavelength_nm)
+    lo, hi = _CMF_RANGE_NM
+    return (f"not an even 1, 5, 10 or 20 nm grid inside {lo:g}–{hi:g} nm (ASTM E308); colour from the spectra "
+            f"interpolated linearly onto {a:g}–{b:g} nm at {step:g} nm")
 
 
 def interp_rows(x_new: np.ndarray, x: np.ndarray, Y: np.ndarray) -> np.ndarray:

@@ -8,14 +8,18 @@ lines, ``BEGIN_DATA_FORMAT`` field names ``END_DATA_FORMAT``, then ``BEGIN_DATA`
 * CIELAB ``LAB_L LAB_A LAB_B``, or CIE XYZ ``XYZ_X XYZ_Y XYZ_Z`` (white Y = 100), or spectra:
   ``SPECTRAL_NNN`` / ``SPECTRAL_NM_NNN`` / ``SPECTRAL_NMNNN`` (CGATS.17), ``nmNNN`` (i1Profiler),
   ``SPEC_NNN`` (ArgyllCMS, whose bands are ``SPECTRAL_BANDS`` from ``SPECTRAL_START_NM`` to
-  ``SPECTRAL_END_NM``: the names are rounded wavelengths);
+  ``SPECTRAL_END_NM``: the names are the wavelengths rounded to whole nm, and must agree), the axis
+  checked by :func:`swatch.io.measurements.check_spectral_axis`; CIE values beside spectra must be
+  finite numbers (CIELAB within range) though the spectra decide;
 * optional ``VOLTAGE_V`` (or ``VOLTAGE``) and ``THICKNESS_NM`` (coupons for ``swatch calibrate``).
 
 Header conditions: ``MEASUREMENT_SOURCE "Illumination=D50 ObserverAngle=2 …"`` (i1Profiler),
 ``ILLUMINANT`` / ``ILLUMINATION_NAME``, ``OBSERVER`` / ``OBSERVER_ANGLE``, ``WEIGHTING_FUNCTION
 "ILLUMINANT, D50"`` / ``"OBSERVER, 2 degree"`` and ``MEASUREMENT_GEOMETRY "45/0"``. A ``.ti3``
 file's CIE values are D50 / 2° unless it says otherwise (ArgyllCMS's documented default) and its
-reflectance is in percent. Statements that contradict each other are refused.
+reflectance is in percent. Statements that contradict each other are refused. Counts in the header
+(``NUMBER_OF_SETS``, ``NUMBER_OF_FIELDS``, ``SPECTRAL_BANDS``) are whole numbers of at most
+MAX_HEADER_COUNT_CHARS digits, within their caps.
 """
 from __future__ import annotations
 
@@ -25,12 +29,19 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_INSTRUMENT_FIELDS, MAX_INSTRUMENT_SAMPLES
+from swatch.core.limits import (
+    MAX_HEADER_COUNT_CHARS,
+    MAX_INSTRUMENT_FIELDS,
+    MAX_INSTRUMENT_SAMPLES,
+    MAX_LAB_AB,
+    MAX_WAVELENGTHS,
+)
 from swatch.io.instruments import (
     InstrumentFile,
     Request,
     Sample,
     check_agrees,
+    check_lab,
     lab_sample,
     parse_geometry_text,
     parse_illuminant,
@@ -38,6 +49,7 @@ from swatch.io.instruments import (
     same_geometries,
     spectral_sample,
 )
+from swatch.io.measurements import check_spectral_axis
 from swatch.physics.materials import wavelength_grid
 
 __all__ = ["is_cgats", "read_cgats"]
@@ -119,12 +131,44 @@ def _parse(text: str, source: str):
         raise SwatchError(f"{source}: no field names between BEGIN_DATA_FORMAT and END_DATA_FORMAT")
     if not rows:
         raise SwatchError(f"{source}: no data rows between BEGIN_DATA and END_DATA")
-    for key, have, what in (("NUMBER_OF_SETS", len(rows), "data rows"), ("NUMBER_OF_FIELDS", len(fields), "fields")):
-        stated = keywords.get(key)
-        if stated and stated[0].strip().isdigit() and int(stated[0]) != have:
-            raise SwatchError(f"{source}: {key} says {int(stated[0])} but the table has {have} {what}; the file is "
+    for key, have, what, cap in (("NUMBER_OF_SETS", len(rows), "data rows", MAX_INSTRUMENT_SAMPLES),
+                                 ("NUMBER_OF_FIELDS", len(fields), "fields", MAX_INSTRUMENT_FIELDS)):
+        stated = _count(keywords, key, source, 1, cap)
+        if stated is not None and stated != have:
+            raise SwatchError(f"{source}: {key} says {stated} but the table has {have} {what}; the file is "
                               "cut short or edited by hand")
+    _count(keywords, "SPECTRAL_BANDS", source, 2, MAX_WAVELENGTHS)  # a count wherever stated (used with spectra)
     return ident, keywords, fields, rows
+
+
+def _shown(tok: str) -> str:
+    """A header value for a message: quoted, cut to 40 characters."""
+    return repr(tok) if len(tok) <= 40 else f"{tok[:24]!r}… ({len(tok)} characters)"
+
+
+def _count(keywords: dict[str, list[str]], key: str, source: str, lo: int, hi: int) -> int | None:
+    """A header count (``NUMBER_OF_SETS`` …) where stated: ASCII digits, at most MAX_HEADER_COUNT_CHARS of them
+    (checked before :func:`int`, whose digit limit a 5 000-digit value would hit), within ``lo`` to ``hi``."""
+    stated = keywords.get(key)
+    if not stated:
+        return None
+    tok = stated[0].strip()
+    if len(tok) > MAX_HEADER_COUNT_CHARS or re.fullmatch(r"[0-9]+", tok) is None:
+        raise SwatchError(f"{source}: {key} {_shown(tok)} is not a whole number of at most {MAX_HEADER_COUNT_CHARS} "
+                          f"digits; allowed {lo} to {hi}")
+    n = int(tok)
+    if not lo <= n <= hi:
+        raise SwatchError(f"{source}: {key} {n} is out of range; allowed {lo} to {hi}")
+    return n
+
+
+def _header_nm(keywords: dict[str, list[str]], key: str, source: str) -> float:
+    tok = keywords[key][0].strip()
+    tok = tok.replace(",", ".") if _DECIMAL_COMMA.match(tok) else tok
+    try:
+        return float(tok)
+    except ValueError:
+        raise SwatchError(f"{source}: {key} {_shown(tok)} is not a number; give the wavelength in nm") from None
 
 
 def _stated(ident: str, kw: dict[str, list[str]], source: str) -> dict:
@@ -179,9 +223,38 @@ def _column(rows, idx: int, source: str, name: str) -> np.ndarray:
     return np.array([_number(r[idx], source, no, name) for no, r in rows])
 
 
-def _finite_rows(values: np.ndarray, source: str) -> None:
-    if not np.all(np.isfinite(values)):
-        raise SwatchError(f"{source}: a CIE XYZ value is not a finite number (NaN or infinite)")
+def _finite_column(rows, idx: int, source: str, name: str) -> np.ndarray:
+    """A CIE value column (``LAB_L`` … ``XYZ_Z``), every value a finite number (checked beside spectra too,
+    as CxF3's CIELAB is: a bad value is a bad file)."""
+    values = _column(rows, idx, source, name)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        no, r = rows[int(bad[0])]
+        raise SwatchError(f"{source}: line {no}: {name} {_shown(r[idx])} is not a finite number (NaN or infinite); "
+                          "every value must be a number")
+    return values
+
+
+def _spectral_axis(kw: dict[str, list[str]], source: str, named: np.ndarray, labels: list[str]) -> np.ndarray:
+    """The wavelengths of the spectral fields: ``SPECTRAL_BANDS`` from ``SPECTRAL_START_NM`` to ``SPECTRAL_END_NM``
+    where the header states all three (ArgyllCMS; the field names, rounded to whole nm, must agree), else the
+    field names'; checked by :func:`swatch.io.measurements.check_spectral_axis`."""
+    keys = ("SPECTRAL_BANDS", "SPECTRAL_START_NM", "SPECTRAL_END_NM")
+    if not all(k in kw for k in keys):
+        return check_spectral_axis(named, source, labels)
+    bands = _count(kw, "SPECTRAL_BANDS", source, 2, MAX_WAVELENGTHS)
+    if bands != named.size:
+        raise SwatchError(f"{source}: SPECTRAL_BANDS says {bands} bands but {named.size} spectral fields follow")
+    ends = [_header_nm(kw, k, source) for k in keys[1:]]
+    check_spectral_axis(ends, source, list(keys[1:]))  # finite, inside the range, start below end
+    wl = np.linspace(ends[0], ends[1], bands)
+    off = np.flatnonzero(np.abs(wl - named) > 0.5 + 1e-6)
+    if off.size:
+        i = int(off[0])
+        raise SwatchError(f"{source}: {labels[i]} names {named[i]:g} nm but SPECTRAL_BANDS {bands} from "
+                          f"SPECTRAL_START_NM {ends[0]:g} to SPECTRAL_END_NM {ends[1]:g} nm put it at {wl[i]:g} nm; "
+                          "the field names are the bands' wavelengths rounded to whole nm")
+    return check_spectral_axis(wl, source, labels)
 
 
 def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
@@ -234,32 +307,31 @@ def read_cgats(text: str, source: str, request: Request) -> InstrumentFile:
     def extra(k):
         return (None if volts is None else float(volts[k]), None if thick is None else float(thick[k]))
 
+    lab = [col.get(n) for n in ("LAB_L", "LAB_A", "LAB_B")]
+    xyz = [col.get(n) for n in ("XYZ_X", "XYZ_Y", "XYZ_Z")]
+    cie = {i: _finite_column(rows, i, source, fields[i]) for i in (*lab, *xyz) if i is not None}
     if spectral:
         idx = [i for i, _ in spectral]
-        wl = np.array([w for _, w in spectral])
-        if "SPECTRAL_BANDS" in kw and "SPECTRAL_START_NM" in kw and "SPECTRAL_END_NM" in kw:
-            bands = int(_number(kw["SPECTRAL_BANDS"][0], source, 0, "SPECTRAL_BANDS"))
-            if bands != len(idx):
-                raise SwatchError(f"{source}: SPECTRAL_BANDS says {bands} bands but {len(idx)} spectral fields follow")
-            wl = np.linspace(_number(kw["SPECTRAL_START_NM"][0], source, 0, "SPECTRAL_START_NM"),
-                             _number(kw["SPECTRAL_END_NM"][0], source, 0, "SPECTRAL_END_NM"), bands)
+        wl = _spectral_axis(kw, source, np.array([w for _, w in spectral]), [fields[i] for i in idx])
         data = np.array([[_number(r[i], source, no, fields[i]) for i in idx] for no, r in rows])
         percent = request.percent if request.percent is not None else (True if ident.upper().startswith("CTI3")
                                                                       else None)
+        if None not in lab:  # the file's own CIELAB beside its spectra: checked as CxF3's is (finite above)
+            L = np.stack([cie[i] for i in lab], axis=1)  # type: ignore[index]
+            out_of_range = (L[:, 0] < 0) | (L[:, 0] > 100) | np.any(np.abs(L[:, 1:]) > MAX_LAB_AB, axis=1)
+            for k in np.flatnonzero(out_of_range)[:1]:
+                check_lab(source, names[k], L[k])  # (raises, naming the sample)
         for k, name in enumerate(names):
             samples.append(spectral_sample(source, name, [(light, view)], wl, data[k], percent, *extra(k)))
     else:
-        lab = [col.get(n) for n in ("LAB_L", "LAB_A", "LAB_B")]
-        xyz = [col.get(n) for n in ("XYZ_X", "XYZ_Y", "XYZ_Z")]
         if None in lab and None in xyz:
             raise SwatchError(f"{source}: no LAB_L/LAB_A/LAB_B, XYZ_X/XYZ_Y/XYZ_Z or spectral (SPECTRAL_NNN, nmNNN, "
                               "SPEC_NNN) fields; nothing to read")
         illuminant, observer = _white(stated, request, source)
         if None not in lab:
-            Lab = np.stack([_column(rows, i, source, fields[i]) for i in lab], axis=1)  # type: ignore[arg-type]
+            Lab = np.stack([cie[i] for i in lab], axis=1)  # type: ignore[index]
         else:
-            XYZ = np.stack([_column(rows, i, source, fields[i]) for i in xyz], axis=1)  # type: ignore[arg-type]
-            _finite_rows(XYZ, source)
+            XYZ = np.stack([cie[i] for i in xyz], axis=1)  # type: ignore[index]
             Lab = get_colorimeter(wavelength_grid(380.0, 780.0, 5.0), illuminant, observer).Lab(XYZ)
         for k, name in enumerate(names):
             samples.append(lab_sample(source, name, [(light, view)], Lab[k], *extra(k)))

@@ -6,8 +6,8 @@ A header row, then one of two forms (``#`` comment lines and blank lines are ski
   geometry, illuminant and observer;
 * spectrum: ``voltage_V,wavelength_nm,reflectance`` — long form, one row per wavelength; rows of
   one coupon share its voltage (or its ``coupon`` label); every coupon on the same evenly spaced
-  wavelength grid; reflectance as a fraction or in percent (detected: percent when any value
-  exceeds 1.5).
+  wavelength grid (checked by :func:`swatch.io.measurements.check_spectral_axis`); reflectance as a
+  fraction or in percent (detected: percent when any value exceeds 1.5).
 
 Optional columns: ``thickness_nm`` (measured by ellipsometry or XRR; one value per coupon) and
 ``coupon`` (a label). A coupon file is untrusted: its size, rows and coupons are capped before
@@ -27,10 +27,13 @@ from swatch.core.limits import (
     MAX_COUPON_BYTES,
     MAX_COUPON_ROWS,
     MAX_COUPONS,
+    MAX_MEASURED_WAVELENGTH_NM,
     MAX_VOLTAGE_V,
+    MIN_MEASURED_WAVELENGTH_NM,
     MIN_PEAK_REFLECTANCE,
     read_text_capped,
 )
+from swatch.io.measurements import check_spectral_axis
 from swatch.io.tabular import split_table
 
 __all__ = ["Coupons", "read_coupons", "coupons_from_samples", "MAX_COUPON_BYTES", "MAX_COUPONS"]
@@ -168,7 +171,8 @@ def read_coupons(path) -> Coupons:
         elif g["V"] != volts or not (g["d"] == thick or (math.isnan(g["d"]) and math.isnan(thick))):
             raise SwatchError(f"{here}: coupon {label!r} changes its voltage_V or thickness_nm between rows")
         if spectral:
-            wl = _number(cells[col["wavelength_nm"]], here, "wavelength_nm", 200.0, 2000.0)
+            wl = _number(cells[col["wavelength_nm"]], here, "wavelength_nm", MIN_MEASURED_WAVELENGTH_NM,
+                         MAX_MEASURED_WAVELENGTH_NM)
             refl = _number(cells[col["reflectance"]], here, "reflectance", 0.0, 100.0)
             g["values"].append((wl, refl, number))
         else:
@@ -195,6 +199,7 @@ def _spectra(source, groups, volts_V, thick_nm, labels, lines) -> Coupons:
         if np.any(np.diff(wl) <= 0):
             dup = next(v[2] for a, v in itertools.pairwise(vals) if v[0] == a[0])
             raise SwatchError(f"{source}:{dup}: coupon {label!r} repeats wavelength {vals[0][0]:g} nm")
+        wl = check_spectral_axis(wl, f"{source}:{g['line']}", what=f"coupon {label!r}: wavelength_nm")
         if grid is None:
             grid = wl
             steps = np.diff(wl)

@@ -13,7 +13,9 @@ with DTD and entity loading off and reports it) or an entity reference (the XML 
 files or expand entities), XML that is not a CxF3 document, transmittance or emissive spectra,
 diffuse or annular off-normal geometries, several white points in one file, values that are
 not finite numbers (a CIELAB value is checked even where spectra decide), a spectrum of more than
-MAX_WAVELENGTHS values, two samples of one name, and samples measured at different geometries.
+MAX_WAVELENGTHS values, a ``StartWL`` and ``Increment`` whose wavelengths
+:func:`swatch.io.measurements.check_spectral_axis` refuses, two samples of one name, and samples
+measured at different geometries.
 """
 from __future__ import annotations
 
@@ -42,6 +44,7 @@ from swatch.io.instruments import (
     same_geometries,
     spectral_sample,
 )
+from swatch.io.measurements import uniform_spectral_axis
 
 __all__ = ["is_cxf", "read_cxf3"]
 
@@ -262,7 +265,8 @@ def read_cxf3(data: bytes, source: str, request: Request) -> InstrumentFile:
                     raise SwatchError(f"{source}: object {name!r}: a ReflectanceSpectrum of {count} values; a "
                                       f"spectrum has 2 to {MAX_WAVELENGTHS} values")
                 vals = np.asarray(v.value, dtype=np.float64)
-                spectra[geom] = (float(start) + float(inc) * np.arange(vals.size), vals)
+                spectra[geom] = (uniform_spectral_axis(start, inc, vals.size, source, f"object {name!r}: StartWL",
+                                                       f"object {name!r}: WavelengthRange Increment"), vals)
             else:
                 lab = [v.l, v.a, v.b]
                 if any(x is None or isinstance(x, str) for x in lab):  # absent, or empty (xsdata keeps "")

@@ -18,8 +18,8 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import illuminant_names
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_LAB_AB, MAX_REFLECTANCE, MAX_WAVELENGTHS, MIN_PEAK_REFLECTANCE, MIN_REFLECTANCE
-from swatch.io.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMeasurement
+from swatch.core.limits import MAX_LAB_AB, MAX_REFLECTANCE, MIN_PEAK_REFLECTANCE, MIN_REFLECTANCE
+from swatch.io.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMeasurement, check_spectral_axis
 from swatch.physics import geometry
 
 __all__ = ["Request", "Sample", "InstrumentFile", "parse_geometry_text", "parse_observer", "parse_illuminant",
@@ -375,7 +375,8 @@ def spectral_sample(source: str, sample_id: str, geometries, wavelength_nm, refl
     geometries : sequence of (float, float)
         (light_deg, signed view_deg) per geometry, degrees.
     wavelength_nm : array_like, shape (W,)
-        Positive, increasing, at least two, nm.
+        The axis, nm, as :func:`swatch.io.measurements.check_spectral_axis` allows it (two or more, finite,
+        strictly increasing, inside the measured range).
     reflectance : array_like, shape (G, W)
         Reflectance factors, as a fraction or in percent.
     percent : bool or None
@@ -391,18 +392,12 @@ def spectral_sample(source: str, sample_id: str, geometries, wavelength_nm, refl
     Raises
     ------
     swatch.core.errors.SwatchError
-        Non-finite values, bad wavelengths, reflectance outside the caps of :mod:`swatch.core.limits`
-        or implausibly dark, a repeated geometry, or an angle outside [0, 90).
+        Non-finite values, a wavelength axis :func:`swatch.io.measurements.check_spectral_axis` refuses,
+        reflectance outside the caps of :mod:`swatch.core.limits` or implausibly dark, a repeated geometry, or an angle outside [0, 90).
     """
-    wl = np.asarray(wavelength_nm, dtype=np.float64).ravel()
-    if not 2 <= wl.size <= MAX_WAVELENGTHS:
-        raise SwatchError(f"{source}: sample {sample_id!r}: a spectrum of {wl.size} wavelengths; a spectrum has 2 to "
-                          f"{MAX_WAVELENGTHS}")
+    wl = check_spectral_axis(wavelength_nm, source, what=f"sample {sample_id!r}: wavelengths")
     R = np.asarray(reflectance, dtype=np.float64).reshape(-1, wl.size)
     _finite(R, source, sample_id, "a reflectance value")
-    if np.any(np.diff(wl) <= 0) or wl[0] <= 0:
-        raise SwatchError(f"{source}: sample {sample_id!r}: the wavelengths must be positive and increasing, "
-                          "at least two of them")
     detected = percent is None
     is_percent = bool(np.max(R) > PERCENT_THRESHOLD) if percent is None else bool(percent)
     if is_percent:

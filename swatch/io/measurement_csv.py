@@ -15,6 +15,9 @@ incidence; a positive ``view_deg`` is on the far side of the normal (``light == 
 direction), a negative one on the light's side (stored as ``view_azimuth = light_azimuth``). With
 azimuth columns both polar angles are in [0, 90) and the azimuths are used as given.
 
+The wavelengths are checked by :func:`swatch.io.measurements.check_spectral_axis` (at most MAX_WAVELENGTHS,
+inside the measured range of :mod:`swatch.core.limits`).
+
 Reflectance is a fraction (1 = 100 %) or in percent: percent when any value exceeds 1.5
 (:data:`PERCENT_THRESHOLD`) unless the caller says which. Values are stored as fractions.
 
@@ -37,7 +40,7 @@ from swatch.core.limits import (
     MIN_REFLECTANCE,
     read_capped,
 )
-from swatch.io.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMeasurement
+from swatch.io.measurements import PERCENT_THRESHOLD, LabMeasurement, SpectralMeasurement, check_spectral_axis
 from swatch.io.tabular import Table, split_table
 from swatch.physics import geometry
 
@@ -259,6 +262,7 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
             seen[c] = True
     if W < 2:
         raise rows.error(lines[0], f"only one wavelength ({uwl[0]:g} nm); a spectrum needs at least 2 wavelengths")
+    axis = check_spectral_axis(wl[w_first], rows.source, lambda i: f"line {lines[w_first[i]]}: wavelength_nm")
     # Completeness: every geometry has every wavelength.
     counts = np.bincount(g_idx, minlength=G)
     if np.any(counts != W):
@@ -304,7 +308,7 @@ def _parse_spectral(rows: _Rows, percent, light_deg, view_deg, light_azimuth_deg
         source=rows.source,
         light_deg=l[first_rows], view_deg=v[first_rows],
         light_azimuth_deg=la[first_rows], view_azimuth_deg=va[first_rows],
-        wavelength_nm=wl[w_first].astype(np.float64),
+        wavelength_nm=axis,
         reflectance=R, percent=is_percent, unit_detected=detected,
         geometry_line=lines[first_rows], wavelength_line=lines[w_first],
     )

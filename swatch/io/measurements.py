@@ -7,18 +7,155 @@ Geometry: polar angles from the normal and azimuths, degrees. Reflectance is sto
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from swatch.colorimetry.grid import astm_e308_grid
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_MEASURED_WAVELENGTH_NM, MAX_WAVELENGTHS, MIN_MEASURED_WAVELENGTH_NM
 from swatch.physics import geometry
 from swatch.physics.materials import load_material
 
-__all__ = ["PERCENT_THRESHOLD", "SpectralMeasurement", "LabMeasurement", "check_in_tables"]
+__all__ = ["PERCENT_THRESHOLD", "SpectralMeasurement", "LabMeasurement", "check_in_tables", "check_spectral_axis",
+           "uniform_spectral_axis"]
 
 #: Reflectance columns with a value above this are taken as percent.
 PERCENT_THRESHOLD = 1.5
+
+
+def _check_wavelengths(wl: np.ndarray, source: str, labels) -> None:
+    """Finite, inside the measured range, strictly increasing: the first offender named by its label."""
+    lo, hi = MIN_MEASURED_WAVELENGTH_NM, MAX_MEASURED_WAVELENGTH_NM
+    bad = np.flatnonzero(~np.isfinite(wl))
+    if bad.size:
+        i = int(bad[0])
+        raise SwatchError(f"{source}: {labels(i)}: {wl[i]!r} is not a finite number; a wavelength is a number of nm "
+                          f"from {lo:g} to {hi:g}")
+    bad = np.flatnonzero((wl < lo) | (wl > hi))
+    if bad.size:
+        i = int(bad[0])
+        raise SwatchError(f"{source}: {labels(i)}: {wl[i]:g} nm is outside the measured range; a wavelength lies in "
+                          f"{lo:g}–{hi:g} nm (colorimetry uses 360–830 nm of it)")
+    bad = np.flatnonzero(np.diff(wl) <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise SwatchError(f"{source}: {labels(i)}: {wl[i]:g} nm is not above {labels(i - 1)}'s {wl[i - 1]:g} nm; "
+                          "the wavelengths must be strictly increasing")
+
+
+def _labeller(labels, what: str):
+    """Index -> the name of that wavelength in messages."""
+    if callable(labels):
+        return labels
+    if labels is None:
+        return lambda i: what
+    return lambda i: str(labels[i])
+
+
+def check_spectral_axis(wavelength_nm, source: str, labels=None, what: str = "wavelengths") -> np.ndarray:
+    """A measured spectrum's wavelength axis, checked: the one rule of every reader (CSV, CGATS and
+    ArgyllCMS ``.ti3``, CxF3, coupons).
+
+    Two to :data:`swatch.core.limits.MAX_WAVELENGTHS` wavelengths, finite, strictly increasing, inside
+    :data:`swatch.core.limits.MIN_MEASURED_WAVELENGTH_NM` – :data:`~swatch.core.limits.MAX_MEASURED_WAVELENGTH_NM`.
+    An axis within :data:`swatch.colorimetry.grid.GRID_TOLERANCE_NM` of an ASTM E308 grid (an even 1, 5,
+    10 or 20 nm step; instruments write 729.99999999 for 730) is returned as that grid exactly, which
+    colour-science integrates as measured; any other axis is kept as it is, and the colorimetry interpolates
+    its spectra onto a 5 nm grid and says so (:func:`swatch.fit.result.colour_grid`).
+
+    Parameters
+    ----------
+    wavelength_nm : array_like, shape (W,)
+        The wavelengths as the file gives them, nm.
+    source : str
+        Names the file (and sample) in messages.
+    labels : sequence of str or callable, optional
+        Names each wavelength in messages as the file does (a field name, ``line 12: wavelength_nm``), or
+        a function of the wavelength's index that does; default ``what``.
+    what : str
+        Names the axis as a whole in messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (W,)
+        The wavelengths, nm, float64 (on an ASTM E308 grid: that grid's values).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        One line naming the file, the wavelength (its label) and what is allowed.
+
+    Examples
+    --------
+    >>> check_spectral_axis([380.0, 390.0, 399.99999999], "a.ti3").tolist()
+    [380.0, 390.0, 400.0]
+    >>> check_spectral_axis([400.0, float("nan")], "b.txt", ["SPEC_400", "SPEC_410"])
+    Traceback (most recent call last):
+    ...
+    swatch.core.errors.SwatchError: b.txt: SPEC_410: nan is not a finite number; a wavelength is a number of nm from 200 to 2500
+    """
+    wl = np.array(wavelength_nm, dtype=np.float64).ravel()
+    if not 2 <= wl.size <= MAX_WAVELENGTHS:
+        raise SwatchError(f"{source}: {what}: {wl.size} wavelengths; a spectrum has 2 to {MAX_WAVELENGTHS}")
+    _check_wavelengths(wl, source, _labeller(labels, what))
+    exact = astm_e308_grid(wl)
+    return exact if exact is not None else wl
+
+
+def uniform_spectral_axis(start_nm: float, step_nm: float, count: int, source: str, start_label: str,
+                          step_label: str) -> np.ndarray:
+    """``start_nm + k * step_nm`` for ``k < count``, as a file states an axis by its start and increment
+    (CxF3 ``StartWL`` and ``Increment``), checked by :func:`check_spectral_axis` before it is computed.
+
+    Parameters
+    ----------
+    start_nm, step_nm : float
+        The first wavelength and the increment, nm.
+    count : int
+        The number of values the spectrum holds.
+    source : str
+        Names the file in messages.
+    start_label, step_label : str
+        Name the start and the increment in messages as the file does.
+
+    Returns
+    -------
+    numpy.ndarray, shape (count,)
+        The wavelengths, nm (:func:`check_spectral_axis`'s).
+
+    Raises
+    ------
+    swatch.core.errors.SwatchError
+        A start or increment that is not a finite number, an increment not above 0, a count outside 2 to
+        MAX_WAVELENGTHS, or an axis that leaves the measured range.
+
+    Examples
+    --------
+    >>> uniform_spectral_axis(380.0, 10.0, 3, "c.cxf", "StartWL", "Increment").tolist()
+    [380.0, 390.0, 400.0]
+    """
+    allowed = f"give the wavelengths in nm from {MIN_MEASURED_WAVELENGTH_NM:g} to {MAX_MEASURED_WAVELENGTH_NM:g}"
+    values = []
+    for label, v in ((start_label, start_nm), (step_label, step_nm)):
+        try:
+            x = float(v)
+        except OverflowError:  # an integer of hundreds of digits
+            raise SwatchError(f"{source}: {label}: a {len(str(v))}-digit number; {allowed}") from None
+        if not math.isfinite(x):
+            raise SwatchError(f"{source}: {label}: {x!r} is not a finite number; {allowed}")
+        values.append(x)
+    start, step = values
+    if not step > 0:
+        raise SwatchError(f"{source}: {step_label}: {step:g} nm; the increment must be above 0 nm (the wavelengths "
+                          "strictly increasing)")
+    if not 2 <= count <= MAX_WAVELENGTHS:
+        raise SwatchError(f"{source}: {start_label}: a spectrum of {count} values; a spectrum has 2 to "
+                          f"{MAX_WAVELENGTHS}")
+    last = f"its last wavelength ({start_label} + {count - 1} × {step_label})"
+    _check_wavelengths(np.array([start, start + step * (count - 1)]), source, lambda i: (start_label, last)[i])
+    return check_spectral_axis(start + step * np.arange(count, dtype=np.float64), source, what=start_label)
 
 
 @dataclass(frozen=True, eq=False)

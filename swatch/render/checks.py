@@ -8,10 +8,17 @@ import math
 
 from swatch.core.choices import DENOISE_QUALITIES, SPECTRAL_VARIANTS
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_DISPLAY_EXPOSURE, MAX_MITSUBA_PX, MAX_MITSUBA_SAMPLES, MAX_SEED, MAX_SPP
+from swatch.core.limits import (
+    MAX_DENOISE_PX,
+    MAX_DISPLAY_EXPOSURE,
+    MAX_MITSUBA_PX,
+    MAX_MITSUBA_SAMPLES,
+    MAX_SEED,
+    MAX_SPP,
+)
 
 __all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure", "check_variant",
-           "check_denoise"]
+           "check_denoise", "check_denoise_size"]
 
 
 def _whole_number(value, what: str, low: int, high: int) -> int:
@@ -185,6 +192,33 @@ def check_variant(variant: str) -> str:
         raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
                           f"variant: {', '.join(SPECTRAL_VARIANTS)}")
     return key
+
+
+def check_denoise_size(quality: str | None, side_px: int) -> str | None:
+    """A denoised render's size, checked: Intel Open Image Denoise runs on at most
+    :data:`swatch.core.limits.MAX_DENOISE_PX` pixels a side (its time and memory: the limit's comment).
+
+    Parameters
+    ----------
+    quality : str or None
+        The checked ``denoise`` (:func:`check_denoise`; None: no denoising, any size).
+    side_px : int
+        The longer side of what is rendered (the image, or its film window), pixels.
+
+    Returns
+    -------
+    str or None
+        ``quality``.
+
+    Raises
+    ------
+    SwatchError
+        Denoising a larger picture (one line: the limit, and what to give instead).
+    """
+    if quality is not None and side_px > MAX_DENOISE_PX:
+        raise SwatchError(f"the denoiser takes pictures of at most {MAX_DENOISE_PX} px a side (MAX_DENOISE_PX), this one "
+                          f"is {side_px}; give `denoise=False` for a larger render (and more `spp`), or a smaller `size_px`")
+    return quality
 
 
 def check_denoise(denoise) -> str | None:

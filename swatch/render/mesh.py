@@ -3,10 +3,13 @@ with the same shading as the built-in shapes.
 
 Functions
 ---------
-* :func:`load_mesh`: read a mesh file (untrusted input: size-capped, parsed from memory so the
+* :func:`load_mesh`: read a mesh file (untrusted input: size-capped, its bytes checked by
+  :func:`swatch.render.mesh_checks.check_mesh_bytes` before trimesh reads them, parsed from memory so the
   file cannot make the reader open anything else), check it, and place it: the bounding box's
   centre at the origin, scaled so the farthest vertex is at distance 1 (the unit sphere's frame),
-  +y up as written (the glTF convention; most OBJ and PLY exports agree).
+  +y up as written (the glTF convention; most OBJ and PLY exports agree). A mesh smaller than
+  :data:`_SMALL_SIZE` is scaled up by a power of two first (exact), so any size down to
+  :data:`swatch.core.limits.MIN_MESH_EXTENT` renders alike.
 * :class:`MeshShape`: the :class:`swatch.render.scene.Shape` protocol for a mesh: ``intersect`` (hit and
   the shading normal per ray) and ``trace`` (hit, ``cos θ_l``, ``cos θ_v``, with the point light
   shadowed by the object itself), ray-cast by Embree through trimesh; ``surface`` and ``blocked``
@@ -29,19 +32,31 @@ from __future__ import annotations
 
 import hashlib
 import io
-import json
-import struct
+import math
 import warnings
 from pathlib import Path
 
 import numpy as np
-import trimesh
-from trimesh.ray.ray_pyembree import RayMeshIntersector
-from trimesh.triangles import points_to_barycentric
 
 from swatch.core.choices import MESH_FORMATS
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_MESH_BYTES, MAX_MESH_COORDINATE, MAX_MESH_TRIANGLES, read_capped
+from swatch.core.limits import (
+    MAX_MESH_BYTES,
+    MAX_MESH_COORDINATE,
+    MAX_MESH_TRIANGLES,
+    MAX_MESH_VERTICES,
+    MIN_MESH_EXTENT,
+    read_capped,
+)
+from swatch.core.procguard import signals_held
+from swatch.render.mesh_checks import check_mesh_bytes
+
+# trimesh catches BaseException around its own imports (scipy, PIL, rtree, whose finder prints "rtree.finder ...
+# unexpected error"): a Ctrl-C there was printed and lost. Held over the import, it is raised once trimesh is in.
+with signals_held():
+    import trimesh
+    from trimesh.ray.ray_pyembree import RayMeshIntersector
+    from trimesh.triangles import points_to_barycentric
 
 __all__ = ["MESH_FORMATS", "SMOOTH_ANGLE_DEG", "MeshShape", "load_mesh"]
 
@@ -49,107 +64,9 @@ __all__ = ["MESH_FORMATS", "SMOOTH_ANGLE_DEG", "MeshShape", "load_mesh"]
 SMOOTH_ANGLE_DEG = 30.0
 #: Shadow-ray origins are lifted off the surface by this distance (the mesh is scaled to unit radius).
 _SHADOW_OFFSET = 1e-4
-
-
-#: Required glTF extensions that change only materials or textures (not read: the surface is the film).
-_HARMLESS_EXTENSION = ("KHR_materials_", "KHR_texture_transform")
-
-
-def _uris(node, found: list[str]) -> list[str]:
-    """Every ``uri`` string anywhere in a glTF JSON tree (buffers, images, and any extension's)."""
-    stack = [node]
-    while stack:
-        item = stack.pop()
-        if isinstance(item, dict):
-            for key, value in item.items():
-                if key == "uri" and isinstance(value, str):
-                    found.append(value)
-                else:
-                    stack.append(value)
-        elif isinstance(item, list):
-            stack.extend(item)
-    return found
-
-
-def _data_uri_bytes(uri: str) -> int:
-    """Decoded size of a ``data:`` URI, bytes."""
-    head, _, payload = uri.partition(",")
-    return len(payload) * 3 // 4 - payload[-2:].count("=") if head.endswith(";base64") else len(payload)
-
-
-def _check_gltf_buffers(data: bytes, source: str, bin_bytes: int = 0) -> None:
-    """A glTF's JSON is checked before the reader sees it: every ``uri`` anywhere is an embedded ``data:`` one
-    (the reader is given bytes, never a folder to open files from); a required extension that changes the
-    geometry (Draco, meshopt compression) is refused; each buffer's ``byteLength`` is at most the bytes it
-    holds (its data URI, or ``bin_bytes``: the .glb's BIN chunk) and within the file cap, and each buffer
-    view lies inside its buffer."""
-    try:
-        doc = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):
-        raise SwatchError(f"{source}: not a glTF JSON document") from None
-    if not isinstance(doc, dict):
-        raise SwatchError(f"{source}: not a glTF JSON document")
-    for uri in _uris(doc, []):
-        if not uri.startswith("data:"):
-            raise SwatchError(f"{source}: refers to the external file {uri[:80]!r}; give a .glb or a .gltf "
-                              "with embedded (data:) buffers")
-    required = doc.get("extensionsRequired", [])
-    for ext in required if isinstance(required, list) else [required]:
-        if not (isinstance(ext, str) and ext.startswith(_HARMLESS_EXTENSION)):
-            raise SwatchError(f"{source}: requires the glTF extension {str(ext)[:60]!r}, which swatch does not read "
-                              "(compressed geometry: Draco, meshopt); export the mesh without it")
-    buffers = doc.get("buffers", [])
-    sizes: list[int] = []
-    for k, buf in enumerate(buffers if isinstance(buffers, list) else []):
-        size = buf.get("byteLength") if isinstance(buf, dict) else None
-        buf_uri = buf.get("uri") if isinstance(buf, dict) else None
-        held = _data_uri_bytes(buf_uri) if isinstance(buf_uri, str) else (bin_bytes if k == 0 else 0)
-        if not (isinstance(size, int) and 0 <= size <= min(MAX_MESH_BYTES, held)):
-            raise SwatchError(f"{source}: buffer {k} claims {size!r} bytes but holds {held}; a buffer's "
-                              f"byteLength is at most what it holds (and at most {MAX_MESH_BYTES} bytes)")
-        sizes.append(size)
-    views = doc.get("bufferViews", [])
-    for k, view in enumerate(views if isinstance(views, list) else []):
-        b, off, length = ((view.get("buffer"), view.get("byteOffset", 0), view.get("byteLength"))
-                          if isinstance(view, dict) else (None, None, None))
-        if not (isinstance(b, int) and 0 <= b < len(sizes) and isinstance(off, int) and isinstance(length, int)
-                and off >= 0 and length >= 0 and off + length <= sizes[b]):
-            raise SwatchError(f"{source}: bufferView {k} lies outside its buffer; the file is inconsistent")
-
-
-def _glb_is_self_contained(data: bytes, source: str) -> None:
-    """The JSON chunk of a .glb is checked as a .gltf's (its BIN chunk, if any, holds buffer 0's bytes)."""
-    if len(data) < 20 or data[:4] != b"glTF":
-        raise SwatchError(f"{source}: not a binary glTF (.glb) file")
-    length, kind = struct.unpack_from("<II", data, 12)
-    if kind != 0x4E4F534A or 20 + length > len(data):
-        raise SwatchError(f"{source}: not a binary glTF (.glb) file")
-    end = 20 + length
-    bin_bytes = struct.unpack_from("<I", data, end)[0] if end + 8 <= len(data) else 0
-    _check_gltf_buffers(data[20:end], source, min(bin_bytes, max(len(data) - end - 8, 0)))
-
-
-def _is_binary_stl(data: bytes) -> bool:
-    return len(data) >= 84 and len(data) == 84 + 50 * struct.unpack_from("<I", data, 80)[0]
-
-
-def _as_utf8_text(data: bytes, fmt: str, source: str) -> bytes:
-    """The text of an OBJ, ASCII STL, ASCII PLY header or glTF, checked to be UTF-8 (a byte-order mark
-    removed): trimesh would guess another encoding with charset_normalizer (not installed: an
-    ImportError) and parse what it guessed."""
-    if fmt in ("glb", "ply") or (fmt == "stl" and _is_binary_stl(data)):
-        head = data.split(b"end_header", 1)[0] if fmt == "ply" and b"end_header" in data[:65536] else b""
-        text, what = head, "PLY header"
-    else:
-        text, what = data, f"{fmt.upper()} file"
-    try:
-        text.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        allowed = ("an STL file is binary (84 bytes + 50 a triangle) or ASCII/UTF-8 text" if fmt == "stl" else
-                   f"{'an' if what[0] in 'AEFHILMNORSX' else 'a'} {what} is ASCII or UTF-8 text")
-        raise SwatchError(f"{source}: not UTF-8 text (byte 0x{text[exc.start]:02x} at offset {exc.start}); "
-                          f"{allowed}") from None
-    return data[3:] if data.startswith(b"\xef\xbb\xbf") and text is data else data
+#: A mesh smaller than this (its bounding box's largest side, the file's units) is scaled up by a power of two
+#: before its vertices are merged and its normals computed (larger ones as read: a part in metres is 1 mm or more).
+_SMALL_SIZE = 2.0 ** -10
 
 
 def load_mesh(path) -> MeshShape:
@@ -159,8 +76,9 @@ def load_mesh(path) -> MeshShape:
     ----------
     path : str or pathlib.Path
         An ``.obj``, ``.ply``, ``.stl``, ``.glb`` or ``.gltf`` (embedded buffers) file, at most
-        :data:`swatch.core.limits.MAX_MESH_BYTES` bytes and :data:`swatch.core.limits.MAX_MESH_TRIANGLES`
-        triangles.
+        :data:`swatch.core.limits.MAX_MESH_BYTES` bytes, :data:`swatch.core.limits.MAX_MESH_TRIANGLES`
+        triangles and :data:`swatch.core.limits.MAX_MESH_VERTICES` vertices (a glTF's as its nodes place
+        them), at least :data:`swatch.core.limits.MIN_MESH_EXTENT` across.
 
     Returns
     -------
@@ -174,13 +92,7 @@ def load_mesh(path) -> MeshShape:
                           f"{', '.join('.' + f for f in MESH_FORMATS)}")
     if not p.is_file():
         raise SwatchError(f"mesh {p} is not a file")
-    data = read_capped(p, MAX_MESH_BYTES, "mesh file")
-    if fmt == "gltf":
-        _check_gltf_buffers(data, p.name)
-    elif fmt == "glb":
-        _glb_is_self_contained(data, p.name)
-
-    data = _as_utf8_text(data, fmt, p.name)
+    data = check_mesh_bytes(read_capped(p, MAX_MESH_BYTES, "mesh file"), fmt, p.name)
     try:
         with warnings.catch_warnings(), np.errstate(all="ignore"):  # the error below says it in one line
             warnings.simplefilter("ignore")
@@ -192,8 +104,9 @@ def load_mesh(path) -> MeshShape:
     vertices = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64)
     if faces.ndim != 2 or faces.shape[0] == 0 or not isinstance(mesh, trimesh.Trimesh):
         raise SwatchError(f"{p.name}: the file has no triangles; a mesh needs at least one")
-    if faces.shape[0] > MAX_MESH_TRIANGLES:
-        raise SwatchError(f"{p.name}: {faces.shape[0]} triangles; a mesh may have at most {MAX_MESH_TRIANGLES}")
+    if faces.shape[0] > MAX_MESH_TRIANGLES or vertices.shape[0] > MAX_MESH_VERTICES:
+        raise SwatchError(f"{p.name}: {faces.shape[0]} triangles and {vertices.shape[0]} vertices; a mesh may have "
+                          f"at most {MAX_MESH_TRIANGLES} triangles and {MAX_MESH_VERTICES} vertices")
     if not np.isfinite(vertices).all():
         raise SwatchError(f"{p.name}: vertex coordinates must be finite numbers (found NaN or infinity)")
     if vertices.size and np.abs(vertices).max() > MAX_MESH_COORDINATE:
@@ -201,16 +114,32 @@ def load_mesh(path) -> MeshShape:
                           f"coordinates may be at most {MAX_MESH_COORDINATE:.0e} (scale the mesh down)")
     if faces.min() < 0 or faces.max() >= vertices.shape[0]:
         raise SwatchError(f"{p.name}: a triangle refers to a vertex that does not exist")
+    _place_small(mesh, vertices, p.name)
     # vertices at one position are merged unless their normals or texture coordinates differ (an
     # STL stores every triangle's corners apart: merged, its normals can be smoothed); trimesh compares
     # coordinates rounded to 10^-digits in int64: 8 digits overflowed beyond ~1e11 (a triangle at
     # ±1e11…1e15, within MAX_MESH_COORDINATE, collapsed to one point), so fewer digits for large ones
-    largest = float(np.abs(vertices).max()) if vertices.size else 0.0
+    largest = float(np.abs(mesh.vertices).max())
     digits = min(8, int(np.floor(np.log10(2.0 ** 62 / largest)))) if largest > 0 else 8
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         mesh.merge_vertices(digits_vertex=digits)
     return MeshShape(mesh, p.name, hashlib.sha256(data).hexdigest())
+
+
+def _place_small(mesh, vertices: np.ndarray, file_name: str) -> None:
+    """Refuse a mesh with no size or smaller than MIN_MESH_EXTENT; scale one smaller than
+    :data:`_SMALL_SIZE` up by a power of two (exact: no coordinate's digits change) to a size in [0.5, 1), in
+    place, so that trimesh's vertex merge (to 10^-8) and its normals (zero for a triangle under
+    ~1e-13 in area) see it as a mesh of unit size: a part drawn in kilometres renders as in millimetres."""
+    size = float((vertices.max(axis=0) - vertices.min(axis=0)).max())  # (no squares: they underflow)
+    if size == 0:
+        raise SwatchError(f"{file_name}: all vertices are at one point; a mesh needs an extent")
+    if size < MIN_MESH_EXTENT:
+        raise SwatchError(f"{file_name}: the mesh is {size:.3g} across (its bounding box's largest side); a mesh "
+                          f"is at least {MIN_MESH_EXTENT:.0e} across in the file's units (scale the mesh up)")
+    if size < _SMALL_SIZE:
+        mesh.apply_scale(2.0 ** -math.frexp(size)[1])
 
 
 class MeshShape:

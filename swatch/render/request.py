@@ -26,7 +26,14 @@ from swatch.physics.finishes import Finish
 from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 from swatch.render import shading
-from swatch.render.checks import check_denoise, check_exposure, check_mitsuba_request, check_variant, check_window_px
+from swatch.render.checks import (
+    check_denoise,
+    check_denoise_size,
+    check_exposure,
+    check_mitsuba_request,
+    check_variant,
+    check_window_px,
+)
 from swatch.render.image import check_background, check_finish_lighting, check_size_px
 from swatch.render.lighting import Lighting, Sun, check_engine, lighting_for
 from swatch.render.metadata import coating_and_colorimeter
@@ -318,13 +325,14 @@ def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
     window = check_window_px(o["window_px"], size)
     variant = check_variant(DEFAULT_VARIANT if o["variant"] is None else o["variant"])
     scene = make_scene(shape, _MITSUBA_SCENE_LIGHT_DEG, o["view_deg"], o["view_azimuth_deg"], o["mesh"])
+    denoise = check_denoise_size(check_denoise(o["denoise"]), size if window is None else max(window[2:]))
     return RenderRequest(engine="mitsuba", thickness_nm=d, shape=shape, mesh=o["mesh"], size_px=size, scene=scene,
                          light_deg=_MITSUBA_SCENE_LIGHT_DEG, view_deg=_view(o["view_deg"]),
                          view_azimuth_deg=float(o["view_azimuth_deg"]), lobe=lobe, model=model,
                          distribution=distribution, space=space, background=background, lighting=light,
                          coating=coating, colorimeter=colorimeter, finish=o["finish"], workers=o["workers"], spp=spp,
                          seed=seed, exposure=exposure, window_px=window, variant=variant,
-                         bsdf_override=o["bsdf_override"], denoise=check_denoise(o["denoise"]))
+                         bsdf_override=o["bsdf_override"], denoise=denoise)
 
 
 _BUILDERS: dict[str, Callable[[float, str, Any, dict[str, Any]], RenderRequest]] = {

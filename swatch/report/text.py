@@ -13,7 +13,7 @@ import numpy as np
 from swatch.colorimetry.tolerance import grade_for, grade_metric
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text, check_creatable_dir, check_new
-from swatch.fit.result import delta_e_grid
+from swatch.fit.result import delta_e_grid, resampled_words
 from swatch.io.imageio import write_exr, write_png
 from swatch.report.figures import delta_e_figure
 
@@ -337,6 +337,8 @@ def fit_text(d: dict) -> list[str]:
     lines.append(head)
     lines.append(f"# {d['film']} on {d['substrate']}; intensity: {d['scale_mode']}; {d['illuminant']}, "
                  f"{d['observer']}° observer")
+    if d.get("colour_grid_interpolated"):
+        lines.append(f"# measured wavelengths: {resampled_words(d['colour_wavelength_nm'])}")
     unc = f" ± {d['uncertainty_nm']:.2f}" if d["uncertainty_nm"] is not None else ""
     volts = ("no growth rate" if d["voltage_V"] is None
              else f"≈ {d['voltage_V']:.1f} V at {d['nm_per_V']:.3g} nm/V + {d['process']['offset_nm']:g} nm")

@@ -116,6 +116,10 @@ def test_cover_is_the_most_vivid_swatch_inside_srgb():
     assert parse_spec(base | {"render": {"hero": True, "hero_cover_px": 960}}).hero_cover_px == 960
     with pytest.raises(SwatchError, match=r"render\.hero_cover_px"):
         parse_spec(base | {"render": {"hero": True, "hero_cover_px": 4096}})
+    # a denoised cover is at most MAX_DENOISE_PX (1024) a side, an undenoised one MAX_MITSUBA_PX (2048)
+    with pytest.raises(SwatchError, match=r"render\.hero_cover_px.*1024"):
+        parse_spec(base | {"render": {"hero": True, "hero_cover_px": 1100}})
+    assert parse_spec(base | {"render": {"hero": True, "hero_cover_px": 1100, "denoise": False}}).hero_cover_px == 1100
     with pytest.raises(SwatchError, match=r"render\.hero_cover_px.*set hero = true"):  # a cover is a hero: not silently none
         parse_spec(base | {"render": {"hero_cover_px": 960}})
     assert parse_spec(base | {"render": {"hero_cover_px": 0}}).hero_cover_px == 0

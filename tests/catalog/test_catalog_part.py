@@ -21,6 +21,7 @@ from swatch.catalog.spec import load_spec, parse_spec, spec_summary
 from swatch.core.errors import SwatchError
 from swatch.io import imageio
 from tests.cli_helpers import run_swatch
+from tests.mesh_files import instanced
 from tests.mitsuba_setup import mitsuba_variant
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -102,6 +103,8 @@ def test_a_part_outside_the_spec_folder_or_missing_is_refused(tmp_path, mesh, wo
 @pytest.mark.parametrize(("name", "content", "words"), [
     ("part.glb", b"glTF not really", "not a binary glTF"),
     ("part.obj", b"# no faces\nv 0 0 0\n", "no triangles"),
+    ("part.obj", b"v 0 0 0\nv 1e-300 0 0\nv 0 1e-300 0\nf 1 2 3\n", "a mesh is at least 1e-30 across"),  # issue 49
+    ("part.glb", instanced(5000), "its nodes place 25000000 triangles"),
 ])
 def test_a_bad_part_is_one_line_before_any_work(tmp_path, name, content, words):
     (tmp_path / name).write_bytes(content)

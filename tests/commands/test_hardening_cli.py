@@ -113,7 +113,7 @@ def test_issue22_huge_wavelengths_are_not_reported_as_duplicates(tmp_path):
     p = tmp_path / "huge.csv"
     p.write_text("wavelength_nm,reflectance\n1e300,0.1\n2e300,0.2\n3e300,0.1\n", encoding="utf-8")
     proc = run_swatch("fit", p)
-    assert_one_line_error(proc, "outside the table")
+    assert_one_line_error(proc, "line 2: wavelength_nm: 1e+300 nm is outside the measured range")
     assert "twice" not in proc.stderr
 
 

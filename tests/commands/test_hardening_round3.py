@@ -96,7 +96,7 @@ def refused(tmp_path_factory):
                                     f"more than {MAX_COUPONS} coupons; a calibration takes at most {MAX_COUPONS}")
     for k, text in enumerate(["1e300,0.2\n2e300,0.3\n3e300,0.4\n", "400,0.2\n1e308,0.3\n"]):
         (d / f"huge_wl{k}.csv").write_text("wavelength_nm,reflectance\n" + text, encoding="utf-8")
-        cases[f"huge_wavelengths_{k}"] = (["fit", d / f"huge_wl{k}.csv"], "is outside the table of TiO2-Siefke")
+        cases[f"huge_wavelengths_{k}"] = (["fit", d / f"huge_wl{k}.csv"], "nm is outside the measured range")
     names = list(cases)
     procs = run_capped_batch([cases[n][0] for n in names], CAP)
     return {n: (p, cases[n][1]) for n, p in zip(names, procs, strict=True)}, d

@@ -123,9 +123,12 @@ def test_malformed_rejected_with_line(text, line, phrase):
 
 
 def test_range_outside_tables_names_the_line():
-    m = parse_measurement_text("wavelength_nm,reflectance\n400,0.1\n500,0.1\n5000000,0.1\n", "far.csv")
-    with pytest.raises(SwatchError, match=r"far.csv: line 4: wavelength 5e\+06 nm is outside the table"):
+    """1950 nm is inside the measured range (swatch.core.limits) and past Ti-Johnson's table (188–1937 nm)."""
+    m = parse_measurement_text("wavelength_nm,reflectance\n400,0.1\n500,0.1\n1950,0.1\n", "far.csv")
+    with pytest.raises(SwatchError, match=r"far.csv: line 4: wavelength 1950 nm is outside the table of Ti-Johnson"):
         check_in_tables(m, "TiO2-Siefke", "Ti-Johnson")
+    with pytest.raises(SwatchError, match=r"far.csv: line 4: wavelength_nm: 5e\+06 nm is outside the measured range"):
+        parse_measurement_text("wavelength_nm,reflectance\n400,0.1\n500,0.1\n5000000,0.1\n", "far.csv")
 
 
 @pytest.mark.parametrize("text,line,phrase", BAD[:6])
@@ -141,10 +144,10 @@ def test_cli_malformed_exit_2_one_line(tmp_path, capsys, text, line, phrase):
 
 def test_cli_outside_tables_and_missing_file(tmp_path, capsys):
     p = tmp_path / "far.csv"
-    p.write_text("wavelength_nm,reflectance\n400,0.1\n20000000,0.1\n")
+    p.write_text("wavelength_nm,reflectance\n400,0.1\n1950,0.1\n")
     assert main(["fit", str(p)]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "line 3:" in err and "outside the table" in err
+    assert err.count("\n") == 1 and "line 3:" in err and "outside the table of Ti-Johnson" in err
     assert main(["fit", str(tmp_path / "nope.csv")]) == 2
     assert "no such file" in capsys.readouterr().err
 

@@ -153,3 +153,69 @@ def test_oversized_mesh_is_refused_before_reading(tmp_path):
         mesh.load_mesh(path)
     with pytest.raises(SwatchError, match="not a file"):
         mesh.load_mesh(tmp_path / "missing.obj")
+
+
+def _torus_soup():
+    t = trimesh.creation.torus(major_radius=1.0, minor_radius=0.35, major_sections=32, minor_sections=16)
+    return t.vertices, t.faces
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e-12, 1e-29, 3e-31])
+def test_a_small_mesh_renders_as_at_unit_scale_down_to_the_extent_cap(tmp_path, scale):
+    """Issue 49: a mesh under ~1e-290 ended in an OverflowError (exit 70), and one of 1e-9 was "all vertices at
+    one point" (trimesh's merge to 10^-8) while one of 1e-6 lost its smooth normals (trimesh's are zero under
+    ~1e-13 of area). Down to MIN_MESH_EXTENT (the torus is 2.7 across) a mesh is the picture, and the triangles
+    Mitsuba is given, of the same mesh at unit scale; below it, one line naming the cap."""
+    from swatch.core.limits import MIN_MESH_EXTENT
+    from tests.mesh_files import obj_text
+
+    v, f = _torus_soup()
+    (tmp_path / "unit.obj").write_bytes(obj_text(v, f))
+    (tmp_path / "small.obj").write_bytes(obj_text(v * scale, f))
+    unit = mesh.load_mesh(tmp_path / "unit.obj")
+    if 2.7 * scale < MIN_MESH_EXTENT:
+        with pytest.raises(SwatchError, match=rf"small.obj: the mesh is 8.1e-31 across .*; a mesh is at least "
+                                              rf"{MIN_MESH_EXTENT:.0e} across in the file's units"):
+            mesh.load_mesh(tmp_path / "small.obj")
+        return
+    small = mesh.load_mesh(tmp_path / "small.obj")
+    for got, want in zip(small.triangle_soup(), unit.triangle_soup(), strict=True):
+        assert np.abs(got - want).max() < 1e-9
+    a, b = (render_swatch(80.0, "mesh", 48, mesh=m, environment=None, coating=COATING, colorimeter=CM).display_rgb
+            for m in (small, unit))
+    assert np.array_equal(a, b)
+
+
+def test_a_small_float32_gltf_renders_as_at_unit_scale(tmp_path):
+    """The same for a .glb's float32 positions at 1e-20 (glTF, binary STL and PLY store float32)."""
+    from tests.mesh_files import glb, gltf_doc
+
+    v, f = _torus_soup()
+    shapes = []
+    for name, s in (("unit.glb", 1.0), ("small.glb", 1e-20)):
+        (tmp_path / name).write_bytes(glb(*gltf_doc((v * s).astype(np.float32), f.reshape(-1))))
+        shapes.append(mesh.load_mesh(tmp_path / name))
+    for got, want in zip(shapes[1].triangle_soup(), shapes[0].triangle_soup(), strict=True):
+        assert np.abs(got - want).max() < 1e-6
+    a, b = (render_swatch(80.0, "mesh", 48, mesh=m, environment=None, coating=COATING, colorimeter=CM).display_rgb
+            for m in shapes)
+    assert np.abs(a.astype(int) - b.astype(int)).max() <= 1
+
+
+def test_an_instanced_gltf_is_refused_from_its_json_before_anything_is_built(tmp_path, monkeypatch):
+    """Issue 49: 5 000 nodes placing one 5 000-triangle mesh (a 0.3 MB file) is counted from the node tree and
+    the accessors' counts, and refused without trimesh reading the file (it flattened 20 000 such nodes into
+    5–8 GB before the triangle cap was checked)."""
+    import time
+
+    from tests.mesh_files import instanced
+
+    def never(*args, **kwargs):
+        raise AssertionError("trimesh.load was called")
+
+    (tmp_path / "instanced.glb").write_bytes(instanced(5000))
+    monkeypatch.setattr(mesh.trimesh, "load", never)
+    start = time.perf_counter()
+    with pytest.raises(SwatchError, match=r"instanced\.glb: its nodes place 25000000 triangles"):
+        mesh.load_mesh(tmp_path / "instanced.glb")
+    assert time.perf_counter() - start < 2.0

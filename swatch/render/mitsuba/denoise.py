@@ -32,6 +32,7 @@ import numpy as np
 
 from swatch.core.choices import DENOISE_QUALITIES
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_DENOISE_MEMORY_MB
 
 __all__ = ["BUFFER_SPP", "QUALITIES", "render_buffers", "denoise_rgb", "describe", "oidn_version"]
 
@@ -70,14 +71,14 @@ def render_buffers(scene, width: int, height: int, seed: int, max_lanes: int) ->
     while per > 1 and width * height * per > max_lanes:
         per //= 4
     passes = BUFFER_SPP // per
-    acc = np.zeros((height, width, 6), dtype=np.float64)
+    acc = np.zeros((height, width, 6), dtype=np.float64 if passes > 1 else np.float32)
     for i in range(passes):
         pass_seed = int((seed * 7919 + 31 * i + 5) % 2**32)
-        out = np.asarray(mi.render(scene, integrator=integrator, seed=pass_seed, spp=per),  # type: ignore[arg-type]
-                         dtype=np.float64)
+        out = np.asarray(mi.render(scene, integrator=integrator, seed=pass_seed, spp=per))  # type: ignore[arg-type]
         if out.ndim != 3 or out.shape[2] < 6:
             raise SwatchError(f"the denoiser's buffers came back with shape {out.shape}")
         acc += out[..., -6:]
+        del out
     acc /= passes
     return (np.clip(acc[..., :3], 0.0, 1.0).astype(np.float32), np.clip(acc[..., 3:], -1.0, 1.0).astype(np.float32))
 
@@ -159,6 +160,7 @@ def _filter(names: tuple[str, ...], height: int, width: int, quality: str, clean
         flt.hdr = True
         flt.clean_aux = clean_aux
     flt.quality = getattr(oidn.Quality, quality)
+    flt.max_memory_mb = MAX_DENOISE_MEMORY_MB  # larger images are filtered in tiles (the same bytes for one that fits)
     return flt
 
 
