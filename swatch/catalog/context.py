@@ -15,6 +15,7 @@ from swatch.catalog.spec import CatalogSpec
 from swatch.colorimetry.colorimeter import Colorimeter, get_colorimeter
 from swatch.colorimetry.tolerance import Tolerance
 from swatch.core.errors import SwatchError
+from swatch.core.limits import MAX_PAGE_MESH_TRIANGLES
 from swatch.physics.materials import wavelength_grid
 from swatch.physics.model import Coating
 from swatch.render.mesh import MeshShape, load_mesh
@@ -77,8 +78,9 @@ def catalog_mesh(spec: CatalogSpec) -> MeshShape | None:
     Raises
     ------
     swatch.core.errors.SwatchError
-        A file the mesh reader refuses (no triangles, too many, not its format …), or one changed since the spec
-        was read: one line naming the spec and the key ``render.mesh``.
+        A file the mesh reader refuses (no triangles, too many, not its format …), one over the page's
+        :data:`swatch.core.limits.MAX_PAGE_MESH_TRIANGLES`, or one changed since the spec was read: one line naming
+        the spec and the key ``render.mesh``.
     """
     if spec.mesh is None or spec.mesh_path is None:
         return None
@@ -88,6 +90,9 @@ def catalog_mesh(spec: CatalogSpec) -> MeshShape | None:
         raise SwatchError(f"{spec.source}: key render.mesh: {exc}") from None
     if mesh.key != f"mesh:{spec.mesh_sha256}":
         raise SwatchError(f"{spec.source}: key render.mesh: {spec.mesh} changed while the build read it; build again")
+    if mesh.triangles > MAX_PAGE_MESH_TRIANGLES:  # the page's live view draws the part's triangles
+        raise SwatchError(f"{spec.source}: key render.mesh: {spec.mesh} has {mesh.triangles} triangles; the catalog page "
+                          f"draws at most {MAX_PAGE_MESH_TRIANGLES} (MAX_PAGE_MESH_TRIANGLES): give a simplified part")
     return mesh
 
 

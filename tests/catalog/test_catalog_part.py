@@ -187,3 +187,19 @@ def test_the_heroes_show_the_part(tmp_path):
         assert r["hero"]["shape"] == "mesh" and r["hero_finishes"]["polished"]["shape"] == "mesh"
         meta = imageio.read_metadata(out / r["hero"]["png"])
         assert meta["mesh"]["file"] == "part.glb"
+
+
+def test_a_part_too_large_for_the_page_is_refused_before_any_work(tmp_path, monkeypatch):
+    """The page's live view draws the part's triangles: a part over MAX_PAGE_MESH_TRIANGLES (lowered here, the
+    check's own constant) is refused when the build checks its inputs, in one line naming the limit."""
+    import swatch.catalog.context as context
+    from swatch.catalog.spec import load_spec
+
+    mesh = trimesh.creation.annulus(r_min=0.4, r_max=1.0, height=0.5, sections=32)
+    _obj(tmp_path / "part.obj", mesh)
+    spec, _ = load_spec(_spec(tmp_path, "part.obj"))
+    assert context.catalog_mesh(spec) is not None
+    monkeypatch.setattr(context, "MAX_PAGE_MESH_TRIANGLES", len(mesh.faces) - 1)
+    with pytest.raises(SwatchError, match=rf"key render\.mesh: part\.obj has {len(mesh.faces)} triangles; the catalog "
+                                          rf"page draws at most {len(mesh.faces) - 1} \(MAX_PAGE_MESH_TRIANGLES\)"):
+        context.catalog_mesh(spec)
