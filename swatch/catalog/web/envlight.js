@@ -54,7 +54,7 @@ void main() {
     {  // the studio set is near: a soft box this sample's ray meets gives its own radiance; else the map (the set
        // without its boxes, seen from the object's centre) in the direction of the point the ray meets
       float hx, hs, k; int hb;
-      float th = setHit(P, e, 2.0 * levels[int(s.w)].z, hx, hs, hb, k);
+      float th = setHit(P, e, boxSoft * levels[int(s.w)].z, hx, hs, hb, k);
       if (hb >= 0) {
         float Lb = dot(e, boxN[hb]) < 0.0 ? boxL[hb] * setScale : 0.0;
         if (k >= 1.0) { m += texelFetch(wts, ivec2(i, j), 0) * Lb; continue; }
@@ -98,6 +98,7 @@ uniform float boxL[3];
 uniform vec4 cyc0;  // cove radius, wall z, front z, half width
 uniform vec4 cyc1;  // wall height, floor length, cove length, warp k
 uniform vec4 cyc2;  // s0, the profile's span in front of it and behind, sinh(k)
+uniform float boxSoft;  // a box's edge blurred over this many times a sample's blur level (view.js: by the lobe)
 vec3 toWorld(vec3 p) { return vec3(-p.y, p.z, -p.x); }
 // what of the set a ray (world frame) meets: the distance to the cyclorama (1e30: none) and its (x, s) there; a
 // soft box in front of it (box 0-2; -1: none) and how much of the ray's footprint it covers (cover: its edge blurred

@@ -284,7 +284,7 @@ function makeView(canvas, C, settings, envData) {
   let meshVsShader = null;
   const meshVs = () => meshVsShader || (meshVsShader = compile(gl.VERTEX_SHADER, MESH_VS));
   const UNIFORMS = ["row", "nodes", "eye", "fwd", "right", "up", "light", "tanHalf", "aspect", "alpha", "exposure",
-    "bendR", "bendPhi", "bendH", "bendX", "bendY", "bendZ", "win", "fill", "alb", "bins", "geo", "lod"];
+    "bendR", "bendPhi", "bendH", "bendX", "bendY", "bendZ", "win", "fill", "alb", "bins", "geo", "lod", "boxSoft"];
   let env = null;  // the environment passes (envlight.js), when the page embeds them
   // the finish in use: its GGX alpha and, brushed, its hairlines (settings.finishes: each offered finish; without
   // them the catalog's one finish, settings.roughness and settings.hairlines)
@@ -522,7 +522,12 @@ function makeView(canvas, C, settings, envData) {
       const g = program(inSet ? "gatherset" : "gather", shape, 0);
       gl.useProgram(g.prog);
       setCamera(g.U, cam, w / h);
-      if (inSet) env.setStudio(g.U, PY_SHAPES[shape], true, true);
+      if (inSet) {
+        env.setStudio(g.U, PY_SHAPES[shape], true, true);
+        // the boxes' edges over twice a sample's blur level on a polished lobe, wider on a rough one (where the
+        // renderer's fixed samples would show the edges as blotches): 2 + 8 alpha
+        gl.uniform1f(g.U.boxSoft, 2 + 8 * roughness);
+      }
       env.gather(env.mapName(st.lighting, PY_SHAPES[shape]), g.U, w, h, lod, (gw, gh) => drawShape(shape, gw, gh));
       if (inSet) {  // the set behind the object, along each pixel's ray
         const bp = program("backdrop", 0, 0);
