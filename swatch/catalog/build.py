@@ -241,8 +241,11 @@ def _check_jobs(jobs) -> int:
 
 def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0) -> BuildResult:
     # The one seam between the plan (this module: fingerprint, up-to-date check) and the stages, which load
-    # colour-science and OpenImageIO: imported here, after the no-op check (tests/test_layers.py)
-    from swatch.catalog import execute
+    # colour-science and OpenImageIO: imported here, after the no-op check (tests/test_layers.py); with the
+    # stop signals held (a KeyboardInterrupt raised inside a nanobind module's initialisation, OpenImageIO's,
+    # aborts the interpreter: exit -6 and a C++ traceback); a stop meanwhile is raised when the import is done
+    with signals_held():
+        from swatch.catalog import execute
 
     sheetmod, tilemod = execute.sheetmod, execute.tilemod
     ctx = execute.check_buildable(spec)

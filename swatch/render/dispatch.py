@@ -20,6 +20,7 @@ from collections.abc import Callable
 from typing import Unpack
 
 from swatch.core.errors import SwatchError
+from swatch.core.procguard import signals_held
 from swatch.core.version import __version__
 from swatch.render import env_render
 from swatch.render.image import SwatchImage, finish_meta
@@ -66,9 +67,10 @@ def _render_mitsuba(request: RenderRequest, progress: Progress | None = None) ->
 
 
 def _mitsuba_engine():
-    """The Mitsuba engine's module (Mitsuba and Dr.Jit load here, once, only when asked for)."""
-    from swatch.render.mitsuba import engine
-
+    """The Mitsuba engine's module (Mitsuba and Dr.Jit load here, once, only when asked for; with the stop
+    signals held: a KeyboardInterrupt raised inside a nanobind module's initialisation aborts the interpreter)."""
+    with signals_held():
+        from swatch.render.mitsuba import engine
     return engine
 
 
@@ -132,7 +134,8 @@ def studio_lightmap(shape: str, mesh=None) -> tuple:
     scale, floor_y : float
         The render's radiance scale and the floor's height.
     """
-    from swatch.render.mitsuba import bake
+    with signals_held():  # (as _mitsuba_engine)
+        from swatch.render.mitsuba import bake
     return bake.cyclorama_lightmap(shape, mesh)
 
 
