@@ -223,21 +223,6 @@ def _normalised(name: str, rgb_map: np.ndarray, description: str) -> Environment
     return Environment(name, (rgb_map * scale).astype(np.float32), description, float(scale))
 
 
-def _studio(res: int = MAP_RES, sub: int = 4) -> Environment:
-    """The studio map, each texel the solid-angle-weighted mean of ``sub × sub`` points."""
-    c = (np.arange(res * sub) + 0.5) / (res * sub)
-    s, t = np.meshgrid(c, c, indexing="xy")
-    d = octa_decode(s, t)
-    x = d / np.abs(d).sum(-1, keepdims=True)
-    w = np.linalg.norm(x, axis=-1) ** -3  # dω ∝ 1/|p|³ (p on the octahedron)
-    L = studio_radiance(d) * w[..., None]
-    num = L.reshape(res, sub, res, sub, 3).sum(axis=(1, 3))
-    den = w.reshape(res, sub, res, sub).sum(axis=(1, 3))[..., None]
-    return _normalised("studio", num / den,
-                       "studio (built in): overhead soft box, tall strip boxes left and right, dark-grey walls, "
-                       "light floor with a horizon; neutral")
-
-
 def _octa_mean(radiance_fn, res: int, sub: int) -> np.ndarray:
     """An octahedral map of ``radiance_fn(directions)``, each texel the solid-angle-weighted mean of
     ``sub × sub`` points (shape ``(res, res, 3)``)."""
@@ -250,6 +235,13 @@ def _octa_mean(radiance_fn, res: int, sub: int) -> np.ndarray:
     num = L.reshape(res, sub, res, sub, 3).sum(axis=(1, 3))
     den = w.reshape(res, sub, res, sub).sum(axis=(1, 3))[..., None]
     return num / den
+
+
+def _studio(res: int = MAP_RES, sub: int = 4) -> Environment:
+    """The studio map, each texel the solid-angle-weighted mean of ``sub × sub`` points."""
+    return _normalised("studio", _octa_mean(studio_radiance, res, sub),
+                       "studio (built in): overhead soft box, tall strip boxes left and right, dark-grey walls, "
+                       "light floor with a horizon; neutral")
 
 
 def set_environment(name: str, floor_y: float, lightmap: np.ndarray, scale: float, res: int = MAP_RES,

@@ -285,34 +285,29 @@ function makeEnvLight(gl, E, C) {
     }
   }
   gl.activeTexture(gl.TEXTURE0);
-  let momTex = null, fbo = null, size = [0, 0];
-  function target(wd, h) {
-    if (size[0] === wd && size[1] === h) return;
-    if (momTex) gl.deleteTexture(momTex);
-    if (!fbo) fbo = gl.createFramebuffer();
-    momTex = texture(UNIT.mom, gl.NEAREST);
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32UI, wd, h, 0, gl.RGBA_INTEGER, gl.UNSIGNED_INT, null);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
-    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, momTex, 0);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    gl.activeTexture(gl.TEXTURE0);
-    size = [wd, h];
+  // an integer render target on a texture unit, (re)made at a size: the moments' and the backdrop's
+  function intTarget(unit, internal, format) {
+    const t = {tex: null, fbo: null, size: [0, 0]};
+    t.fit = (wd, h) => {
+      if (t.size[0] === wd && t.size[1] === h) return;
+      if (t.tex) gl.deleteTexture(t.tex);
+      if (!t.fbo) t.fbo = gl.createFramebuffer();
+      t.tex = texture(unit, gl.NEAREST);
+      gl.texImage2D(gl.TEXTURE_2D, 0, internal, wd, h, 0, format, gl.UNSIGNED_INT, null);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, t.fbo);
+      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t.tex, 0);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      gl.activeTexture(gl.TEXTURE0);
+      t.size = [wd, h];
+    };
+    return t;
   }
-  let bgTex = null, bgFbo = null, bgSize = [0, 0];
+  const momTarget = intTarget(UNIT.mom, gl.RGBA32UI, gl.RGBA_INTEGER), bgTarget = intTarget(UNIT.bg, gl.RG32UI, gl.RG_INTEGER);
   // the backdrop pass into its target (the caller has set the camera and the set's uniforms), at 1 / 2^lod
   function backdropPass(wd, h, lod) {
     wd = Math.max(1, wd >> lod); h = Math.max(1, h >> lod);
-    if (bgSize[0] !== wd || bgSize[1] !== h) {
-      if (bgTex) gl.deleteTexture(bgTex);
-      if (!bgFbo) bgFbo = gl.createFramebuffer();
-      bgTex = texture(UNIT.bg, gl.NEAREST);
-      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32UI, wd, h, 0, gl.RG_INTEGER, gl.UNSIGNED_INT, null);
-      gl.bindFramebuffer(gl.FRAMEBUFFER, bgFbo);
-      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, bgTex, 0);
-      gl.activeTexture(gl.TEXTURE0);
-      bgSize = [wd, h];
-    }
-    gl.bindFramebuffer(gl.FRAMEBUFFER, bgFbo);
+    bgTarget.fit(wd, h);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, bgTarget.fbo);
     gl.viewport(0, 0, wd, h);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
@@ -410,7 +405,7 @@ function makeEnvLight(gl, E, C) {
   function gather(name, U, wd, h, lod, drawShape) {
     const env = maps[name] || maps[name.split("@")[0]];
     wd = Math.max(1, wd >> lod); h = Math.max(1, h >> lod);
-    target(wd, h);
+    momTarget.fit(wd, h);
     gl.activeTexture(gl.TEXTURE0 + UNIT.atlas);
     gl.bindTexture(gl.TEXTURE_2D, env.tex);
     gl.activeTexture(gl.TEXTURE0);
@@ -420,7 +415,7 @@ function makeEnvLight(gl, E, C) {
     // (16 in the studio set, where each sample's ray also meets the set: the same time a drag step as 32 without)
     gl.uniform1i(U.stride, lod > 0 ? Math.max(1, Math.round(N / (name.includes("@") ? 16 : 32))) : 1);
     gl.uniform2f(U.atlasSize, env.size[0], env.size[1]);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, momTarget.fbo);
     gl.viewport(0, 0, wd, h);
     drawShape(wd, h);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
