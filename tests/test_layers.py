@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ast
 import collections
+import warnings
 from pathlib import Path
 
 PKG = Path(__file__).resolve().parent.parent / "swatch"
@@ -62,9 +63,18 @@ ENGINE_FUNCTIONS = {
 }
 
 MAX_TOP_LEVEL_MODULES = 8
-MAX_LIBRARY_LINES = 500
-#: Modules over the cap, each with its reason (to split; the list only shrinks).
-OVER_LINE_CAP: dict[str, str] = {}
+#: A module is as long as its concept. Past this many lines the suite warns (``LongModuleWarning``: a
+#: prompt to ask whether the module holds one concept, not a failure); a module that is long for a reason
+#: goes into LONG_MODULES with that reason, and the warning stops.
+LONG_MODULE_LINES = 800
+#: Past this a module fails the suite whatever its reason: nobody reads 1 200 lines as one concept.
+MAX_LIBRARY_LINES = 1200
+#: Modules past LONG_MODULE_LINES, each with the reason it is one concept.
+LONG_MODULES: dict[str, str] = {}
+
+
+class LongModuleWarning(UserWarning):
+    """A library module past LONG_MODULE_LINES without a reason in LONG_MODULES."""
 
 
 def _modules() -> dict[str, Path]:
@@ -236,11 +246,17 @@ def test_top_level_of_the_package_is_short():
     assert len(top) <= MAX_TOP_LEVEL_MODULES, top
 
 
-def test_no_library_module_is_over_500_lines():
-    """Issue #17: no library module over 500 lines."""
-    long = {m: n for m, p in MODULES.items() if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_LIBRARY_LINES}
-    assert set(long) - set(OVER_LINE_CAP) == set(), long
-    assert set(OVER_LINE_CAP) <= set(long), "a listed module is back under the cap: drop it from OVER_LINE_CAP"
+def test_library_modules_are_as_long_as_their_concept():
+    """A module past LONG_MODULE_LINES warns unless LONG_MODULES gives its reason; none passes
+    MAX_LIBRARY_LINES; a reason whose module is short again is dropped (the list only names long ones)."""
+    lines = {m: len(p.read_text(encoding="utf-8").splitlines()) for m, p in MODULES.items()}
+    too_long = {m: n for m, n in lines.items() if n > MAX_LIBRARY_LINES}
+    assert not too_long, too_long
+    long = {m: n for m, n in lines.items() if n > LONG_MODULE_LINES}
+    for module in sorted(set(long) - set(LONG_MODULES)):
+        warnings.warn(LongModuleWarning(f"{module} has {long[module]} lines (> {LONG_MODULE_LINES}): one concept? "
+                                        "split it by meaning, or give its reason in LONG_MODULES"), stacklevel=1)
+    assert set(LONG_MODULES) <= set(long), "a module in LONG_MODULES is short again: drop its entry"
 
 
 def _defined_names(module: str) -> set[str]:
