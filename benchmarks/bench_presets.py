@@ -4,7 +4,12 @@ Lines: ``presets_fit_s`` (the three formats' models, 57 swatches, no cache: glTF
 three.js shows), per model
 ``presets_<model>_dE00_45_median/_max`` (over swatches, of each swatch's maximum over facet angles
 0–45°) and ``_60_max``, and ``presets_<model>_by_hand_median/_max`` for the obvious settings
-(the real thickness, the film's n at 550 nm, bare-metal F0), all over 0–60°.
+(the real thickness, the film's n at 550 nm, bare-metal F0), all over 0–60°. ``presets_modelviewer_dE00_45_median``,
+``_45_max`` and ``_60_max`` are measured, not ported: the catalog's ``<model-viewer>`` presets
+(swatch.catalog.ar.viewer_fit) rendered by the vendored ``<model-viewer>`` 4.4.0 in headless Chromium
+(benchmarks/modelviewer_view.py: a plate in an even white surround, tone mapping off, views 0, 5, …, 60° from
+the normal, relative to a white metal plate), ΔE2000 against the exact colour at that facet angle (D65,
+CIE 1931 2°); skipped without Chromium and Playwright.
 """
 from __future__ import annotations
 
@@ -47,4 +52,20 @@ def run() -> list[str]:
                      f"presets_{m}_dE00_45_max={e45.max():.2f} "
                      f"presets_{m}_dE00_60_max={e.max():.2f} presets_{m}_by_hand_median={np.median(hand):.1f} "
                      f"presets_{m}_by_hand_max={hand.max():.1f}")
+    lines.append(_modelviewer_line(spec))
     return lines
+
+
+def _modelviewer_line(spec) -> str:
+    """The ``<model-viewer>`` presets' errors as the vendored <model-viewer> shows them (headless Chromium)."""
+    from pathlib import Path
+
+    from benchmarks.modelviewer_view import CHROMIUM_BUILDS, modelviewer_figures
+
+    if not any(Path(c).exists() for c in CHROMIUM_BUILDS):
+        return "presets_modelviewer: skipped (no Chromium)"
+    try:
+        import playwright  # noqa: F401
+    except ImportError:
+        return "presets_modelviewer: skipped (playwright missing)"
+    return " ".join(f"presets_modelviewer_{k}={v:.2f}" for k, v in modelviewer_figures(spec).items())

@@ -25,9 +25,11 @@ import numpy as np
 from scipy.special import roots_legendre
 
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
-from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
+from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material, wavelength_grid
 from swatch.physics.model import get_coating
+from swatch.presets.fit import FIT_ANGLES_DEG
 from tests.browser import CHROMIUM, WEBGL_ARGS, wait_until
+from tests.tmm_reference import unpolarised_R
 
 HERE = Path(__file__).resolve().parent
 VENDOR = HERE / "vendor"
@@ -58,6 +60,22 @@ def exact_Lab(thickness_nm: float, theta_d_deg, **kw) -> np.ndarray:
     _, cm = _setup(kw.get("film", DEFAULT_FILM), kw.get("substrate", DEFAULT_SUBSTRATE),
                    float(kw.get("film_index_scale", 1.0)))
     return cm.Lab(exact_XYZ(thickness_nm, theta_d_deg, **kw))
+
+
+@functools.cache
+def tmm_exact_Lab(d_nm: float) -> np.ndarray:
+    """The exact colour at FIT_ANGLES_DEG (A, 3), independently of swatch: tmm.coh_tmm spectra of the default
+    film on its metal at facet angle θ_d, colour.sd_to_XYZ (D65, CIE 1931 2°, ASTM E308), colour.XYZ_to_Lab."""
+    wl = np.arange(380.0, 781.0, 5.0)
+    nf, ns = load_material(DEFAULT_FILM).nk(wl), load_material(DEFAULT_SUBSTRATE).nk(wl)
+    cmfs, d65 = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"]
+    white = colour.sd_to_XYZ(colour.sd_ones(colour.SpectralShape(380, 780, 5)), cmfs, d65)
+    out = []
+    for th in FIT_ANGLES_DEG:  # 13 angles x 81 wavelengths
+        R = unpolarised_R([1.0, nf, ns], [np.inf, d_nm, np.inf], np.radians(th), wl)
+        XYZ = colour.sd_to_XYZ(colour.SpectralDistribution(dict(zip(wl, R, strict=True))), cmfs, d65)
+        out.append(colour.XYZ_to_Lab(XYZ / white[1], colour.XYZ_to_xy(white)))
+    return np.array(out)
 
 
 def ggx_lobe_weights(view_deg: float, alpha: float, n: int = 256) -> tuple[np.ndarray, np.ndarray]:

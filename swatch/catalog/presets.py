@@ -13,6 +13,10 @@ the exact Mitsuba 3 presets ``presets/preset_S001_mitsuba.xml`` / ``presets/pres
                 "materialx": "presets/preset_S001.mtlx", "openpbr_max_delta_E_00": 2.2, ...,
                 "mitsuba": "presets/preset_S001_mitsuba.xml", "mitsuba_json": "presets/preset_S001_mitsuba.json"}
 
+With ``[presets] usd = true`` each swatch also gets ``presets/preset_S001.usdz`` (record: ``"usdz"`` and
+``usd_preview_max_delta_E_00``), with ``[presets] physicallybased = true`` the catalog gets one
+``presets/physicallybased.json`` (:mod:`swatch.catalog.presets_usd`).
+
 The errors are ΔE2000 between the model evaluated with the parameters *as written* (rounded) and
 the exact colour, CIE 1931 2° observer under D65, maximum over the facet angles 0–60°
 (``*_max_delta_E_00``; ``*_max_delta_E_00_45`` over 0–45°).
@@ -26,9 +30,13 @@ from pathlib import Path
 
 import numpy as np
 
+from swatch.catalog.ar import RENDERER as VIEWER_RENDERER
+from swatch.catalog.ar import viewer_presets
+from swatch.catalog.context import catalog_mesh
 from swatch.catalog.folder import read_cache_json, remove_tree
 from swatch.catalog.layout import PRESETS
 from swatch.catalog.presets_mitsuba import mitsuba_presets
+from swatch.catalog.presets_usd import physicallybased_files, usd_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import code_hash, package_dir
@@ -189,6 +197,8 @@ RENDERERS = {
     "mitsuba": f"Mitsuba {mitsuba_bsdf.MITSUBA_VERSION} with swatch's anodic_film BSDF (swatch.mitsuba.register()): "
                "the catalog's own model, nothing fitted; ΔE2000 0 by construction (checked in Mitsuba 3.9.1 at 45:0, "
                "the multi-angle geometries and mirror 0-60°: below 0.01)",
+    "usd_preview": "UsdPreviewSurface fallback of the .usdz (metallic, Schlick Fresnel as its specification writes "
+                   "it; port only: no renderer was checked): one colour fitted at 45:0, no thin film, no view input",
 }
 
 
@@ -237,6 +247,22 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
     for entry, exact in zip(entries, exact_entries, strict=True):
         entry.update(exact)
         entry["renderers"]["mitsuba"] = RENDERERS["mitsuba"]
+    if spec.ar:  # the page's <model-viewer> files and figures (swatch.catalog.ar)
+        viewer_files, viewer_entries = viewer_presets(spec, records, catalog_mesh(spec))
+        for entry, viewer in zip(entries, viewer_entries, strict=True):
+            entry.update(viewer)
+            entry["renderers"]["modelviewer"] = VIEWER_RENDERER
+        exact_files |= viewer_files
+    if spec.presets_usd:  # the .usdz of each swatch (swatch.catalog.presets_usd); off: the bytes of before
+        mtlx_params, mtlx_figures = fits["materialx"]
+        usd_files, usd_entries = usd_presets(spec, records, mtlx_params, mtlx_figures["materialx"]["60"],
+                                             catalog_mesh(spec))
+        for entry, extra in zip(entries, usd_entries, strict=True):
+            entry.update(extra)
+            entry["renderers"]["usd_preview"] = RENDERERS["usd_preview"]
+        exact_files |= usd_files
+    if spec.presets_physicallybased:  # one physicallybased.info document for the catalog
+        exact_files |= physicallybased_files(spec, records)
     return files | exact_files, entries
 
 

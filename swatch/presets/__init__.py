@@ -30,5 +30,9 @@ PRESET_FORMATS = ("gltf", "blender", "materialx")
 FORMAT_MODEL = {"gltf": "threejs", "blender": "cycles", "materialx": "materialx"}
 #: The exact presets (nothing fitted): Mitsuba 3 with swatch's ``anodic_film`` BSDF (:mod:`swatch.presets.mitsuba_bsdf`).
 EXACT_FORMATS = ("mitsuba",)
+#: The USD presets (the OpenPBR network of ``materialx`` and a UsdPreviewSurface fallback; :mod:`swatch.presets.usd`)
+#: and the physicallybased.info v2 document (:mod:`swatch.presets.physicallybased`).
+USD_FORMATS = ("usd", "usdz")
+DATABASE_FORMATS = ("physicallybased",)
 
-__all__ = ["PRESET_FORMATS", "FORMAT_MODEL", "EXACT_FORMATS"]
+__all__ = ["PRESET_FORMATS", "FORMAT_MODEL", "EXACT_FORMATS", "USD_FORMATS", "DATABASE_FORMATS"]

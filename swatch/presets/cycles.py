@@ -107,8 +107,7 @@ def gulbrandsen_nk(r, g):
 
     References
     ----------
-    O. Gulbrandsen, "Artist Friendly Metallic Fresnel", Journal of Computer Graphics Techniques 3(4),
-    64–72 (2014), https://jcgt.org/published/0003/04/03/.
+    :cite:`Gulbrandsen2014`.
     """
     r = np.minimum(r, 0.999)
     sqrt_r = np.sqrt(r)
@@ -235,8 +234,7 @@ def airy_summation(R12, R23, S, phasor):
 
     References
     ----------
-    L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of Varying
-    Iridescence", ACM Trans. Graph. 36(4), 65 (2017), doi:10.1145/3072959.3073620.
+    :cite:`Belcour2017`.
     """
     T121 = 1.0 - R12
     R123 = R12 * R23

@@ -33,7 +33,7 @@ import numpy as np
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, wavelength_grid
 from swatch.physics.model import get_coating
-from swatch.presets import cycles, gltf, materialx, openpbr, threejs
+from swatch.presets import cycles, gltf, materialx, modelviewer, openpbr, threejs
 from swatch.presets.spectral import rgb_to_Lab, rgb_to_xyz_matrix
 
 __all__ = ["MODELS", "FIT_ANGLES_DEG", "FILM_IOR_RANGE", "BASE_RANGE", "THICKNESS_WINDOW_NM", "PresetFit",
@@ -62,7 +62,7 @@ _CONTINUITY_ROUNDS = 2
 #: geometries weigh 2, the other angles up to 45° weigh 1; p > 1 leans towards the largest errors.
 #: glTF cannot follow the exact colour far past 45° (its metal is a real index): it weighs them less.
 _OBJECTIVE = {"gltf": (0.2, 1.0), "threejs": (0.2, 1.0), "cycles": (0.5, 1.5), "openpbr": (0.5, 1.5),
-              "materialx": (0.2, 1.0)}
+              "materialx": (0.2, 1.0), "modelviewer": (0.2, 1.0)}
 #: The roughness (glTF ``roughnessFactor``) a model is evaluated at when it depends on it and none is given.
 DEFAULT_ROUGHNESS = 0.5477
 
@@ -74,13 +74,16 @@ def _model(name: str):
         return threejs.displayed_fresnel
     if name == "materialx":
         return materialx.displayed_fresnel
+    if name == "modelviewer":
+        return modelviewer.surround_fresnel
     f = plain[name]
     return lambda c, d, eta, base, roughness: f(c, d, eta, base)
 
 
 #: Model names (swatch.presets.FORMAT_MODEL maps formats to them). ``threejs`` is what three.js
-#: shows of a glTF preset (swatch.presets.threejs); ``gltf`` is the extension as specified.
-MODELS = ("gltf", "threejs", "cycles", "openpbr", "materialx")
+#: shows of a glTF preset (swatch.presets.threejs); ``gltf`` is the extension as specified; ``modelviewer`` is
+#: what <model-viewer> shows in an even white surround (swatch.presets.modelviewer).
+MODELS = ("gltf", "threejs", "cycles", "openpbr", "materialx", "modelviewer")
 
 
 def model_Lab(model: str, params, angles_deg, roughness: float | None = None) -> np.ndarray:

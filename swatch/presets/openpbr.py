@@ -61,8 +61,7 @@ def gaussian_sensitivity(opd_nm) -> np.ndarray:
 
     References
     ----------
-    L. Belcour and P. Barla, "A Practical Extension to Microfacet Theory for the Modeling of Varying
-    Iridescence", ACM Trans. Graph. 36(4), 65 (2017), doi:10.1145/3072959.3073620.
+    :cite:`Belcour2017`.
     """
     phase = 2.0 * np.pi * np.asarray(opd_nm, dtype=np.float64)[..., None] * 1.0e-9
     val, pos, var = SENSITIVITY_FIT_VAL, SENSITIVITY_FIT_POS, SENSITIVITY_FIT_VAR

@@ -28,7 +28,7 @@ import numpy as np
 
 from swatch.core.errors import SwatchError
 
-__all__ = ["gltf_bytes", "blender_bytes", "materialx_bytes", "PLATE_SIZE_M"]
+__all__ = ["gltf_bytes", "gltf_material", "blender_bytes", "materialx_bytes", "PLATE_SIZE_M"]
 
 PLATE_SIZE_M = 0.1
 
@@ -73,6 +73,39 @@ def _check(params, roughness) -> tuple[float, float, list[float], float]:
     return float(p[0]), float(p[1]), [float(v) for v in np.clip(p[2:], 0.0, 1.0)], r
 
 
+def gltf_material(name: str, params, roughness: float, extras: dict | None = None) -> dict:
+    """The glTF material of a preset: the metal (``baseColorFactor``, ``metallicFactor`` 1,
+    ``roughnessFactor``) with ``KHR_materials_iridescence`` (factor 1, IOR, thickness maximum).
+
+    Parameters
+    ----------
+    name : str
+        The material's name.
+    params : array_like, shape (5,)
+        ``(thickness_nm, film_ior, base R, G, B)`` (base linear Rec.709).
+    roughness : float
+        ``roughnessFactor``.
+    extras : dict, optional
+        The material's ``extras`` (what it was fitted to).
+
+    Returns
+    -------
+    dict
+        The ``materials`` entry (numbers rounded as written).
+    """
+    d, eta, base, rough = _check(params, roughness)
+    material: dict = {
+        "name": name,
+        "pbrMetallicRoughness": {"baseColorFactor": [_r(v) for v in base] + [1.0], "metallicFactor": 1.0,
+                                 "roughnessFactor": _r(rough)},
+        "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": _r(eta),
+                                                     "iridescenceThicknessMaximum": _r(d, 3)}},
+    }
+    if extras:
+        material["extras"] = extras
+    return material
+
+
 def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None, anisotropy: dict | None = None) -> bytes:
     """A .gltf (JSON, embedded buffer) with a plate carrying the iridescent metal material;
     ``anisotropy``: a ``KHR_materials_anisotropy`` object (brushed finishes; the plate then has
@@ -97,24 +130,15 @@ def gltf_bytes(name: str, params, roughness: float, extras: dict | None = None, 
     bytes
         UTF-8 JSON (deterministic).
     """
-    d, eta, base, rough = _check(params, roughness)
     blob, views, accessors = _plate_buffer(tangents=anisotropy is not None)
-    extensions: dict = {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": _r(eta),
-                                                      "iridescenceThicknessMaximum": _r(d, 3)}}
+    material = gltf_material(name, params, roughness, extras)
+    extensions = material["extensions"]
     used = ["KHR_materials_iridescence"]
     attributes = {"POSITION": 0, "NORMAL": 1}
     if anisotropy is not None:
         extensions["KHR_materials_anisotropy"] = dict(anisotropy)
         used.append("KHR_materials_anisotropy")
         attributes["TANGENT"] = 3
-    material: dict = {
-        "name": name,
-        "pbrMetallicRoughness": {"baseColorFactor": [_r(v) for v in base] + [1.0], "metallicFactor": 1.0,
-                                 "roughnessFactor": _r(rough)},
-        "extensions": extensions,
-    }
-    if extras:
-        material["extras"] = extras
     doc = {
         "asset": {"version": "2.0", "generator": "swatch (anodic-swatch) preset"},
         "extensionsUsed": used,

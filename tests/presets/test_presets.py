@@ -19,6 +19,7 @@ from swatch.catalog.presets import catalog_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.fit import FIT_ANGLES_DEG, exact_Lab, model_Lab
+from tests.preset_reference import tmm_exact_Lab as _tmm_exact_Lab
 from tests.tmm_reference import unpolarised_R
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
@@ -148,24 +149,6 @@ def _params_materialx(path):
     v = {i.getName(): i.getValue() for i in node.getInputs()}
     assert v["base_metalness"] == 1.0 and v["thin_film_weight"] == 1.0
     return [v["thin_film_thickness"] * 1000.0, v["thin_film_ior"], *list(v["base_color"])]
-
-
-@functools.cache
-def _tmm_exact_Lab(d_nm: float) -> np.ndarray:
-    """The exact colour at FIT_ANGLES_DEG (A, 3), independently of swatch: tmm.coh_tmm spectra of the default
-    film on its metal at facet angle θ_d, colour.sd_to_XYZ (D65, CIE 1931 2°, ASTM E308), colour.XYZ_to_Lab."""
-    from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE, load_material
-
-    wl = np.arange(380.0, 781.0, 5.0)
-    nf, ns = load_material(DEFAULT_FILM).nk(wl), load_material(DEFAULT_SUBSTRATE).nk(wl)
-    cmfs, d65 = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"], colour.SDS_ILLUMINANTS["D65"]
-    white = colour.sd_to_XYZ(colour.sd_ones(colour.SpectralShape(380, 780, 5)), cmfs, d65)
-    out = []
-    for th in FIT_ANGLES_DEG:  # 13 angles x 81 wavelengths
-        R = unpolarised_R([1.0, nf, ns], [np.inf, d_nm, np.inf], np.radians(th), wl)
-        XYZ = colour.sd_to_XYZ(colour.SpectralDistribution(dict(zip(wl, R, strict=True))), cmfs, d65)
-        out.append(colour.XYZ_to_Lab(XYZ / white[1], colour.XYZ_to_xy(white)))
-    return np.array(out)
 
 
 @pytest.mark.parametrize("fmt,prefix,reader", [("gltf", "threejs", _params_gltf), ("gltf", "gltf", _params_gltf),
@@ -382,30 +365,6 @@ def test_gltf_preset_in_threejs_matches(written, tmp_path, chromium):
     shot = os.environ.get("SWATCH_PRESET_SCREENSHOT")
     if shot:
         shutil.copy(tmp_path / "threejs.png", shot)
-
-
-@pytest.fixture
-def xvfb_display(monkeypatch):
-    """A virtual X display for an OpenGL context (Debian's Xvfb, Mesa's llvmpipe), started here and
-    stopped by its PID afterwards. Missing: skip, or fail with ``SWATCH_REQUIRE_TOOLS=1`` (CI)."""
-    exe = shutil.which("Xvfb")
-    if exe is None:
-        if os.environ.get("SWATCH_REQUIRE_TOOLS") == "1":
-            pytest.fail("SWATCH_REQUIRE_TOOLS=1 but Xvfb is missing (Debian: xvfb, libgl1-mesa-dri)")
-        pytest.skip("Xvfb not installed")
-    r, w = os.pipe()
-    proc = subprocess.Popen([exe, "-displayfd", str(w), "-screen", "0", "64x64x24", "-nolisten", "tcp"],
-                            pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(w)
-    try:
-        with os.fdopen(r) as fh:
-            number = fh.readline().strip()
-        assert number.isdigit(), "Xvfb did not report its display"
-        monkeypatch.setenv("DISPLAY", f":{number}")
-        yield f":{number}"
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
 
 
 @pytest.mark.slow

@@ -190,7 +190,7 @@ function makeColour(T) {
     return [0, 2, 4].map((i) => decode(parseInt(h.slice(i, i + 2), 16) / 255));
   }
   function hexToLab(hex) {
-    return XYZtoLab(mulRow(hexLinear(hex), T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.colorimeter.hex_to_Lab
+    return XYZtoLab(mulRow(hexLinear(hex), T.srgb_linear_to_XYZ2), T.white_XYZ2); // as swatch.colorimetry.colorimeter.hex_to_Lab_2deg
   }
   // in the catalog's observer, as swatch.colorimetry.observers.hex_to_document_Lab (swatch match --hex)
   function hexToDocumentLab(hex) { return XYZtoLab(mulRow(hexLinear(hex), T.srgb_linear_to_XYZ), W); }
