@@ -35,7 +35,7 @@ def run(size: int | None = None, repeats: int = 5) -> list[str]:
     shape = mesh.MeshShape(obj, "torus.glb", "bench")
 
     def point():
-        return render_swatch(80.0, "mesh", size, coating=coating, colorimeter=cm, mesh=shape)
+        return render_swatch(80.0, "mesh", size, coating=coating, colorimeter=cm, mesh=shape, environment="point")
 
     def env():
         env_render._CACHE.clear()

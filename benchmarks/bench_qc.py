@@ -31,9 +31,9 @@ def run() -> list[str]:
     tol = parse_tolerance("dE00:2")
     cm = get_colorimeter(proc.coating().wavelength_nm)
     target = {"kind": "hex", "value": "#b08d57"}
-    from swatch.colorimetry.colorimeter import hex_to_Lab
+    from swatch.colorimetry.colorimeter import hex_to_Lab_2deg
 
-    target["Lab"] = [float(v) for v in hex_to_Lab("b08d57", cm.display_colorimeter)]
+    target["Lab"] = [float(v) for v in hex_to_Lab_2deg("b08d57", cm.display_colorimeter)]
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
 
@@ -46,14 +46,14 @@ def run() -> list[str]:
         import json
 
         data = finish_spec({"kind": "thickness", "value": 120.0, "thickness_nm": 120.0}, proc, tol)
-        (folder / "spec.json").write_text(json.dumps(data), encoding="utf-8")
+        (folder / "spec.json").write_text(json.dumps(data.document), encoding="utf-8")
         spec = load_spec_json(folder / "spec.json")
         coating = proc.coating()
         rng = np.random.default_rng(3)
         d = 120.0 + rng.uniform(-4.0, 4.0, pick(100, 5))
         lines = ["id,light_deg,view_deg,L,a,b"]
         seen = set()
-        for e in [spec["reference"], *spec["multi_angle"]]:
+        for e in [spec.document["reference"], *spec.document["multi_angle"]]:
             if (e["light_deg"], e["view_deg"], e["view_side"]) in seen:  # 45as45 is 45:0
                 continue
             seen.add((e["light_deg"], e["view_deg"], e["view_side"]))

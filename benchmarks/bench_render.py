@@ -27,8 +27,9 @@ def run(size: int | None = None, repeats: int = 7) -> list[str]:
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)
     d = 50.8
-    render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm)  # warm-up (caches, LUT)
-    t_table = median_seconds(lambda: render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm), repeats, warmup=0)
+    render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm, environment="point")  # warm-up (caches, LUT)
+    t_table = median_seconds(lambda: render_swatch(d, "cylinder", size, coating=coating, colorimeter=cm,
+                                                       environment="point"), repeats, warmup=0)
 
     scene = scene_mod.make_scene("cylinder", 45.0)
     n, l, v, hit = scene_mod.scene_geometry(scene, size)

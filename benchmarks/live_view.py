@@ -131,7 +131,7 @@ def live_vs_hero(page, out: Path, records: list[dict], mesh=None, save: Path | N
         live = _canvas(page)
         if live.shape != hero.shape:
             raise AssertionError(f"the canvas is {live.shape}, the hero {hero.shape}")
-        cover = render_swatch(float(r["thickness_nm"]), shape, n, mesh=mesh).coverage > 0.999
+        cover = render_swatch(float(r["thickness_nm"]), shape, n, mesh=mesh, environment="point").coverage > 0.999
         de = colour.delta_E(_lab(live), _lab(hero), method="CIE 2000")
         results.append({"id": r["id"], "frame": float(de.mean()), "object": float(de[cover].mean())})
         if save is not None:

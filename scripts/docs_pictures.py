@@ -107,7 +107,7 @@ def mesh_renders(path: Path) -> None:
 
     part = load_mesh(ROOT / "examples" / "part.glb")
     shots = [render_swatch(d, "mesh", 256, mesh=part, environment=env).display_rgb[..., :3]
-             for env in ("studio", None) for d in (50.8, 140.0)]
+             for env in ("studio", "point") for d in (50.8, 140.0)]
     _write(path, np.concatenate(shots, axis=1), "render_swatch --mesh examples/part.glb, 50.8/140 nm, studio and point light")
 
 
@@ -119,6 +119,15 @@ def mitsuba_gallery(path: Path) -> None:
     with tempfile.TemporaryDirectory(prefix="swatch-docs-") as tmp:
         gallery.main(tmp)
         path.write_bytes((Path(tmp) / "mitsuba-gallery.png").read_bytes())
+
+
+def usd_in_blender(path: Path) -> None:
+    """scripts/usd_in_blender.py: the .usdz presets imported into Blender 5.0 and rendered by Cycles (the ``bpy``
+    module of .venv-blender, as .ci/run installs it; about a minute on 2 cores), above swatch's exact model."""
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import usd_in_blender as picture
+
+    picture.make(path)
 
 
 def _swatch(*args: str, cwd: Path) -> None:
@@ -168,6 +177,8 @@ PICTURES: dict[str, Picture] = {
     "mesh-renders.png": Picture(mesh_renders, (*RENDER, "examples/part.glb")),
     "mitsuba-gallery.png": Picture(mitsuba_gallery, (*RENDER, "swatch/render/mitsuba/*.py", "swatch/mitsuba/*.py",
                                                      "scripts/mitsuba_gallery.py")),
+    "usd-in-blender.png": Picture(usd_in_blender, (*RENDER, "swatch/presets/*.py", "scripts/usd_in_blender.py",
+                                                   "scripts/blender_usd_render.py")),
 }
 
 

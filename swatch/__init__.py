@@ -54,7 +54,7 @@ _API = {
     "delta_E_00": "swatch.colorimetry.colorimeter",
     "Lab_to_LCh": "swatch.colorimetry.colorimeter",
     "srgb_hex": "swatch.colorimetry.colorimeter",
-    "hex_to_Lab": "swatch.colorimetry.colorimeter",
+    "hex_to_Lab_2deg": "swatch.colorimetry.colorimeter",
     "thickness_colours": "swatch.colorimetry.appearance",
     "Tolerance": "swatch.colorimetry.tolerance",
     "get_tolerance": "swatch.colorimetry.tolerance",
@@ -74,7 +74,7 @@ _API = {
     "fit_measurement": "swatch.fit.spectral_fit",
     "fit_lab": "swatch.fit.lab_fit",
     "match_colour": "swatch.fit.matching",
-    "calibrate": "swatch.fit.calibration",
+    "calibrate": "swatch.fit.calibration.procedure",
     # catalogs
     "build_catalog": "swatch.catalog.build",
     "load_spec": "swatch.catalog.spec",

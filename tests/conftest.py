@@ -17,6 +17,8 @@ Chromium or runs processes; ``pytest -m "not slow"`` leaves them out, CI runs ev
 from __future__ import annotations
 
 import os
+import shutil
+import subprocess
 
 import pytest
 
@@ -115,3 +117,35 @@ def small_catalog(tmp_path_factory):
             build_catalog(spec, root / "out", jobs=1)
             (root / "built").touch()
     return root / "out"
+
+
+@pytest.fixture(scope="session")
+def xvfb_display():
+    """A virtual X display for an OpenGL context (Debian's Xvfb, Mesa's llvmpipe), started once per session
+    (per xdist worker) and stopped by its PID at the end: MaterialX's GLSL renderer keeps its X connection
+    for the life of the process, so a display stopped after one test kills the next renderer of the same
+    process ("XIO: fatal IO error"). ``DISPLAY`` is set while it runs. Missing: skip, or fail with
+    ``SWATCH_REQUIRE_TOOLS=1`` (CI)."""
+    exe = shutil.which("Xvfb")
+    if exe is None:
+        if os.environ.get("SWATCH_REQUIRE_TOOLS") == "1":
+            pytest.fail("SWATCH_REQUIRE_TOOLS=1 but Xvfb is missing (Debian: xvfb, libgl1-mesa-dri)")
+        pytest.skip("Xvfb not installed")
+    r, w = os.pipe()
+    proc = subprocess.Popen([exe, "-displayfd", str(w), "-screen", "0", "64x64x24", "-nolisten", "tcp"],
+                            pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(w)
+    before = os.environ.get("DISPLAY")
+    try:
+        with os.fdopen(r) as fh:
+            number = fh.readline().strip()
+        assert number.isdigit(), "Xvfb did not report its display"
+        os.environ["DISPLAY"] = f":{number}"
+        yield f":{number}"
+    finally:
+        if before is None:
+            os.environ.pop("DISPLAY", None)
+        else:
+            os.environ["DISPLAY"] = before
+        proc.terminate()
+        proc.wait(timeout=10)

@@ -14,6 +14,7 @@ MODULES_WITH_EXAMPLES = [
     "swatch",
     "swatch.core.errors",
     "swatch.core.escapes",
+    "swatch.core.registry",
     "swatch.physics.materials",
     "swatch.physics.model",
     "swatch.physics.overcoat",
@@ -70,6 +71,8 @@ MODULES_WITH_EXAMPLES = [
     "swatch.presets.anisotropy",
     "swatch.presets.mitsuba_bsdf",
     "swatch.presets.spectral",
+    "swatch.presets.preview",
+    "swatch.presets.naming",
 ]
 
 

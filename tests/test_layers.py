@@ -36,6 +36,8 @@ ALLOWED_FUNCTION_IMPORTS = {
     ("swatch.catalog.build", "swatch.catalog.execute"):
         "the one seam of a build (#36): the plan (fingerprint, up-to-date check) imports the execute side (the "
         "stages: colour-science, OpenImageIO) once, after the no-op check: no-op rebuild ≤ 2 s",
+    ("swatch.catalog.build", "swatch.catalog.cluster"):
+        "Dask's distributed client (optional: `anodic-swatch[distributed]`) only for a build given a scheduler (#50)",
     ("swatch.catalog.spec", "swatch.physics.model"):
         "the optics (0.1 s) only when a coating or a voltage is asked for: a no-op rebuild parses the spec without",
     ("swatch.physics.process", "swatch.physics.model"): "as above (a profile parses without the optics)",

@@ -107,10 +107,19 @@ def test_science_modules_cite_numbered_references(where, doc):
     assert len(parts) == 2, f"{where}: no module References section"
     numbers = [int(n) for n in re.findall(r"^\.\. \[(\d+)\] ", parts[1], flags=re.M)]
     assert numbers and numbers == list(range(1, len(numbers) + 1)), f"{where}: references not numbered 1, 2, …"
+    # each entry cites a key of the one bibliography (docs/references.bib), each source once per module
+    keys = re.findall(r"^\.\. \[\d+\] :cite:`([^`]+)`", parts[1], flags=re.M)
+    assert len(keys) == len(numbers), f"{where}: a reference that is not a :cite: key of docs/references.bib"
+    assert set(keys) <= set(BIBLIOGRAPHY), f"{where}: keys not in docs/references.bib: {set(keys) - set(BIBLIOGRAPHY)}"
+    assert len(set(keys)) == len(keys), f"{where}: a source cited twice"
 
 
-#: Every DOI the physics and colorimetry modules cite, each checked against a source we did not write (the
-#: tables' headers from refractiveindex.info, colour-science's own references, the paper itself).
+#: The one bibliography's entries (docs/references.bib): key -> DOI (None without one).
+BIBLIOGRAPHY = {m[1]: (re.search(r"^\s*doi = \{([^}]+)\}", m[2], flags=re.M) or [None, None])[1]
+                for m in re.finditer(r"^@\w+\{([^,]+),\n(.*?)^\}", (ROOT / "docs" / "references.bib").read_text(
+                    encoding="utf-8"), flags=re.M | re.S)}
+#: Every DOI of the bibliography, each checked against a source we did not write (the tables' headers from
+#: refractiveindex.info, colour-science's own references, the paper itself).
 KNOWN_DOIS = {
     "10.14923/transinfj.2018JDP7030",  # H. Fujii et al. 2019 (printed on the paper itself)
     "10.2312/EGWR/EGSR07/195-206",  # Walter et al. 2007, GGX
@@ -120,14 +129,19 @@ KNOWN_DOIS = {
     "10.1103/PhysRevB.9.5056",  # Johnson & Christy 1974 (tables/optical/Ti-Johnson.csv)
     "10.1002/adom.201600250",  # Siefke et al. 2016 (tables/optical/TiO2-Siefke.csv)
     "10.1038/s41597-023-02898-2",  # Polyanskiy 2024, refractiveindex.info (every table's header)
+    "10.1145/3072959.3073620",  # Belcour & Barla 2017, ACM TOG 36(4) 65 (the presets' thin-film Fresnel)
 }
 
 
 def test_science_modules_cite_only_checked_dois():
-    """A DOI added to a physics or colorimetry module is one someone checked (add it above with its source)."""
-    cited = set()
+    """A DOI added to the bibliography is one someone checked (add it above with its source); the modules cite
+    keys, never a DOI of their own; the paper, CIE 015 and CIEDE2000 are cited."""
+    assert {d for d in BIBLIOGRAPHY.values() if d} == KNOWN_DOIS
+    cited, written = set(), set()
     for sub in CITING:
         for path in sorted((ROOT / "swatch" / sub).glob("*.py")):
-            cited |= {d.rstrip(".,;:)") for d in re.findall(r"doi:(\S+)", path.read_text(encoding="utf-8"))}
-    assert cited - KNOWN_DOIS == set()
-    assert {"10.14923/transinfj.2018JDP7030", "10.25039/TR.015.2018", "10.1002/col.20070"} <= cited
+            text = path.read_text(encoding="utf-8")
+            cited |= set(re.findall(r":cite:`([^`]+)`", text))
+            written |= set(re.findall(r"doi:(\S+)", text))
+    assert written == set() and cited <= set(BIBLIOGRAPHY)
+    assert {"Fujii2019", "Carter2018", "Sharma2005b"} <= cited

@@ -26,6 +26,10 @@ journal by the next run, and one whose commit fails is rolled back (``swatch.cat
 Nothing is written or deleted outside ``DIR``; its metadata is untrusted input. An older flat folder
 is migrated by the next commit (its files retired as any the build no longer writes; swatch.catalog.layout). A non-empty ``DIR`` that has no
 manifest is not a swatch catalog and is refused.
+
+Distributed: given a Dask scheduler (``scheduler``, ``[build] scheduler``), the units of work (tiles, sheets,
+chips, heroes) run on its workers (:mod:`swatch.catalog.cluster`, imported only then); their bytes come back and
+are staged and committed here as above.
 """
 from __future__ import annotations
 
@@ -154,7 +158,7 @@ def _progress(label: str, total: int, bar_factory: ProgressBarFactory | None):
 
 
 def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: ProgressBarFactory | None = None,
-                  log=None) -> BuildResult:
+                  log=None, scheduler: str | None = None) -> BuildResult:
     """Build (or bring up to date) the catalog of ``spec_path`` in ``out_dir``.
 
     Only what changed is rebuilt (tiles are cached under ``.swatch-catalog/``); the folder is
@@ -175,6 +179,11 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: Progres
         ``click.progressbar(length=total, label=label)``, which the CLI passes). None: no reporting.
     log : callable or None
         Receives one line per step.
+    scheduler : str or None
+        The address of a Dask scheduler (``tcp://host:8786``) to send the build's units of work to (tiles,
+        sheets, chips, heroes; :mod:`swatch.catalog.cluster`, the extra ``anodic-swatch[distributed]``); None:
+        the spec's ``[build] scheduler``, else local processes. The files are the same bytes either way; only
+        this process writes the folder. Connected only when something must be built.
 
     Returns
     -------
@@ -199,7 +208,8 @@ def build_catalog(spec_path, out_dir, jobs: int | None = None, progress: Progres
     meta = _prepare_out_dir(out)
     with locked(meta):  # only the lock holder creates, changes or removes anything
         try:
-            return _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0)
+            return _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0,
+                                 spec.scheduler if scheduler is None else scheduler)
         except BaseException:
             with signals_held():  # (a second Ctrl-C or a hang-up's SIGHUP + SIGTERM must not cut the cleanup short)
                 if created and not os.path.lexists(meta / MANIFEST) and not os.path.lexists(meta / JOURNAL):
@@ -220,7 +230,7 @@ def _check_up_to_date(spec, spec_name, out, meta, why: str, t0) -> BuildResult:
                       "build into another folder")
 
 
-def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildResult:
+def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0, scheduler) -> BuildResult:
     recover(out, meta, say)
     fp = code_fingerprint()
     fingerprint = hash_json({"spec": spec.canonical(), "spec_file": spec_name, "env": fp})
@@ -228,7 +238,7 @@ def _locked_build(spec, spec_name, out, meta, jobs, progress, say, t0) -> BuildR
     if old.get("fingerprint") == fingerprint and intact(out, old):
         return BuildResult(out, True, len(spec.thickness_nm), sheet_count(old), seconds=time.perf_counter() - t0,
                            files=sorted(old["files"]))
-    return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0)
+    return _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0, scheduler)
 
 
 def _check_jobs(jobs) -> int:
@@ -239,7 +249,20 @@ def _check_jobs(jobs) -> int:
     return jobs
 
 
-def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0) -> BuildResult:
+def _connect(scheduler: str):
+    """The build's Dask cluster (:func:`swatch.catalog.cluster.connect`), or one line saying what to install."""
+    try:
+        with signals_held():  # (as the stages' import below)
+            from swatch.catalog import cluster
+    except ImportError as exc:
+        if (exc.name or "").split(".")[0] not in ("dask", "distributed"):
+            raise
+        raise SwatchError("`scheduler` needs Dask's distributed scheduler, which is not installed: "
+                          "pip install 'anodic-swatch[distributed]'") from None
+    return cluster.connect(scheduler)
+
+
+def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress, say, t0, scheduler) -> BuildResult:
     # The one seam between the plan (this module: fingerprint, up-to-date check) and the stages, which load
     # colour-science and OpenImageIO: imported here, after the no-op check (tests/test_layers.py); with the
     # stop signals held (a KeyboardInterrupt raised inside a nanobind module's initialisation, OpenImageIO's,
@@ -256,8 +279,10 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
     n_sheets = (n + per - 1) // per
 
     staging = Path(tempfile.mkdtemp(prefix="staging-", dir=meta))
-    pool = None
+    pool = cluster = None
     try:
+        if scheduler:  # a Dask cluster does the work (an unreachable one: one line, the staging folder removed)
+            cluster = _connect(scheduler)
         make_subfolders(staging)
         cache = cache_folder(meta)
         # 1. tiles (renders), from the cache or rendered in parallel: the pool starts on them (its workers
@@ -266,13 +291,17 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         tile_keys = [tilemod.tile_key(spec, d, fp) for d in data.thickness_nm]
         missing = [i for i, k in enumerate(tile_keys) if not (cache / f"{k}.npz").is_file()]
         tiles = tilemod.tile_render(data.context)  # the context's coating and colorimeter, sent to the workers
-        pool = tilemod.make_pool(sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
-        renders = tilemod.start_renders(tiles, data.thickness_nm, missing, tile_keys, cache, pool)
+        if cluster is not None:  # the cluster's workers render, this process saves into the cache
+            renders = cluster.start_renders(tiles, data.thickness_nm, missing, tile_keys, cache)
+        else:
+            pool = tilemod.make_pool(sheetmod.plan_jobs(spec, min(jobs, max(len(missing), n_sheets))))
+            renders = tilemod.start_renders(tiles, data.thickness_nm, missing, tile_keys, cache, pool)
         preset_files: dict[str, bytes] = {}
         preset_entries: Sequence[dict | None] = [None] * n  # `[presets] enabled = false`: no fits, files, entries
         if spec.presets:
             preset_files, preset_entries = execute.catalog_presets(spec, data.records, cache)  # fits cached
-        heroes = execute.catalog_heroes(spec, data.records, cache, say, data.context.mesh)  # when spec.hero; cached
+        heroes = execute.catalog_heroes(spec, data.records, cache, say, data.context.mesh,  # when spec.hero; cached
+                                        None if cluster is None else cluster.render_heroes)
         hero_out, hero_used = heroes[0], heroes[1]
         records = execute.final_records(spec, data, preset_entries, *heroes[2:])  # the one serialisation
         rendered = tilemod.finish_renders(renders, len(missing),
@@ -298,13 +327,16 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             else:
                 args = (spec, tiles, header, recs, [tile_keys[r["index"] - 1] for r in recs], cache, s + 1,
                         n_sheets, staging / png, staging / exr)
-                todo.append(pool.submit(sheetmod.compose_sheet, *args) if pool is not None else args)
+                todo.append(cluster.compose_sheet(*args) if cluster is not None
+                            else pool.submit(sheetmod.compose_sheet, *args) if pool is not None else args)
         # print chips, in the pool beside the sheets
         chip_jobs: list[Any] = []
         if spec.chips:
             for args in execute.chipmod.chip_batches(staging, header, data, records, execute.metal_symbol(spec),
-                                                     spec.chip_size_mm, spec.chip_dpi, jobs):
-                chip_jobs.append(pool.submit(execute.chipmod.write_chips, *args) if pool is not None else args)
+                                                     spec.chip_size_mm, spec.chip_dpi,
+                                                     jobs if cluster is None else cluster.threads):
+                chip_jobs.append(cluster.write_chips(*args) if cluster is not None
+                                 else pool.submit(execute.chipmod.write_chips, *args) if pool is not None else args)
         # 3. data files, page and exports (meanwhile the pool composes the sheets)
         catalog_doc = {"format": "swatch-catalog", "format_version": FORMAT_VERSION, "catalog": header,
                        "sheets": [{k: v for k, v in sh.items() if k != "key"} for sh in sheet_list],
@@ -322,14 +354,14 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             (staging / name).write_bytes(blob)
         with _progress("composing sheets", len(todo), progress) as bar:
             for job in todo:
-                if pool is not None:
-                    job.result()
-                else:
+                if isinstance(job, tuple):
                     sheetmod.compose_sheet(*job)
+                else:  # the pool's future, or the cluster's pending sheet (written here)
+                    job.result()
                 bar.update(1)
         composed = len(todo)
         chip_files = [f for job in chip_jobs
-                      for f in (job.result() if pool is not None else execute.chipmod.write_chips(*job))]
+                      for f in (execute.chipmod.write_chips(*job) if isinstance(job, tuple) else job.result())]
         for name in list(outputs) + chip_files + [f for sh in sheet_list for f in (sh["png"], sh["exr"])
                                                   if f not in files]:
             p = staging / name
@@ -368,11 +400,16 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
             if pool is not None:
                 pool.shutdown(wait=True, cancel_futures=True)
                 pool = None
+            if cluster is not None:  # its futures cancelled, the client closed
+                cluster.close()
+                cluster = None
             if not (meta / JOURNAL).exists():  # (else the commit started: the next run completes it from the journal)
                 remove_tree(staging)
         raise
     finally:
         if pool is not None:
             pool.shutdown(wait=True)
+        if cluster is not None:
+            cluster.close()
     return BuildResult(out, False, n, n_sheets, rendered=rendered, composed=composed,
                        seconds=time.perf_counter() - t0, files=sorted(files))

@@ -66,8 +66,7 @@ def srgb_icc_profile() -> bytes:
 
     References
     ----------
-    ICC.1, Image technology colour management — File format for colour profiles (International Color
-    Consortium), §7.2.18 (profile ID).
+    :cite:`ICC1`, §7.2.18 (profile ID).
     """
     raw = bytearray(ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes())
     raw[24:36] = struct.pack(">6H", *_ICC_DATE)

@@ -121,9 +121,9 @@ def catalog_header(spec: CatalogSpec, data, spec_name: str) -> dict:
                    "finishes": list(spec.finishes), "finish_params": finish_params(spec.finishes),
                    **({"mesh": mesh_json(spec, data.context.mesh)} if spec.mesh is not None else {})},
         "tolerance": {"scheme": tol.scheme, "grade": tol.label, "metric": tol.metric, "max": tol.max,
-                      "metric_name": METRICS[tol.metric], "text": tol.text,
+                      "metric_name": METRICS.description(tol.metric), "text": tol.text,
                       "grade_description": tol.description,
-                      "note": (f"the bound on {METRICS[tol.metric]} (the metric the tolerance is defined in) "
+                      "note": (f"the bound on {METRICS.description(tol.metric)} (the metric the tolerance is defined in) "
                                "between the colour at d±δ and at d, at the reference geometry"),
                       "search_nm": spec.search_nm, "search_step_nm": PROCESS_STEP_NM},
         "exports": {"cxf": f"{slug(spec.name)}.cxf", "ase": f"{slug(spec.name)}.ase",

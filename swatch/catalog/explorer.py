@@ -284,7 +284,7 @@ def explorer_data(ctx: CatalogContext, reference_cos_d: float | None = None) -> 
         "white_XYZ": [float(v) for v in white],
         "XYZ2_to_srgb_linear": _matrix(lambda e: cm2.rgb_linear(e, "srgb")),
         "XYZ2_to_p3_linear": _matrix(lambda e: cm2.rgb_linear(e, "display-p3")),
-        # as swatch.colorimetry.colorimeter.hex_to_Lab: sRGB adapted (Bradford) to the illuminant's 2° white,
+        # as swatch.colorimetry.colorimeter.hex_to_Lab_2deg: sRGB adapted (Bradford) to the illuminant's 2° white,
         # L*a*b* relative to that white (a hex code has no spectrum, so no 10° Lab)
         "srgb_linear_to_XYZ2": _matrix(lambda e: 100.0 * colour.RGB_to_XYZ(
             e, "sRGB", illuminant=cm2.white_xy, chromatic_adaptation_transform="Bradford")),

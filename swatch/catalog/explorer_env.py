@@ -54,19 +54,21 @@ import numpy as np
 
 from swatch.catalog.explorer_set import set_geometry
 from swatch.catalog.folder import read_cache_json, remove_tree
-from swatch.core.choices import LIGHTINGS
+from swatch.core.choices import lightings_of
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import code_hash
 from swatch.render import env_shading
 from swatch.render.environment import LEVELS, get_environment, levels
 
-__all__ = ["BASIS", "LIGHTINGS", "FORMAT", "environment_data", "environment_data_cached", "decode_block",
+__all__ = ["BASIS", "PAGE_LIGHTINGS", "FORMAT", "environment_data", "environment_data_cached", "decode_block",
            "moment_weights"]
 
 #: Polynomial degree + 1 of the per-bin projection of F (module doc).
 BASIS = 4
 FORMAT = "swatch-explorer-environment"
+#: The live view's lightings: the built-in engine's (:data:`swatch.core.choices.LIGHTINGS`), the point light first.
+PAGE_LIGHTINGS = lightings_of("builtin")
 _VERSION = 1
 
 
@@ -230,9 +232,9 @@ def environment_data(roughness_alpha: float, cos_nodes: int, studio: tuple | Non
     """
 
     envs = {}
-    for name in LIGHTINGS[1:]:
+    for name in PAGE_LIGHTINGS[1:]:
         env = get_environment(name)
-        assert env is not None, "LIGHTINGS[1:] are environments"
+        assert env is not None, "PAGE_LIGHTINGS[1:] are environments"
         envs[name] = env
     # the blur level of a sample depends on its footprint only, not on the map: any environment gives it; the levels
     # embedded are those any finish's samples use
@@ -248,7 +250,7 @@ def environment_data(roughness_alpha: float, cos_nodes: int, studio: tuple | Non
         "frame": "page direction (x, y, z) -> environment direction (-y, z, -x); the environment's +y is the plate's "
                  "normal",
         "units": "radiance; 1 = white diffuser facing the normal under the same environment (exposure 1)",
-        "lightings": list(LIGHTINGS),
+        "lightings": list(PAGE_LIGHTINGS),
         "samples": samples,
         "environments": {name: _environment_block(env, used) for name, env in envs.items()},
     }
@@ -303,14 +305,14 @@ def _valid(doc, shapes: set[str] | None, finishes: list[str]) -> bool:
     """Whether a cached document (untrusted: read back from the catalog folder) is well formed, with the set
     baked around ``shapes`` (None: no set)."""
     try:
-        if doc["format"] != FORMAT or doc["format_version"] != _VERSION or doc["lightings"] != list(LIGHTINGS):
+        if doc["format"] != FORMAT or doc["format_version"] != _VERSION or doc["lightings"] != list(PAGE_LIGHTINGS):
             return False
         s = doc["samples"]
         if not _samples_ok(s) or list(doc.get("finish_samples", {})) != finishes:
             return False
         if not all(_samples_ok(f) for f in doc.get("finish_samples", {}).values()):
             return False
-        n_levels = len(doc["environments"][LIGHTINGS[1]]["levels"])
+        n_levels = len(doc["environments"][PAGE_LIGHTINGS[1]]["levels"])
         if any(int(decode_block(f["level"]).max()) >= n_levels for f in [s, *doc.get("finish_samples", {}).values()]):
             return False
         if not all(_atlas_ok(e, n_levels) for e in doc["environments"].values()):
@@ -329,7 +331,7 @@ def _valid(doc, shapes: set[str] | None, finishes: list[str]) -> bool:
                     a = decode_block(v[k])
                     if a.shape != (ns, nx) or not np.all(np.isfinite(a)):
                         return False
-        return set(doc["environments"]) == set(LIGHTINGS[1:])
+        return set(doc["environments"]) == set(PAGE_LIGHTINGS[1:])
     except (KeyError, TypeError, ValueError):
         return False
 

@@ -52,6 +52,7 @@ def code_fingerprint() -> dict:
     # and export modules, so a change there left an existing catalog \"up to date\"), ...
     files = source_files()
     files += sorted((pkg / "catalog" / "web").glob("*.*"))  # the page's script and style
+    files += sorted((pkg / "catalog" / "web" / "model-viewer").glob("*"))  # the viewer a catalog with AR carries
     code = {f.relative_to(pkg).as_posix(): sha256_file(f) for f in files if f.exists()}
     tdir = tables_dir()
     tables = {p.relative_to(tdir).as_posix(): sha256_file(p)

@@ -33,6 +33,7 @@ from PIL import Image
 
 from swatch.catalog.folder import remove_tree
 from swatch.catalog.layout import HEROES
+from swatch.core.fileio import atomic_write_bytes
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.safepath import is_regular_file
 from swatch.core.sources import code_hash
@@ -41,7 +42,7 @@ from swatch.physics.finishes import get_finish
 from swatch.render.dispatch import ENGINES, engine_unavailable, engine_version
 from swatch.render.request import render_request
 
-__all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "OTHER_FINISH_COVER_PX", "HeroRenders", "hero_name",
+__all__ = ["HERO_SIZE_PX", "HERO_SPP", "HERO_DENOISE", "OTHER_FINISH_COVER_PX", "HeroRenders", "hero_name", "render_hero",
            "cover_name", "cover_index", "edge_colours", "hero_unavailable", "hero_key", "hero_files", "catalog_heroes",
            "prune_heroes"]
 
@@ -255,23 +256,50 @@ def _request(spec, size_px: int, finish: str | None, mesh):
                           denoise=HERO_DENOISE if spec.denoise else False)
 
 
+def _entry_file(spec, request, finish: str | None, rec: dict) -> str:
+    """The cache entry of one swatch's hero as ``request`` renders it (``hero-<key>.png``)."""
+    mesh_key = request.mesh.key if request.mesh is not None else None
+    return f"hero-{hero_key(spec, float(rec['thickness_nm']), request.size_px, finish, mesh_key)}.png"
+
+
+def render_hero(request, finish: str | None, rec: dict, path: Path) -> None:
+    """Path-trace one swatch's hero and write it as an RGB PNG with its metadata (atomic): the same bytes wherever
+    it runs (seed :data:`HERO_SEED`; the build's process, or a worker of a cluster, swatch.catalog.cluster).
+
+    Parameters
+    ----------
+    request : swatch.render.request.RenderRequest
+        The hero's checked request, at the swatch's thickness.
+    finish : str or None
+        The finish rendered (its label goes into the metadata), None for the spec's bare roughness.
+    rec : dict
+        The swatch's record (its ``id`` goes into the metadata).
+    path : pathlib.Path
+        The PNG to write.
+
+    Returns
+    -------
+    None
+        Returns when the file is written.
+    """
+    img = ENGINES["mitsuba"](request, None)
+    meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
+                                         "thickness_nm", "spp", "denoise", "mesh") if k in img.metadata}
+    meta["swatch"] = rec["id"]
+    if finish is not None:
+        meta["finish"] = get_finish(finish).label()
+    write_png(path, np.ascontiguousarray(img.display_rgb[..., :3]), meta)  # atomic
+
+
 def _render(spec, request, finish: str | None, rec: dict, cache: Path, used: set[str]) -> bytes:
     """One swatch's hero as ``request`` renders it (from the cache, else path-traced and cached); its cache
     entry added to ``used``."""
-    d = float(rec["thickness_nm"])
-    mesh_key = request.mesh.key if request.mesh is not None else None
-    entry = f"hero-{hero_key(spec, d, request.size_px, finish, mesh_key)}.png"
+    entry = _entry_file(spec, request, finish, rec)
     used.add(entry)
     path = cache / entry
     blob = _cached(path, request.size_px)
     if blob is None:
-        img = ENGINES["mitsuba"](request.with_thickness(d), None)
-        meta = {k: img.metadata[k] for k in ("engine", "bsdf", "lighting", "units", "film", "substrate",
-                                             "thickness_nm", "spp", "denoise", "mesh") if k in img.metadata}
-        meta["swatch"] = rec["id"]
-        if finish is not None:
-            meta["finish"] = get_finish(finish).label()
-        write_png(path, np.ascontiguousarray(img.display_rgb[..., :3]), meta)  # atomic
+        render_hero(request.with_thickness(float(rec["thickness_nm"])), finish, rec, path)
         blob = path.read_bytes()
     return blob
 
@@ -291,7 +319,7 @@ def _entry(spec, name: str, blob: bytes, finish: str | None, mesh) -> dict:
             "css_px": spec.hero_size_px // 2, "finish": finish}
 
 
-def hero_files(spec, records: list[dict], cache: Path, say=None, mesh=None) -> HeroRenders:
+def hero_files(spec, records: list[dict], cache: Path, say=None, mesh=None, render_many=None) -> HeroRenders:
     """The hero renders of ``records`` (cached), the cache entries in use and each record's entries; nothing (and a
     line through ``say``) when Mitsuba is unusable. ``records`` are read only.
 
@@ -311,6 +339,11 @@ def hero_files(spec, records: list[dict], cache: Path, say=None, mesh=None) -> H
         Receives one line.
     mesh : swatch.render.mesh.MeshShape, optional
         The spec's part (rendered instead of the sphere).
+    render_many : callable, optional
+        Renders the heroes the cache lacks, all at once, elsewhere (a cluster's workers,
+        :meth:`swatch.catalog.cluster.Cluster.render_heroes`): given a list of ``(request, finish, record)`` it
+        returns each one's PNG bytes (:func:`render_hero`'s file), in order; they are written into the cache here.
+        None: each is path-traced here, one after the other.
 
     Returns
     -------
@@ -333,33 +366,48 @@ def hero_files(spec, records: list[dict], cache: Path, say=None, mesh=None) -> H
             requests[side, finish] = _request(spec, side, finish, mesh)
         return requests[side, finish]
 
-    for k, rec in enumerate(records):
-        mine = finishes if k == first else finishes[:1]  # the cover swatch: every finish; the others: the first
-        by_finish: dict[str, dict] = {}
-        for j, finish in enumerate(mine):
-            suffix = None if j == 0 else finish
-            name = hero_name(rec, suffix)
-            out.files[name] = _render(spec, request(spec.hero_size_px, finish), finish, rec, cache, out.used)
-            entry = _entry(spec, name, out.files[name], finish, mesh)
-            if k == first and spec.hero_cover_px:  # the page's first view: sharp at the live view's size on a 2x display
-                side = spec.hero_cover_px if j == 0 else min(spec.hero_cover_px, OTHER_FINISH_COVER_PX)
-                cover = cover_name(rec, suffix)
-                out.files[cover] = _render(spec, request(side, finish), finish, rec, cache, out.used)
-                entry["cover"] = {"png": cover, "size_px": side}
-            if finish is not None:
-                by_finish[finish] = entry
-            if j == 0:
-                out.entries.append(entry)
-        out.finish_entries.append(by_finish or None)
+    plan = []  # (swatch, finish's place, finish, request, its cover's request or None), in the pictures' order
+    for k, _rec in enumerate(records):
+        for j, finish in enumerate(finishes if k == first else finishes[:1]):  # the cover swatch: every finish
+            side = (spec.hero_cover_px if j == 0 else min(spec.hero_cover_px, OTHER_FINISH_COVER_PX))
+            plan.append((k, j, finish, request(spec.hero_size_px, finish),
+                         request(side, finish) if k == first and spec.hero_cover_px else None))
+    if render_many is not None:  # the renders the cache lacks, made elsewhere at once; cached here
+        todo = {}
+        for k, _j, finish, *reqs in plan:
+            for req in (r for r in reqs if r is not None):
+                file = _entry_file(spec, req, finish, records[k])
+                if file not in todo and _cached(cache / file, req.size_px) is None:
+                    todo[file] = (req.with_thickness(float(records[k]["thickness_nm"])), finish, records[k])
+        for file, blob in zip(todo, render_many(list(todo.values())), strict=True):
+            atomic_write_bytes(cache / file, blob)
+    by_finish: dict[str, dict] = {}
+    for p, (k, j, finish, req, cover_req) in enumerate(plan):
+        rec = records[k]
+        suffix = None if j == 0 else finish
+        name = hero_name(rec, suffix)
+        out.files[name] = _render(spec, req, finish, rec, cache, out.used)
+        entry = _entry(spec, name, out.files[name], finish, mesh)
+        if cover_req is not None:  # the page's first view: sharp at the live view's size on a 2x display
+            cover = cover_name(rec, suffix)
+            out.files[cover] = _render(spec, cover_req, finish, rec, cache, out.used)
+            entry["cover"] = {"png": cover, "size_px": cover_req.size_px}
+        if finish is not None:
+            by_finish[finish] = entry
+        if j == 0:
+            out.entries.append(entry)
+        if p + 1 == len(plan) or plan[p + 1][0] != k:
+            out.finish_entries.append(by_finish or None)  # the swatch's last hero
+            by_finish = {}
     return out
 
 
-def catalog_heroes(spec, records: list[dict], cache: Path, say=None, mesh=None) -> HeroRenders:
+def catalog_heroes(spec, records: list[dict], cache: Path, say=None, mesh=None, render_many=None) -> HeroRenders:
     """:func:`hero_files` when the spec asks for hero renders (``hero = true``), else nothing.
 
     Parameters
     ----------
-    spec, records, cache, say, mesh
+    spec, records, cache, say, mesh, render_many
         As :func:`hero_files`.
 
     Returns
@@ -368,7 +416,7 @@ def catalog_heroes(spec, records: list[dict], cache: Path, say=None, mesh=None) 
         As :func:`hero_files`; without heroes: no files, no cache entries, None per swatch.
     """
     if spec.hero:
-        return hero_files(spec, records, cache, say, mesh)
+        return hero_files(spec, records, cache, say, mesh, render_many)
     return HeroRenders({}, set(), [None] * len(records), [None] * len(records))
 
 

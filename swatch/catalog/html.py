@@ -19,9 +19,11 @@ import json
 import re
 from importlib import resources
 
+from swatch.catalog.ar import STYLE as AR_STYLE
+from swatch.catalog.ar import ar_control_html, ar_csp, has_viewer
 from swatch.catalog.words import METRIC_SYMBOLS, explain_html, geometry_list_html, geometry_words, tolerance_words
 from swatch.colorimetry.names import colour_names
-from swatch.core.choices import LIGHTINGS
+from swatch.core.choices import POINT_LIGHT, lightings_of
 from swatch.physics.growth import voltage_text
 
 __all__ = ["index_html", "embed_json", "hero_png", "page_script", "page_style", "print_page_style", "css_string"]
@@ -64,15 +66,20 @@ def _asset(name: str) -> str:
     return resources.files("swatch.catalog").joinpath("web", name).read_text(encoding="utf-8")
 
 
-def page_script() -> str:
-    """The page's JavaScript: the modules of :data:`SCRIPTS` concatenated in one strict-mode function.
+def page_script(extra: tuple[str, ...] = ()) -> str:
+    """The page's JavaScript: the modules of :data:`SCRIPTS` (then ``extra``) concatenated in one strict-mode function.
+
+    Parameters
+    ----------
+    extra : tuple of str, optional
+        More script files of web/ (``ar.js`` with AR on: swatch.catalog.ar).
 
     Returns
     -------
     str
         The script text, inlined in the page (its hash goes in the content security policy).
     """
-    body = "\n".join(_asset(n) for n in SCRIPTS)
+    body = "\n".join(_asset(n) for n in SCRIPTS + tuple(extra))
     return f'\n"use strict";\n(function () {{\n{body}\n}})();\n'
 
 
@@ -185,7 +192,7 @@ def _hero_img(s: dict) -> str:
             f'alt="{html.escape(s["id"])}: {_fmt(s["thickness_nm"], 1)} nm, path-traced {html.escape(what)}">')
 
 
-def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
+def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None, ar: bool = False) -> str:
     e = html.escape
     ref = c["reference_geometry"]["name"]
     seen = f'seen {geometry_words(c["reference_geometry"])}'  # the reference geometry in plain words
@@ -267,7 +274,7 @@ def _card(s: dict, c: dict, tiles: dict | None, chips: dict | None) -> str:
                       f'model, nothing fitted">Mitsuba (exact)</a> <a href="{e(str(p["mitsuba_json"]))}">JSON</a>'
                       if p.get("mitsuba") and p.get("mitsuba_json") else "")
                    + "</div>")
-    out.append("</div></article>")
+    out.append((ar_control_html(s) if ar else "") + "</div></article>")
     return "".join(out)
 
 
@@ -304,7 +311,7 @@ def _palette(swatches: list[dict]) -> str:
 def _lighting_select(env: dict | None) -> str:
     """The live view's lighting choice: the point light, and the environments the page embeds."""
 
-    names = [n for n in LIGHTINGS if n == "point" or (env is not None and n in env["environments"])]
+    names = [n for n in lightings_of("builtin") if n == POINT_LIGHT or (env is not None and n in env["environments"])]
     # with the heroes' studio set, the studio is theirs (the path tracer's), not the sheets'
     labels = LIGHTING_LABELS | ({"studio": "photo studio (as the path-traced pictures)"} if env is not None and "set" in env else {})
     opts = "".join(f'<option value="{html.escape(n)}">{html.escape(labels.get(n, n))}</option>' for n in names)
@@ -398,10 +405,12 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     """
     c = catalog["catalog"]
     e = html.escape
-    script = page_script() if table is not None else ""
+    ar = table is not None and has_viewer(catalog["swatches"])  # "see it in your room" (swatch.catalog.ar)
+    script = page_script(("ar.js",) if ar else ()) if table is not None else ""
     script_hash = base64.b64encode(hashlib.sha256(script.encode("utf-8")).digest()).decode("ascii")
     csp = (f"default-src 'none'; style-src 'unsafe-inline'; script-src 'sha256-{script_hash}'; "
            "img-src 'self'; base-uri 'none'; form-action 'none'")
+    csp = ar_csp(csp) if ar else csp
     ref = c["reference_geometry"]
     multi = geometry_list_html(c["multi_angle_geometries"])
     files = [("catalog.json", "catalog.json"), ("catalog.csv", "catalog.csv"), (c["exports"]["cxf"], "CxF3"),
@@ -413,7 +422,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     pw = c["tolerance"]
     swatches = catalog["swatches"]
     volts_text = "" if c["process"]["nm_per_V"] is None else " and its anodising voltage"
-    cards = "\n".join(_card(s, c, tiles, None if chips is None else chips[i]) for i, s in enumerate(swatches))
+    cards = "\n".join(_card(s, c, tiles, None if chips is None else chips[i], ar) for i, s in enumerate(swatches))
     # one vocabulary (swatch.colorimetry.names): the names in the catalog, in the order of NAME_RULES
     present = {s.get("colour_name") for s in swatches}
     families = "".join(f'<option value="{e(n)}">{e(n)}</option>' for n in colour_names() if n in present)
@@ -431,7 +440,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 <meta http-equiv="Content-Security-Policy" content="{e(csp)}">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{e(c["name"])} · swatch catalog</title>
-<style>{page_style()}
+<style>{page_style()}{AR_STYLE if ar else ""}
 {print_page_style(c)}</style>
 </head>
 <body>

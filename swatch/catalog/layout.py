@@ -18,7 +18,8 @@ from swatch.core.safepath import entry_kind, is_regular_file, make_real_folder, 
 from swatch.presets import EXACT_FORMATS, PRESET_FORMATS
 
 __all__ = ["SUBFOLDERS", "SHEETS", "CHIPS", "PRESETS", "HEROES", "output_name", "subfolders_of", "check_subfolders",
-           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary", "sheet_count", "extra_hero_files"]
+           "make_subfolders", "output_files", "drop_empty_subfolders", "layout_summary", "sheet_count", "extra_hero_files",
+           "extra_preset_files"]
 
 #: The catalog folder's subfolders (issue 21); everything else (page, JSON/CSV, exports) lies at the top.
 SHEETS, CHIPS, PRESETS, HEROES = "sheets", "chips", "presets", "heroes"
@@ -175,7 +176,7 @@ PRESET_FILES_PER_SWATCH = len(PRESET_FORMATS) + 2 * len(EXACT_FORMATS)
 
 
 def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, presets: bool = True,
-                   hero_extra: int = 0) -> str:
+                   hero_extra: int = 0, preset_extra: int = 0) -> str:
     """One line: what a build of ``swatches`` swatches on ``sheets`` sheets writes where (``catalog validate``).
 
     Parameters
@@ -186,14 +187,17 @@ def layout_summary(swatches: int, sheets: int, chips: bool, heroes: bool, preset
         Whether the spec asks for print chips, hero renders and 3-D presets.
     hero_extra : int, optional
         Hero files besides one per swatch (:func:`extra_hero_files`: the cover, the other finishes').
+    preset_extra : int, optional
+        Files in ``presets/`` besides the fitted and exact presets (:func:`extra_preset_files`: the ``.usdz``
+        of each swatch, the physicallybased.info document and its two pictures per swatch).
 
     Returns
     -------
     str
         E.g. ``"index.html, catalog.json/.csv, CxF and ASE at the top; sheets/ 10 files, chips/ 114, presets/ 285"``.
     """
-    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0), (PRESETS, PRESET_FILES_PER_SWATCH * swatches if presets else 0),
-              (HEROES, swatches + hero_extra if heroes else 0)]
+    counts = [(SHEETS, 2 * sheets), (CHIPS, 2 * swatches if chips else 0),
+              (PRESETS, PRESET_FILES_PER_SWATCH * swatches + preset_extra if presets else 0), (HEROES, swatches + hero_extra if heroes else 0)]
     subs = [f"{sub}/ {n}" for sub, n in counts if n]
     if subs:
         subs[0] += " files"
@@ -244,3 +248,27 @@ def sheet_count(manifest: dict) -> int:
     1
     """
     return len([k for k in manifest.get("files", {}) if k.startswith(f"{SHEETS}/sheet_") and k.endswith(".png")])
+
+
+def extra_preset_files(swatches: int, usd: bool, physicallybased: bool) -> int:
+    """Files the spec's ``[presets] usd`` / ``physicallybased`` add to ``presets/``.
+
+    Parameters
+    ----------
+    swatches : int
+        Swatches of the catalog.
+    usd, physicallybased : bool
+        Whether the spec asks for a ``.usdz`` per swatch and the catalog's physicallybased.info document (with
+        a 300 and a 600 px picture per swatch).
+
+    Returns
+    -------
+    int
+        Their number.
+
+    Examples
+    --------
+    >>> extra_preset_files(10, True, True)
+    31
+    """
+    return (swatches if usd else 0) + (1 + 2 * swatches if physicallybased else 0)

@@ -82,8 +82,18 @@ class CatalogSpec:
         Print chips: on/off, side (mm), resolution (dpi).
     presets : bool
         Whether the build fits and writes the 3-D material presets (``[presets] enabled``).
-    extra : dict
-        Reserved; empty (:func:`parse_spec` sets nothing in it, and it is part of :meth:`canonical`).
+    ar : bool
+        Whether the page offers "see it in your room" (``[presets] ar``, default on with the presets): the
+        ``<model-viewer>`` files and script (swatch.catalog.ar).
+    presets_usd, presets_physicallybased : bool
+        ``[presets] usd``: a ``.usdz`` per swatch (swatch.catalog.presets_usd; default off); ``[presets]
+        physicallybased``: one physicallybased.info document for the catalog (default off). Both need the presets.
+    presets_physicallybased_base_url : str or None
+        ``[presets] physicallybased_base_url``: the http(s) address the catalog's ``presets/`` folder is served
+        from; the document's picture URLs are then absolute under it (None: relative references).
+    scheduler : str or None
+        ``[build] scheduler``: the address of the Dask scheduler the build's work is sent to (None: local
+        processes); not part of :meth:`canonical` (the files do not depend on where they were made).
     """
     source: str  # file name, for messages
     name: str
@@ -118,7 +128,6 @@ class CatalogSpec:
     spread_fraction: float = 0.0
     knee_V: float | None = None  # a two-slope growth law: nm_per_V up to knee_V, nm_per_V_above_knee beyond
     nm_per_V_above_knee: float | None = None
-    extra: dict = field(default_factory=dict)
     chips: bool = True  # per-swatch print chips (PNG and TIFF, 16-bit)
     chip_size_mm: float = 50.0
     chip_dpi: int = 300
@@ -129,10 +138,15 @@ class CatalogSpec:
     hero_cover_px: int = 0  # the page's first view: the most vivid swatch's hero at this side (0: none)
     denoise: bool = True  # heroes denoised (Intel Open Image Denoise, swatch.render.mitsuba.denoise)
     presets: bool = True  # per-swatch 3-D material presets (swatch.catalog.presets)
+    ar: bool = True  # the page's "see it in your room" (<model-viewer>, swatch.catalog.ar); needs presets
+    presets_usd: bool = False  # a .usdz per swatch (swatch.catalog.presets_usd); needs presets
+    presets_physicallybased: bool = False  # one physicallybased.info document (swatch.catalog.presets_usd)
+    presets_physicallybased_base_url: str | None = None  # where presets/ is served from (absolute picture URLs)
     finishes: tuple[str, ...] = ()  # the finishes offered, the first shown first (= finish); () with a bare roughness
     mesh: str | None = None  # the designer's part, as the spec names it (relative to the spec's folder)
     mesh_sha256: str | None = None  # its bytes' hash (in the fingerprint: an edited part rebuilds)
     mesh_path: str | None = field(default=None, compare=False)  # where it was read (not hashed: a moved folder)
+    scheduler: str | None = field(default=None, compare=False)  # where the work runs, not what it makes
 
     @property
     def finish_spec(self):
@@ -245,9 +259,14 @@ class CatalogSpec:
             d.pop("knee_V")
             d.pop("nm_per_V_above_knee")
         d.pop("mesh_path")
+        d.pop("scheduler")  # where the build runs: the same bytes either way
         if len(d["finishes"]) <= 1:  # one finish (it is ``finish``) or none: the hashes of before
             d.pop("finishes")
-        for key, default in (("presets", True), ("hero_cover_px", 0), ("mesh", None), ("mesh_sha256", None)):
+        if d["ar"] == d["presets"]:  # AR as the presets (its default): the hashes of before
+            d.pop("ar")
+        for key, default in (("presets", True), ("hero_cover_px", 0), ("mesh", None), ("mesh_sha256", None),
+                             ("presets_usd", False), ("presets_physicallybased", False),
+                             ("presets_physicallybased_base_url", None)):
             if d[key] == default:  # the hashes of before
                 d.pop(key)
         return d
@@ -284,7 +303,7 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
     """
     c = SpecChecker(source)
     top = ("name", "description", "process", "film", "substrate", "nm_per_V", "growth_nm_per_V", "thickness",
-           "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips", "presets")
+           "voltage", "colour", "geometry", "render", "tolerance", "sheet", "chips", "presets", "build")
     c.table(data, "", top)
     if "name" not in data:
         raise SwatchError(f"{source}: missing key name (the catalog's name, a text)")
@@ -379,8 +398,23 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         c.fail("chips", f"size_mm × dpi must give at most {MAX_CHIP_PX} pixels per side "
                f"({chip_size:g} mm at {chip_dpi} dpi is {chip_px(chip_size, chip_dpi)})", show_got=False)
 
-    pr = c.table(data.get("presets", {}), "presets", ("enabled",))
+    pr = c.table(data.get("presets", {}), "presets",
+                 ("enabled", "ar", "usd", "physicallybased", "physicallybased_base_url"))
     presets = c.boolean(pr.get("enabled", True), "presets.enabled")
+    ar = c.boolean(pr.get("ar", presets), "presets.ar")
+    if ar and not presets:
+        c.fail("presets.ar", "needs the presets (presets.enabled = true): the viewer shows a fitted preset", True)
+    presets_usd = c.boolean(pr.get("usd", False), "presets.usd")
+    presets_pb = c.boolean(pr.get("physicallybased", False), "presets.physicallybased")
+    for key, on in (("presets.usd", presets_usd), ("presets.physicallybased", presets_pb)):
+        if on and not presets:
+            c.fail(key, "needs the presets (presets.enabled = true): it is written from the fitted presets", True)
+    pb_url = c.base_url(pr["physicallybased_base_url"], "presets.physicallybased_base_url") if (
+        "physicallybased_base_url" in pr) else None
+    if pb_url is not None and not presets_pb:
+        c.fail("presets.physicallybased_base_url", "applies to presets.physicallybased = true", True)
+    bu = c.table(data.get("build", {}), "build", ("scheduler",))
+    scheduler = c.string(bu["scheduler"], "build.scheduler", 200) if "scheduler" in bu else None
     return CatalogSpec(
         source=source, name=name, description=description, film=proc.film, substrate=proc.substrate,
         nm_per_V=rate, thickness_nm=tuple(float(x) for x in d),
@@ -391,7 +425,9 @@ def parse_spec(data: dict, source: str = "<spec>", base_dir: Path | None = None)
         process=proc.name, offset_nm=proc.offset_nm, film_index_scale=proc.film_index_scale,
         process_origin=proc.origin, spread_nm=proc.spread.spread_nm, spread_fraction=proc.spread.spread_fraction,
         knee_V=proc.knee_V, nm_per_V_above_knee=proc.nm_per_V_above_knee,
-        presets=presets, **render)
+        presets=presets, ar=ar, presets_usd=presets_usd, presets_physicallybased=presets_pb,
+        presets_physicallybased_base_url=pb_url, scheduler=scheduler,
+        **render)
 
 
 def load_spec(path) -> tuple[CatalogSpec, bytes]:

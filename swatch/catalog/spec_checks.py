@@ -12,9 +12,10 @@ from pathlib import Path
 from typing import NoReturn
 
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_SWATCHES
+from swatch.core.limits import MAX_BASE_URL_CHARS, MAX_SWATCHES
 from swatch.physics.materials import list_materials, load_material
 from swatch.physics.process import load_process, preset_names
+from swatch.presets.naming import check_base_url
 
 __all__ = ["SpecChecker", "spec_range", "spec_material", "spec_process"]
 
@@ -190,6 +191,33 @@ class SpecChecker:
                     return c
             self.fail(key, f"must be one of {', '.join(choices)}", value)
         return value.strip()
+
+    def base_url(self, value, key: str) -> str:
+        """An http(s) address files are served from (:func:`swatch.presets.naming.check_base_url`).
+
+        Parameters
+        ----------
+        value : object
+            The value read from the TOML (untrusted: any type).
+        key : str
+            The dotted key, for the message.
+
+        Returns
+        -------
+        str
+            The address without its trailing ``/``.
+
+        Raises
+        ------
+        swatch.core.errors.SwatchError
+            ``<file>: key <key>: <what is allowed> (got <value>)``.
+        """
+        text = self.string(value, key, MAX_BASE_URL_CHARS)
+        try:
+            return check_base_url(text)
+        except SwatchError:
+            self.fail(key, "must be the http(s) address the folder is served from, such as "
+                      "https://example.com/catalog/presets, without spaces, query or fragment", value)
 
     def boolean(self, value, key: str) -> bool:
         """``true`` or ``false``.

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from swatch.catalog.spec_checks import SpecChecker
-from swatch.core.choices import FINISHES, MESH_FORMATS, MODELS, SHAPES
+from swatch.core.choices import DEFAULT_ROUGHNESS_ALPHA, FINISHES, MESH_FORMATS, MODELS, SHAPES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_DENOISE_PX, MAX_MESH_BYTES, MAX_MITSUBA_PX, read_capped
 from swatch.core.safepath import inside
@@ -175,7 +175,7 @@ def parse_render(c: SpecChecker, data, base_dir: Path | None) -> dict[str, Any]:
         c.fail("render.shapes", "must not repeat a shape", ren["shapes"])
     size = c.integer(ren.get("size_px", 192), "render.size_px", 64, 512)
     model = c.string(ren.get("model", "microfacet"), "render.model", 20, MODELS)
-    rough = c.number(ren.get("roughness", 0.3), "render.roughness", 0.01, 1.0)
+    rough = c.number(ren.get("roughness", DEFAULT_ROUGHNESS_ALPHA), "render.roughness", 0.01, 1.0)
     finishes = spec_finishes(c, ren, model)
     if finishes:
         rough = get_finish(finishes[0]).roughness_alpha

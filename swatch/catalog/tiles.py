@@ -27,6 +27,7 @@ from swatch.catalog.context import CatalogContext
 from swatch.catalog.folder import remove_tree
 from swatch.catalog.spec import CatalogSpec
 from swatch.colorimetry.colorimeter import Colorimeter
+from swatch.core.choices import POINT_LIGHT
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_CACHE_ENTRY_BYTES
 from swatch.core.procguard import (
@@ -237,11 +238,12 @@ def render_tile(job: TileRender, thickness_nm: float) -> dict:
     out: dict[str, Any] = {}
     for i, shape in enumerate(job.shapes):
         part = _part(job.mesh_path, job.mesh_key) if shape == "mesh" and job.mesh_path and job.mesh_key else None
-        im = render_swatch(d, "sphere" if part is not None else shape, job.size_px, mesh=part, light_deg=LIGHT_DEG,
-                           roughness_alpha=job.roughness_alpha,
-                           model=job.model, coating=coating, colorimeter=cm, space="srgb", workers=1,
-                           environment=ENVIRONMENT if job.model == "microfacet" else None,
-                           finish=None if job.finish is None else get_finish(job.finish))
+        opts: dict[str, Any] = {"mesh": part, "model": job.model, "coating": coating, "colorimeter": cm, "space": "srgb",
+                                "workers": 1, "environment": ENVIRONMENT if job.model == "microfacet" else POINT_LIGHT}
+        if job.model != "microfacet":  # the light's angle, the roughness: only where they change the picture
+            opts["light_deg"] = LIGHT_DEG
+        opts.update({"roughness_alpha": job.roughness_alpha} if job.finish is None else {"finish": get_finish(job.finish)})
+        im = render_swatch(d, "sphere" if part is not None else shape, job.size_px, **opts)
         # half floats: the sheet EXR is half anyway, and the cache stays small
         out[f"r{i}_linear"] = (np.asarray(im.linear_rgb, dtype=np.float32) * np.float32(im.exposure)).astype(np.float16)
         out[f"r{i}_alpha"] = np.asarray(im.coverage, dtype=np.float16)

@@ -2,10 +2,9 @@
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eqs. 2–5.
-.. [2] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; CIELAB, LCh.
-.. [3] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*; sRGB.
+.. [1] :cite:`Fujii2019`: eqs. 2–5.
+.. [2] :cite:`Carter2018`: CIELAB, LCh.
+.. [3] :cite:`IEC1999`: sRGB.
 """
 from __future__ import annotations
 

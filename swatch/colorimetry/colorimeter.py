@@ -12,11 +12,10 @@ grid and illuminant, 2°: :meth:`~Colorimeter.display_XYZ`, then :meth:`~Colorim
 
 References
 ----------
-.. [1] CIE 015:2018, *Colorimetry*, 4th ed. (2018), doi:10.25039/TR.015.2018: observers, illuminants, CIELAB.
-.. [2] ASTM E308, *Standard Practice for Computing the Colors of Objects by Using the CIE System*: the weights.
-.. [3] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*: sRGB on CIE 1931 2°.
-.. [4] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
-   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070.
+.. [1] :cite:`Carter2018`: observers, illuminants, CIELAB.
+.. [2] :cite:`ASTME308`: the weights.
+.. [3] :cite:`IEC1999`: sRGB on CIE 1931 2°.
+.. [4] :cite:`Sharma2005b`.
 """
 from __future__ import annotations
 
@@ -33,7 +32,7 @@ from swatch.core.limits import MAX_LAB_AB
 from swatch.core.ranges import parse_hex
 
 __all__ = ["OBSERVERS", "DISPLAY_OBSERVER", "RGB_SPACES", "check_rgb_space", "Colorimeter", "get_colorimeter",
-           "illuminant_names", "delta_E_ab", "delta_E_00", "Lab_to_LCh", "srgb_hex", "hex_to_Lab", "parse_Lab"]
+           "illuminant_names", "delta_E_ab", "delta_E_00", "Lab_to_LCh", "srgb_hex", "hex_to_Lab_2deg", "parse_Lab"]
 
 OBSERVERS = {
     "10": "CIE 1964 10 Degree Standard Observer",
@@ -438,7 +437,7 @@ def srgb_hex(encoded_rgb) -> np.ndarray | str:
     return out[0] if arr.ndim == 1 else out.reshape(arr.shape[:-1])
 
 
-def hex_to_Lab(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
+def hex_to_Lab_2deg(hex_code: str, colorimeter: Colorimeter) -> np.ndarray:
     """CIELAB of an sRGB hex colour under the colorimeter's illuminant and the CIE 1931 2° observer.
 
     Parameters

@@ -5,12 +5,9 @@ Multi-angle geometries are named ``<light>as<aspecular>`` (ASTM E2194 / E2539); 
 
 References
 ----------
-.. [1] ASTM E2194-14, *Standard Test Method for Multiangle Color Measurement of Metal Flake Pigmented
-   Materials*, ASTM International (2014): the aspecular angles and the ``as`` naming.
-.. [2] ASTM E2539-14, *Standard Test Method for Multiangle Color Measurement of Interference Pigments*,
-   ASTM International (2014): multi-angle measurement of interference colours.
-.. [3] H. Fujii et al., IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eq. 5, the
-   incidence angle θ_d on the half-vector facet.
+.. [1] :cite:`ASTME2194`: the aspecular angles and the ``as`` naming.
+.. [2] :cite:`ASTME2539`: multi-angle measurement of interference colours.
+.. [3] :cite:`Fujii2019`: eq. 5, the incidence angle θ_d on the half-vector facet.
 """
 from __future__ import annotations
 

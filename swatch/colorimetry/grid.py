@@ -8,9 +8,8 @@ itself (:func:`astm_e308_grid`) before it is integrated; any other axis is inter
 
 References
 ----------
-.. [1] ASTM E308, *Standard Practice for Computing the Colors of Objects by Using the CIE System*: the
-   intervals of its weight tables.
-.. [2] CIE 015:2018, *Colorimetry*, 4th ed. (2018), doi:10.25039/TR.015.2018.
+.. [1] :cite:`ASTME308`: the intervals of its weight tables.
+.. [2] :cite:`Carter2018`.
 """
 from __future__ import annotations
 

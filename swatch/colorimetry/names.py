@@ -21,7 +21,7 @@ the coarse CIELAB hue-angle class (:data:`swatch.catalog.records.HUE_FAMILIES`) 
 
 References
 ----------
-.. [1] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; CIELAB and LCh(ab).
+.. [1] :cite:`Carter2018`: CIELAB and LCh(ab).
 """
 from __future__ import annotations
 

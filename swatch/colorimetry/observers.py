@@ -28,11 +28,9 @@ titanium. Every document says it uses it (:data:`HEX_CONVENTION`).
 
 References
 ----------
-.. [1] J. Meng, F. Simon, J. Hanika and C. Dachsbacher, "Physically Meaningful Rendering using Tristimulus Colours",
-   Computer Graphics Forum 34(4), 31–40 (2015), doi:10.1111/cgf.12676; the smoothest reflectance.
-.. [2] IEC 61966-2-1:1999, *Default RGB colour space — sRGB*; sRGB on CIE 1931 2° under D65.
-.. [3] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; the CIE 1931 2° and CIE
-   1964 10° observers.
+.. [1] :cite:`Meng2015c`: the smoothest reflectance.
+.. [2] :cite:`IEC1999`: sRGB on CIE 1931 2° under D65.
+.. [3] :cite:`Carter2018`: the CIE 1931 2° and CIE 1964 10° observers.
 """
 from __future__ import annotations
 

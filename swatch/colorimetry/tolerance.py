@@ -9,13 +9,10 @@ tolerance's own metric with its bound; never one metric's number against another
 
 References
 ----------
-.. [1] Colour Science Association of Japan, *Handbook of Color Science* (新編色彩科学ハンドブック), 2nd ed.,
-   University of Tokyo Press (1998): the ``csaj`` grades.
-.. [2] D. B. Judd and G. Wyszecki, *Color in Business, Science and Industry*, 3rd ed., Wiley (1975): the ``nbs``
-   terms.
-.. [3] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
-   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070; ΔE00.
-.. [4] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; ΔE*ab.
+.. [1] :cite:`CSAJ1998`: the ``csaj`` grades.
+.. [2] :cite:`Judd1975`: the ``nbs`` terms.
+.. [3] :cite:`Sharma2005b`: ΔE00.
+.. [4] :cite:`Carter2018`: ΔE*ab.
 """
 from __future__ import annotations
 
@@ -28,14 +25,36 @@ import numpy as np
 
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_TOLERANCE
+from swatch.core.registry import Registry
 from swatch.physics.materials import tables_dir
 
-__all__ = ["Grade", "Tolerance", "METRICS", "schemes", "grades", "grade_for", "grade_bound", "grade_metric",
+__all__ = ["Grade", "Tolerance", "METRICS", "schemes", "check_scheme", "grades", "grade_for", "grade_bound", "grade_metric",
            "delta_E", "get_tolerance", "parse_tolerance"]
 
 DEFAULT_SCHEME = "csaj"
-#: Colour-difference metrics a tolerance can bound: name -> description (one definition of the choice list).
-METRICS = {"dEab": "CIE 1976 ΔE*ab", "dE00": "CIEDE2000 ΔE00"}
+
+
+def _colour_differences():
+    """ΔE*ab and ΔE00 of swatch.colorimetry.colorimeter (colour-science: seconds to import), only when one is
+    computed."""
+    from swatch.colorimetry.colorimeter import delta_E_00, delta_E_ab
+
+    return delta_E_ab, delta_E_00
+
+
+def _delta_E_ab(Lab1, Lab2) -> np.ndarray:
+    """CIE 1976 ΔE*ab (colour-science)."""
+    return _colour_differences()[0](Lab1, Lab2)
+
+
+def _delta_E_00(Lab1, Lab2) -> np.ndarray:
+    """CIEDE2000 ΔE00 (colour-science)."""
+    return _colour_differences()[1](Lab1, Lab2)
+
+
+#: Colour-difference metrics a tolerance can bound: name -> (the ΔE function, its description); names in any case.
+METRICS: Registry = Registry("colour-difference metric", "metric", {
+    "dEab": (_delta_E_ab, "CIE 1976 ΔE*ab"), "dE00": (_delta_E_00, "CIEDE2000 ΔE00")})
 
 
 @dataclass(frozen=True)
@@ -80,8 +99,7 @@ class Tolerance:
 
     References
     ----------
-    G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula", Color Res. Appl. 30,
-    21–30 (2005), doi:10.1002/col.20070.
+    :cite:`Sharma2005b` (ΔE00), :cite:`Carter2018` (ΔE*ab).
     """
 
     metric: str
@@ -111,7 +129,7 @@ class Tolerance:
             e.g. ``"csaj grade B: CIE 1976 ΔE*ab ≤ 3.2"`` or ``"CIEDE2000 ΔE00 ≤ 2"``.
         """
         grade = f"{self.scheme} grade {self.grade}: " if self.grade is not None else ""
-        return f"{grade}{METRICS[self.metric]} ≤ {self.max:g}"
+        return f"{grade}{METRICS.description(self.metric)} ≤ {self.max:g}"
 
     def delta_E(self, Lab1, Lab2) -> np.ndarray:
         """The colour difference in this tolerance's own metric.
@@ -141,17 +159,21 @@ class Tolerance:
 
 
 @functools.lru_cache(maxsize=1)
-def _table() -> dict[str, tuple[Grade, ...]]:
+def _table() -> Registry[tuple[Grade, ...]]:
+    """The grading schemes of ``tables/tolerance_grades.csv``: name -> (its grades, tightest first; a description),
+    in alphabetical order, names in any case."""
     path = tables_dir() / "tolerance_grades.csv"
     lines = [ln for ln in path.read_text(encoding="utf-8").splitlines() if ln and not ln.startswith("#")]
     out: dict[str, list[Grade]] = {}
     for row in csv.DictReader(lines):
-        if row["metric"] not in METRICS:
+        if row["metric"] not in METRICS.names():
             raise SwatchError(f"{path.name}: metric {row['metric']!r} is not one of {', '.join(METRICS)}")
         out.setdefault(row["scheme"], []).append(
             Grade(row["scheme"], row["grade"], row["metric"], float(row["max"]), row["description"])
         )
-    return {k: tuple(sorted(v, key=lambda g: g.max)) for k, v in out.items()}
+    table = {k: tuple(sorted(out[k], key=lambda g: g.max)) for k in sorted(out)}
+    return Registry("tolerance scheme", "scheme", {
+        k: (gs, f"grades {', '.join(g.name for g in gs)} (bounds on {gs[0].metric})") for k, gs in table.items()})
 
 
 def schemes() -> list[str]:
@@ -165,13 +187,34 @@ def schemes() -> list[str]:
     return sorted(_table())
 
 
+def check_scheme(scheme: str) -> str:
+    """A grading scheme's name as the table spells it (case and surrounding blanks ignored).
+
+    Parameters
+    ----------
+    scheme : str
+        A scheme of :func:`schemes` in any case (``CSAJ``).
+
+    Returns
+    -------
+    str
+        Its name in ``tables/tolerance_grades.csv`` (``csaj``).
+
+    Raises
+    ------
+    SwatchError
+        For an unknown scheme, naming ```scheme``` and the schemes.
+    """
+    return _table().validate(scheme)
+
+
 def grades(scheme: str = DEFAULT_SCHEME) -> tuple[Grade, ...]:
     """A scheme's grades, tightest first.
 
     Parameters
     ----------
     scheme : str
-        A scheme of :func:`schemes` (default ``csaj``; case-sensitive).
+        A scheme of :func:`schemes` (default ``csaj``; in any case).
 
     Returns
     -------
@@ -183,10 +226,7 @@ def grades(scheme: str = DEFAULT_SCHEME) -> tuple[Grade, ...]:
     SwatchError
         For an unknown scheme.
     """
-    table = _table()
-    if scheme not in table:
-        raise SwatchError(f"unknown tolerance scheme {scheme!r}; use one of {', '.join(schemes())}")
-    return table[scheme]
+    return _table()[scheme]
 
 
 def grade_metric(scheme: str = DEFAULT_SCHEME) -> str:
@@ -210,7 +250,8 @@ def _grade(name: str, scheme: str) -> Grade:
         if g.name.lower() == str(name).lower():
             return g
     raise SwatchError(
-        f"unknown grade {name!r} in scheme {scheme}; use one of {', '.join(g.name for g in grades(scheme))}"
+        f"unknown grade {name!r} in scheme {_table().validate(scheme)}; use one of "
+        f"{', '.join(g.name for g in grades(scheme))}"
     )
 
 
@@ -296,21 +337,9 @@ def delta_E(metric: str, Lab1, Lab2) -> np.ndarray:
 
     References
     ----------
-    G. Sharma, W. Wu and E. N. Dalal (2005), doi:10.1002/col.20070 (CIEDE2000).
+    :cite:`Sharma2005b` (CIEDE2000).
     """
-    from swatch.colorimetry.colorimeter import delta_E_00, delta_E_ab
-
-    if metric == "dEab":
-        return delta_E_ab(Lab1, Lab2)
-    if metric == "dE00":
-        return delta_E_00(Lab1, Lab2)
-    raise SwatchError(f"unknown colour-difference metric {metric!r}; use one of {', '.join(METRICS)}")
-
-
-def _check_metric(metric) -> str:
-    if metric not in METRICS:
-        raise SwatchError(f"tolerance metric {metric!r} is unknown; use one of {', '.join(METRICS)}")
-    return metric
+    return METRICS[metric](Lab1, Lab2)
 
 
 def _check_max(value) -> float:
@@ -349,8 +378,8 @@ def get_tolerance(scheme: str | None = None, grade: str | None = None, metric: s
             raise SwatchError("give a tolerance as a grade (scheme, grade) or as metric and max, not both")
         if metric is None or max is None:
             raise SwatchError("a written tolerance needs both metric (dEab or dE00) and max")
-        return Tolerance(_check_metric(metric), _check_max(max))
-    scheme = scheme or DEFAULT_SCHEME
+        return Tolerance(METRICS.validate(metric), _check_max(max))
+    scheme = _table().validate(scheme or DEFAULT_SCHEME)
     g = _grade(grade if grade is not None else "C", scheme)
     return Tolerance(g.metric, g.max, scheme, g.name, g.description)
 
@@ -382,15 +411,13 @@ def parse_tolerance(text: str) -> Tolerance:
     what, sep, value = str(text).strip().partition(":")
     if not sep:
         raise SwatchError(f"tolerance {text!r} must be METRIC:MAX (e.g. dE00:2.0) or SCHEME:GRADE (e.g. csaj:C)")
-    metric = {m.lower(): m for m in METRICS}.get(what.lower())  # names in any case: DE00:2, CSAJ:B
-    if metric is not None:
+    if what in METRICS:  # names in any case: DE00:2, CSAJ:B
         try:
             number = float(value)
         except ValueError:
             raise SwatchError(f"tolerance {text!r}: {value!r} is not a number") from None
-        return get_tolerance(metric=metric, max=number)
-    scheme = {name.lower(): name for name in schemes()}.get(what.lower())
-    if scheme is not None:
-        return get_tolerance(scheme=scheme, grade=value)
+        return get_tolerance(metric=METRICS.validate(what), max=number)
+    if what in _table():
+        return get_tolerance(scheme=what, grade=value)
     raise SwatchError(f"tolerance {text!r}: {what!r} is neither a metric ({', '.join(METRICS)}) "
                       f"nor a scheme ({', '.join(schemes())})")

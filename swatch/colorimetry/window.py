@@ -7,9 +7,8 @@ them against each other): ΔE(Lab(d ± δ), Lab(d)) at one measuring geometry
 
 References
 ----------
-.. [1] CIE 015:2018, *Colorimetry*, 4th ed., CIE, Vienna (2018), doi:10.25039/TR.015.2018; CIELAB, ΔE*ab.
-.. [2] G. Sharma, W. Wu and E. N. Dalal, "The CIEDE2000 color-difference formula: implementation notes, supplementary
-   test data, and mathematical observations", Color Res. Appl. 30(1), 21–30 (2005), doi:10.1002/col.20070; ΔE00.
+.. [1] :cite:`Carter2018`: CIELAB, ΔE*ab.
+.. [2] :cite:`Sharma2005b`: ΔE00.
 """
 from __future__ import annotations
 

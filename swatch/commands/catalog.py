@@ -21,8 +21,11 @@ def catalog():
               help="output folder (created; a folder a previous catalog build wrote is updated in place)")
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=None,
               help="parallel render processes [default: the number of CPUs, at most 8]")
+@click.option("--scheduler", envvar="SWATCH_SCHEDULER", show_envvar=True, default=None, metavar="ADDRESS",
+              help="send the work to this Dask scheduler (tcp://HOST:8786; needs anodic-swatch[distributed]) "
+                   "[default: the spec's [build] scheduler, else local processes]")
 @click.option("--quiet", "-q", is_flag=True, help="no progress bar or summary")
-def build(spec, out, jobs, quiet):
+def build(spec, out, jobs, scheduler, quiet):
     """Build the catalog described by SPEC into --out: a TOML file (e.g. mine.toml) or the name of a
     bundled spec (titanium, niobium, tantalum, paper-samples: `swatch catalog list`).
 
@@ -32,7 +35,8 @@ def build(spec, out, jobs, quiet):
     from swatch.catalog.build import build_catalog
     from swatch.commands.progress import terminal_bar_factory
 
-    res = build_catalog(spec, out, jobs=jobs, progress=None if quiet else terminal_bar_factory())
+    res = build_catalog(spec, out, jobs=jobs, progress=None if quiet else terminal_bar_factory(),
+                        scheduler=scheduler or None)
     if quiet:
         return
     if res.noop:
@@ -48,7 +52,7 @@ def build(spec, out, jobs, quiet):
 def validate(spec):
     """Check a catalog spec (a file or a bundled name) and summarise it (nothing is written)."""
     from swatch.catalog.execute import check_buildable
-    from swatch.catalog.layout import extra_hero_files, layout_summary
+    from swatch.catalog.layout import extra_hero_files, extra_preset_files, layout_summary
     from swatch.catalog.spec import load_spec, resolve_spec_path, spec_summary
 
     s, _ = load_spec(resolve_spec_path(spec))
@@ -56,7 +60,9 @@ def validate(spec):
     click.echo(f"{spec}: ok — {spec_summary(s)}")
     n = len(s.thickness_nm)
     extra = extra_hero_files(bool(s.hero_cover_px), len(s.finishes))
-    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero, s.presets, extra)}")
+    more = extra_preset_files(n, s.presets_usd, s.presets_physicallybased)
+    more += n + 3 if s.ar else 0  # [presets] ar: a viewer file per swatch, their part, the viewer and its licence
+    click.echo(f"writes: {layout_summary(n, -(-n // s.per_sheet), s.chips, s.hero, s.presets, extra, more)}")
 
 
 @catalog.command(name="list")

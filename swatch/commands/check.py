@@ -6,13 +6,12 @@ import click
 from swatch.commands import common
 
 
-def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observer) -> dict:
+def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observer):
     """The spec ``swatch spec --thickness/--voltage`` would write, in memory (checked as a spec.json is)."""
     from swatch.colorimetry.tolerance import parse_tolerance
     from swatch.commands.common import resolve_process
     from swatch.core.errors import SwatchError
     from swatch.physics.model import check_thickness_nm
-    from swatch.production.qc import check_spec
     from swatch.production.spec import finish_spec
 
     proc = resolve_process(process)
@@ -22,10 +21,9 @@ def _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observe
         d = float(proc.thickness_nm([voltage])[0])  # checked by the growth law
     else:
         d = float(check_thickness_nm([thickness])[0])
-    data = finish_spec({"kind": "thickness" if voltage is None else "voltage",
+    return finish_spec({"kind": "thickness" if voltage is None else "voltage",
                         "value": thickness if voltage is None else voltage, "thickness_nm": d}, proc,
                        parse_tolerance(tolerance), illuminant=illuminant, observer=observer)
-    return check_spec(data, "the spec made from --thickness/--voltage")
 
 
 def _check_line(r: dict) -> str:
@@ -78,7 +76,7 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     from swatch.io.instrument_files import read_instrument_file
     from swatch.io.instruments import Request
     from swatch.production.advice import spec_notes
-    from swatch.production.qc import check_file, judged_names, load_spec_json
+    from swatch.production.qc import check_file, load_spec_json
     from swatch.report.check_report import check_figure
 
     if sum(x is not None for x in (spec_path, thickness, voltage)) != 1:
@@ -88,8 +86,9 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     else:
         spec = _spec_on_the_fly(thickness, voltage, process, tolerance, illuminant, observer)
         spec_path = f"--thickness {thickness:g}" if thickness is not None else f"--voltage {voltage:g}"
-    col = spec["colorimetry"]
-    ref = spec["reference"]
+    written = spec.document  # what the report echoes, as the spec.json writes it
+    col = written["colorimetry"]
+    ref = written["reference"]
     request = Request(light_deg=ref["light_deg"], view_deg=ref["view_deg"], illuminant=col["illuminant"],
                       observer=col["observer"], percent=percent)
     if report_dir is not None:
@@ -105,32 +104,32 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
         for r in results:
             r["id"] = f"{Path(r['source']).name}#{r['id']}"
     doc = {"spec": str(spec_path), "pass": all(r["pass"] for r in results),
-           "tolerance": {**{k: spec["tolerance"][k] for k in ("metric", "max", "label")},
-                         "geometries": judged_names(spec)},
+           "tolerance": {"metric": spec.tolerance.metric, "max": spec.tolerance.max, "label": spec.tolerance.text,
+                         "geometries": list(spec.judged)},
            "colorimetry": {"illuminant": col["illuminant"], "observer": col["observer"],
                            "srgb": "chips: sRGB by CIE 1931 2° colorimetry; a part's from its own measurement"},
            "advice": "action per part (docs/finisher.md): none inside the window; a voltage correction only for a "
                      "failing part or one near the window's edge, and only where the model at the best-fit thickness "
                      "explains the part within the tolerance (max_residual_delta_E); calibrate first where the spec's "
                      "uncalibrated model is the suspect; otherwise voltage_correction_reason says why not",
-           "nominal": spec["nominal"], "notes": [*spec_notes(spec), *(n for f in read for n in resampling_notes(f))],
+           "nominal": written["nominal"], "notes": [*spec_notes(spec), *(n for f in read for n in resampling_notes(f))],
            "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
            "measurements": results}
     text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     if report_dir is not None:
         check_writable_dir(out)
         with atomic_path(paths[0]) as tmp:
-            check_figure(results, spec, spec_notes(spec)).save(tmp, format="PNG")
+            check_figure(results, written, spec_notes(spec)).save(tmp, format="PNG")
         atomic_write_text(paths[1], text)
     if as_json:
         common.echo_json_text(text)
     else:
-        judged = spec["tolerance"].get("geometry", spec["reference"]["geometry"])
-        click.echo(f"# {spec['tolerance']['label']} at every measured geometry, required at {judged}; CIELAB under "
-                   f"{col['illuminant']}, {col['observer']}° observer; nominal {spec['nominal']['thickness_nm']} nm")
+        judged = written["tolerance"].get("geometry", ref["geometry"])
+        click.echo(f"# {spec.tolerance.text} at every measured geometry, required at {judged}; CIELAB under "
+                   f"{col['illuminant']}, {col['observer']}° observer; nominal {written['nominal']['thickness_nm']} nm")
         for note in doc["notes"]:
             click.echo(f"note: {note}")
         for r in results:
             click.echo(_check_line(r))
-        click.echo(f"{doc['n_parts'] - doc['n_failed']} of {doc['n_parts']} parts pass ({spec['tolerance']['label']})")
+        click.echo(f"{doc['n_parts'] - doc['n_failed']} of {doc['n_parts']} parts pass ({spec.tolerance.text})")
     return 0 if doc["pass"] else 1

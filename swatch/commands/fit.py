@@ -30,7 +30,7 @@ _RANGE_DEFAULT = "{:g}:{:g}".format(*choices.DEFAULT_THICKNESS_RANGE_NM)
 @common.material_options
 @common.colour_options
 @common.grid_option
-@click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme for the grade")
+@click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme for the grade (csaj, nbs; any case)")
 @common.process_options
 @click.option("--json", "as_json", is_flag=True, help="print JSON instead of text")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False, path_type=str), default=None,
@@ -52,10 +52,12 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     (global search over the range, then local refinement) and reports the best thickness, an
     uncertainty, the next-best minimum, ΔE*ab and ΔE2000 per geometry, their means and the grade.
     """
+    from swatch.colorimetry.tolerance import check_scheme
     from swatch.fit.spectral_fit import fit_measurement
     from swatch.io.instrument_files import read_instrument_file
     from swatch.report import text as report
 
+    scheme = check_scheme(scheme)
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     film, substrate = proc.film, proc.substrate
     rng = parse_pair(thickness_range, "--range")
@@ -105,7 +107,7 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
 @click.option("--top", type=int, default=5, show_default=True, help="number of candidates")
 @click.option("--grade", default="C", show_default=True,
               help="tolerance grade a candidate must meet, judged in the scheme's metric (CSAJ: ΔE*ab)")
-@click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme")
+@click.option("--scheme", default="csaj", show_default=True, help="tolerance scheme (csaj, nbs; any case)")
 @click.option("--tolerance", "tolerance", default=None, metavar="METRIC:MAX",
               help="a tolerance as coating specifications write it, e.g. dE00:2.0 or dEab:3.2 (instead of --grade)")
 @common.process_options
@@ -131,10 +133,11 @@ def match(lab, hex_code, light, view, light_azimuth, view_azimuth, film, substra
     """
     from swatch.colorimetry.colorimeter import get_colorimeter, parse_Lab
     from swatch.colorimetry.observers import HEX_CONVENTION, hex_display, hex_to_document_Lab
-    from swatch.colorimetry.tolerance import get_tolerance, parse_tolerance
+    from swatch.colorimetry.tolerance import check_scheme, get_tolerance, parse_tolerance
     from swatch.fit.matching import judge_candidates, match_colour
     from swatch.report.text import match_text
 
+    scheme = check_scheme(scheme)
     tol = parse_tolerance(tolerance) if tolerance is not None else get_tolerance(scheme, grade)
 
     if angles is not None or measurement is not None:

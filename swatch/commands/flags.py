@@ -1,9 +1,9 @@
 """The library speaks parameters, the CLI speaks flags (issue 17).
 
 Library errors (:class:`swatch.core.errors.SwatchError`) name a parameter in backquotes, as Python
-code: ```size_px``` or ```environment=None```. :func:`speak_flags` rewrites them as the command
+code: ```size_px``` or ```environment='point'```. :func:`speak_flags` rewrites them as the command
 line's options before the CLI prints the one-line error: ```size_px``` → ``--size``,
-```environment=None``` → ``--environment none``, ```fit_scale=False``` → ``--fixed-scale``.
+```environment='point'``` → ``--environment point``, ```fit_scale=False``` → ``--fixed-scale``.
 """
 from __future__ import annotations
 
@@ -14,6 +14,8 @@ __all__ = ["PARAMETER_FLAGS", "speak_flags"]
 #: Python parameter (or ``parameter=value``) -> command-line option.
 PARAMETER_FLAGS = {
     "jobs": "--jobs",
+    "scheduler": "--scheduler",
+    "base_url": "--base-url",
     "angles": "--angles",
     "rank": "--rank",
     "top": "--top",
@@ -37,8 +39,11 @@ PARAMETER_FLAGS = {
     "force": "--force",
     "spread": "--spread",
     "engine": "--engine",
+    "scheme": "--scheme",
     "spp": "--spp",
     "seed": "--seed",
+    "denoise": "--denoise",
+    "finish": "--finish",
     "timezone_h": "--sun-timezone",
     "illuminant": "--illuminant",
     "observer": "--observer",
@@ -71,8 +76,8 @@ def speak_flags(message: str) -> str:
     --------
     >>> speak_flags("`thickness_nm` must be a number from 0 to 1000 nm (got 1200)")
     '--thickness must be a number from 0 to 1000 nm (got 1200)'
-    >>> speak_flags("use a smaller `size_px`, or `environment=None`")
-    'use a smaller --size, or --environment none'
+    >>> speak_flags("use a smaller `size_px`, or `environment='point'`")
+    'use a smaller --size, or --environment point'
     """
 
     def flag(m: re.Match) -> str:

@@ -13,12 +13,18 @@ from swatch.commands.progress import PassBar
 from swatch.commands.terminal import unescaped
 from swatch.core.choices import (
     BACKGROUNDS,
+    DEFAULT_LIGHT_DEG,
+    DEFAULT_ROUGHNESS_ALPHA,
+    DEFAULT_SEED,
+    DEFAULT_SPP,
     DISTRIBUTIONS,
     ENGINES,
     FINISHES,
     IMAGE_SPACES,
+    LIGHTINGS,
     MESH_FORMATS,
     MODELS,
+    POINT_LIGHT,
     SHAPES,
 )
 from swatch.core.errors import SwatchError
@@ -50,11 +56,12 @@ def _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant
 
 
 def _roughness(roughness: float | None, process: str | None) -> float:
-    """``--roughness``, else the process profile's ``roughness``, else 0.3; checked."""
+    """``--roughness``, else the process profile's ``roughness``, else the default α; checked."""
     from swatch.physics.microfacet import check_roughness_alpha
 
     profile = None if roughness is not None else common.resolve_process(process).roughness
-    return check_roughness_alpha(roughness if roughness is not None else (0.3 if profile is None else profile))
+    return check_roughness_alpha(roughness if roughness is not None else
+                                 (DEFAULT_ROUGHNESS_ALPHA if profile is None else profile))
 
 
 def _image_options(f):
@@ -65,12 +72,13 @@ def _image_options(f):
         click.option("--force", is_flag=True, help="overwrite existing files"),
         click.option("--space", type=click.Choice(IMAGE_SPACES), default="srgb", show_default=True,
                      help="EXR RGB primaries"),
-        click.option("--distribution", type=click.Choice(DISTRIBUTIONS), default="ggx", show_default=True,
+        click.option("--distribution", type=click.Choice(DISTRIBUTIONS.names(), case_sensitive=False), default="ggx", show_default=True,
                      help="microfacet normal distribution D (the microfacet model; environment lighting: ggx)"),
         click.option("--roughness", type=float, default=None,
-                     help="microfacet roughness alpha in (0, 1] [default: the process profile's, else 0.3]"),
-        click.option("--model", type=click.Choice(MODELS), default="microfacet", show_default=True,
-                     help="paper: half-vector reflectance alone; microfacet: D G F / (4 cos cos)"),
+                     help="microfacet roughness alpha in (0, 1] [default: the process profile's, else "
+                          f"{DEFAULT_ROUGHNESS_ALPHA:g}]"),
+        click.option("--model", type=click.Choice(MODELS.names(), case_sensitive=False), default="microfacet",
+                     show_default=True, help=MODELS.help()),
     ):
         f = deco(f)
     return f
@@ -186,10 +194,12 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
               + ", ".join("." + f for f in MESH_FORMATS) + "; placed in the unit sphere, seen like the sphere)")
 @click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="output folder")
 @click.option("--size", "size_px", type=int, default=512, show_default=True, help="image size in pixels (square)")
-@click.option("--light", "light_deg", type=float, default=45.0, show_default=True, help="light angle in degrees [0, 90)")
+@click.option("--light", "light_deg", type=float, default=None,
+              help=f"the point light's angle in degrees [0, 90) (--environment {POINT_LIGHT} only) "
+                   f"[default: {DEFAULT_LIGHT_DEG:g}]")
 @click.option("--environment", default=None, metavar="NAME|FILE.exr",
-              help="lighting: studio (soft boxes, floor, horizon; the default for the GGX microfacet model), uniform (white, radiance 1), "
-                   "an equirectangular EXR, or none (one directional light at --light; the default otherwise)")
+              help="lighting: " + LIGHTINGS.help() + "; or an equirectangular .exr/.hdr map "
+                   f"[default: studio; {POINT_LIGHT} for the paper model or the beckmann distribution]")
 @click.option("--view", "view_deg", type=float, default=None,
               help="camera angle from the plate's normal in degrees [0, 90) (default 36 flat, 70 cylinder/sphere)")
 @click.option("--view-azimuth", "view_azimuth_deg", type=float, default=0.0, show_default=True,
@@ -197,13 +207,14 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
 @click.option("--background", type=click.Choice(BACKGROUNDS), default=None,
               help="display background (environment: the map behind the object, also in the EXR) [default: grey; "
                    "mitsuba: environment under studio and sun]")
-@click.option("--engine", type=click.Choice(ENGINES), default="builtin", show_default=True,
-              help="builtin (table lookup, fast) or mitsuba (Mitsuba 3 spectral path tracing, docs/mitsuba.md)")
-@click.option("--spp", type=int, default=64, show_default=True, help="mitsuba: samples per pixel")
-@click.option("--seed", type=int, default=0, show_default=True, help="mitsuba: random seed (same seed, same image)")
-@click.option("--denoise/--no-denoise", default=True, show_default=True,
+@click.option("--engine", type=click.Choice(ENGINES.names(), case_sensitive=False), default="builtin",
+              show_default=True, help=ENGINES.help())
+@click.option("--spp", type=int, default=None, help=f"mitsuba: samples per pixel [default: {DEFAULT_SPP}]")
+@click.option("--seed", type=int, default=None,
+              help=f"mitsuba: random seed (same seed, same image) [default: {DEFAULT_SEED}]")
+@click.option("--denoise/--no-denoise", default=None,
               help="mitsuba: denoise with Intel Open Image Denoise, guided by the render's albedo and normal buffers "
-                   "(--no-denoise: the raw path-traced estimate)")
+                   "(--no-denoise: the raw path-traced estimate) [default: denoise]")
 @click.option("--keep-raw", is_flag=True, help="mitsuba, denoised: also write the raw image and the albedo and normal "
               "buffers into the EXR as layers raw.RGB, albedo.RGB, normal.XYZ (for compositing)")
 @click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
@@ -226,25 +237,27 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
     from swatch.physics.finishes import finish_or_roughness
     from swatch.render import ENGINES
     from swatch.render.image import layered_pixels
-    from swatch.render.lighting import default_environment
     from swatch.render.mesh import load_mesh
     from swatch.render.metadata import file_stems, with_voltage
     from swatch.render.request import render_request
 
     finish = finish_or_roughness(finish_name, roughness)
-    roughness = finish.roughness_alpha if finish is not None else _roughness(roughness, process)
+    if keep_raw and (engine != "mitsuba" or denoise is False):
+        raise SwatchError("--keep-raw keeps the mitsuba engine's raw image beside the denoised one; "
+                          "add --engine mitsuba (denoised)")
     sun = _sun(sun_elevation, sun_azimuth, sun_place, sun_date, sun_time, sun_timezone, turbidity)
     mesh = None if mesh_file is None else load_mesh(mesh_file)
     shape = "mesh" if mesh is not None else shape
     d, volts, note, coating, cm, proc = _setup(thickness, voltage, process, nm_per_volt, film, substrate, illuminant,
                                                observer, wavelengths)
     # every input checked once, before anything is written (a series reuses the request and its lighting)
-    request = render_request(d[0], shape, size_px, light_deg=light_deg, roughness_alpha=roughness, model=model,
-                             coating=coating, colorimeter=cm, space=space, distribution=distribution,
-                             environment=default_environment(engine, model, distribution) if environment is None
-                             else environment, background=background, view_deg=view_deg,
-                             view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish, engine=engine, spp=spp,
-                             seed=seed, sun=sun, denoise=denoise)
+    # the options given, or that the process profile sets (the library refuses one that would change nothing)
+    given = {"light_deg": light_deg, "spp": spp, "seed": seed, "denoise": denoise,
+             "roughness_alpha": None if finish is not None else _roughness(roughness, process)}
+    request = render_request(d[0], shape, size_px, model=model, coating=coating, colorimeter=cm, space=space,
+                             distribution=distribution, environment=environment, background=background,
+                             view_deg=view_deg, view_azimuth_deg=view_azimuth_deg, mesh=mesh, finish=finish,
+                             engine=engine, sun=sun, **{k: v for k, v in given.items() if v is not None})
     mitsuba = request.engine == "mitsuba"
     stems = file_stems(shape, d)
     check_new([Path(out_dir) / (st + suf) for st in stems for suf in (".exr", ".png")], force)

@@ -87,16 +87,17 @@ def spec(hex_code, lab, thickness, voltage, process, nm_per_volt, roughness, tol
     out = Path(out_dir)
     paths = [out / "spec.json", out / "spec.pdf"]
     check_new([p for p in paths if out.exists()], force)
-    data = finish_spec(target, proc, tol, illuminant=illuminant, observer=observer, wavelength_nm=wl,
+    made = finish_spec(target, proc, tol, illuminant=illuminant, observer=observer, wavelength_nm=wl,
                        roughness=rough, angles=geoms, accept_closest=accept_closest)
+    data = made.document
     text = json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     check_writable_dir(out)
     with atomic_path(paths[1]) as tmp:
-        write_spec_card(data, tmp)
+        write_spec_card(made, tmp)
     atomic_write_text(paths[0], text)
     reach = data["reach"]
-    unreachable = reach is not None and not reach["within_tolerance"]
-    status = 1 if unreachable and not reach["accepted_closest"] else 0
+    unreachable = made.reach is not None and not made.reach.within_tolerance
+    status = 1 if made.reach is not None and unreachable and not made.reach.accepted_closest else 0
     if as_json:
         common.echo_json_text(text)
         return status

@@ -6,6 +6,8 @@ The CLI builds its ``click.Choice`` lists from these, and the library's checks r
 """
 from __future__ import annotations
 
+from swatch.core.registry import Registry
+
 __all__ = [
     "SHAPES",
     "MESH_FORMATS",
@@ -13,11 +15,15 @@ __all__ = [
     "DISTRIBUTIONS",
     "FINISHES",
     "IMAGE_SPACES",
-    "ENVIRONMENTS",
     "BACKGROUNDS",
     "ENGINES",
-    "MITSUBA_LIGHTINGS",
     "LIGHTINGS",
+    "lightings_of",
+    "POINT_LIGHT",
+    "DEFAULT_LIGHT_DEG",
+    "DEFAULT_ROUGHNESS_ALPHA",
+    "DEFAULT_SPP",
+    "DEFAULT_SEED",
     "SCALE_MODES",
     "DEFAULT_THICKNESS_RANGE_NM",
     "DEFAULT_FIT_STEP_NM",
@@ -30,31 +36,60 @@ __all__ = [
 SHAPES = ("flat", "cylinder", "sphere")
 #: Mesh files a render can show instead (``--mesh``; a .gltf only with embedded buffers).
 MESH_FORMATS = ("obj", "ply", "stl", "glb", "gltf")
-#: Intensity models: ``paper`` (the half-vector reflectance alone, facet probability constant) and
-#: ``microfacet`` (D G F / (4 cos θ_l cos θ_v)).
-MODELS = ("paper", "microfacet")
-#: Microfacet normal distributions.
-DISTRIBUTIONS = ("ggx", "beckmann")
+#: Intensity models (``model``); each intensity factor is registered by :mod:`swatch.render.shading`.
+MODELS: Registry = Registry.declare("intensity model", "model", {
+    "paper": "the half-vector reflectance alone, facet probability constant",
+    "microfacet": "D G F / (4 cos θ_l cos θ_v)"})
+#: Microfacet normal distributions (``distribution``); each ``D`` and Smith ``Λ`` registered by
+#: :mod:`swatch.physics.microfacet`.
+DISTRIBUTIONS: Registry = Registry.declare("microfacet distribution", "distribution", {
+    "ggx": "GGX (Trowbridge-Reitz)", "beckmann": "Beckmann"})
 #: Named surface finishes (their roughness: :mod:`swatch.physics.finishes`); ``brushed`` is anisotropic.
 FINISHES = ("polished", "satin", "bead-blasted", "brushed")
 #: RGB primaries of the EXR images of renders and angular maps (the colorimeter knows more spaces,
 #: :data:`swatch.colorimetry.colorimeter.RGB_SPACES`; these are the ones with an EXR ``chromaticities`` tag).
 IMAGE_SPACES = ("srgb", "acescg")
-#: Built-in lighting of renders (``--environment``; a path to an equirectangular .exr also works):
-#: ``none`` (one directional light), ``uniform`` (radiance 1 everywhere), ``studio`` (a photographic
-#: studio: soft boxes, dark walls, a floor and horizon).
-ENVIRONMENTS = ("none", "uniform", "studio")
-#: Lighting of the catalog page's live view: ``point`` (its one directional light, ``none`` above)
-#: and the built-in environments.
-LIGHTINGS = ("point", *(e for e in ENVIRONMENTS if e != "none"))
+#: The point light's name (``environment='point'``): one directional light at ``light_deg``.
+POINT_LIGHT = "point"
+#: Lightings by name (``environment``; a path to an equirectangular .exr or .hdr map also works), each with the
+#: engines that render it; the catalog page's live view offers the built-in engine's, in this order. The
+#: default lighting is :func:`swatch.render.lighting.default_environment`'s.
+LIGHTINGS: Registry[tuple[str, ...]] = Registry("lighting", "environment", {
+    POINT_LIGHT: (("builtin",), "one directional light at the light angle"),
+    "uniform": (("builtin", "mitsuba"), "white, radiance 1 from every direction"),
+    "studio": (("builtin", "mitsuba"), "a photographic studio: soft boxes, cyclorama, floor and horizon"),
+    "sun": (("mitsuba",), "Mitsuba's sun and sky (sunsky, Hosek-Wilkie; the mitsuba engine only)")})
+
+
+def lightings_of(engine: str) -> tuple[str, ...]:
+    """The names of :data:`LIGHTINGS` that ``engine`` renders, in their order (the built-in engine's are the
+    catalog page's live view's: ``point``, ``uniform``, ``studio``).
+
+    Parameters
+    ----------
+    engine : str
+        A name of :data:`ENGINES`, lower case.
+
+    Returns
+    -------
+    tuple of str
+        The lighting names.
+    """
+    return tuple(name for name, engines in LIGHTINGS.items() if engine in engines)
+
 #: Display backgrounds of renders (``environment``: the map seen behind the object, also in the EXR).
 BACKGROUNDS = ("grey", "white", "environment")
-#: Render engines: ``builtin`` (the table-lookup renderer, the default and the sheets' fast path) and
-#: ``mitsuba`` (Mitsuba 3's spectral path tracer with the ``anodic_film`` plugin, docs/mitsuba.md).
-ENGINES = ("builtin", "mitsuba")
-#: Built-in lightings of the ``mitsuba`` engine (a path to an .exr or .hdr map also works): ``studio``
-#: (cyclorama and soft boxes), ``sun`` (Mitsuba's ``sunsky``), ``uniform`` (radiance 1).
-MITSUBA_LIGHTINGS = ("studio", "sun", "uniform")
+#: Render engines (``engine``); each engine function is registered by :mod:`swatch.render.dispatch`
+#: (``swatch.render.ENGINES`` is this registry).
+ENGINES: Registry = Registry.declare("render engine", "engine", {
+    "builtin": "the table-lookup renderer (fast; the default and the sheets' path)",
+    "mitsuba": "Mitsuba 3's spectral path tracer with the anodic_film plugin (docs/mitsuba.md)"})
+#: The point light's default angle (degrees from the normal), the Mitsuba engine's samples per pixel and seed,
+#: the microfacet roughness α of a render without one (a process profile's or a catalog spec's comes first).
+DEFAULT_LIGHT_DEG = 45.0
+DEFAULT_ROUGHNESS_ALPHA = 0.3
+DEFAULT_SPP = 64
+DEFAULT_SEED = 0
 #: Intensity corrections of the thickness fit: ``energy`` (the paper's mean-energy match per
 #: geometry), ``lsq`` (least-squares scale per geometry), ``global`` (one scale), ``none``.
 SCALE_MODES = ("energy", "lsq", "global", "none")

@@ -24,13 +24,19 @@ __all__ = ["MIN_ENV_RENDER_PX", "MIN_ROUGHNESS_ALPHA", "MAX_FIT_GEOMETRIES", "MA
            "MAX_INSTRUMENT_FIELDS", "MAX_HEADER_COUNT_CHARS", "MIN_MEASURED_WAVELENGTH_NM", "MAX_MEASURED_WAVELENGTH_NM",
            "MAX_INSTRUMENT_GEOMETRIES", "MAX_SPP", "MAX_SEED", "MAX_MITSUBA_PX",
            "MAX_MITSUBA_SAMPLES", "MAX_DENOISE_PX", "MAX_DENOISE_MEMORY_MB", "MAX_PASS_LANES", "MAX_PASS_SPP",
-           "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY",
+           "MIN_YEAR", "MAX_YEAR", "MIN_TURBIDITY", "MAX_TURBIDITY", "SCHEDULER_TIMEOUT_S", "CLUSTER_TASK_RETRIES",
            "read_capped", "read_text_capped", "MAX_ANISO_RENDER_PX", "MIN_FILM_INDEX_SCALE", "MAX_FILM_INDEX_SCALE",
-           "MAX_DISPLAY_EXPOSURE", "MAX_FIGURE_ROWS"]
+           "MAX_DISPLAY_EXPOSURE", "MAX_FIGURE_ROWS", "MAX_USD_PART_TRIANGLES", "MAX_BASE_URL_CHARS"]
 
 #: A catalog's own metadata files (``.swatch-catalog/manifest.json``, ``journal.json``); a 400-swatch
 #: catalog's manifest is ~20 kB.
 MAX_METADATA_BYTES = 16 * 1024 * 1024
+#: How long a distributed catalog build waits for its Dask scheduler to answer (``--scheduler``), seconds:
+#: an unreachable one is an error after this, with nothing written.
+SCHEDULER_TIMEOUT_S = 10.0
+#: How many times the cluster runs a unit of work of a catalog build again after it raised (a worker that
+#: dies is handled by Dask itself: its tasks go to the others, up to ``distributed.scheduler.allowed-failures``).
+CLUSTER_TASK_RETRIES = 2
 #: A file name read back from metadata (the usual file-system limit).
 MAX_NAME_CHARS = 255
 #: One cached tile (``.swatch-catalog/cache/*.npz``); the largest spec (two 512 px renders and a map)
@@ -125,11 +131,13 @@ MAX_SEARCH_POINTS = 200_000
 #: Largest roughness Ra accepted by the Rayleigh criterion (nm; a millimetre).
 MAX_RA_NM = 1e6
 #: A coupon CSV (``swatch calibrate``): bytes, non-comment rows and coupons. A cap bounds time as well as
-#: memory: the search's leave-one-out refits grow as the square of the coupons (1,000 take ~76 s of CPU;
-#: 300 at 0–300 V ~10 s; a line is calibrated from tens).
+#: memory: the search grows linearly with the coupons past 300 (the leave-one-out folds are Newton steps,
+#: swatch.fit.calibration.leave_one_out); 1,000 at 0–300 V take ~15 s of CPU and 0.8 GB peak
+#: (``calibrate_1000_cpu_s``, ``calibrate_1000_peak_mb`` in ``python3 dev.py bench calibrate``); a line is
+#: calibrated from tens.
 MAX_COUPON_BYTES = 8 * 1024 * 1024
 MAX_COUPON_ROWS = 200_000
-MAX_COUPONS = 300
+MAX_COUPONS = 1000
 #: Parts drawn in ``swatch check --report``'s check.png (check.json has them all): a figure stays a page.
 MAX_FIGURE_ROWS = 60
 #: A process profile (TOML; the shipped ones are ~1 kB) and one of its text fields.
@@ -151,6 +159,12 @@ MAX_MESH_TRIANGLES = 2_000_000
 #: A catalog's part on its page (the live view's WebGL2 triangles, embedded as float32 corners and normals:
 #: 72 bytes a triangle in the page, 14 MB at the cap; software GL draws 200 000 in about a frame's time).
 MAX_PAGE_MESH_TRIANGLES = 200_000
+#: A USD preset's part (``swatch preset --format usd|usdz --mesh``): each triangle keeps its own corners and
+#: normals, 72 bytes a triangle in the .usdz's binary layer (14 MB at the cap), several times that as .usda text.
+MAX_USD_PART_TRIANGLES = 200_000
+#: The address a physicallybased.info document's pictures are served from (``--base-url``, ``[presets]
+#: physicallybased_base_url``): every picture's URL starts with it.
+MAX_BASE_URL_CHARS = 1000
 #: A mesh vertex coordinate's magnitude (the file's units; the mesh is placed in the unit sphere):
 #: beyond it the areas and normals overflow float64 (1e300 made "every triangle is degenerate").
 MAX_MESH_COORDINATE = 1e15

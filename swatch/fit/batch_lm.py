@@ -4,7 +4,7 @@ Each iteration evaluates every problem's residuals and forward-difference Jacobi
 residual function (the calibration's colour-science call has a fixed overhead of a few ms, so one call
 per iteration instead of one per problem and parameter is what makes the table search fast), solves
 the damped normal equations of all problems at once, and keeps a step only where it lowers the cost.
-Used by :mod:`swatch.fit.calibration_search`.
+Used by :mod:`swatch.fit.calibration`.
 
 References
 ----------

@@ -7,14 +7,7 @@ from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00, get_colorime
 from swatch.colorimetry.tolerance import DEFAULT_SCHEME
 from swatch.core.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
 from swatch.fit.fitting import FacetModel, check_scale, model_reflectance, sweep_curve, unique_geometry
-from swatch.fit.result import (
-    FitResult,
-    colour_summary,
-    geometry_arrays,
-    geometry_fields,
-    search_fields,
-    used_geometries,
-)
+from swatch.fit.result import FitResult, fit_result, geometry_arrays, used_geometries
 from swatch.fit.search import check_search_range, curvature_sigma, multimodal_search
 from swatch.io.measurements import LabMeasurement
 from swatch.physics.model import Coating, get_coating
@@ -83,7 +76,7 @@ def fit_lab(
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
     coating = get_coating() if coating is None else coating
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
-    cos_d, theta_d, mirror = geometry_arrays(measurement)
+    cos_d, _theta_d, mirror = geometry_arrays(measurement)
     used = used_geometries(mirror, exclude_mirror_deg)
     Lab_m_all = measurement.Lab
     Lab_m = Lab_m_all[used]
@@ -103,7 +96,7 @@ def fit_lab(
     def fine(d):
         return float(objective(cm.XYZ(facets(d))))
 
-    kept, d_grid, f_coarse = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
+    kept, _grid, _curve = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
     d_best, f_best = kept[0]
     G = int(used.sum())
     p = 1 + {"energy": G, "lsq": G, "global": 1, "none": 0}[scale]
@@ -118,15 +111,5 @@ def fit_lab(
         _, a_used = _scaled_Lab(XYZ_all[used], Y_meas, scale, cm)
         a_all = np.full(cos_d.shape, float(a_used[0]))
         Lab_s = cm.Lab(XYZ_all * a_all[:, None])
-    dEab, dE00, mean_ab, mean_00, grade = colour_summary(Lab_m_all, Lab_s, used, scheme)
-    norm = 1.0 / G
-    return FitResult(
-        kind="lab", source=measurement.source, thickness_nm=d_best, uncertainty_nm=sigma,
-        **search_fields(kept, norm), scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
-        **geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=np.asarray(a_all, dtype=np.float64),
-        Lab_measured=Lab_m_all, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
-        mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
-        film=coating.film, substrate=coating.substrate, illuminant=cm.illuminant, observer=cm.observer,
-        colour_wavelength_nm=coating.wavelength_nm, colour_grid_interpolated=False,
-        search_thickness_nm=d_grid, search_residual=f_coarse * norm,
-    )
+    return fit_result("lab", measurement, (kept, 1.0 / G, sigma), (scale, exclude_mirror_deg, scheme),
+                      (np.asarray(a_all, dtype=np.float64), Lab_m_all, Lab_s), (coating.film, coating.substrate), cm)

@@ -3,7 +3,7 @@ measurement (:func:`colour_grid`), the per-geometry ΔE*ab / ΔE2000 and their l
 (:func:`delta_e_grid`, the paper's Fig. 12). The method is described in :mod:`swatch.fit.fitting`."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -17,7 +17,8 @@ from swatch.physics.growth import DEFAULT_NM_PER_V, thickness_to_voltage_V
 from swatch.physics.materials import wavelength_grid
 
 __all__ = ["FitResult", "colour_grid", "resampled_words", "interp_rows",
-           "geometry_arrays", "used_geometries", "colour_summary", "search_fields", "geometry_fields", "delta_e_grid", "MIN_COLOUR_SAMPLES"]
+           "geometry_arrays", "used_geometries", "colour_summary", "search_fields", "geometry_fields", "fit_result",
+           "delta_e_grid", "MIN_COLOUR_SAMPLES"]
 
 _COLOUR_GRID_STEP_NM = 5.0
 _CMF_RANGE_NM = (360.0, 830.0)
@@ -65,8 +66,6 @@ class FitResult:
         The colorimetry grid, nm; ``colour_grid_interpolated`` whether the data were interpolated onto it.
     wavelength_nm, reflectance_unit, reflectance_unit_detected
         Spectral fits: the measured grid (nm) and how the reflectance unit was read.
-    search_thickness_nm, search_residual : numpy.ndarray or None
-        The coarse search's grid (nm) and curve.
     """
 
     kind: str  # "spectral" or "lab"
@@ -104,8 +103,6 @@ class FitResult:
     wavelength_nm: np.ndarray | None = None
     reflectance_unit: str | None = None
     reflectance_unit_detected: bool | None = None
-    search_thickness_nm: np.ndarray | None = field(default=None, repr=False)
-    search_residual: np.ndarray | None = field(default=None, repr=False)
 
     def to_dict(self, nm_per_V: float = DEFAULT_NM_PER_V) -> dict:
         """JSON-ready dictionary (the contract of ``swatch fit --json``).
@@ -390,6 +387,54 @@ def geometry_fields(measurement) -> dict:
     return dict(
         light_deg=measurement.light_deg, view_deg=measurement.view_deg,
         light_azimuth_deg=measurement.light_azimuth_deg, view_azimuth_deg=measurement.view_azimuth_deg,
+    )
+
+
+def fit_result(kind: str, measurement, minima: tuple, options: tuple, colours: tuple, tables: tuple, cm,
+               interpolated: bool = False, **extra) -> FitResult:
+    """The :class:`FitResult` of a spectral or CIELAB fit (the colour comparison and grade computed here).
+
+    Parameters
+    ----------
+    kind : {"spectral", "lab"}
+        The fit.
+    measurement : swatch.io.measurements.SpectralMeasurement or swatch.io.measurements.LabMeasurement
+        What was fitted (its source and geometries).
+    minima : (list of (float, float), float, float or None)
+        The search's minima (thickness nm, objective), lowest first; the factor turning an objective into
+        the reported residual; the thickness's uncertainty, nm.
+    options : (str, float, str)
+        The intensity correction's mode, the mirror exclusion (degrees) and the grading scheme.
+    colours : (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        The intensity scale per geometry (G,) and the measured and simulated CIELAB (G, 3) under ``cm``.
+    tables : (str, str)
+        The film and substrate tables.
+    cm : swatch.colorimetry.colorimeter.Colorimeter
+        The illuminant, observer and wavelength grid (nm) of the colours.
+    interpolated : bool
+        Whether the data were interpolated onto ``cm``'s grid.
+    **extra
+        Further :class:`FitResult` fields (the spectral fit's grid and reflectance unit).
+
+    Returns
+    -------
+    FitResult
+        The thickness at the lowest minimum with its uncertainty, residuals, and per-geometry ΔE and grade.
+    """
+    kept, norm, uncertainty_nm = minima
+    scale_mode, exclude_mirror_deg, scheme = options
+    scale, Lab_m, Lab_s = colours
+    _cos_d, theta_d, mirror = geometry_arrays(measurement)
+    used = used_geometries(mirror, exclude_mirror_deg)
+    dEab, dE00, mean_ab, mean_00, grade = colour_summary(Lab_m, Lab_s, used, scheme)
+    return FitResult(
+        kind=kind, source=measurement.source, thickness_nm=kept[0][0], uncertainty_nm=uncertainty_nm,
+        **search_fields(kept, norm), scale_mode=scale_mode, exclude_mirror_deg=float(exclude_mirror_deg),
+        **geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=scale,
+        Lab_measured=Lab_m, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
+        mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
+        film=tables[0], substrate=tables[1], illuminant=cm.illuminant, observer=cm.observer,
+        colour_wavelength_nm=cm.wavelength_nm, colour_grid_interpolated=interpolated, **extra,
     )
 
 

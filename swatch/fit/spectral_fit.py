@@ -17,16 +17,7 @@ from swatch.fit.fitting import (
     unique_geometry,
 )
 from swatch.fit.lab_fit import fit_lab
-from swatch.fit.result import (
-    FitResult,
-    colour_grid,
-    colour_summary,
-    geometry_arrays,
-    geometry_fields,
-    interp_rows,
-    search_fields,
-    used_geometries,
-)
+from swatch.fit.result import FitResult, colour_grid, fit_result, geometry_arrays, interp_rows, used_geometries
 from swatch.fit.search import CURVATURE_STEP_NM, check_search_range, multimodal_search
 from swatch.io.measurements import LabMeasurement, SpectralMeasurement, check_in_tables
 from swatch.physics.materials import DEFAULT_FILM, DEFAULT_SUBSTRATE
@@ -164,7 +155,7 @@ def fit_spectra(
     check_in_tables(measurement, film, substrate)
     wl = measurement.wavelength_nm
     coating = get_coating(film, substrate, wl, film_index_scale, spread)
-    cos_d, theta_d, mirror = geometry_arrays(measurement)
+    cos_d, _theta_d, mirror = geometry_arrays(measurement)
     used = used_geometries(mirror, exclude_mirror_deg)
     M = measurement.reflectance[used]
     cu, inv = unique_geometry(cos_d[used])
@@ -184,7 +175,7 @@ def fit_spectra(
         S = facets(d)[inv]
         return float(_scales_and_ssr(S, M, scale)[1])
 
-    kept, d_grid, f_coarse = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
+    kept, _grid, _curve = multimodal_search(curve, fine, lo, hi, step, count, min_separation=2.0 * step)
     d_best, _f_best = kept[0]
     n = M.size
     sigma = spectral_sigma(facets, inv, M, scale, d_best, lo, hi)
@@ -207,20 +198,10 @@ def fit_spectra(
         S_col = S_all
     Lab_m = cm.spectrum_Lab(M_col)
     Lab_s = cm.spectrum_Lab(a_all[:, None] * S_col)
-    dEab, dE00, mean_ab, mean_00, grade = colour_summary(Lab_m, Lab_s, used, scheme)
-    norm = 1.0 / n
-    return FitResult(
-        kind="spectral", source=measurement.source, thickness_nm=d_best, uncertainty_nm=sigma,
-        **search_fields(kept, norm), scale_mode=scale, exclude_mirror_deg=float(exclude_mirror_deg),
-        **geometry_fields(measurement), theta_d_deg=theta_d, mirror_angle_deg=mirror, used=used, scale=a_all,
-        Lab_measured=Lab_m, Lab_simulated=Lab_s, delta_E_ab=dEab, delta_E_00=dE00,
-        mean_delta_E_ab=mean_ab, mean_delta_E_00=mean_00, grade=grade, scheme=scheme,
-        film=coating.film, substrate=coating.substrate, illuminant=cm.illuminant, observer=cm.observer,
-        colour_wavelength_nm=cwl, colour_grid_interpolated=interpolated, wavelength_nm=wl,
-        reflectance_unit="percent" if measurement.percent else "fraction",
-        reflectance_unit_detected=measurement.unit_detected,
-        search_thickness_nm=d_grid, search_residual=f_coarse / (M.shape[0] * wl_idx.size),
-    )
+    return fit_result("spectral", measurement, (kept, 1.0 / n, sigma), (scale, exclude_mirror_deg, scheme),
+                      (a_all, Lab_m, Lab_s), (coating.film, coating.substrate), cm, interpolated, wavelength_nm=wl,
+                      reflectance_unit="percent" if measurement.percent else "fraction",
+                      reflectance_unit_detected=measurement.unit_detected)
 
 
 def fit_measurement(measurement, film: str, substrate: str, wavelength_nm=None, grid_given: bool = False,

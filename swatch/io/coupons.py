@@ -164,7 +164,7 @@ def read_coupons(path) -> Coupons:
         if g is None:
             if len(groups) >= MAX_COUPONS:
                 raise SwatchError(f"{here}: more than {MAX_COUPONS} coupons; a calibration takes at most {MAX_COUPONS} (its search's time "
-                                  "grows as the square of the count; a line is calibrated from tens)")
+                                  "grows with the count; a line is calibrated from tens)")
             g = groups[label] = {"line": number, "V": volts, "d": thick, "values": []}
         elif not spectral:
             raise SwatchError(f"{here}: coupon {label!r} appears twice; give each coupon one row")
@@ -245,7 +245,7 @@ def coupons_from_samples(source: str, samples) -> Coupons:
     """
     if len(samples) > MAX_COUPONS:
         raise SwatchError(f"{source}: more than {MAX_COUPONS} coupons; a calibration takes at most {MAX_COUPONS} (its search's "
-                          "time grows as the square of the count; a line is calibrated from tens)")
+                          "time grows with the count; a line is calibrated from tens)")
     missing = [s.id for s in samples if s.voltage_V is None]
     if missing:
         raise SwatchError(f"{source}: sample {missing[0]!r} has no voltage; coupons need a VOLTAGE_V field (CGATS) "

@@ -93,7 +93,7 @@ class _Rows:
 
 
 def _geometry_columns(rows: _Rows, light_deg: float, view_deg: float, light_azimuth_deg: float,
-                      view_azimuth_deg: float | None, need_rows_one: bool = False):
+                      view_azimuth_deg: float | None):
     """Per-row (light, view, light_az, view_az) from the file or the caller's geometry."""
     has_l, has_v = rows.has("light_deg"), rows.has("view_deg")
     has_la, has_va = rows.has("light_azimuth_deg"), rows.has("view_azimuth_deg")

@@ -136,7 +136,7 @@ def finish_png(blob: bytes, xmp: str | None = None, dpi: float | None = None, in
 
     References
     ----------
-    PNG (Third Edition), W3C Recommendation 2025, https://www.w3.org/TR/png-3/ (iTXt, sRGB, pHYs).
+    :cite:`W3C2025` (iTXt, sRGB, pHYs).
     """
     out = [PNG_SIGNATURE]
     for kind, data in _chunks(blob):

@@ -47,7 +47,7 @@ def reflective_channel_name(wavelength_nm: float) -> str:
 
     References
     ----------
-    A. Fichet, R. Pacanowski, A. Wilkie (2021), JCGT 10(3), https://jcgt.org/published/0010/03/01/.
+    :cite:`Fichet2021`.
 
     Examples
     --------

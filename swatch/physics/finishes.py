@@ -30,13 +30,9 @@ cylinder's axis and, for the sphere and meshes, the vertical (+y) projected onto
 
 References
 ----------
-.. [1] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
-   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206; GGX.
-.. [2] P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough Surfaces*, Pergamon (1963);
-   RMS slope of a Gaussian surface.
-.. [3] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2.2, the oxide following the metal's
-   relief.
+.. [1] :cite:`Walter2007`: GGX.
+.. [2] :cite:`Beckmann1963`: RMS slope of a Gaussian surface.
+.. [3] :cite:`Fujii2019`: §2.2, the oxide following the metal's relief.
 """
 from __future__ import annotations
 
@@ -70,7 +66,7 @@ class Finish:
 
     References
     ----------
-    B. Walter et al. (2007), doi:10.2312/EGWR/EGSR07/195-206 (GGX).
+    :cite:`Walter2007` (GGX).
     """
 
     name: str

@@ -11,11 +11,8 @@ it equals ``(theta_l + theta_v) / 2``.
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eq. 5, the incidence angle on the
-   half-vector facet.
-.. [2] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
-   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206; the half vector.
+.. [1] :cite:`Fujii2019`: eq. 5, the incidence angle on the half-vector facet.
+.. [2] :cite:`Walter2007`: the half vector.
 """
 from __future__ import annotations
 

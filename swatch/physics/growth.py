@@ -6,8 +6,7 @@ spec use it at import time, and every caller computes the law the same way (:fun
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; Table 2: 50.8 nm at 25 V.
+.. [1] :cite:`Fujii2019`: Table 2: 50.8 nm at 25 V.
 """
 from __future__ import annotations
 

@@ -18,14 +18,10 @@ a wavelength outside the table raises :class:`~swatch.core.errors.SwatchError`.
 
 References
 ----------
-.. [1] M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data 11, 94 (2024),
-   doi:10.1038/s41597-023-02898-2 (every table; the other tables' own references are in tables/README.md and each
-   file's header).
-.. [2] P. B. Johnson and R. W. Christy, "Optical constants of transition metals: Ti, V, Cr, Mn, Fe, Co, Ni, and Pd",
-   Phys. Rev. B 9, 5056–5070 (1974), doi:10.1103/PhysRevB.9.5056 (``Ti-Johnson``, the default substrate).
-.. [3] T. Siefke et al., "Materials pushing the application limits of wire grid polarizers further into the deep
-   ultraviolet spectral range", Adv. Opt. Mater. 4, 1780–1786 (2016), doi:10.1002/adom.201600250 (``TiO2-Siefke``, the
-   default film).
+.. [1] :cite:`Polyanskiy2024`: every table; the other tables' own references are in tables/README.md and each file's
+   header.
+.. [2] :cite:`Johnson1974`: ``Ti-Johnson``, the default substrate.
+.. [3] :cite:`Siefke2016`: ``TiO2-Siefke``, the default film.
 """
 
 from __future__ import annotations
@@ -152,8 +148,7 @@ class Material:
 
     References
     ----------
-    M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data 11, 94 (2024),
-    doi:10.1038/s41597-023-02898-2.
+    :cite:`Polyanskiy2024`.
     """
 
     name: str  #: table name, e.g. ``"TiO2-Siefke"``

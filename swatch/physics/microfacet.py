@@ -25,12 +25,13 @@ Conventions
 
 References
 ----------
-.. [1] B. Walter, S. R. Marschner, H. Li and K. E. Torrance, "Microfacet Models for Refraction through Rough
-   Surfaces", Eurographics Symposium on Rendering (2007), doi:10.2312/EGWR/EGSR07/195-206.
-.. [2] E. Heitz, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", Journal of Computer
-   Graphics Techniques 3(2) (2014), https://jcgt.org/published/0003/02/03/.
+.. [1] :cite:`Walter2007`.
+.. [2] :cite:`Heitz2014`.
 """
 from __future__ import annotations
+
+from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 from scipy.special import erf
@@ -39,24 +40,9 @@ from swatch.core.choices import DISTRIBUTIONS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MIN_ROUGHNESS_ALPHA
 
-__all__ = [
-    "DISTRIBUTIONS",
-    "check_roughness_alpha",
-    "check_distribution",
-    "D",
-    "D_ggx",
-    "D_beckmann",
-    "smith_lambda",
-    "G1",
-    "G",
-    "brdf_scale",
-    "ggx_visibility",
-    "D_ratio",
-    "ggx_reflectance_factor_cos",
-    "D_ggx_aniso",
-    "smith_lambda_ggx_aniso",
-    "sample_vndf_ggx",
-]
+__all__ = ["DISTRIBUTIONS", "NormalDistribution", "check_roughness_alpha", "check_distribution", "D", "D_ggx",
+           "D_beckmann", "smith_lambda", "G1", "G", "brdf_scale", "ggx_visibility", "D_ratio", "ggx_reflectance_factor_cos",
+           "D_ggx_aniso", "smith_lambda_ggx_aniso", "sample_vndf_ggx"]
 
 _TINY = 1e-12
 
@@ -88,28 +74,8 @@ def check_roughness_alpha(roughness_alpha) -> float:
     return a
 
 
-def check_distribution(name: str) -> str:
-    """The distribution's key (one of :data:`swatch.core.choices.DISTRIBUTIONS`), case-insensitive.
-
-    Parameters
-    ----------
-    name : str
-        A distribution's name; surrounding blanks and case are ignored.
-
-    Returns
-    -------
-    str
-        The lower-case key.
-
-    Raises
-    ------
-    SwatchError
-        For an unknown name.
-    """
-    key = str(name).strip().lower()
-    if key not in DISTRIBUTIONS:
-        raise SwatchError(f"unknown microfacet distribution {name!r}; use one of {', '.join(DISTRIBUTIONS)}")
-    return key
+#: The distribution's key (``DISTRIBUTIONS.validate``: case and blanks ignored; SwatchError naming the choices).
+check_distribution = DISTRIBUTIONS.validate
 
 
 def _tan2(cos_theta):
@@ -188,7 +154,7 @@ def D(cos_h, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
     numpy.ndarray, the shape of ``cos_h``
         ``D`` in sr⁻¹.
     """
-    return D_ggx(cos_h, roughness_alpha) if check_distribution(distribution) == "ggx" else D_beckmann(cos_h, roughness_alpha)
+    return DISTRIBUTIONS[distribution].D(cos_h, roughness_alpha)
 
 
 def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
@@ -208,16 +174,39 @@ def smith_lambda(cos_theta, roughness_alpha, distribution: str = "ggx") -> np.nd
     numpy.ndarray, the shape of ``cos_theta``
         ``Λ ≥ 0`` (dimensionless; 0 at normal incidence).
     """
-    t2, _ = _tan2(cos_theta)
+    return DISTRIBUTIONS[distribution].smith_lambda(cos_theta, roughness_alpha)
+
+
+def _smith_lambda_ggx(cos_theta, roughness_alpha) -> np.ndarray:
+    """GGX's exact Smith ``Λ`` (:func:`smith_lambda`)."""
     a = float(roughness_alpha)
-    if check_distribution(distribution) == "ggx":
-        return 0.5 * (np.sqrt(1.0 + a * a * t2) - 1.0)
-    tan_t = np.sqrt(t2)
-    x = 1.0 / np.maximum(a * tan_t, _TINY)  # a = 1 / (α tan θ)
+    return 0.5 * (np.sqrt(1.0 + a * a * _tan2(cos_theta)[0]) - 1.0)
+
+
+def _smith_lambda_beckmann(cos_theta, roughness_alpha) -> np.ndarray:
+    """Beckmann's Smith ``Λ`` (:func:`smith_lambda`), 0 where it underflows."""
+    x = 1.0 / np.maximum(float(roughness_alpha) * np.sqrt(_tan2(cos_theta)[0]), _TINY)  # a = 1 / (α tan θ)
     # For large x (near-normal directions) Λ underflows to 0; compute it where it is finite.
     xs = np.minimum(x, 30.0)
     lam = 0.5 * (erf(xs) - 1.0) + np.exp(-xs * xs) / (2.0 * xs * np.sqrt(np.pi))
     return np.where(x >= 30.0, 0.0, np.maximum(lam, 0.0))
+
+
+class NormalDistribution(NamedTuple):
+    """A distribution's functions, behind its name in :data:`swatch.core.choices.DISTRIBUTIONS`.
+
+    Attributes
+    ----------
+    D, smith_lambda : callable(cos, roughness_alpha) -> numpy.ndarray
+        ``D(h)`` (sr⁻¹) of ``cos θh`` and Smith's exact ``Λ`` (dimensionless) of ``cos θ``.
+    """
+
+    D: Callable[..., np.ndarray]
+    smith_lambda: Callable[..., np.ndarray]
+
+
+DISTRIBUTIONS.implement("ggx", NormalDistribution(D_ggx, _smith_lambda_ggx))
+DISTRIBUTIONS.implement("beckmann", NormalDistribution(D_beckmann, _smith_lambda_beckmann))
 
 
 def G1(cos_theta, cos_h_omega, roughness_alpha, distribution: str = "ggx") -> np.ndarray:
@@ -470,8 +459,7 @@ def sample_vndf_ggx(views, alpha_u: float, alpha_v: float, u1, u2):
 
     References
     ----------
-    E. Heitz (2018), "Sampling the GGX Distribution of Visible Normals", JCGT 7(4):1–13,
-    https://jcgt.org/published/0007/04/01/; M. Pharr, W. Jakob, G. Humphreys, *pbrt-v4* (2023), §9.6.4.
+    :cite:`Heitz2018`; :cite:`Pharr2023`, §9.6.4.
     """
     V = np.asarray(views, dtype=np.float64)
     au, av = float(alpha_u), float(alpha_v)

@@ -6,10 +6,8 @@ give the spectral reflectance of the facets that mirror the light into the view 
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eqs. 2–5, the half-vector model;
-   Table 2.
-.. [2] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999); §1.6.
+.. [1] :cite:`Fujii2019`: eqs. 2–5, the half-vector model; Table 2.
+.. [2] :cite:`Born1999`: §1.6.
 """
 from __future__ import annotations
 
@@ -180,7 +178,7 @@ class HalfVector:
 
         References
         ----------
-        H. Fujii et al., IEICE Trans. Inf. & Syst. J102-D (2019), eq. 5, doi:10.14923/transinfj.2018JDP7030.
+        :cite:`Fujii2019`, eq. 5.
         """
         geometry.check_light_view_deg(light_deg, view_deg)
         cos_d = geometry.cos_theta_d(light_deg, view_deg, light_azimuth_deg, view_azimuth_deg)
@@ -216,9 +214,7 @@ class Coating(HalfVector):
 
     References
     ----------
-    H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from
-    Fine Structure", IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030.
-    M. Born and E. Wolf, Principles of Optics, 7th ed., §1.6 (Airy's formula for one film).
+    :cite:`Fujii2019`; :cite:`Born1999`, §1.6 (Airy's formula for one film).
 
     Examples
     --------

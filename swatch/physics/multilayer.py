@@ -5,10 +5,8 @@ Airy's formula (:func:`swatch.physics.optics.film_reflectance`).
 
 References
 ----------
-.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999); §1.6.2–1.6.5, the
-   characteristic matrix of a stratified medium.
-.. [2] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of the ``tmm``
-   package, the independent reference the tests compare with.
+.. [1] :cite:`Born1999`: §1.6.2–1.6.5, the characteristic matrix of a stratified medium.
+.. [2] :cite:`Byrnes2016`: the formulation of the ``tmm`` package, the independent reference the tests compare with.
 """
 from __future__ import annotations
 

@@ -17,11 +17,10 @@ by broadcasting: no loops over thickness, angle or wavelength.
 
 References
 ----------
-.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999): §1.6, Airy's formula.
-.. [2] O. S. Heavens, *Optical Properties of Thin Solid Films*, Butterworths, London (1955); Dover reprint (1965).
-.. [3] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of ``tmm``, our reference.
-.. [4] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; eqs. 2–4.
+.. [1] :cite:`Born1999`: §1.6, Airy's formula.
+.. [2] :cite:`Heavens1955`.
+.. [3] :cite:`Byrnes2016`: the formulation of ``tmm``, our reference.
+.. [4] :cite:`Fujii2019`: eqs. 2–4.
 """
 from __future__ import annotations
 

@@ -6,10 +6,8 @@ fixed, and the half-vector model (:class:`swatch.physics.model.HalfVector`) appl
 
 References
 ----------
-.. [1] M. Born and E. Wolf, *Principles of Optics*, 7th ed., Cambridge University Press (1999); §1.6.5, stratified
-   media, the characteristic matrix.
-.. [2] S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (2016): the formulation of the ``tmm``
-   package, the independent reference the tests compare with.
+.. [1] :cite:`Born1999`: §1.6.5, stratified media, the characteristic matrix.
+.. [2] :cite:`Byrnes2016`: the formulation of the ``tmm`` package, the independent reference the tests compare with.
 """
 from __future__ import annotations
 

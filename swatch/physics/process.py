@@ -11,8 +11,7 @@ range-checked, and every error is one line naming the file.
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030: Table 2, titanium-fujii2019.
+.. [1] :cite:`Fujii2019`: Table 2, titanium-fujii2019.
 """
 from __future__ import annotations
 
@@ -36,7 +35,7 @@ from swatch.core.limits import (
     MIN_FILM_INDEX_SCALE,
     read_capped,
 )
-from swatch.physics.growth import thickness_to_voltage_V, voltage_text, voltage_to_thickness_nm
+from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
 from swatch.physics.materials import list_materials, tables_dir
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
 
@@ -251,22 +250,6 @@ class Process:
         if self.knee_V is None:
             return {}
         return {"knee_V": self.knee_V, "nm_per_V_above_knee": self.nm_per_V_above_knee}
-
-    @property
-    def growth_law_text(self) -> str:
-        """The growth law in words and numbers.
-
-        Returns
-        -------
-        str
-            E.g. ``0 nm + 2.032 nm/V``; ``no growth rate`` without one.
-        """
-        if self.nm_per_V is None:
-            return "no growth rate"
-        law = f"{self.offset_nm:g} nm + {self.nm_per_V:g} nm/V"
-        if self.knee_V is not None:
-            law += f" up to {voltage_text(self.knee_V)} V, then {self.nm_per_V_above_knee:g} nm/V"
-        return law
 
 
 def _fail(source: str, what: str) -> SwatchError:

@@ -7,11 +7,8 @@ specular direction. The paper's blue sample (Ra 268 nm) is rough: ``h`` spans 47
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2, the Rayleigh criterion applied to
-   the blue sample.
-.. [2] P. Beckmann and A. Spizzichino, *The Scattering of Electromagnetic Waves from Rough Surfaces*, Pergamon (1963);
-   the Rayleigh criterion.
+.. [1] :cite:`Fujii2019`: §2, the Rayleigh criterion applied to the blue sample.
+.. [2] :cite:`Beckmann1963`: the Rayleigh criterion.
 """
 from __future__ import annotations
 
@@ -49,7 +46,7 @@ def rayleigh_criterion(ra_nm: float) -> dict:
 
     References
     ----------
-    H. Fujii et al. (2019), §2, doi:10.14923/transinfj.2018JDP7030.
+    :cite:`Fujii2019`, §2.
     """
     if not np.isfinite(ra_nm) or ra_nm < 0 or ra_nm > MAX_RA_NM:
         raise SwatchError("`ra_nm` must be a roughness from 0 to 1e6 nm")

@@ -20,8 +20,7 @@ stay byte-identical.
 
 References
 ----------
-.. [1] H. Fujii et al., "Color of Oxide Layered Coating on Titanium Considering Interference from Fine Structure",
-   IEICE Trans. Inf. & Syst. J102-D (2019), doi:10.14923/transinfj.2018JDP7030; §2.3 and Fig. 7, the non-uniform film.
+.. [1] :cite:`Fujii2019`: §2.3 and Fig. 7, the non-uniform film.
 """
 from __future__ import annotations
 
@@ -66,7 +65,7 @@ class ThicknessSpread:
 
     References
     ----------
-    H. Fujii et al. (2019), §2.3, doi:10.14923/transinfj.2018JDP7030.
+    :cite:`Fujii2019`, §2.3.
     """
 
     spread_nm: float = 0.0

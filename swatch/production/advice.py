@@ -27,11 +27,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from swatch.physics.growth import voltage_text
+from swatch.production.finish import FinishSpec
 
-__all__ = ["EDGE_FRACTION", "ACTIONS", "OtherModel", "model_calibrated", "near_edge", "voltage_advice",
+__all__ = ["EDGE_FRACTION", "ACTIONS", "OtherModel", "near_edge", "voltage_advice",
            "not_a_thickness_error", "calibrate_first", "spec_notes"]
 
 #: A passing part is near the edge of the window past this fraction of the tolerance (its worst ΔE) or of
@@ -72,25 +71,6 @@ class OtherModel:
             Film on substrate.
         """
         return f"{self.film} on {self.substrate}"
-
-
-def model_calibrated(spec: dict) -> bool:
-    """Whether the spec's optical model was calibrated from the line's coupons (``swatch calibrate``).
-
-    Parameters
-    ----------
-    spec : dict
-        A checked spec.
-
-    Returns
-    -------
-    bool
-        ``spec["calibrated_model"]``; a spec written before that key: its voltage's basis.
-    """
-    if isinstance(spec.get("calibrated_model"), bool):
-        return bool(spec["calibrated_model"])
-    basis = spec["nominal"].get("voltage")
-    return isinstance(basis, dict) and basis.get("calibrated") is True
 
 
 def near_edge(worst_delta_E: float, bound: float, offset_nm: float, minus_nm, plus_nm) -> bool:
@@ -205,13 +185,13 @@ def calibrate_first(residual: float, metric: str, bound: float, other: OtherMode
             "before acting on this part")
 
 
-def spec_notes(spec: dict) -> list[str]:
+def spec_notes(spec: FinishSpec) -> list[str]:
     """What a finisher must know about the spec before acting on a check (one sentence each, first first).
 
     Parameters
     ----------
-    spec : dict
-        A checked spec.
+    spec : swatch.production.finish.FinishSpec
+        The spec.
 
     Returns
     -------
@@ -221,24 +201,21 @@ def spec_notes(spec: dict) -> list[str]:
         calibrated line's (the corrections' direction holds, their size is that rate's).
     """
     notes = []
-    if not model_calibrated(spec):
-        notes.append(f"the spec was made on the profile {spec['process'].get('process')}, which is not calibrated "
+    if not spec.calibrated_model:
+        notes.append(f"the spec was made on the profile {spec.model.process}, which is not calibrated "
                      "for this line: its colours away from 45:0 are predictions of an uncalibrated model, so a part "
                      "can differ from them without any fault of the shop; calibrate the line from its test coupons "
                      "(swatch calibrate coupons.csv --out line.toml) and re-issue the spec on it (swatch spec with "
                      "--process line.toml)")
-    reach = spec.get("reach")
-    if isinstance(reach, dict) and reach.get("within_tolerance") is False:
-        dE = reach.get("delta_E")  # read back from a file: said only as a number in the tolerance's metric
-        far = (f"{spec['_tolerance'].metric} {float(dE):g}" if isinstance(dE, (int, float)) and np.isfinite(dE)
-               else "too far")
+    reach = spec.reach
+    if reach is not None and reach.within_tolerance is False:
+        far = f"{spec.tolerance.metric} {reach.delta_E:g}" if reach.delta_E is not None else "too far"
         notes.append(f"the spec's target was out of reach ({far} from the closest colour) and the closest colour "
-                     + ("was accepted deliberately" if reach.get("accepted_closest") else "was NOT accepted")
+                     + ("was accepted deliberately" if reach.accepted_closest else "was NOT accepted")
                      + ": parts are judged against that closest colour, not the target")
-    basis = spec["nominal"].get("voltage")
-    rate = spec["process"].get("nm_per_V")
-    if rate and isinstance(basis, dict) and basis.get("calibrated") is False:
-        kind = basis.get("basis") if basis.get("basis") in ("preset", "given", "profile") else "not calibrated"
-        notes.append(f"voltages use the spec's growth rate ({float(rate):g} nm/V, {kind}), not a calibrated "
+    rate = spec.model.nm_per_V
+    if rate and spec.voltage_calibrated is False:
+        kind = spec.voltage_basis if spec.voltage_basis in ("preset", "given", "profile") else "not calibrated"
+        notes.append(f"voltages use the spec's growth rate ({rate:g} nm/V, {kind}), not a calibrated "
                      "line: a correction's direction holds, its size is only as good as that rate")
     return notes

@@ -1,4 +1,4 @@
-"""The one-page PDF spec card of ``swatch spec`` (reportlab), from the spec.json dictionary.
+"""The one-page PDF spec card of ``swatch spec`` (reportlab), from the spec's spec.json document.
 
 reportlab draws the page directly (no HTML engine or system fonts, a pure-Python wheel), and its
 ``invariant`` mode leaves out the creation date and document id, so a rerun writes the same bytes.
@@ -17,6 +17,7 @@ from reportlab.pdfgen import canvas
 
 from swatch.colorimetry.geometry import Geometry
 from swatch.physics.growth import voltage_text
+from swatch.production.finish import FinishSpec
 from swatch.production.spec import same_geometry
 
 __all__ = ["write_spec_card", "how_to_measure", "PRINT_NOTE"]
@@ -132,14 +133,14 @@ def how_to_measure(spec: dict) -> str:
             "table above; swatch check (swatch check FILE --spec spec.json) is one way to judge them.")
 
 
-def write_spec_card(spec: dict, path: Path) -> None:
+def write_spec_card(spec: FinishSpec, path: Path) -> None:
     """Draw the one-page PDF spec card (A4, reportlab, invariant: the same spec gives the same bytes).
 
     Parameters
     ----------
-    spec : dict
-        The spec.json dictionary (:func:`swatch.production.spec.finish_spec`); every number is printed
-        as spec.json writes it.
+    spec : swatch.production.finish.FinishSpec
+        The spec (:func:`swatch.production.spec.finish_spec`); every number is printed as its spec.json
+        document writes it.
     path : pathlib.Path
         The PDF to write (the caller makes it atomic and checks it is new).
 
@@ -147,20 +148,21 @@ def write_spec_card(spec: dict, path: Path) -> None:
     -------
     None
     """
+    doc = spec.document
     c = canvas.Canvas(str(path), pagesize=A4, invariant=1, pageCompression=1)
     c.setTitle("Finish specification")
     c.setAuthor("swatch (anodic-swatch)")
     W, H = A4
     left, y = 16 * _MM, H - 18 * _MM
-    col = spec["colorimetry"]
-    nom, pw, tol, proc = spec["nominal"], spec["process_window"], spec["tolerance"], spec["process"]
-    tgt = spec["target"]
+    col = doc["colorimetry"]
+    nom, pw, tol, proc = doc["nominal"], doc["process_window"], doc["tolerance"], doc["process"]
+    tgt = doc["target"]
 
     c.setFillColor(_INK)
     c.setFont("Helvetica-Bold", 15)
     c.drawString(left, y, "Finish specification — anodised colour")
     c.setFont("Helvetica", 8)
-    c.drawRightString(W - left, y, f"spec format {spec['swatch_spec']} · swatch {spec['provenance']['swatch_version']}")
+    c.drawRightString(W - left, y, f"spec format {doc['swatch_spec']} · swatch {doc['provenance']['swatch_version']}")
     y -= 16
     c.setFont("Helvetica", 9.5)
     obs = f"{col['illuminant']}, {col['observer']}° observer"
@@ -190,7 +192,7 @@ def write_spec_card(spec: dict, path: Path) -> None:
         y = _wrapped(c, left + 104, y, vb["note"] + ".", 9, W - 2 * left - 104)
         y -= 2
     c.setFont("Helvetica", 9)
-    reach = spec.get("reach")
+    reach = doc.get("reach")
     if reach is not None:
         ok = "within" if reach["within_tolerance"] else "NOT within"
         where = reach["colorimetry"]["geometry"]
@@ -210,12 +212,12 @@ def write_spec_card(spec: dict, path: Path) -> None:
 
     # chips: the target's own (a colour target), the nominal's reference (large), the multi-angle row
     y -= 64
-    ref = spec["reference"]
+    ref = doc["reference"]
     x = left
     if tgt.get("srgb_hex"):
         _chip(c, x, y, 60, 60, tgt["srgb_hex"], "target" + ("" if tgt.get("srgb_in_gamut", True) else " (outside sRGB)"))
         x += 66
-    rows, names = _table_rows(spec)
+    rows, names = _table_rows(doc)
     _chip(c, x, y, 60, 60, ref["srgb_hex"], f"nominal {names[0]}")
     x += 80
     for e, name in zip(rows[1:], names[1:], strict=True):
@@ -243,7 +245,7 @@ def write_spec_card(spec: dict, path: Path) -> None:
                           f"{col['observer']}° observer; {col['model']}; ASTM E2194 / E2539 angles.")
     c.setFillColor(_INK)
     y -= 16
-    fl = spec["flop"]
+    fl = doc["flop"]
     c.setFont("Helvetica", 9)
     c.drawString(left, y, f"Flop (angle-to-angle ΔE00, light {_s(fl['light_deg'])}°, view {_s(fl['view_a_deg'])}° vs "
                           f"{_s(fl['view_b_deg'])}°): {_s(fl['delta_E_00'])}")
@@ -273,11 +275,11 @@ def write_spec_card(spec: dict, path: Path) -> None:
     y -= 11
     for line in (f"{proc['process']} ({proc['process_origin']}): {proc['film']} on {proc['substrate']}",
                  more,
-                 f"Finish roughness {_s(spec['finish']['roughness'])} (GGX): {spec['finish']['note']}."):
+                 f"Finish roughness {_s(doc['finish']['roughness'])} (GGX): {doc['finish']['note']}."):
         y = _wrapped(c, left, y, line, 8.5, W - 2 * left)  # a calibrated line's parameters take two lines
     c.setFont("Helvetica", 7)
     c.setFillColor(_MUTED)
-    for key, text in spec.get("process_sources", {}).items():  # every source whole, wrapped
+    for key, text in doc.get("process_sources", {}).items():  # every source whole, wrapped
         y = _wrapped(c, left, y, f"{key}: {text}", 7, W - 2 * left)
     c.setFillColor(_INK)
     y -= 9
@@ -285,7 +287,7 @@ def write_spec_card(spec: dict, path: Path) -> None:
     c.drawString(left, y, "How to measure")
     c.setFont("Helvetica", 8.5)
     y -= 11
-    y = _wrapped(c, left, y, how_to_measure(spec), 8.5, W - 2 * left) + 11
+    y = _wrapped(c, left, y, how_to_measure(doc), 8.5, W - 2 * left) + 11
     y -= 16
     c.setFont("Helvetica-Oblique", 8.5)
     cut = PRINT_NOTE.rfind(" ", 0, 112)

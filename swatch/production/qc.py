@@ -33,9 +33,8 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter, srgb_hex
 from swatch.colorimetry.observers import LAB_CHIP_CONVENTION, document_Lab_display
-from swatch.colorimetry.tolerance import get_tolerance
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_INSTRUMENT_GEOMETRIES, MAX_SPEC_BYTES, MAX_THICKNESS_NM, read_text_capped
+from swatch.core.limits import MAX_SPEC_BYTES, read_text_capped
 from swatch.fit.fitting import sweep_reflectance, unique_geometry
 from swatch.fit.result import colour_grid, interp_rows
 from swatch.io.instruments import InstrumentFile
@@ -45,16 +44,10 @@ from swatch.physics.growth import thickness_to_voltage_V
 from swatch.physics.materials import table_pairs, wavelength_grid
 from swatch.physics.model import get_coating
 from swatch.physics.spread import ThicknessSpread
-from swatch.production.advice import (
-    OtherModel,
-    calibrate_first,
-    model_calibrated,
-    near_edge,
-    not_a_thickness_error,
-    voltage_advice,
-)
+from swatch.production.advice import OtherModel, calibrate_first, near_edge, not_a_thickness_error, voltage_advice
+from swatch.production.finish import FinishSpec, SpecGeometry
 
-__all__ = ["load_spec_json", "check_spec", "check_file", "judged_names", "fit_thickness_Lab", "other_models",
+__all__ = ["load_spec_json", "check_file", "fit_thickness_Lab", "other_models",
            "FIT_SPAN_NM", "SCREEN_STEP_NM", "GEOMETRY_MATCH_DEG"]
 
 #: The thickness fit searches the nominal ± this (nm).
@@ -73,7 +66,7 @@ SCREEN_STEP_NM = 0.1
 GEOMETRY_MATCH_DEG = 0.5
 
 
-def load_spec_json(path) -> dict:
+def load_spec_json(path) -> FinishSpec:
     """Read and check a spec.json written by ``swatch spec`` (untrusted: size-capped, keys checked).
 
     Parameters
@@ -83,8 +76,8 @@ def load_spec_json(path) -> dict:
 
     Returns
     -------
-    dict
-        The spec, checked by :func:`check_spec` (with its ``_tolerance``).
+    swatch.production.finish.FinishSpec
+        The spec, checked by :meth:`swatch.production.finish.FinishSpec.from_json`.
 
     Raises
     ------
@@ -93,93 +86,19 @@ def load_spec_json(path) -> dict:
     """
     text = read_text_capped(Path(path), MAX_SPEC_BYTES, "spec", "JSON", str(path))
     try:
-        spec = json.loads(text)
+        document = json.loads(text)
     except (json.JSONDecodeError, RecursionError):
         raise SwatchError(f"{path}: not valid JSON; give the spec.json that swatch spec wrote") from None
-    return check_spec(spec, str(path))
+    return FinishSpec.from_json(document, str(path))
 
 
-def check_spec(spec, path: str = "spec") -> dict:
-    """Check a spec dictionary and attach its tolerance (``_tolerance``).
-
-    Parameters
-    ----------
-    spec : dict
-        From a spec.json, or made by :func:`swatch.production.spec.finish_spec`.
-    path : str
-        Names the spec in messages.
-
-    Returns
-    -------
-    dict
-        ``spec`` itself, with ``_tolerance`` (:class:`swatch.colorimetry.tolerance.Tolerance`) added.
-
-    Raises
-    ------
-    swatch.core.errors.SwatchError
-        A key is missing, the layout is not 1, or a number is not finite or out of range (thickness
-        0 to :data:`swatch.core.limits.MAX_THICKNESS_NM` nm, rate > 0).
-    """
-    need = ("swatch_spec", "nominal", "colorimetry", "reference", "multi_angle", "tolerance", "process")
-    if not isinstance(spec, dict) or any(k not in spec for k in need):
-        raise SwatchError(f"{path}: not a swatch spec.json (keys {', '.join(need)} expected)")
-    if spec["swatch_spec"] != 1:
-        raise SwatchError(f"{path}: spec layout {spec['swatch_spec']!r}; this swatch reads layout 1")
-    try:
-        tol = spec["tolerance"]
-        spec["_tolerance"] = get_tolerance(metric=tol["metric"], max=tol["max"])
-        values = [float(spec["nominal"]["thickness_nm"])]
-        rate = spec["process"].get("nm_per_V")
-        values += [] if rate is None else [float(rate)]
-        if not isinstance(spec.get("angles", []), list) or len(spec.get("angles", [])) > MAX_INSTRUMENT_GEOMETRIES:
-            raise ValueError
-        for e in _spec_geometries(spec):
-            values += [float(e["light_deg"]), float(e["view_deg"]), *(float(v) for v in e["Lab"])]
-            if e["view_side"] not in ("opposite", "light") or len(e["Lab"]) != 3 or str(e["geometry"]) == "":
-                raise ValueError
-        names = {str(e["geometry"]) for e in _spec_geometries(spec)}
-        if not all(isinstance(n, str) and n in names for n in judged_names(spec)):
-            raise ValueError
-        if not all(np.isfinite(values)) or not 0 <= values[0] <= MAX_THICKNESS_NM or (rate is not None and rate <= 0):
-            raise ValueError
-    except (KeyError, TypeError, ValueError):
-        raise SwatchError(f"{path}: a value of the spec is missing, not a finite number or out of range; give the "
-                          "spec.json that swatch spec wrote") from None
-    return spec
-
-
-def _spec_geometries(spec: dict):
-    return [spec["reference"], *spec["multi_angle"], *spec.get("angles", [])]
-
-
-def judged_names(spec: dict) -> list[str]:
-    """The geometries a spec's tolerance is judged at, by the names of its entries.
-
-    Parameters
-    ----------
-    spec : dict
-        A spec (from spec.json: untrusted until :func:`check_spec` accepts it).
-
-    Returns
-    -------
-    list of str
-        ``tolerance.geometries``; a spec written before that key: the reference geometry's name.
-    """
-    names = spec["tolerance"].get("geometries")
-    if names is None:
-        return [str(spec["reference"]["geometry"])]
-    if not isinstance(names, list) or not 1 <= len(names) <= MAX_INSTRUMENT_GEOMETRIES:
-        raise ValueError
-    return names
-
-
-def _match_geometry(spec, light, view, same_side, source, sample_id) -> dict:
-    for e in _spec_geometries(spec):
-        side_ok = (e["view_side"] == "light") == bool(same_side) or (float(e["view_deg"]) == 0.0 and view == 0.0)
-        if abs(e["light_deg"] - light) <= GEOMETRY_MATCH_DEG and abs(e["view_deg"] - view) <= GEOMETRY_MATCH_DEG \
+def _match_geometry(spec: FinishSpec, light, view, same_side, source, sample_id) -> SpecGeometry:
+    for g in spec.geometries:
+        side_ok = (g.view_side == "light") == bool(same_side) or (g.view_deg == 0.0 and view == 0.0)
+        if abs(g.light_deg - light) <= GEOMETRY_MATCH_DEG and abs(g.view_deg - view) <= GEOMETRY_MATCH_DEG \
                 and side_ok:
-            return e
-    names = ", ".join(e["geometry"] for e in _spec_geometries(spec))
+            return g
+    names = ", ".join(g.name for g in spec.geometries)
     raise SwatchError(f"{source}: sample {sample_id!r} is measured at light {light:g}° view {view:g}°"
                       f"{' (light side)' if same_side else ''}, a geometry the spec does not give ({names})")
 
@@ -290,15 +209,15 @@ def _argmin_delta_E_by_chunks(Lab_meas: np.ndarray, candidates, per_part: int) -
     return out
 
 
-def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
+def check_file(f: InstrumentFile, spec: FinishSpec) -> list[dict]:
     """Judge every sample of a measurement file against a spec (see the module docstring).
 
     Parameters
     ----------
     f : swatch.io.instruments.InstrumentFile
         CIELAB or spectra of P samples, at the same geometries in every sample.
-    spec : dict
-        A checked spec (:func:`check_spec`).
+    spec : swatch.production.finish.FinishSpec
+        The spec.
 
     Returns
     -------
@@ -322,14 +241,14 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
         The file's CIELAB is under another illuminant or observer than the spec's, or a sample is
         measured at a geometry the spec does not give.
     """
-    col, proc, tol = spec["colorimetry"], spec["process"], spec["_tolerance"]
-    ill, obs = col["illuminant"], col["observer"]
-    d0 = float(spec["nominal"]["thickness_nm"])
-    rate = proc.get("nm_per_V")
+    model, tol = spec.model, spec.tolerance
+    ill, obs = spec.illuminant, spec.observer
+    d0 = spec.thickness_nm
+    rate = model.nm_per_V
     lo, hi = max(0.0, d0 - FIT_SPAN_NM), d0 + FIT_SPAN_NM
-    spread = ThicknessSpread(float(proc.get("spread_nm", 0.0)), float(proc.get("spread_fraction", 0.0)))
-    coating = get_coating(proc["film"], proc["substrate"], wavelength_grid(380.0, 780.0, 5.0),
-                          float(proc["film_index_scale"]), spread)
+    spread = ThicknessSpread(model.spread_nm, model.spread_fraction)
+    coating = get_coating(model.film, model.substrate, wavelength_grid(380.0, 780.0, 5.0), model.film_index_scale,
+                          spread)
     cm = get_colorimeter(coating.wavelength_nm, ill, obs)
     if f.kind == "colour" and (f.illuminant.upper(), str(f.observer)) != (str(ill).upper(), str(obs)):
         raise SwatchError(f"{f.source}: its CIELAB is under {f.illuminant}/{f.observer}°, the spec's under "
@@ -358,20 +277,19 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
     hex_all = np.asarray(srgb_hex(enc_all.reshape(-1, 3))).reshape(enc_all.shape[:2])
     d_fit, Lab_model = fit_thickness_Lab(Lab_all, m0.light_deg, m0.view_deg, same, coating, cm, lo, hi)
     residual_all = np.atleast_2d(tol.delta_E(Lab_all, Lab_model))  # (P, G), the tolerance's metric
-    ref = np.array([t["Lab"] for t in targets], dtype=np.float64)
+    ref = np.array([t.Lab for t in targets], dtype=np.float64)
     dE_all = np.atleast_2d(tol.delta_E(Lab_all, np.broadcast_to(ref, Lab_all.shape)))
 
-    def volts(x: float) -> float:  # the spec's growth law (one or two slopes)
-        return float(thickness_to_voltage_V(x, float(rate), float(proc.get("offset_nm", 0.0)), proc.get("knee_V"),
-                                            proc.get("nm_per_V_above_knee")))
+    def volts(x: float) -> float:  # the spec's growth law (one or two slopes); asked only with a growth rate
+        assert rate is not None
+        return float(thickness_to_voltage_V(x, rate, model.offset_nm, model.knee_V, model.nm_per_V_above_knee))
 
     def per_geometry(values, nd: int) -> dict:
-        return {t["geometry"]: round(float(v), nd) for t, v in zip(targets, values, strict=True)}
+        return {t.name: round(float(v), nd) for t, v in zip(targets, values, strict=True)}
 
-    measured_names = {t["geometry"] for t in targets}
-    unmeasured = [n for n in judged_names(spec) if n not in measured_names]
-    window = spec.get("process_window", {})
-    calibrated = model_calibrated(spec)
+    measured_names = {t.name for t in targets}
+    unmeasured = [n for n in spec.judged if n not in measured_names]
+    calibrated = spec.calibrated_model
     worst_res_all = residual_all.max(axis=1)
     # an uncalibrated spec's model that leaves a part unexplained is screened against the other shipped models
     suspects = np.flatnonzero(worst_res_all > tol.max) if not calibrated else np.array([], dtype=np.intp)
@@ -388,8 +306,7 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
         explains = worst_res <= tol.max and not on_edge
         within = bool(np.all(dE <= tol.max))
         other = others.get(i)
-        edge = within and near_edge(float(dE.max()), tol.max, d - d0, window.get("thickness_minus_nm"),
-                                    window.get("thickness_plus_nm"))
+        edge = within and near_edge(float(dE.max()), tol.max, d - d0, spec.window_minus_nm, spec.window_plus_nm)
         reason: str | None
         if worst_res > tol.max and other is not None and other.residual <= tol.max:
             action, reason = "calibrate", calibrate_first(worst_res, tol.metric, tol.max, other)
@@ -414,17 +331,17 @@ def check_file(f: InstrumentFile, spec: dict) -> list[dict]:
         if advice is not None and action == "centre":
             advice = f"near the edge of the window: {advice} to centre it"
         out.append({
-            "srgb_hex": {t["geometry"]: str(h) for t, h in zip(targets, hexes, strict=True)},
-            "srgb_in_gamut": {t["geometry"]: bool(g) for t, g in zip(targets, in_gamut, strict=True)},
+            "srgb_hex": {t.name: str(h) for t, h in zip(targets, hexes, strict=True)},
+            "srgb_in_gamut": {t.name: bool(g) for t, g in zip(targets, in_gamut, strict=True)},
             "srgb_from": "measured spectra (CIE 1931 2°)" if isinstance(s.measurement, SpectralMeasurement)
             else f"measured CIELAB ({ill}, {obs}°): {LAB_CHIP_CONVENTION}",
             "id": s.id, "source": f.source,
             "pass": within and not unmeasured, "unmeasured": unmeasured,
             "delta_E": per_geometry(dE, 3),
             "max_delta_E": round(float(dE.max()), 3), "metric": tol.metric,
-            "Lab": {t["geometry"]: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
+            "Lab": {t.name: [round(float(v), 3) for v in lab] for t, lab in zip(targets, Lab, strict=True)},
             # measured − specified: which way the part is off (darker, redder, yellower …) at each geometry
-            "delta_Lab": {t["geometry"]: [round(float(v), 3) for v in lab - np.asarray(t["Lab"])]
+            "delta_Lab": {t.name: [round(float(v), 3) for v in lab - np.asarray(t.Lab)]
                           for t, lab in zip(targets, Lab, strict=True)},
             "thickness_nm": round(d, 2), "thickness_offset_nm": round(d - d0, 2),
             # the part against the model at its best-fit thickness: what no thickness explains

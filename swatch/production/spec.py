@@ -30,6 +30,7 @@ from swatch.core.errors import SwatchError
 from swatch.core.version import __version__
 from swatch.fit.matching import match_colour
 from swatch.fit.multi_match import match_angles
+from swatch.production.finish import FinishSpec
 
 __all__ = ["SPEC_VERSION", "FLOP_VIEWS_DEG", "REFERENCE", "multi_angle_geometries", "judged_geometries", "same_geometry",
            "finish_spec", "voltage_basis", "ROUGHNESS_NOTE"]
@@ -197,8 +198,8 @@ def voltage_basis(proc) -> dict:
 
 def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "D65", observer: str = "10",
                 wavelength_nm=None, roughness: float | None = None, thickness_range=(0.0, 400.0),
-                angles=None, accept_closest: bool = False) -> dict:
-    """The spec.json dictionary for ``target`` on the process profile ``proc``.
+                angles=None, accept_closest: bool = False) -> FinishSpec:
+    """The finish specification for ``target`` on the process profile ``proc``.
 
     Parameters
     ----------
@@ -225,8 +226,8 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
 
     Returns
     -------
-    dict
-        Stable keys, documented in the README (``spec.json``).
+    swatch.production.finish.FinishSpec
+        The spec; its ``document`` is spec.json's (stable keys, docs/file-formats.md).
     """
     coating = proc.coating(wavelength_nm)
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)
@@ -306,7 +307,7 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
             enc, ok = document_Lab_display(np.asarray(target["Lab"], dtype=np.float64), cm)
             target_out.update(srgb_hex=str(srgb_hex(enc)), srgb_in_gamut=bool(ok))
     n_given = 1 + len(multi)
-    return {
+    document = {
         "swatch_spec": SPEC_VERSION,
         "target": target_out,
         "nominal": {"thickness_nm": _r(d, 1), "voltage_V": _r(v_nom, 1), "voltage": voltage_basis(proc)},
@@ -341,3 +342,4 @@ def finish_spec(target: dict, proc, tolerance: Tolerance, *, illuminant: str = "
         "finish": {"roughness": None if roughness is None else float(roughness), "note": ROUGHNESS_NOTE},
         "provenance": {"swatch_version": __version__},
     }
+    return FinishSpec.from_json(document, "the spec")

@@ -130,9 +130,7 @@ def angular_map(thickness_nm: float, light_deg=DEFAULT_ANGLES_DEG, view_deg=DEFA
 
     References
     ----------
-    H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, Fig. 5 and 11.
-    B. Walter et al., "Microfacet models for refraction through rough surfaces", EGSR 2007,
-    doi:10.2312/EGWR/EGSR07/195-206.
+    :cite:`Fujii2019`, Fig. 5 and 11; :cite:`Walter2007`.
     """
 
     d = float(check_thickness_nm(float(thickness_nm)))

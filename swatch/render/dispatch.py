@@ -19,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Unpack
 
+from swatch.core.choices import ENGINES
 from swatch.core.errors import SwatchError
 from swatch.core.procguard import signals_held
 from swatch.core.version import __version__
@@ -28,7 +29,8 @@ from swatch.render.metadata import common_metadata
 from swatch.render.pointlight import render_pointlight
 from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
-__all__ = ["ENGINES", "Engine", "render_builtin", "render_swatch", "engine_unavailable", "engine_version", "studio_lightmap"]
+__all__ = ["ENGINES", "Engine", "render_builtin", "render_swatch", "engine_unavailable", "engine_version", "set_engine_threads",
+           "studio_lightmap"]
 
 #: An engine: a checked request and an optional progress callback in, a :class:`SwatchImage` out.
 Engine = Callable[[RenderRequest, Progress | None], SwatchImage]
@@ -116,6 +118,26 @@ def engine_version(engine: str) -> str:
     return str(_mitsuba_engine().mi.__version__)
 
 
+def set_engine_threads(engine: str, threads: int) -> None:
+    """The number of threads an engine renders with, for the whole process (Mitsuba: Dr.Jit's thread pool; the
+    built-in engine's NumPy needs none): a cluster's worker gives it the cores Dask gave the worker.
+
+    Parameters
+    ----------
+    engine : str
+        A name of :data:`ENGINES`.
+    threads : int
+        Threads, at least 1.
+
+    Returns
+    -------
+    None
+        Returns when set.
+    """
+    if engine == "mitsuba":
+        _mitsuba_engine().dr.set_thread_count(max(1, int(threads)))
+
+
 def studio_lightmap(shape: str, mesh=None) -> tuple:
     """The path tracer's studio set baked around ``shape`` (:func:`swatch.render.mitsuba.bake.cyclorama_lightmap`:
     the cyclorama's radiance with the object's shadow, and what the object throws onto it); Mitsuba loads here.
@@ -139,8 +161,9 @@ def studio_lightmap(shape: str, mesh=None) -> tuple:
     return bake.cyclorama_lightmap(shape, mesh)
 
 
-#: The engines by name (the keys are :data:`swatch.core.choices.ENGINES`).
-ENGINES: dict[str, Engine] = {"builtin": render_builtin, "mitsuba": _render_mitsuba}
+# The engines by name: swatch.core.choices.ENGINES (names, descriptions) holds each function, registered here.
+ENGINES.implement("builtin", render_builtin)
+ENGINES.implement("mitsuba", _render_mitsuba)
 
 
 def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress: Progress | None = None,
@@ -163,7 +186,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
         The request's keywords (:class:`swatch.render.request.RenderOptions`):
 
         light_deg : float
-            Polar angle of the builtin engine's point light, degrees from the normal (default 45).
+            Polar angle of the builtin engine's point light (``environment='point'`` only), degrees from the
+            normal (default :data:`swatch.core.choices.DEFAULT_LIGHT_DEG`, 45).
         roughness_alpha : float or (float, float)
             Microfacet roughness α (GGX or Beckmann), dimensionless, 0.001 to 1 (default 0.3); mitsuba also
             takes (α_u, α_v).
@@ -182,8 +206,9 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
         environment
             The lighting: a :class:`swatch.render.lighting.Lighting` resolved for ``engine`` (reuse one
             across thicknesses), or what :func:`swatch.render.lighting.resolve_lighting` takes (a name, a
-            map's path, an :class:`swatch.render.environment.Environment`). None: builtin's point light,
-            mitsuba's studio.
+            map's path, an :class:`swatch.render.environment.Environment`). None: the engine's default,
+            :func:`swatch.render.lighting.default_environment` (the studio; the point light for the paper
+            model or the Beckmann distribution), as ``swatch render`` without ``--environment``.
         background : str, optional
             ``grey``, ``white`` or (with an environment) ``environment``; default grey (mitsuba under
             studio and sun: environment, the only choice there).
@@ -198,8 +223,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
         engine : str
             ``builtin`` (default) or ``mitsuba`` (:data:`swatch.core.choices.ENGINES`).
         spp, seed : int
-            mitsuba: samples per pixel (default 64) and the seed (default 0; the same values give
-            byte-identical images).
+            mitsuba: samples per pixel (default :data:`swatch.core.choices.DEFAULT_SPP`, 64) and the seed
+            (default 0; the same values give byte-identical images).
         sun : swatch.render.lighting.Sun, optional
             mitsuba: the sun of ``environment="sun"``.
         exposure : float, optional
@@ -225,7 +250,8 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
     Raises
     ------
     swatch.core.errors.SwatchError
-        For an input out of range, naming its parameter (before anything is rendered).
+        For an input out of range, naming its parameter, or an option given where it would change nothing
+        (``light_deg`` without the point light, ``spp`` on the builtin engine; before anything is rendered).
     """
     request = render_request(thickness_nm, shape, size_px, **options)
     return ENGINES[request.engine](request, progress)

@@ -62,10 +62,10 @@ def check_env_size_px(size_px: int) -> int:
     """
     if int(size_px) < MIN_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at least {MIN_ENV_RENDER_PX} pixels per side (got "
-                          f"{int(size_px)}); use a larger `size_px`, or `environment=None`")
+                          f"{int(size_px)}); use a larger `size_px`, or `environment='point'`")
     if int(size_px) > MAX_ENV_RENDER_PX:
         raise SwatchError(f"environment-lit renders are at most {MAX_ENV_RENDER_PX} pixels per side (memory); "
-                          "use a smaller `size_px`, or `environment=None`")
+                          "use a smaller `size_px`, or `environment='point'`")
     return int(size_px)
 
 

@@ -125,8 +125,7 @@ class SampleSet:
 
     References
     ----------
-    E. Heitz (2018), JCGT 7(4), https://jcgt.org/published/0007/04/01/ (visible-normal sampling);
-    J. Křivánek, M. Colbert (2008), Computer Graphics Forum 27(4):1147–1154, EGSR 2008 (filtered importance sampling).
+    :cite:`Heitz2018` (visible-normal sampling); :cite:`Krivanek2008` (filtered importance sampling).
     """
 
     def __init__(self, roughness_alpha: float, n: int = SAMPLES, bins: int = VIEW_BINS, dense: int = DENSE_SAMPLES):

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from swatch.core.choices import ENVIRONMENTS
+from swatch.core.choices import POINT_LIGHT, lightings_of
 from swatch.core.errors import SwatchError
 from swatch.render.hdri import MAP_RES, equirect_to_octa, read_equirect
 from swatch.render.octahedral import (
@@ -47,7 +47,6 @@ from swatch.render.studio_set import set_radiance
 
 __all__ = [
     "BUILTIN",
-    "ENVIRONMENT_CHOICES",
     "LEVELS",
     "Environment",
     "get_environment",
@@ -55,9 +54,9 @@ __all__ = [
     "set_environment",
 ]
 
-#: Built-in environments (``none`` = no environment: the single directional light).
-ENVIRONMENT_CHOICES = ENVIRONMENTS
-BUILTIN = tuple(e for e in ENVIRONMENTS if e != "none")
+#: The built-in environments: the lightings of :data:`swatch.core.choices.LIGHTINGS` that the built-in engine
+#: renders as a map (all its lightings but the point light).
+BUILTIN = tuple(n for n in lightings_of("builtin") if n != POINT_LIGHT)
 _REC709_Y = np.array([0.2126, 0.7152, 0.0722])
 
 
@@ -284,18 +283,18 @@ def _builtin(name: str) -> Environment:
 
 
 def get_environment(name_or_path) -> Environment | None:
-    """An environment by name or file: None for ``none``, a built-in, or a user's map.
+    """An environment by name or file: None for ``point``, a built-in, or a user's map.
 
     Parameters
     ----------
     name_or_path : str, path-like or Environment
-        ``none``, ``uniform``, ``studio``, or the path of an equirectangular EXR (y up, Rec.709
+        ``point``, ``uniform``, ``studio``, or the path of an equirectangular EXR (y up, Rec.709
         primaries, at most ``MAX_ENV_PIXELS``; checked from its header before pixels are read).
 
     Returns
     -------
     Environment or None
-        Normalised so that a white diffuser facing up reflects 1.0; None for ``none`` (the point light).
+        Normalised so that a white diffuser facing up reflects 1.0; None for ``point`` (the point light).
 
     Raises
     ------
@@ -303,12 +302,12 @@ def get_environment(name_or_path) -> Environment | None:
         For an unknown name, or a file that is not a usable map (one line, what is allowed).
     """
     key = str(name_or_path).strip()
-    if key.lower() == "none":
+    if key.lower() == POINT_LIGHT:
         return None
     if key.lower() in BUILTIN:
         return _builtin(key.lower())
     if not key.lower().endswith((".exr", ".hdr")):
-        raise SwatchError(f"unknown environment {key!r}; use one of {', '.join(ENVIRONMENT_CHOICES)} "
+        raise SwatchError(f"unknown environment {key!r}; use one of {POINT_LIGHT}, {', '.join(BUILTIN)} "
                           "or an equirectangular .exr or .hdr file")
     img = read_equirect(key)
     octa = equirect_to_octa(img)

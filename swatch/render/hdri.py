@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 
-from swatch.core.choices import ENVIRONMENTS
+from swatch.core.choices import lightings_of
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_ENV_FILE_BYTES, MAX_ENV_PIXELS, MAX_ENV_SIDE
 from swatch.render.octahedral import octa_encode, texel_directions
@@ -49,7 +49,7 @@ def read_equirect(path) -> np.ndarray:
     p = Path(path)
     if not p.is_file():
         raise SwatchError(f"environment map {str(p)!r} is not a file; give an equirectangular .exr or .hdr "
-                          f"or one of {', '.join(ENVIRONMENTS)}")
+                          f"or one of {', '.join(lightings_of('builtin'))}")
     if p.stat().st_size > MAX_ENV_FILE_BYTES:
         raise SwatchError(f"environment map {p.name!r} is larger than {MAX_ENV_FILE_BYTES >> 20} MiB")
     inp = oiio.ImageInput.open(str(p))

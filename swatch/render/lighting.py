@@ -3,7 +3,7 @@
 :func:`resolve_lighting` reads a render's ``environment`` for an engine and checks it (and the
 camera, the size and the background it implies) before anything is rendered:
 
-* ``builtin`` (:mod:`swatch.render.env_render`, :mod:`swatch.render.pointlight`): ``none`` (one
+* ``builtin`` (:mod:`swatch.render.env_render`, :mod:`swatch.render.pointlight`): ``point`` (one
   directional light; the default unless the model is the GGX microfacet one), ``studio`` (the
   built-in studio map, the default), ``uniform``, or an equirectangular ``.exr``/``.hdr`` map,
   resolved into an :class:`swatch.render.environment.Environment` (normalised: a white diffuser
@@ -12,6 +12,9 @@ camera, the size and the background it implies) before anything is rendered:
   cyclorama and soft boxes; the default), ``sun`` (Mitsuba's ``sunsky``, with a :class:`Sun`),
   ``uniform``, or a map, whose pixels are read and checked once
   (:func:`swatch.render.hdri.read_equirect`).
+
+The names, their descriptions and the engines that render each are :data:`swatch.core.choices.LIGHTINGS`;
+the default when none is named is :func:`default_environment`'s, the same for the library and the CLI.
 
 Nothing here imports Mitsuba: the built-in path and ``swatch --help`` never load it.
 """
@@ -24,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from swatch.core.choices import ENGINES, MITSUBA_LIGHTINGS
+from swatch.core.choices import ENGINES, LIGHTINGS, POINT_LIGHT, lightings_of
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_TURBIDITY, MAX_YEAR, MIN_TURBIDITY, MIN_YEAR
 from swatch.physics import geometry
@@ -150,7 +153,8 @@ def check_sun(sun: Sun) -> Sun:
 
 
 def default_environment(engine: str, model: str = "microfacet", distribution: str = "ggx") -> str:
-    """The lighting an engine renders when none is named (``swatch render`` without ``--environment``).
+    """The lighting an engine renders when none is named (``environment=None``; ``swatch render`` without
+    ``--environment``): the one definition of the default.
 
     Parameters
     ----------
@@ -162,11 +166,11 @@ def default_environment(engine: str, model: str = "microfacet", distribution: st
     Returns
     -------
     str
-        ``studio`` (mitsuba; builtin with the GGX microfacet model), else ``none`` (the point light).
+        ``studio`` (mitsuba; builtin with the GGX microfacet model), else ``point`` (the point light).
     """
     if engine == "mitsuba" or (model, distribution) == ("microfacet", "ggx"):
         return "studio"
-    return "none"
+    return POINT_LIGHT
 
 
 def check_engine(engine: str) -> str:
@@ -175,7 +179,7 @@ def check_engine(engine: str) -> str:
     Parameters
     ----------
     engine : str
-        One of :data:`swatch.core.choices.ENGINES` (case and spaces ignored).
+        One of :data:`swatch.core.choices.ENGINES` (case and surrounding blanks ignored).
 
     Returns
     -------
@@ -187,10 +191,7 @@ def check_engine(engine: str) -> str:
     SwatchError
         For another name (naming ```engine``` and the choices).
     """
-    key = str(engine).strip().lower()
-    if key not in ENGINES:
-        raise SwatchError(f"unknown render `engine` {engine!r}; use one of {', '.join(ENGINES)}")
-    return key
+    return ENGINES.validate(engine)
 
 
 @dataclass(frozen=True, eq=False)
@@ -204,7 +205,8 @@ class Lighting:
     engine : str
         The engine it was resolved for (:data:`swatch.core.choices.ENGINES`).
     kind : str
-        ``none`` (the built-in point light), ``studio``, ``uniform``, ``sun`` (mitsuba) or ``map``.
+        A name of :data:`swatch.core.choices.LIGHTINGS` (``point``: the built-in point light, ``studio``,
+        ``uniform``, ``sun``: mitsuba) or ``map``.
     name : str
         The built-in name, or a map's file name.
     environment : Environment or None
@@ -223,43 +225,55 @@ class Lighting:
     hdri: np.ndarray | None = None
 
 
+def _named(environment, engine: str) -> str | None:
+    """The registered name of a lighting of :data:`LIGHTINGS` (None for a map's path); refused where ``engine``
+    does not render it."""
+    key = str(environment).strip()
+    if key not in LIGHTINGS:
+        return None
+    name = LIGHTINGS.validate(key)
+    if engine not in LIGHTINGS[name]:
+        if name == POINT_LIGHT:
+            raise SwatchError(f"the {engine} engine has no point light; use {', '.join(lightings_of(engine))} "
+                              "or a map for `environment`")
+        raise SwatchError(f"{name} lighting is the {', '.join(LIGHTINGS[name])} engine's; add `engine='mitsuba'`")
+    return name
+
+
 def _builtin(environment, model: str, distribution: str, size_px, background) -> Lighting:
     if isinstance(environment, Environment):
         env: Environment | None = environment
     else:
         if environment is None:
             environment = default_environment("builtin", model, distribution)
-        if str(environment).strip().lower() == "sun":
-            raise SwatchError("sun and sky lighting is the mitsuba engine's; add `engine='mitsuba'`")
-        env = get_environment(environment)
+        name = _named(environment, "builtin")
+        env = get_environment(environment if name is None else name)
     if env is not None and (model != "microfacet" or distribution != "ggx"):
         raise SwatchError("environment lighting integrates the GGX microfacet BRDF; use `model='microfacet'` "
-                          "`distribution='ggx'`, or `environment=None`")
+                          f"`distribution='ggx'`, or `environment='{POINT_LIGHT}'`")
     if env is not None and size_px is not None:
         check_env_size_px(size_px)
     if env is None and background == "environment":
-        raise SwatchError("`background=environment` needs an environment; use grey or white with `environment=None`")
+        raise SwatchError("`background=environment` needs an environment; use grey or white with "
+                          f"`environment='{POINT_LIGHT}'`")
     if env is None:
-        return Lighting("builtin", "none", "none")
+        return Lighting("builtin", POINT_LIGHT, POINT_LIGHT)
     kind = env.name if env.name in ("studio", "uniform") else "map"
     return Lighting("builtin", kind, env.name, environment=env)
 
 
 def _mitsuba(environment, sun: Sun | None) -> Lighting:
-    key = "studio" if environment is None else str(environment).strip()
-    low = key.lower()
-    if low == "none":
-        raise SwatchError("the mitsuba engine has no point light; use studio, sun, uniform or a map for "
-                          "`environment`")
-    if sun is not None and low != "sun":
+    key = default_environment("mitsuba") if environment is None else str(environment).strip()
+    name = _named(key, "mitsuba")
+    if sun is not None and name != "sun":
         raise SwatchError("the sun options need `environment='sun'`")
-    if low in MITSUBA_LIGHTINGS:
-        if low == "sun":
-            return Lighting("mitsuba", "sun", "sun", sun=check_sun(sun if sun is not None else Sun()))
-        return Lighting("mitsuba", low, low)
-    if not low.endswith((".exr", ".hdr")):
+    if name == "sun":
+        return Lighting("mitsuba", "sun", "sun", sun=check_sun(sun if sun is not None else Sun()))
+    if name is not None:
+        return Lighting("mitsuba", name, name)
+    if not key.lower().endswith((".exr", ".hdr")):
         raise SwatchError(f"unknown lighting {key!r} for the mitsuba engine; use one of "
-                          f"{', '.join(MITSUBA_LIGHTINGS)} or an equirectangular .exr or .hdr file")
+                          f"{', '.join(lightings_of('mitsuba'))} or an equirectangular .exr or .hdr file")
     return Lighting("mitsuba", "map", Path(key).name, hdri=read_equirect(key))
 
 
@@ -271,7 +285,7 @@ def resolve_lighting(environment=None, engine: str = "builtin", sun: Sun | None 
     Parameters
     ----------
     environment : str, path-like, Environment, Lighting or None
-        A name (``none``, ``studio``, ``uniform``, ``sun``), an equirectangular .exr/.hdr path, an
+        A name (``point``, ``studio``, ``uniform``, ``sun``), an equirectangular .exr/.hdr path, an
         :class:`Environment` (builtin), or a :class:`Lighting` (returned as it is if it was resolved
         for ``engine``). None: the engine's default (module documentation).
     engine : str

@@ -200,27 +200,6 @@ class PaddedMap:
     def _fetch(self, idx) -> np.ndarray:
         return np.take(self.flat, idx).view(np.float32).reshape((*idx.shape, 4))
 
-    def nearest(self, x, y, z) -> np.ndarray:
-        """The texel containing each direction.
-
-        Parameters
-        ----------
-        x, y, z : numpy.ndarray
-            Direction components (planar float32 arrays of one shape ``S``).
-
-        Returns
-        -------
-        numpy.ndarray
-            RGBA, shape ``S + (4,)`` float32.
-        """
-        u, w = octa_uw(x, y, z)
-        n = self.res
-        h = np.float32(n / 2)
-        c = np.float32(n / 2 + 1)
-        ix = np.minimum((u * h + c).astype(np.int32), n)
-        iy = np.minimum((w * h + c).astype(np.int32), n)
-        return self._fetch(iy * (n + 2) + ix)
-
     def bilinear(self, x, y, z) -> np.ndarray:
         """The map bilinear across texels and folded edges, in each direction.
 
@@ -252,8 +231,8 @@ class PaddedMap:
 class LevelMaps:
     """Several blurred copies of one map in one flat texel array, for per-sample filtered lookups.
 
-    Sample ``i`` reads level ``k_i`` (chosen by its footprint, :meth:`level_for`) at its nearest
-    texel or bilinearly; ``res`` and ``offset`` of that level are passed per sample.
+    Sample ``i`` reads level ``k_i`` (chosen by its footprint, :meth:`level_for`) bilinearly;
+    ``res`` and ``offset`` of that level are passed per sample.
 
     Parameters
     ----------
@@ -299,31 +278,6 @@ class LevelMaps:
         ref = np.where(self.sigma_deg > 0, self.sigma_deg, 1.0)
         k = np.searchsorted(ref, s, side="left")
         return np.minimum(k, ref.size - 1).astype(np.int32)
-
-    def nearest(self, x, y, z, res, offset) -> np.ndarray:
-        """The nearest texel of each sample's level.
-
-        Parameters
-        ----------
-        x, y, z : numpy.ndarray
-            Direction components (planar float32 arrays, shape ``S``).
-        res : numpy.ndarray
-            Each sample's level resolution (float32, broadcast with ``x``).
-        offset : numpy.ndarray
-            Each sample's level offset into ``flat`` (int32 or float32, broadcast with ``x``).
-
-        Returns
-        -------
-        numpy.ndarray
-            RGB, shape ``S + (3,)`` float32.
-        """
-        u, w = octa_uw(x, y, z)
-        h = res * np.float32(0.5)
-        c = h + np.float32(1.0)
-        ix = np.minimum((u * h + c).astype(np.int32), res.astype(np.int32))
-        iy = np.minimum((w * h + c).astype(np.int32), res.astype(np.int32))
-        idx = offset.astype(np.int32) + iy * (res.astype(np.int32) + 2) + ix
-        return np.take(self.flat, idx).view(np.float32).reshape((*idx.shape, 4))[..., :3]
 
     def bilinear(self, x, y, z, res, offset) -> np.ndarray:
         """Each sample's level, bilinear within it.

@@ -7,6 +7,12 @@ progress callback and return a :class:`swatch.render.image.SwatchImage`; they re
 holds and check nothing again (tests/test_layers.py pins it). A series of thicknesses reuses one
 request (:meth:`RenderRequest.with_thickness` checks the new thickness alone).
 
+An option that would change nothing in the picture the request describes (``light_deg`` without the point
+light, ``spp`` on the built-in engine, ``roughness_alpha`` beside a ``finish``, …) is refused, in one loop
+(:data:`_ONLY_WHERE`), rather than ignored. Each default is defined once: the lighting by
+:func:`swatch.render.lighting.default_environment`, the numbers in :data:`_DEFAULTS` from
+:mod:`swatch.core.choices`.
+
 Nothing here imports Mitsuba: the checks of the ``mitsuba`` engine's size, samples, seed, window and
 exposure (:mod:`swatch.render.checks`) are plain arithmetic on :mod:`swatch.core.limits`.
 """
@@ -19,7 +25,14 @@ from dataclasses import dataclass
 from typing import Any, TypedDict, Unpack
 
 from swatch.colorimetry.colorimeter import Colorimeter, check_rgb_space
-from swatch.core.choices import DEFAULT_VARIANT
+from swatch.core.choices import (
+    DEFAULT_LIGHT_DEG,
+    DEFAULT_ROUGHNESS_ALPHA,
+    DEFAULT_SEED,
+    DEFAULT_SPP,
+    DEFAULT_VARIANT,
+    POINT_LIGHT,
+)
 from swatch.core.errors import SwatchError
 from swatch.physics import microfacet
 from swatch.physics.finishes import Finish
@@ -56,7 +69,7 @@ class RenderOptions(TypedDict, total=False):
     Attributes
     ----------
     light_deg : float
-        Point light's polar angle, degrees from the normal (builtin).
+        Point light's polar angle, degrees from the normal (builtin, ``environment='point'``).
     roughness_alpha : float or (float, float)
         GGX/Beckmann α (dimensionless), or (α_u, α_v) (mitsuba).
     model, distribution, space : str
@@ -67,7 +80,8 @@ class RenderOptions(TypedDict, total=False):
     workers : int or None
         Threads of the point-light engine.
     environment
-        The lighting (a name, a map's path, an Environment or a resolved Lighting; None: point light).
+        The lighting (a name, a map's path, an Environment or a resolved Lighting; None: the engine's default,
+        :func:`swatch.render.lighting.default_environment`).
     background : str or None
         ``grey``, ``white`` or ``environment``.
     view_deg, view_azimuth_deg : float
@@ -118,12 +132,13 @@ class RenderOptions(TypedDict, total=False):
     denoise: bool | str
 
 
+#: Each option's default (the one definition; ``environment=None`` is the engine's default lighting).
 _DEFAULTS: dict[str, Any] = {
-    "light_deg": 45.0, "roughness_alpha": 0.3, "model": "microfacet", "coating": None, "colorimeter": None,
-    "space": "srgb", "distribution": "ggx", "workers": None, "environment": None, "background": None,
-    "view_deg": None, "view_azimuth_deg": 0.0, "mesh": None, "finish": None, "engine": "builtin", "spp": 64,
-    "seed": 0, "sun": None, "exposure": None, "window_px": None, "variant": None, "bsdf_override": None,
-    "denoise": True,
+    "light_deg": DEFAULT_LIGHT_DEG, "roughness_alpha": DEFAULT_ROUGHNESS_ALPHA, "model": "microfacet", "coating": None,
+    "colorimeter": None, "space": "srgb", "distribution": "ggx", "workers": None, "environment": None,
+    "background": None, "view_deg": None, "view_azimuth_deg": 0.0, "mesh": None, "finish": None,
+    "engine": "builtin", "spp": DEFAULT_SPP, "seed": DEFAULT_SEED, "sun": None, "exposure": None, "window_px": None,
+    "variant": None, "bsdf_override": None, "denoise": True,
 }
 
 
@@ -177,7 +192,7 @@ class RenderRequest:
     workers : int or None
         Threads of the point-light engine (None: one).
     spp : int
-        Mitsuba: samples per pixel (the built-in engine ignores it).
+        Mitsuba: samples per pixel (the built-in engine refuses it).
     seed : int
         Mitsuba: the sampler's seed; equal requests give byte-identical images.
     exposure : float
@@ -190,7 +205,7 @@ class RenderRequest:
         Mitsuba: another BSDF for the object (tests and benchmarks: Mitsuba's ``roughconductor``).
     denoise : str or None
         Mitsuba: Intel Open Image Denoise's filter quality (``high``, ``balanced``, ``fast``), or None for the raw
-        path-traced estimate (:func:`swatch.render.checks.check_denoise`; the built-in engine ignores it).
+        path-traced estimate (:func:`swatch.render.checks.check_denoise`; the built-in engine refuses it).
     """
 
     engine: str
@@ -212,8 +227,8 @@ class RenderRequest:
     colorimeter: Colorimeter
     finish: Finish | None = None
     workers: int | None = None
-    spp: int = 64
-    seed: int = 0
+    spp: int = DEFAULT_SPP
+    seed: int = DEFAULT_SEED
     exposure: float = 1.0
     window_px: tuple[int, int, int, int] | None = None
     variant: str | None = None
@@ -285,19 +300,14 @@ def _builtin(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
     space = check_rgb_space(o["space"])
     coating, colorimeter = coating_and_colorimeter(o["coating"], o["colorimeter"])
     background = check_background("grey" if o["background"] is None else o["background"])
-    light = lighting_for("none" if o["environment"] is None else o["environment"], "builtin", o["sun"], model,
-                         distribution, size, background)
+    light = lighting_for(o["environment"], "builtin", o["sun"], model, distribution, size, background)
     check_finish_lighting(finish, light.environment, model, distribution, size)
-    for name in ("exposure", "window_px", "bsdf_override", "variant"):
-        if o[name] is not None:
-            raise SwatchError(f"`{name}` is an option of the mitsuba engine; add `engine='mitsuba'`")
     scene = make_scene(shape, o["light_deg"], o["view_deg"], o["view_azimuth_deg"], o["mesh"])
     return RenderRequest(engine="builtin", thickness_nm=d, shape=shape, mesh=o["mesh"], size_px=size, scene=scene,
                          light_deg=float(o["light_deg"]), view_deg=_view(o["view_deg"]),
                          view_azimuth_deg=float(o["view_azimuth_deg"]), lobe=lobe, model=model,
                          distribution=distribution, space=space, background=background, lighting=light,
-                         coating=coating, colorimeter=colorimeter, finish=finish, workers=o["workers"],
-                         denoise=check_denoise(o["denoise"]))
+                         coating=coating, colorimeter=colorimeter, finish=finish, workers=o["workers"])
 
 
 def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
@@ -339,6 +349,29 @@ _BUILDERS: dict[str, Callable[[float, str, Any, dict[str, Any]], RenderRequest]]
     "builtin": _builtin, "mitsuba": _mitsuba}
 
 
+def _mitsuba_only(name: str) -> tuple[Callable[[RenderRequest], bool], Callable[[RenderRequest], str]]:
+    return (lambda r: r.engine == "mitsuba",
+            lambda r: f"`{name}` is an option of the mitsuba engine; add `engine='mitsuba'`")
+
+
+def _light_deg_unused(r: RenderRequest) -> str:
+    if r.engine == "mitsuba":
+        return "`light_deg` places the point light, and the mitsuba engine has none; drop it"
+    return (f"`light_deg` places the point light, and the {r.lighting.name} lighting has none; drop it, or add "
+            f"`environment='{POINT_LIGHT}'`")
+
+
+#: The options that change the picture only where the request uses them: name -> (whether the checked request
+#: uses it, the one-line refusal where it does not). A given option that would change nothing is refused.
+_ONLY_WHERE: dict[str, tuple[Callable[[RenderRequest], bool], Callable[[RenderRequest], str]]] = {
+    "light_deg": (lambda r: r.lighting.kind == POINT_LIGHT, _light_deg_unused),
+    "roughness_alpha": (lambda r: r.finish is None,
+                        lambda r: "`roughness_alpha` is the `finish`'s (its lobe replaces it); give one of them"),
+    **{name: _mitsuba_only(name) for name in ("spp", "seed", "denoise", "exposure", "window_px", "bsdf_override",
+                                                "variant")},
+}
+
+
 def render_request(thickness_nm: float, shape: str, size_px: int = 512,
                    **options: Unpack[RenderOptions]) -> RenderRequest:
     """Check a render's inputs once and hold them in a :class:`RenderRequest`.
@@ -363,7 +396,9 @@ def render_request(thickness_nm: float, shape: str, size_px: int = 512,
     Raises
     ------
     SwatchError
-        For the first input out of range, naming its parameter (one line, what is allowed).
+        For the first input out of range, naming its parameter (one line, what is allowed), and for an
+        option given where it would change nothing (``light_deg`` without the point light, the mitsuba
+        engine's options on the built-in one, ``roughness_alpha`` beside a ``finish``).
     TypeError
         For an unknown keyword.
     """
@@ -374,4 +409,8 @@ def render_request(thickness_nm: float, shape: str, size_px: int = 512,
     engine = check_engine(o["engine"])
     d = float(check_thickness_nm(float(thickness_nm)))
     shape = "mesh" if o["mesh"] is not None else check_shape(shape)
-    return _BUILDERS[engine](d, shape, size_px, o)
+    request = _BUILDERS[engine](d, shape, size_px, o)
+    for name, (uses, refusal) in _ONLY_WHERE.items():
+        if name in options and not uses(request):
+            raise SwatchError(refusal(request))
+    return request

@@ -67,10 +67,7 @@ def check_model(model: str) -> str:
     swatch.core.errors.SwatchError
         Any other name.
     """
-    key = str(model).strip().lower()
-    if key not in MODELS:
-        raise SwatchError(f"unknown intensity model {model!r}; use one of {', '.join(MODELS)}")
-    return key
+    return MODELS.validate(model)
 
 
 @dataclass(frozen=True)
@@ -162,24 +159,6 @@ class FacetColourTable:
         i = np.minimum(x.astype(np.int32), self.nodes - 2)
         f = (x - i)[..., None]
         return np.take(self.values, i, axis=0) + f * np.take(self._delta, i, axis=0)
-
-    def lookup_nearest(self, cos_d) -> np.ndarray:
-        """Values at the nearest node (on a :meth:`refined` table: linear interpolation of the coarse table to
-        within 1/(2·factor) of a coarse node, at the cost of one gather).
-
-        Parameters
-        ----------
-        cos_d : array_like, shape S
-            Cosines of the incidence angle on the facet.
-
-        Returns
-        -------
-        numpy.ndarray, shape S + (C,)
-            The table's C values (XYZ or linear RGB, as :attr:`kind`) at each cosine.
-        """
-        x = self._position(cos_d)
-        x += self.values.dtype.type(0.5)
-        return np.take(self.values, x.astype(np.int32), axis=0)
 
     def refined(self, factor: int = 16) -> FacetColourTable:
         """The table linearly interpolated onto a ``factor`` times finer grid (same range).
@@ -282,7 +261,7 @@ def facet_colour_table(thickness_nm: float, coating, colorimeter, nodes: int = T
 
     References
     ----------
-    H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030 (the half-vector model, eqs. 2–5).
+    :cite:`Fujii2019` (the half-vector model, eqs. 2–5).
 
     Examples
     --------
@@ -373,18 +352,26 @@ def intensity(cos_l, cos_v, cos_h, cos_d, model: str = "microfacet", roughness_a
 
     References
     ----------
-    B. Walter et al. (2007), "Microfacet models for refraction through rough surfaces", EGSR,
-    doi:10.2312/EGWR/EGSR07/195-206.
+    :cite:`Walter2007`.
     """
-    model = check_model(model)
-    cl = np.asarray(cos_l)
-    cv = np.asarray(cos_v)
-    if model == "paper":
-        return ((cl > 0) & (cv > 0)).astype(np.result_type(cl, np.float32))
+    return MODELS[model](np.asarray(cos_l), np.asarray(cos_v), cos_h, cos_d, roughness_alpha, distribution, irradiance)
+
+
+def _paper_intensity(cl, cv, cos_h, cos_d, roughness_alpha, distribution, irradiance) -> np.ndarray:
+    """The ``paper`` model's :func:`intensity`: 1 where the surface is lit and seen (facet probability constant)."""
+    return ((cl > 0) & (cv > 0)).astype(np.result_type(cl, np.float32))
+
+
+def _microfacet_intensity(cl, cv, cos_h, cos_d, roughness_alpha, distribution, irradiance) -> np.ndarray:
+    """The ``microfacet`` model's :func:`intensity`: ``π D G / (4 cos θ_l cos θ_v)``, times ``cos θ_l``."""
     s = np.pi * microfacet.brdf_scale(cl, cv, cos_h, cos_d, roughness_alpha, distribution)
     if irradiance:
         s = s * np.maximum(cl, 0)
     return s
+
+
+MODELS.implement("paper", _paper_intensity)
+MODELS.implement("microfacet", _microfacet_intensity)
 
 
 def shade(normal, light, view, table: FacetColourTable, model: str = "microfacet", roughness_alpha: float = 0.3,

@@ -71,3 +71,26 @@ def journal(out: Path, **changes) -> None:
     doc = {"phase": "commit", "staging": "staging-x", "files": [], "remove": [], "manifest": man}
     doc.update(changes)
     (meta / JOURNAL).write_text(json.dumps(doc), encoding="utf-8")
+
+
+@contextlib.contextmanager
+def failing_move(monkeypatch, out: Path, nth: int, error, depth: int = 1, staged: bool = True):
+    """``os.replace`` that raises ``error(dst)`` on the ``nth`` move into the catalog folder ``out`` (``depth`` 2:
+    into one of its subfolders), from a staging folder unless ``staged`` is False; the real one otherwise, and
+    back in place on leaving. Yields the count of those moves (``{"n": …}``): a commit killed or failing there."""
+    real_replace = os.replace
+    calls = {"n": 0}
+
+    def replace(src, dst):
+        into = Path(dst).parents[depth - 1] == out
+        if into and (not staged or Path(src).parents[depth - 1].name.startswith("staging-")):
+            calls["n"] += 1
+            if calls["n"] == nth:
+                raise error(str(dst))
+        return real_replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", replace)
+    try:
+        yield calls
+    finally:
+        monkeypatch.setattr(os, "replace", real_replace)

@@ -2,9 +2,7 @@
 from __future__ import annotations
 
 import csv
-import hashlib
 import json
-import os
 import resource
 import shutil
 import subprocess
@@ -21,6 +19,7 @@ from swatch.catalog import build as buildmod
 from swatch.catalog import sheets as sheetmod
 from swatch.catalog.build import META_DIR, build_catalog
 from swatch.core.errors import SwatchError
+from tests.catalog.folder_helpers import digest, failing_move
 from tests.cli_helpers import run_swatch
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
@@ -50,10 +49,6 @@ def write_spec(path: Path, thicknesses=THICKNESSES, grade="C") -> Path:
 def outputs(folder: Path) -> list[Path]:
     """The catalog's files: the top and its subfolders (sheets/, chips/, presets/), not its metadata."""
     return sorted(p for p in folder.rglob("*") if p.is_file() and META_DIR not in p.relative_to(folder).parts)
-
-
-def digest(folder: Path) -> dict[str, str]:
-    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest() for p in outputs(folder)}
 
 
 def copy_of_built(built, tmp_path: Path) -> tuple[Path, Path]:
@@ -259,20 +254,9 @@ def test_failed_build_leaves_previous_catalog(built, tmp_path, monkeypatch):
 def test_interrupted_commit_is_completed_by_the_next_build(built, tmp_path, monkeypatch):
     spec, out = copy_of_built(built, tmp_path)
     write_spec(spec, grade="A")
-    real_replace = os.replace
-    calls = {"n": 0}
-
-    def flaky_replace(src, dst):
-        if Path(dst).parent == out and Path(src).parent.name.startswith("staging-"):
-            calls["n"] += 1
-            if calls["n"] == 3:
-                raise KeyboardInterrupt  # killed in the middle of moving files into place
-        return real_replace(src, dst)
-
-    monkeypatch.setattr(buildmod.os, "replace", flaky_replace)
-    with pytest.raises(KeyboardInterrupt):
+    # killed in the middle of moving files into place
+    with failing_move(monkeypatch, out, 3, lambda dst: KeyboardInterrupt()), pytest.raises(KeyboardInterrupt):
         build_catalog(spec, out, jobs=1)
-    monkeypatch.setattr(buildmod.os, "replace", real_replace)
     assert (out / META_DIR / "journal.json").exists()
     res = build_catalog(spec, out, jobs=1)  # replays the journal; then everything is up to date
     assert res.noop

@@ -19,7 +19,7 @@ import pytest
 from swatch.catalog.explorer import COS_NODES
 from swatch.catalog.explorer_env import BASIS, decode_block, environment_data, environment_data_cached, moment_weights
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
-from swatch.core.choices import LIGHTINGS
+from swatch.core.choices import lightings_of
 from swatch.physics.model import get_coating
 from swatch.render import env_shading, environment
 
@@ -154,7 +154,7 @@ def test_blocks_decode_within_their_stated_errors():
         ref = maps.flat[maps.offset[k]:maps.offset[k] + (n + 2) ** 2].view(np.float32).reshape(n + 2, n + 2, 4)[..., 0]
         got = atlas[:n + 2, lv["x0"]:lv["x0"] + n + 2]
         assert lv["res"] == n and np.abs(got / ref - 1).max() < 4.9e-4
-    assert set(block["environments"]) == set(LIGHTINGS) - {"point"}
+    assert set(block["environments"]) == set(lightings_of("builtin")) - {"point"}
     uni = block["environments"]["uniform"]
     ua = decode_block(uni["atlas"])
     assert all(np.all(ua[:lv["res"] + 2, lv["x0"]:lv["x0"] + lv["res"] + 2] == 1.0) for lv in uni["levels"])

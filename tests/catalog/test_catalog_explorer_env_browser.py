@@ -133,7 +133,7 @@ def test_bent_sheet_is_swatch_render_cylinder(page, tmp_path):
     scene: radius 1, height 2.2, camera distance and framing, the point light's axes). The page's canvas, sampled
     at the render's pixel centres, against the render's PNG: the same silhouette (the object's pixels agree but
     for a rim one pixel wide) and the same colours inside it, at the default view and at an oblique one, under
-    the studio and the point light (``--environment none``, the page's fill off); the plate and the sphere
+    the studio and the point light (``--environment point``, the page's lighting name too; the page's fill off); the plate and the sphere
     likewise under the studio. Before, the page bent a sheet of radius 1.2 over 56° about a horizontal axis
     and framed every shape with one 32° camera at 5.2 units."""
     pg, events, _ = page
@@ -141,7 +141,7 @@ def test_bent_sheet_is_swatch_render_cylinder(page, tmp_path):
     for lighting, shape, page_shape, view, az in SCENE_CASES:
         out = tmp_path / f"{lighting}_{shape}_{view:g}_{az:g}"
         run_swatch("render", "--thickness", "50.8,140", "--shape", shape, "--view", f"{view:g}", "--view-azimuth",
-                   f"{az:g}", "--environment", "none" if lighting == "point" else lighting, "--light", "45",
+                   f"{az:g}", "--environment", lighting, *(["--light", "45"] if lighting == "point" else []),
                    "--size", str(size), "--out", str(out))
         for d in (50.8, 140.0):
             want = _png(out / f"{shape}_{d:05.1f}nm.png")

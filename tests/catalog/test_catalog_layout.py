@@ -20,7 +20,7 @@ from swatch.catalog.layout import SUBFOLDERS
 from swatch.cli import main
 from swatch.core.errors import SwatchError
 from tests.catalog import folder_helpers
-from tests.catalog.folder_helpers import digest
+from tests.catalog.folder_helpers import digest, failing_move
 
 pytestmark = pytest.mark.slow
 
@@ -112,20 +112,10 @@ def test_failed_migration_restores_the_flat_catalog(cat, monkeypatch):
     spec, out = cat
     before = flatten(out)
     manifest = (out / META_DIR / MANIFEST).read_bytes()
-    real_replace = os.replace
-    calls = {"n": 0}
-
-    def failing_replace(src, dst):
-        if Path(dst).parent.parent == out and Path(src).parent.parent.name.startswith("staging-"):
-            calls["n"] += 1  # a file moving into one of the new subfolders
-            if calls["n"] == 4:
-                raise OSError(28, "No space left on device", str(dst))
-        return real_replace(src, dst)
-
-    monkeypatch.setattr(os, "replace", failing_replace)
-    with pytest.raises(SwatchError, match="previous catalog was restored"):
+    # the fourth file moving into one of the new subfolders fails
+    with failing_move(monkeypatch, out, 4, lambda dst: OSError(28, "No space left on device", dst), depth=2) \
+            as calls, pytest.raises(SwatchError, match="previous catalog was restored"):
         build_catalog(spec, out, jobs=1)
-    monkeypatch.setattr(os, "replace", real_replace)
     assert calls["n"] == 4
     assert digest(out) == before
     assert (out / META_DIR / MANIFEST).read_bytes() == manifest
@@ -137,20 +127,8 @@ def test_failed_migration_restores_the_flat_catalog(cat, monkeypatch):
 def test_killed_migration_is_finished_by_the_next_build(cat, monkeypatch):
     spec, out = cat
     flatten(out)
-    real_replace = os.replace
-    calls = {"n": 0}
-
-    def killed_replace(src, dst):
-        if Path(dst).parent.parent == out and Path(src).parent.parent.name.startswith("staging-"):
-            calls["n"] += 1
-            if calls["n"] == 5:
-                raise KeyboardInterrupt
-        return real_replace(src, dst)
-
-    monkeypatch.setattr(os, "replace", killed_replace)
-    with pytest.raises(KeyboardInterrupt):
+    with failing_move(monkeypatch, out, 5, lambda dst: KeyboardInterrupt(), depth=2), pytest.raises(KeyboardInterrupt):
         build_catalog(spec, out, jobs=1)
-    monkeypatch.setattr(os, "replace", real_replace)
     assert (out / META_DIR / JOURNAL).exists()
     assert build_catalog(spec, out, jobs=1).noop  # the journal is replayed: the new catalog is complete
     assert not any(p.is_file() for p in out.glob("sheet_*")) and (out / "sheets" / "sheet_02.exr").is_file()

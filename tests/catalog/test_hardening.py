@@ -15,20 +15,9 @@ from swatch.catalog import build as buildmod
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR
 from swatch.core.errors import SwatchError
-from tests.catalog.folder_helpers import digest, journal, refuse, tree, write_spec
+from tests.catalog.folder_helpers import digest, failing_move, journal, refuse, tree, write_spec
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
-
-@pytest.fixture
-def cat(first_build, tmp_path):
-    """(spec, catalog folder, sentinel folder outside it): a fresh copy of a built catalog."""
-    out = tmp_path / "a" / "b" / "out"
-    shutil.copytree(first_build, out, symlinks=True)
-    victim = tmp_path / "victim"
-    victim.mkdir()
-    (victim / "precious.txt").write_text("do not delete", encoding="utf-8")
-    return write_spec(tmp_path / "h.toml", grade="A"), out, victim
-
 
 @pytest.mark.parametrize("staging", ["../../../victim", "../../../../victim", "/tmp", "staging-x/../../../victim",
                                      "..", "."])
@@ -155,20 +144,9 @@ def test_issue12_failure_during_commit_restores_previous_catalog(cat, monkeypatc
     spec, out, _ = cat
     before = digest(out)
     manifest = (out / META_DIR / MANIFEST).read_bytes()
-    real_replace = os.replace
-    calls = {"n": 0}
-
-    def failing_replace(src, dst):
-        if Path(dst).parent == out and Path(src).parent.name.startswith("staging-"):
-            calls["n"] += 1
-            if calls["n"] == 3:
-                raise OSError(28, "No space left on device", str(dst))
-        return real_replace(src, dst)
-
-    monkeypatch.setattr(os, "replace", failing_replace)
-    with pytest.raises(SwatchError, match="previous catalog was restored"):
+    with failing_move(monkeypatch, out, 3, lambda dst: OSError(28, "No space left on device", dst)) as calls, \
+            pytest.raises(SwatchError, match="previous catalog was restored"):
         build_catalog(spec, out, jobs=1)
-    monkeypatch.setattr(os, "replace", real_replace)
     assert calls["n"] == 3
     assert digest(out) == before
     assert (out / META_DIR / MANIFEST).read_bytes() == manifest

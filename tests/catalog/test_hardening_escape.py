@@ -15,21 +15,7 @@ from swatch.catalog import build as buildmod
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import JOURNAL, MANIFEST, META_DIR, PREVIOUS
 from swatch.core.errors import SwatchError
-from tests.catalog.folder_helpers import digest, journal, refuse, tree, write_spec
-
-
-@pytest.fixture
-def cat(first_build, tmp_path):
-    """(spec, catalog folder, victim folder outside it with a file and a folder of the user's)."""
-    out = tmp_path / "a" / "b" / "out"
-    shutil.copytree(first_build, out, symlinks=True)
-    victim = tmp_path / "victim"
-    victim.mkdir()
-    (victim / "precious.txt").write_text("do not delete", encoding="utf-8")
-    (victim / "catalog.json").write_text("the user's own catalog.json", encoding="utf-8")
-    (victim / "folder").mkdir()
-    (victim / "folder" / "inside.txt").write_text("mine", encoding="utf-8")
-    return write_spec(tmp_path / "h.toml", grade="A"), out, victim
+from tests.catalog.folder_helpers import digest, failing_move, journal, refuse, tree, write_spec
 
 
 def staging_with_linked_previous(out: Path, victim: Path) -> Path:
@@ -120,20 +106,9 @@ def test_issue22_first_build_killed_in_commit_is_still_finished(tmp_path, monkey
     """Issue #22 group 2: a real first build's journal (no manifest yet) is still completed by the next build."""
     spec = write_spec(tmp_path / "h.toml")
     out = tmp_path / "new"
-    real_replace = os.replace
-    state = {"n": 0}
-
-    def killed(src, dst):
-        if Path(dst).parent == out:
-            state["n"] += 1
-            if state["n"] == 3:
-                raise KeyboardInterrupt
-        return real_replace(src, dst)
-
-    monkeypatch.setattr(os, "replace", killed)
-    with pytest.raises(KeyboardInterrupt):
+    with failing_move(monkeypatch, out, 3, lambda dst: KeyboardInterrupt(), staged=False), \
+            pytest.raises(KeyboardInterrupt):
         build_catalog(spec, out, jobs=1)
-    monkeypatch.setattr(os, "replace", real_replace)
     assert (out / META_DIR / JOURNAL).exists() and not (out / META_DIR / MANIFEST).exists()
     res = build_catalog(spec, out, jobs=1)
     assert res.noop and (out / META_DIR / MANIFEST).is_file() and not (out / META_DIR / JOURNAL).exists()

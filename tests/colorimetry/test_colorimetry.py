@@ -104,7 +104,7 @@ def test_delta_E_00_reproduces_the_published_pairs_of_sharma_2005():
 
 def test_hex_round_trip():
     cm = colorimetry.get_colorimeter(wavelength_grid())
-    Lab = colorimetry.hex_to_Lab("#3366cc", cm)  # Lab under D65 and the 2° observer
+    Lab = colorimetry.hex_to_Lab_2deg("#3366cc", cm)  # Lab under D65 and the 2° observer
     enc, _ = cm.display(cm.display_colorimeter.Lab_to_XYZ(Lab))
     assert colorimetry.srgb_hex(enc) == "#3366cc"
     # an independent path: colour-science's sRGB -> XYZ -> Lab (D65 white, 2° observer)

@@ -17,8 +17,8 @@ STILL_NAMING_FLAGS: dict[str, str] = {}
 
 
 def test_parameters_are_spoken_as_flags():
-    """Issue #17: `size_px` -> --size, `environment=None` -> --environment none, values kept."""
-    assert speak_flags("use a smaller `size_px`, or `environment=None`") == "use a smaller --size, or --environment none"
+    """Issue #17: `size_px` -> --size, `environment='point'` -> --environment point, values kept."""
+    assert speak_flags("use a smaller `size_px`, or `environment='point'`") == "use a smaller --size, or --environment point"
     assert speak_flags("use `model='microfacet'` `distribution='ggx'`") == "use --model microfacet --distribution ggx"
     assert speak_flags("fit without it (`fit_scale=False`)") == "fit without it (--fixed-scale)"
     assert speak_flags("`unknown_thing` stays") == "`unknown_thing` stays"
@@ -94,7 +94,7 @@ def test_thickness_voltage_and_angles_are_checked_once_and_spoken_as_the_callers
     with pytest.raises(SwatchError, match=r"^`thickness_nm` must be a number from 0 to 1000 nm \(got 1200\)$"):
         render_swatch(1200.0, "flat", 8)
     with pytest.raises(SwatchError, match=r"^`light_deg` must be in \[0, 90\) degrees from the normal \(got 95\)$"):
-        render_swatch(50.0, "flat", 8, light_deg=95.0)
+        render_swatch(50.0, "flat", 8, light_deg=95.0, environment="point")
     with pytest.raises(SwatchError, match=r"^`voltage_V` 250 V gives a 1250 nm film by the growth law"):
         voltage_to_thickness_nm(250.0, nm_per_V=5.0)  # within the voltage cap, beyond the thickness cap
     out = tmp_path / "out"

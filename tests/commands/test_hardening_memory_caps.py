@@ -51,7 +51,7 @@ def cap_case(case: str, tmp_path) -> list[str]:
 
     out = str(tmp_path / "out")
     if case == "render-flat":
-        return ["render", "--thickness", "100", "--size", str(MAX_SIZE_PX), "--shape", "flat", "--environment", "none",
+        return ["render", "--thickness", "100", "--size", str(MAX_SIZE_PX), "--shape", "flat", "--environment", "point",
                 "--out", out]
     if case == "render-studio":
         return ["render", "--thickness", "100", "--size", str(MAX_ENV_RENDER_PX), "--shape", "sphere", "--out", out]

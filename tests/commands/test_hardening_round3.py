@@ -85,12 +85,12 @@ def refused(tmp_path_factory):
     cases: dict[str, tuple[list, str]] = {}
     for name, (data, fragment) in _mesh_cases().items():
         (d / name).write_bytes(data)
-        cases[name] = (["render", "--thickness", "100", "--mesh", d / name, "--size", "32", "--environment", "none",
+        cases[name] = (["render", "--thickness", "100", "--mesh", d / name, "--size", "32", "--environment", "point",
                         "--out", d / f"out-{name}"], fragment)
     _exr(d / "two.exr", 2)
     cases["two_channel_map"] = (["render", "--thickness", "100", "--size", "32", "--environment", d / "two.exr",
                                  "--out", d / "out-two"], "has 2 channels; give 1 (grey) or 3 to 64")
-    rows = "".join(f"{10 + 0.5 * i:.2f},50,1,-20\n" for i in range(MAX_COUPONS + 1))
+    rows = "".join(f"{10 + 0.25 * i:.2f},50,1,-20\n" for i in range(MAX_COUPONS + 1))  # within MAX_VOLTAGE_V
     (d / "coupons.csv").write_text("voltage_V,L,a,b\n" + rows, encoding="utf-8")
     cases["one_coupon_too_many"] = (["calibrate", d / "coupons.csv", "--out", d / "line.toml"],
                                     f"more than {MAX_COUPONS} coupons; a calibration takes at most {MAX_COUPONS}")
@@ -124,7 +124,7 @@ def test_issue38_a_triangle_far_out_within_the_coordinate_cap_renders_as_at_unit
         (tmp_path / f"tri_{scale}.obj").write_text(f"v -{scale} 0 0\nv {scale} 0 0\nv 0 {scale} 0\nf 1 2 3\n",
                                                    encoding="utf-8")
         argvs.append(["render", "--thickness", "100", "--mesh", tmp_path / f"tri_{scale}.obj", "--size", "32",
-                      "--environment", "none", "--out", tmp_path / scale])
+                      "--environment", "point", "--out", tmp_path / scale])
     for proc in run_capped_batch(argvs, CAP):
         assert proc.returncode == 0, proc.stderr
     images = {s: oiio.ImageBuf(str(next((tmp_path / s).glob("*.png")))).get_pixels(oiio.UINT8) for s in

@@ -107,7 +107,7 @@ def refused(tmp_path_factory):
         names.append(name)
         fragments.append(fragment)
         argvs.append(["render", "--thickness", "100", "--mesh", d / name, "--size", "32", *engine,
-                      "--environment", "none" if not engine else "uniform", "--out", d / f"out-{name}"])
+                      "--environment", "point" if not engine else "uniform", "--out", d / f"out-{name}"])
     procs = run_capped_batch(argvs, CAP)
     return {n: (p, f) for n, p, f in zip(names, procs, fragments, strict=True)}, d
 
@@ -135,7 +135,7 @@ def test_issue49_instanced_nodes_within_the_caps_render_as_the_triangles_written
                            TRI * np.array([0.5, 0.5, 1]) + np.array([0.2, 0.5, 0])])
     (tmp_path / "flat.obj").write_bytes(obj_text(flat.astype(np.float32), np.arange(9).reshape(3, 3)))
     procs = run_capped_batch([["render", "--thickness", "100", "--mesh", tmp_path / f, "--size", "48",
-                               "--environment", "none", "--out", tmp_path / f"out-{f}"]
+                               "--environment", "point", "--out", tmp_path / f"out-{f}"]
                               for f in ("nodes.glb", "flat.obj")], CAP)
     for proc in procs:
         assert proc.returncode == 0, proc.stderr

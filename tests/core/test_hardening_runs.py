@@ -14,6 +14,7 @@ import pytest
 
 from swatch.catalog.build import build_catalog
 from swatch.catalog.folder import META_DIR
+from tests.catalog.folder_helpers import write_spec
 from tests.cli_helpers import assert_one_line_error, run_swatch
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
@@ -122,32 +123,16 @@ def test_issue12_killed_build_leaves_no_process(tmp_path, how):
         assert not out.exists()  # a first build that was stopped leaves nothing
 
 
-SMALL = """
-name = "Small"
-[thickness]
-list_nm = [40, 90, 140]
-[render]
-size_px = 64
-shapes = ["flat"]
-angular_map = false
-[tolerance]
-grade = "{grade}"
-[sheet]
-columns = 2
-rows = 1
-"""
-
-
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
     root = tmp_path_factory.mktemp("small")
     spec = root / "s.toml"
-    spec.write_text(SMALL.format(grade="C"), encoding="utf-8")
+    write_spec(spec, "C", name="Small")
     out = root / "built"
     build_catalog(spec, out, jobs=1)
     ref_spec = root / "ref" / "s.toml"  # same file name: the spec's name is part of the outputs
     ref_spec.parent.mkdir()
-    ref_spec.write_text(SMALL.format(grade="A"), encoding="utf-8")
+    write_spec(ref_spec, "A", name="Small")
     build_catalog(ref_spec, root / "ref-out", jobs=1)  # the reference for a rebuild to grade A
     return out, root / "ref-out"
 
@@ -190,7 +175,7 @@ def test_issue12_damaged_cache_entries_are_recomputed(small, tmp_path, damages):
     (fits,) = cache.glob("presets-*.json")
     fits.write_text('{"gltf": {"params": [[1e308]], "dE60": [1], "dE45": "x"}}')  # wrong shapes
     spec = tmp_path / "s.toml"
-    spec.write_text(SMALL.format(grade="A"), encoding="utf-8")  # sheets are recomposed from the cache
+    write_spec(spec, "A", name="Small")  # sheets are recomposed from the cache
     res = build_catalog(spec, out, jobs=1)
     assert not res.noop
     assert files(out) == files(ref)  # byte-identical to a clean build
@@ -210,7 +195,7 @@ def test_issue12_stale_temporary_files_are_cleaned(small, tmp_path):
     (meta / "staging-killed").mkdir()
     (meta / "staging-killed" / "sheet_01.png").write_bytes(b"x")
     spec = tmp_path / "s.toml"
-    spec.write_text(SMALL.format(grade="A"), encoding="utf-8")
+    write_spec(spec, "A", name="Small")
     build_catalog(spec, out, jobs=1)
     assert not any(p.exists() for p in stale)
     assert not (meta / "staging-killed").exists()

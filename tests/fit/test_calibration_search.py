@@ -16,8 +16,8 @@ import pytest
 
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
 from swatch.core.errors import SwatchError
-from swatch.fit import calibration_table as ctab
 from swatch.fit.calibration import calibrate
+from swatch.fit.calibration import table as ctab
 from swatch.io.coupons import read_coupons
 from swatch.physics.growth import thickness_to_voltage_V, voltage_to_thickness_nm
 from swatch.physics.model import get_coating

@@ -10,6 +10,7 @@ import pytest
 import tmm
 
 from swatch.physics.materials import load_material
+from tests.helpers import random_directions, unit
 from tests.mitsuba_setup import jit_float, jit_of, mitsuba_variant
 
 
@@ -52,23 +53,19 @@ def _si(mi, wi, wavelengths):
     return si
 
 
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
 def test_eval_equals_independent_microfacet_formula(mi):
     """#23: eval = F_tmm(θd) D G₂ / (4 cos θi) with GGX D and height-correlated Smith G₂ written here in numpy
     (anisotropic α 0.15 × 0.4, 120 nm); pdf = D G₁(i) / (4 cos θi) (visible normals)."""
     ax, ay, d = 0.15, 0.4, 120.0
     bsdf = mi.load_dict({"type": "anodic_film", "thickness_nm": d, "alpha_u": ax, "alpha_v": ay})
     rng = np.random.default_rng(5)
-    wi = _unit(rng.normal(size=(64, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
-    wo = _unit(rng.normal(size=(64, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
+    wi = unit(rng.normal(size=(64, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
+    wo = unit(rng.normal(size=(64, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
     wls = (420.0, 510.0, 580.0, 690.0)
     val = np.asarray(bsdf.eval(mi.BSDFContext(), _si(mi, wi, wls), jit_of(mi.Vector3f, wo.T)))
     pdf = np.asarray(bsdf.pdf(mi.BSDFContext(), _si(mi, wi, wls), jit_of(mi.Vector3f, wo.T)))
 
-    h = _unit(wi + wo)
+    h = unit(wi + wo)
     D = 1.0 / (math.pi * ax * ay * ((h[:, 0] / ax) ** 2 + (h[:, 1] / ay) ** 2 + h[:, 2] ** 2) ** 2)
 
     def lam(w):
@@ -92,15 +89,15 @@ def test_below_horizon_gives_zero_not_nan(mi):
     bsdf = mi.load_dict({"type": "anodic_film", "thickness_nm": 80.0, "alpha": 0.5})
     wi = np.array([[0, 0, 1.0], [0.6, 0, -0.8], [1, 0, 0], [0, 0.8, 0.6], [0, 0, -1.0], [0.3, 0.3, 1e-7]])
     wo = np.array([[0.6, 0, -0.8], [0, 0, 1.0], [0, 0, 1.0], [0, -1.0, 0], [0, 0, 1.0], [0, 0, 1.0]])
-    si = _si(mi, _unit(wi), (400.0, 500.0, 600.0, 700.0))
+    si = _si(mi, unit(wi), (400.0, 500.0, 600.0, 700.0))
     ctx = mi.BSDFContext()
-    val, pdf = bsdf.eval_pdf(ctx, si, jit_of(mi.Vector3f, _unit(wo).T))
+    val, pdf = bsdf.eval_pdf(ctx, si, jit_of(mi.Vector3f, unit(wo).T))
     val, pdf = np.asarray(val), np.asarray(pdf)
     assert np.all(np.isfinite(val)) and np.all(np.isfinite(pdf))
     assert np.all(val[:, :5] == 0) and np.all(pdf[:5] == 0)
     rng = np.random.default_rng(1)
     n = 4096
-    wi_r = _unit(rng.normal(size=(n, 3)))  # half of them below the horizon
+    wi_r = random_directions(rng, n)  # half of them below the horizon
     bs, w = bsdf.sample(ctx, _si(mi, wi_r, (400.0, 500.0, 600.0, 700.0)), jit_float(rng.random(n)),
                         jit_of(mi.Point2f, rng.random((2, n))))
     w, p, wo_s = np.asarray(w), np.asarray(bs.pdf), np.asarray(bs.wo)
@@ -115,7 +112,7 @@ def test_alpha_u_equal_alpha_v_is_isotropic(mi):
     """#23: alpha_u = alpha_v = 0.25 gives the isotropic alpha = 0.25 value, pdf and samples (GGX and Beckmann)."""
     rng = np.random.default_rng(9)
     n = 512
-    wi, wo = _unit(rng.normal(size=(n, 3)) + np.array([0, 0, 1.5])), _unit(rng.normal(size=(n, 3)) + np.array([0, 0, 1.5]))
+    wi, wo = unit(rng.normal(size=(n, 3)) + np.array([0, 0, 1.5])), unit(rng.normal(size=(n, 3)) + np.array([0, 0, 1.5]))
     u1, u2 = rng.random(n), rng.random((n, 2))
     for dist in ("ggx", "beckmann"):
         out = []
@@ -173,14 +170,14 @@ def test_spread_averages_the_film_as_the_builtin_model_and_tmm(mi):
     spread_bsdf = mi.load_dict({**base, "spread_nm": spread.spread_nm, "spread_fraction": spread.spread_fraction})
     zero = mi.load_dict({**base, "spread_nm": 0.0, "spread_fraction": 0.0})
     rng = np.random.default_rng(19)
-    wi = _unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
-    wo = _unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
+    wi = unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
+    wo = unit(rng.normal(size=(12, 3)) * [1, 1, 0.3] + np.array([0, 0, 1.2]))
     wls = (420.0, 510.0, 580.0, 690.0)
     ctx, wo_m = mi.BSDFContext(), jit_of(mi.Vector3f, wo.T)
     val_u = np.asarray(uniform.eval(ctx, _si(mi, wi, wls), wo_m), dtype=np.float64)
     val_s = np.asarray(spread_bsdf.eval(ctx, _si(mi, wi, wls), wo_m), dtype=np.float64)
     assert np.array_equal(np.asarray(zero.eval(ctx, _si(mi, wi, wls), wo_m)), val_u)
-    cos_d = np.einsum("ij,ij->i", wi, _unit(wi + wo))
+    cos_d = np.einsum("ij,ij->i", wi, unit(wi + wo))
     grid = np.array(wls)
     R_u = get_coating(wavelength_nm=grid).reflectance_cos(d, cos_d).R  # (12, 4)
     R_s = get_coating(wavelength_nm=grid, spread=spread).reflectance_cos(d, cos_d).R
@@ -212,10 +209,10 @@ def test_brush_axis_sets_the_anisotropic_lobe_whatever_the_surface_frame(mi):
     bsdf = mi.load_dict({"type": "anodic_film", "thickness_nm": d, "alpha_u": au, "alpha_v": av,
                          "brush_axis": [0.0, 1.0, 0.0]})
     rng = np.random.default_rng(8)
-    n = _unit(rng.normal(size=(48, 3)))
-    n[np.abs(n[:, 1]) > 0.95] = _unit(np.array([0.3, 0.5, 0.8]))
-    wi_w = _unit(n * 1.3 + rng.normal(size=(48, 3)) * 0.5)
-    wo_w = _unit(n * 1.3 + rng.normal(size=(48, 3)) * 0.5)
+    n = random_directions(rng, 48)
+    n[np.abs(n[:, 1]) > 0.95] = unit(np.array([0.3, 0.5, 0.8]))
+    wi_w = unit(n * 1.3 + rng.normal(size=(48, 3)) * 0.5)
+    wo_w = unit(n * 1.3 + rng.normal(size=(48, 3)) * 0.5)
     frame = mi.Frame3f(jit_of(mi.Vector3f, n.T))
     wls = (430.0, 520.0, 600.0, 680.0)
     si = _si(mi, np.zeros((48, 3)), wls)
@@ -230,7 +227,7 @@ def test_brush_axis_sets_the_anisotropic_lobe_whatever_the_surface_frame(mi):
 
     wi, wo = local(wi_w), local(wo_w)
     keep = (wi[:, 2] > 0.05) & (wo[:, 2] > 0.05)
-    h = _unit(wi + wo)
+    h = unit(wi + wo)
     D = 1.0 / (math.pi * au * av * ((h[:, 0] / au) ** 2 + (h[:, 1] / av) ** 2 + h[:, 2] ** 2) ** 2)
 
     def lam(w):

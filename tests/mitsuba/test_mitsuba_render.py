@@ -45,7 +45,7 @@ BAD = [
     (["--environment", "sun", "--sun-place", "48.8,2.3", "--sun-time", "25:00"], "hour"),
     (["--environment", "sun", "--sun-place", "48.8,2.3", "--sun-time", "23:00"], "below the horizon"),
     (["--environment", "studio", "--background", "grey"], "background environment"),
-    (["--environment", "none"], "no point light"),
+    (["--environment", "point"], "no point light"),
     (["--environment", "nowhere.exr"], "not a file"),
     (["--illuminant", "A"], "D65"),
     (["--model", "paper"], "microfacet"),

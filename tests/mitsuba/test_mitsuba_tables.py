@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swatch.physics.materials import list_materials
+from tests.helpers import random_directions, unit
 from tests.mitsuba_setup import jit_float, jit_of, mitsuba_variant
 
 
@@ -94,10 +95,6 @@ def test_lookup_finds_the_segment_however_the_nodes_cluster(mi, spread_out, clus
         np.testing.assert_allclose(got[t], np.interp(at, wl, v), rtol=1e-5, atol=2e-5 + 1.2e-4 * steepest)
 
 
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
 def test_two_sided_is_mitsubas_twosided_wrapper(mi):
     """``two_sided = true`` evaluates, weighs and samples as Mitsuba's ``twosided`` around the one-sided plugin,
     on both faces (directions on either side, an anisotropic brushed lobe); the one-sided plugin is black
@@ -111,13 +108,13 @@ def test_two_sided_is_mitsubas_twosided_wrapper(mi):
     one_sided = mi.load_dict(base)
     rng = np.random.default_rng(3)
     n = 512
-    wi = _unit(rng.normal(size=(n, 3)))
-    wo = _unit(rng.normal(size=(n, 3)))
+    wi = random_directions(rng, n)
+    wo = random_directions(rng, n)
     wo[: n // 2, 2] = np.abs(wo[: n // 2, 2]) * np.sign(wi[: n // 2, 2])  # half on the side of wi
 
     def si():
         s = dr.zeros(mi.SurfaceInteraction3f, n)
-        s.sh_frame = mi.Frame3f(jit_of(mi.Vector3f, _unit(rng_frame).T))
+        s.sh_frame = mi.Frame3f(jit_of(mi.Vector3f, unit(rng_frame).T))
         s.wi = jit_of(mi.Vector3f, wi.T)
         s.wavelengths = mi.Spectrum(430.0, 520.0, 600.0, 680.0)
         return s
@@ -161,7 +158,7 @@ def test_scalar_variant_looks_the_tables_up_as_the_jit_one(mi):
 
     from swatch.render.mitsuba.engine import use_variant
 
-    wi, wo = _unit(np.array([0.3, -0.2, 0.9])), _unit(np.array([-0.25, 0.3, 0.8]))
+    wi, wo = unit(np.array([0.3, -0.2, 0.9])), unit(np.array([-0.25, 0.3, 0.8]))
     wls = (430.0, 520.0, 600.0, 680.0)
     bsdf = {"type": "anodic_film", "thickness_nm": 95.0, "alpha": 0.2, "two_sided": True}
     values = {}

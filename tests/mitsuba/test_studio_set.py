@@ -13,13 +13,8 @@ import numpy as np
 import pytest
 
 from swatch.render import studio_set as ss
+from tests.helpers import random_directions
 from tests.mitsuba_setup import jit_of, mitsuba_variant
-
-
-def _directions(n: int, seed: int = 3) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    d = rng.normal(size=(n, 3))
-    return d / np.linalg.norm(d, axis=1, keepdims=True)
 
 
 @pytest.mark.parametrize("floor_y", [-1.0, -0.02])
@@ -34,7 +29,7 @@ def test_the_set_is_where_mitsuba_traces_it(floor_y):
     assert sorted(s.id() for s in scene.shapes()) == sorted(["cyclorama", *(b.name for b in ss.SOFT_BOXES)])
     frames = ss.box_frames()
     for origin in (np.zeros(3), np.array([0.0, 1.368, 3.759])):
-        d = _directions(4000)
+        d = random_directions(np.random.default_rng(3), 4000)
         o = np.broadcast_to(origin, d.shape)
         si = scene.ray_intersect(mi.Ray3f(jit_of(mi.Point3f, o.T), jit_of(mi.Vector3f, d.T)))
         t_mi = np.asarray(si.t, dtype=np.float64)

@@ -24,6 +24,7 @@ from swatch.physics import microfacet
 from swatch.physics.finishes import brush_tangent, get_finish, highlight_half_width_deg
 from swatch.render import env_aniso, env_shading, environment
 from tests.cli_helpers import run_swatch
+from tests.helpers import random_directions
 
 
 def _D(h, au, av):
@@ -133,10 +134,8 @@ def test_anisotropic_path_with_equal_alphas_renders_as_the_isotropic_one():
     cm = get_colorimeter(coating.wavelength_nm)
     tab = shading.facet_colour_table(80.0, coating, cm, 257, (0.0, 1.0)).to_rgb(cm).values.astype(float)
     rng = np.random.default_rng(7)
-    n = rng.normal(size=(300, 3))
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
-    v = rng.normal(size=(300, 3))
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    n = random_directions(rng, 300)
+    v = random_directions(rng, 300)
     v *= np.sign((n * v).sum(1))[:, None]
     keep = (n * v).sum(1) > 0.1
     n, v = n[keep], v[keep]
@@ -153,8 +152,7 @@ def test_anisotropic_path_with_equal_alphas_renders_as_the_isotropic_one():
 
 def test_brush_tangent_is_a_unit_tangent():
     rng = np.random.default_rng(1)
-    n = rng.normal(size=(500, 3))
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    n = random_directions(rng, 500)
     n[0] = (0.0, 1.0, 0.0)  # the sphere's pole: the fallback axis
     for shape in ("flat", "cylinder", "sphere", "mesh"):
         t = brush_tangent(shape, n)
@@ -178,11 +176,11 @@ def test_render_finish_names_itself_and_refuses_what_it_cannot_do(tmp_path):
     assert r.returncode == 0, r.stderr
     finish = json.loads(_attrs(tmp_path / "b" / "cylinder_050.8nm.exr")["swatch:finish"])
     assert (finish["name"], finish["alpha_along"], finish["alpha_across"]) == ("brushed", 0.12, 0.4)
-    r = run_swatch("render", "--thickness", "50.8", "--finish", "polished", "--size", "32", "--environment", "none",
+    r = run_swatch("render", "--thickness", "50.8", "--finish", "polished", "--size", "32", "--environment", "point",
                    "--out", tmp_path / "p")
     assert r.returncode == 0, r.stderr
     assert float(_attrs(tmp_path / "p" / "flat_050.8nm.exr")["swatch:roughness"]) == pytest.approx(0.04)
-    for args, words in ((["--finish", "brushed", "--environment", "none"], "anisotropic"),
+    for args, words in ((["--finish", "brushed", "--environment", "point"], "anisotropic"),
                         (["--finish", "satin", "--roughness", "0.2"], "either a finish or a roughness"),
                         (["--finish", "brushed", "--size", "2000"], "at most 1024")):
         r = run_swatch("render", "--thickness", "50.8", *args, "--out", tmp_path / "no")

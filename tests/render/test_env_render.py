@@ -66,7 +66,7 @@ def test_view_along_the_normal_is_symmetric():
 def test_no_black_crescent():
     kw = dict(coating=COATING, colorimeter=CM)
     lit = render_swatch(80.0, "sphere", 64, environment="studio", **kw)
-    point = render_swatch(80.0, "sphere", 64, **kw)
+    point = render_swatch(80.0, "sphere", 64, environment="point", **kw)
     inside = lit.coverage == 1.0
     assert point.linear_rgb[inside].sum(-1).min() == 0.0  # the point light leaves a dark side
     assert lit.linear_rgb[inside].sum(-1).min() > 0.02
@@ -91,7 +91,7 @@ def test_cli_environment_options(tmp_path, capsys):
 BAD = [
     (["--environment", "nowhere.exr"], "not a file"),
     (["--environment", "sunset"], "unknown environment"),
-    (["--environment", "none", "--background", "environment"], "needs an environment"),
+    (["--environment", "point", "--background", "environment"], "needs an environment"),
     (["--model", "paper", "--environment", "studio"], "microfacet"),
     (["--view", "95"], "--view must be in [0, 90)"),
     (["--size", "4096"], "at most 2048"),
@@ -113,7 +113,7 @@ def test_environment_render_geometry_names_no_point_light(shape):
     """An environment-lit render's ``geometry`` describes the object and camera only: the point
     light of the point-light render plays no part in it (it used to be described there)."""
     img = render_swatch(80.0, shape, 16, environment="uniform", view_deg=10.0, coating=COATING, colorimeter=CM)
-    point = render_swatch(80.0, shape, 16, view_deg=10.0, coating=COATING, colorimeter=CM)
+    point = render_swatch(80.0, shape, 16, view_deg=10.0, coating=COATING, colorimeter=CM, environment="point")
     assert "light" not in img.metadata["geometry"] and "light_deg" not in img.metadata
     assert "camera 10 deg" in img.metadata["geometry"]
     assert "light 45 deg" in point.metadata["geometry"] and point.metadata["light_deg"] == 45.0

@@ -19,6 +19,7 @@ from swatch.physics.finishes import (
 )
 from swatch.render import env_render, render_swatch
 from tests.cli_helpers import run_swatch
+from tests.helpers import random_directions
 
 
 def test_the_field_runs_along_the_grain_within_its_bound_and_is_deterministic():
@@ -40,8 +41,7 @@ def test_the_field_runs_along_the_grain_within_its_bound_and_is_deterministic():
 
 def test_tilt_is_a_rotation_about_the_grain():
     rng = np.random.default_rng(1)
-    n = rng.normal(size=(200, 3))
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    n = random_directions(rng, 200)
     t = brush_tangent("sphere", n)
     s = rng.uniform(-HAIRLINE_SLOPE, HAIRLINE_SLOPE, 200)
     m = tilt_normals(n, t, s)

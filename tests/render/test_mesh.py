@@ -85,7 +85,7 @@ def test_mesh_plate_furnace_along_the_normal(tmp_path, d_nm):
 
 def test_file_formats_render_alike_and_the_torus_shadows_the_plate(torus_files):
     shapes = {ext: mesh.load_mesh(torus_files / f"torus.{ext}") for ext in ("glb", "obj", "stl", "ply")}
-    imgs = {ext: render_swatch(80.0, "mesh", 96, mesh=s, coating=COATING, colorimeter=CM)
+    imgs = {ext: render_swatch(80.0, "mesh", 96, mesh=s, coating=COATING, colorimeter=CM, environment="point")
             for ext, s in shapes.items()}
     for ext in ("obj", "stl", "ply"):
         assert np.abs(imgs[ext].display_rgb.astype(int) - imgs["glb"].display_rgb.astype(int)).max() <= 2, ext
@@ -181,7 +181,7 @@ def test_a_small_mesh_renders_as_at_unit_scale_down_to_the_extent_cap(tmp_path, 
     small = mesh.load_mesh(tmp_path / "small.obj")
     for got, want in zip(small.triangle_soup(), unit.triangle_soup(), strict=True):
         assert np.abs(got - want).max() < 1e-9
-    a, b = (render_swatch(80.0, "mesh", 48, mesh=m, environment=None, coating=COATING, colorimeter=CM).display_rgb
+    a, b = (render_swatch(80.0, "mesh", 48, mesh=m, environment="point", coating=COATING, colorimeter=CM).display_rgb
             for m in (small, unit))
     assert np.array_equal(a, b)
 
@@ -197,7 +197,7 @@ def test_a_small_float32_gltf_renders_as_at_unit_scale(tmp_path):
         shapes.append(mesh.load_mesh(tmp_path / name))
     for got, want in zip(shapes[1].triangle_soup(), shapes[0].triangle_soup(), strict=True):
         assert np.abs(got - want).max() < 1e-6
-    a, b = (render_swatch(80.0, "mesh", 48, mesh=m, environment=None, coating=COATING, colorimeter=CM).display_rgb
+    a, b = (render_swatch(80.0, "mesh", 48, mesh=m, environment="point", coating=COATING, colorimeter=CM).display_rgb
             for m in shapes)
     assert np.abs(a.astype(int) - b.astype(int)).max() <= 1
 

@@ -65,7 +65,7 @@ def test_render_pixels_match_direct_spectral(shape):
     # direct spectrum at the same pixel centres (normals from the explicit intersection).
     size = 96
     for thickness in (BLUE_NM, 600.0):
-        img = render_swatch(thickness, shape, size)
+        img = render_swatch(thickness, shape, size, environment="point")
         scene = scenes.make_scene(shape, 45.0)
         n, l, v, hit = scenes.scene_geometry(scene, size)
         # Pixels shaded at their centre: away from the silhouette (edge pixels are supersampled).
@@ -84,8 +84,8 @@ def test_render_pixels_match_direct_spectral(shape):
 
 
 def test_acescg_render_is_the_same_colour():
-    a = render_swatch(BLUE_NM, "sphere", 48)
-    b = render_swatch(BLUE_NM, "sphere", 48, space="acescg")
+    a = render_swatch(BLUE_NM, "sphere", 48, environment="point")
+    b = render_swatch(BLUE_NM, "sphere", 48, space="acescg", environment="point")
     m = a.coverage == 1
     dE = delta_E_00(CM2.Lab(_rgb_to_XYZ(a.linear_rgb[m])), CM2.Lab(_rgb_to_XYZ(b.linear_rgb[m], "acescg")))
     assert float(np.max(dE)) < 0.05
@@ -96,7 +96,7 @@ def test_acescg_render_is_the_same_colour():
 def test_blue_sample_is_blue_off_mirror():
     # Off-mirror pixels (outside the half maximum of the lobe) of the blue sample: hue 220–300°.
     for shape in ("flat", "cylinder", "sphere"):
-        img = render_swatch(BLUE_NM, shape, 96)
+        img = render_swatch(BLUE_NM, shape, 96, environment="point")
         scene = scenes.make_scene(shape, 45.0)
         n, l, v, hit = scenes.scene_geometry(scene, 96)
         h = (l + v) / np.linalg.norm(l + v, axis=-1, keepdims=True)
@@ -111,7 +111,7 @@ def test_blue_sample_is_blue_off_mirror():
 
 
 def test_highlight_brighter_and_edges_antialiased():
-    img = render_swatch(BLUE_NM, "sphere", 128)
+    img = render_swatch(BLUE_NM, "sphere", 128, environment="point")
     a = img.coverage
     assert a.min() == 0.0 and a.max() == 1.0
     partial = (a > 0) & (a < 1)
@@ -137,7 +137,7 @@ def test_any_size_and_paper_model():
                                     dict(shape="cube"), dict(model="phong"), dict(light_deg=95.0),
                                     dict(space="xyz"), dict(thickness_nm=-5.0)])
 def test_render_api_rejects_bad_input(kwargs):
-    args = dict(thickness_nm=BLUE_NM, shape="flat", size_px=16)
+    args = dict(thickness_nm=BLUE_NM, shape="flat", size_px=16, environment="point")
     args.update(kwargs)
     with pytest.raises(SwatchError):
         render_swatch(**args)
@@ -339,7 +339,7 @@ def test_display_encoding_matches_srgb():
 def test_render_metadata_leaves_the_voltage_to_the_caller_that_knows_the_process():
     """Issue #17: the library wrote the voltage at the *default* growth rate and the CLI overwrote it;
     now only the caller that knows the process writes it, once (right after the thickness)."""
-    img = render_swatch(80.0, "flat", 8, coating=COATING, colorimeter=CM, environment=None)
+    img = render_swatch(80.0, "flat", 8, coating=COATING, colorimeter=CM, environment="point")
     assert "voltage_V" not in img.metadata and "voltage_note" not in img.metadata
     from swatch.physics.process import load_process
 

@@ -23,7 +23,7 @@ from swatch.render.lighting import Lighting
     ({"engine": "mitsuba", "spp": 0}, "samples per pixel"),
     ({"engine": "mitsuba", "seed": -1}, "seed"),
     ({"engine": "mitsuba", "model": "paper"}, "`model='paper'`"),
-    ({"engine": "mitsuba", "environment": "none"}, "`environment`"),
+    ({"engine": "mitsuba", "environment": "point"}, "`environment`"),
     ({"engine": "mitsuba", "background": "grey"}, "`background='environment'`"),
     ({"engine": "mitsuba", "window_px": (0, 0, 40, 1)}, "window_px"),
     ({"engine": "mitsuba", "exposure": 100.0}, "exposure"),

@@ -10,41 +10,9 @@ sampling), with Smith shadowing either height-correlated (``shadowing = "correla
 default: the built-in renderer's ``G₂ = 1 / (1 + Λ_i + Λ_o)``, with ``Λ = 1/G₁ − 1`` from Mitsuba's
 own ``G₁``) or separable (``"separable"``: ``G₁(i) G₁(o)``, what Mitsuba's ``roughconductor`` uses).
 
-Parameters (scene-dictionary keys)
-----------------------------------
-``thickness_nm``
-    Film thickness in nm, a float or a texture (``eval_1``; give bitmaps ``raw = True``), default 0.
-``film``, ``substrate``
-    Table names as in ``swatch materials list`` (defaults TiO2-Siefke, Ti-Johnson).
-``film_index_scale``
-    Factor on the film's real index, 0.5–1.5 (default 1; a process profile's ``film_index_scale``).
-``distribution``
-    ``"ggx"`` (default) or ``"beckmann"``.
-``alpha``, or ``alpha_u`` and ``alpha_v``
-    Roughness (float or texture); default ``alpha = 0.3``.
-``shadowing``
-    ``"correlated"`` (default) or ``"separable"``.
-``brush_axis``
-    A world-space direction (3 floats) that an anisotropic lobe's ``alpha_u`` follows: at each point
-    the axis projected onto the tangent plane (where it is within ~1° of the normal, world x is
-    projected instead), as the built-in renderer's :func:`swatch.physics.finishes.brush_tangent`.
-    Without it ``alpha_u`` follows the surface's ``dp_du`` (a mesh without texture coordinates, and
-    Mitsuba's sphere, have their own tangents there). Ignored by an isotropic lobe.
-``hairline_depth``
-    Brushed hairlines (:mod:`swatch.render.mitsuba.hairlines`), with ``brush_axis`` and an anisotropic
-    lobe: the across-grain roughness varies by ``± hairline_depth`` (0 to 0.9) from line to line along
-    the axis. Default 0: a uniform lobe.
-``spread_nm``, ``spread_fraction``
-    The film's thickness spread (issue 19, :mod:`swatch.physics.spread`): the reflectance is averaged
-    incoherently over a normal distribution of local thickness around ``thickness_nm`` with
-    ``σ = min(spread_nm + spread_fraction × d, d / 3)``, by the same Gauss–Hermite quadrature as the
-    built-in model (its nodes and weights, the node count from the largest phase spread ``4π n σ / λ``
-    at 360 nm, the shortest wavelength Mitsuba samples; nodes below 0 nm count as bare metal).
-    Default 0: the uniform film, the unaveraged code path.
-``two_sided``
-    ``true``: both faces carry the film (a sheet anodised on both sides), as Mitsuba's ``twosided``
-    wrapper around the plugin gives it but traced once: a render kernel about a third smaller, compiled
-    about 0.5 s sooner (#17). Default ``false``: one-sided like Mitsuba's conductors (black from behind).
+The scene-dictionary keys are :data:`PARAMETERS`, one row each (the key, Mitsuba's property type, the
+default, what it means, and whether ``traverse`` exposes it and whether it is differentiable, as Mitsuba's
+own plugin tables say); docs/mitsuba.md's table is generated from it (docs/conf.py).
 
 The tables are looked up at the sampled wavelengths in one shared grid (:mod:`swatch.render.mitsuba.tables`:
 ``np.interp`` of each table, in constant time); wavelengths outside a table's range are clamped to its end
@@ -70,10 +38,57 @@ from swatch.render.mitsuba.hairlines import across_basis, line_noise
 from swatch.render.mitsuba.setup import SPECTRAL_VARIANTS
 from swatch.render.mitsuba.tables import SpectralTables
 
-__all__ = ["PLUGIN_NAME", "SHADOWING", "register", "index_tables", "check_parameters"]
+__all__ = ["PLUGIN_NAME", "SHADOWING", "PARAMETERS", "register", "index_tables", "check_parameters"]
 
 PLUGIN_NAME = "anodic_film"
 SHADOWING = ("correlated", "separable")
+#: The plugin's scene-dictionary keys: ``keys`` (one row may name keys given together), Mitsuba's property
+#: ``type``, the ``default``, the ``description`` (Markdown), and ``exposed`` / ``differentiable``: whether
+#: ``traverse`` puts the key in ``mi.traverse``'s parameters and without ``mi.ParamFlags.NonDifferentiable``
+#: (tests/mitsuba/test_mitsuba_parameters.py reads both from Mitsuba). A literal, so that the docs read it
+#: without importing Mitsuba (docs/conf.py writes docs/generated/mitsuba_parameters.md from it).
+PARAMETERS: tuple[dict, ...] = (
+    {"keys": ("thickness_nm",), "type": "float or texture", "default": "0", "exposed": True, "differentiable": False,
+     "description": "film thickness in nm, 0 to 1000; a texture (`eval_1`: give bitmaps `\"raw\": True`) for "
+                    "spatially varying films"},
+    {"keys": ("film", "substrate"), "type": "string", "default": "TiO2-Siefke, Ti-Johnson", "exposed": False,
+     "differentiable": False, "description": "table names as in `swatch materials list`"},
+    {"keys": ("film_index_scale",), "type": "float", "default": "1", "exposed": False, "differentiable": False,
+     "description": "factor on the film's real index, 0.5–1.5 (a process profile's `film_index_scale`)"},
+    {"keys": ("distribution",), "type": "string", "default": "ggx", "exposed": False, "differentiable": False,
+     "description": "`\"ggx\"` or `\"beckmann\"` (Mitsuba's `MicrofacetDistribution`, visible-normal sampling)"},
+    {"keys": ("alpha",), "type": "float or texture", "default": "0.3", "exposed": False, "differentiable": False,
+     "description": "isotropic roughness, 0.001–1"},
+    {"keys": ("alpha_u", "alpha_v"), "type": "float or texture", "default": "none (`alpha`)", "exposed": False,
+     "differentiable": False,
+     "description": "anisotropic roughness, given together instead of `alpha` (brushed: along the surface's "
+                    "tangent `dp_du` and bitangent, or along `brush_axis`)"},
+    {"keys": ("brush_axis",), "type": "vector", "default": "none (`dp_du`)", "exposed": False,
+     "differentiable": False,
+     "description": "a world direction (3 floats) an anisotropic lobe's `alpha_u` follows, projected onto the "
+                    "tangent plane at each point (world x where it is within ~1° of the normal), as the built-in "
+                    "engine's `brush_tangent`; `--engine mitsuba` sets it for brushed finishes (x on the plate, y "
+                    "elsewhere); ignored by an isotropic lobe"},
+    {"keys": ("hairline_depth",), "type": "float", "default": "0 (a uniform lobe)", "exposed": False,
+     "differentiable": False,
+     "description": "brushed hairlines, with `brush_axis` and an anisotropic lobe: the across-grain roughness "
+                    "varies by ± `hairline_depth` (0 to 0.9) from line to line along the axis"},
+    {"keys": ("shadowing",), "type": "string", "default": "correlated", "exposed": False, "differentiable": False,
+     "description": "`\"correlated\"` (height-correlated Smith, the built-in renderer's) or `\"separable\"` "
+                    "(G₁·G₁, what `roughconductor` uses)"},
+    {"keys": ("spread_nm", "spread_fraction"), "type": "float", "default": "0, 0 (a uniform film)",
+     "exposed": False, "differentiable": False,
+     "description": "the film's thickness spread (issue 19): F averaged incoherently over a normal distribution "
+                    "of local thickness, σ = min(spread_nm + spread_fraction × d, d/3), by the built-in model's "
+                    "Gauss–Hermite nodes (the node count from the phase spread at 360 nm, the shortest "
+                    "wavelength Mitsuba samples; docs/processes.md)"},
+    {"keys": ("two_sided",), "type": "boolean", "default": "false (one-sided, like Mitsuba's conductors)",
+     "exposed": False, "differentiable": False,
+     "description": "`true`: both faces carry the film, as `{\"type\": \"twosided\", \"material\": …}` around "
+                    "the plugin gives it (the same values, pdf and samples, tested), but traced once: "
+                    "`--engine mitsuba` uses it, and its render kernels are about a third smaller and compile "
+                    "about 0.5 s sooner"},
+)
 #: The span of the tables kept around the wavelengths Mitsuba samples (360–830 nm), in nm.
 _TABLE_SPAN_NM = (300.0, 900.0)
 #: The shortest wavelength a spectral Mitsuba variant samples (nm): it sets the spread's node count.
@@ -142,7 +157,7 @@ def check_parameters(thickness_nm: float, film_index_scale: float, distribution:
     if not (math.isfinite(film_index_scale) and MIN_FILM_INDEX_SCALE <= film_index_scale <= MAX_FILM_INDEX_SCALE):
         raise SwatchError(f"anodic_film: film_index_scale must be from {MIN_FILM_INDEX_SCALE:g} to "
                           f"{MAX_FILM_INDEX_SCALE:g}, got {film_index_scale!r}")
-    if distribution not in DISTRIBUTIONS:
+    if distribution not in DISTRIBUTIONS.names():  # the plugin's properties: as spelt
         raise SwatchError(f"anodic_film: distribution must be one of {', '.join(DISTRIBUTIONS)}, got {distribution!r}")
     if shadowing not in SHADOWING:
         raise SwatchError(f"anodic_film: shadowing must be one of {', '.join(SHADOWING)}, got {shadowing!r}")

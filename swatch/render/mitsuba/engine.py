@@ -32,6 +32,7 @@ import mitsuba as mi
 import numpy as np
 
 from swatch.colorimetry.colorimeter import RGB_SPACES
+from swatch.core.choices import DEFAULT_SEED, DEFAULT_SPP
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_PASS_LANES, MAX_PASS_SPP
 from swatch.core.procguard import raise_if_signalled
@@ -281,11 +282,12 @@ def _pass_seeds(seed: int, passes: int) -> list[int]:
 
 
 def render_swatch_mitsuba(  # type: ignore[misc]  # spp and seed: named here, options of render_swatch
-        thickness_nm: float, shape: str = "sphere", size_px: int = 256, spp: int = 64, seed: int = 0,
-        lighting_name: str | Lighting | None = "studio", progress: Progress | None = None,
+        thickness_nm: float, shape: str = "sphere", size_px: int = 256, spp: int = DEFAULT_SPP,
+        seed: int = DEFAULT_SEED, lighting_name: str | Lighting | None = None, progress: Progress | None = None,
         **options: Unpack[RenderOptions]) -> SwatchImage:
     """Render one swatch with Mitsuba (module documentation): ``render_swatch(..., engine="mitsuba")`` with
-    this engine's defaults (a 256 px sphere at 64 spp in the studio).
+    this engine's defaults (a 256 px sphere at :data:`swatch.core.choices.DEFAULT_SPP` spp in its default
+    lighting, the studio).
 
     Parameters
     ----------
@@ -296,8 +298,8 @@ def render_swatch_mitsuba(  # type: ignore[misc]  # spp and seed: named here, op
     size_px, spp, seed : int
         Image side (≤ :data:`swatch.core.limits.MAX_MITSUBA_PX`), samples per pixel (≤ MAX_SPP; size² × spp ≤
         MAX_MITSUBA_SAMPLES) and the seed (0 … MAX_SEED): equal values give byte-identical images.
-    lighting_name : str or Lighting
-        ``studio``, ``sun``, ``uniform``, an .exr/.hdr path, or a :class:`Lighting` from
+    lighting_name : str or Lighting or None
+        ``studio`` (None: the default), ``sun``, ``uniform``, an .exr/.hdr path, or a :class:`Lighting` from
         :func:`resolve_lighting` (reuse it across thicknesses: the map is read once).
     progress : callable(done, total), optional
         Called after each pass with the passes done and their number (the CLI draws its bar from it:

@@ -1,4 +1,4 @@
-"""The colour tables behind ``swatch calibrate``'s model search (:mod:`swatch.fit.calibration_search`).
+"""The colour tables behind ``swatch calibrate``'s model search (:mod:`swatch.fit.calibration.model`).
 
 For each film × substrate table pair the tristimulus values are tabulated once over the optical
 growth ``u`` (film thickness × film index scale, every :data:`U_STEP_NM`) at film index scales
