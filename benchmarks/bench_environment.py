@@ -25,7 +25,8 @@ def run(size: int | None = None, repeats: int = 5) -> list[str]:
     size = size or pick(1024, 64)
     from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
     from swatch.physics.model import get_coating
-    from swatch.render import env_render, env_shading, environment, render_swatch, scene, shading
+    from swatch.render import environment, render_swatch, scene
+    from swatch.render.builtin import env_render, env_shading, shading
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)

@@ -23,7 +23,8 @@ def run(size: int | None = None, repeats: int = 5) -> list[str]:
 
     from swatch.colorimetry.colorimeter import get_colorimeter
     from swatch.physics.model import get_coating
-    from swatch.render import env_render, mesh, render_swatch, scene
+    from swatch.render import mesh, render_swatch, scene
+    from swatch.render.builtin import env_render
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)

@@ -21,8 +21,9 @@ def run(size: int | None = None, repeats: int = 7) -> list[str]:
     size = size or pick(1024, 64)
     from swatch.colorimetry.colorimeter import get_colorimeter
     from swatch.physics.model import get_coating
-    from swatch.render import render_swatch, shading
+    from swatch.render import render_swatch
     from swatch.render import scene as scene_mod
+    from swatch.render.builtin import shading
 
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)

@@ -19,7 +19,8 @@ import numpy as np
 
 from swatch.colorimetry.colorimeter import get_colorimeter
 from swatch.physics.model import get_coating
-from swatch.render import env_shading, environment, scene, shading
+from swatch.render import environment, scene
+from swatch.render.builtin import env_shading, shading
 
 SIZE = 32
 THICKNESSES_NM = (30.0, 80.0, 160.0)

@@ -50,7 +50,7 @@ def make(out: Path) -> dict:
     from swatch.io import imageio
     from swatch.io.drawing import draw_text
     from swatch.physics.process import DEFAULT_PROCESS, load_process
-    from swatch.presets.files import single_usd_preset
+    from swatch.presets.usd_files import single_usd_preset
     from swatch.render import render_swatch
 
     proc = load_process(DEFAULT_PROCESS)

@@ -77,7 +77,7 @@ _API = {
     "calibrate": "swatch.fit.calibration.procedure",
     # catalogs
     "build_catalog": "swatch.catalog.build",
-    "load_spec": "swatch.catalog.spec",
+    "load_spec": "swatch.catalog.spec.document",
 }
 
 __all__ = ["__version__"]

@@ -38,11 +38,14 @@ ALLOWED_FUNCTION_IMPORTS = {
         "stages: colour-science, OpenImageIO) once, after the no-op check: no-op rebuild ≤ 2 s",
     ("swatch.catalog.build", "swatch.catalog.cluster"):
         "Dask's distributed client (optional: `anodic-swatch[distributed]`) only for a build given a scheduler (#50)",
-    ("swatch.catalog.spec", "swatch.physics.model"):
+    ("swatch.catalog.spec.document", "swatch.physics.model"):
         "the optics (0.1 s) only when a coating or a voltage is asked for: a no-op rebuild parses the spec without",
     ("swatch.physics.process", "swatch.physics.model"): "as above (a profile parses without the optics)",
     ("swatch.render.dispatch", "swatch.render.mitsuba.engine"):
         "Mitsuba and Dr.Jit (optional; a JIT on libLLVM, seconds to load) only for `engine='mitsuba'` (#23)",
+    ("swatch.catalog.presets", "swatch.catalog.presets_usd"):
+        "usd-core (pxr: ~0.5 GB of address space mapped on import) only for a catalog whose spec asks for USD or "
+        "physicallybased.info presets (#47): the commands at their memory caps stay under them",
     ("swatch.render.dispatch", "swatch.render.mitsuba.bake"):
         "as above: the path tracer's studio set baked for the catalog page only when a catalog asks for it (#46)",
 }
@@ -59,8 +62,8 @@ OVER_PARAMETER_CAP: dict[str, str] = {}
 #: swatch.render.request.RenderRequest and check none of its fields again (#36).
 ENGINE_FUNCTIONS = {
     "swatch.render.dispatch": ("render_builtin",),
-    "swatch.render.pointlight": ("render_pointlight",),
-    "swatch.render.env_render": ("render_swatch_environment",),
+    "swatch.render.builtin.pointlight": ("render_pointlight",),
+    "swatch.render.builtin.env_render": ("render_swatch_environment",),
     "swatch.render.mitsuba.engine": ("render_mitsuba",),
 }
 
@@ -460,8 +463,8 @@ def test_code_hash_follows_imports():
     from swatch.core.sources import imported_modules
 
     tiles = imported_modules("swatch.catalog.tiles")
-    assert {"swatch.render.dispatch", "swatch.render.request", "swatch.render.pointlight", "swatch.render.env_render",
-            "swatch.render.mitsuba.engine", "swatch.physics.optics"} <= set(tiles)
+    assert {"swatch.render.dispatch", "swatch.render.request", "swatch.render.builtin.pointlight",
+            "swatch.render.builtin.env_render", "swatch.render.mitsuba.engine", "swatch.physics.optics"} <= set(tiles)
     assert "swatch.physics.geometry" in imported_modules("swatch.catalog.presets")
     assert "swatch.commands.render" not in tiles
 

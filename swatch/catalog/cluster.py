@@ -22,6 +22,7 @@ extra ``anodic-swatch[distributed]``).
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import importlib.metadata
 import os
 import tempfile
@@ -225,7 +226,10 @@ def connect(address: str, timeout_s: float | None = None) -> Cluster:
     """
     timeout_s = SCHEDULER_TIMEOUT_S if timeout_s is None else timeout_s
     try:
-        asyncio.run(_probe(address, timeout_s))  # (a Client that fails to connect hangs its interpreter's exit)
+        # (a Client that fails to connect hangs its interpreter's exit). On a thread of its own: the calling
+        # thread may already run an event loop (a notebook, Playwright's sync API), where asyncio.run refuses.
+        with concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="swatch-probe") as pool:
+            pool.submit(asyncio.run, _probe(address, timeout_s)).result()
     except Exception as exc:  # an address Dask cannot parse, no answer, or no Dask scheduler answering
         raise SwatchError(f"`scheduler` {address!r}: no Dask scheduler answered within {timeout_s:g} s "
                           f"({_one_line(exc)}); give the address `dask scheduler` prints "

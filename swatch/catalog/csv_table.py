@@ -11,16 +11,26 @@ from swatch.presets import PRESET_FORMATS
 __all__ = ["csv_columns", "csv_bytes", "preset_figures"]
 
 
-def preset_figures() -> list[str]:
-    """The presets' error keys, in catalog.json's order (max over mirror 0–60°, 0–45°, at 45:0).
+def preset_figures(spec: CatalogSpec) -> list[str]:
+    """The presets' error keys, in catalog.json's order (max over mirror 0–60°, 0–45°, at 45:0), then those of the
+    page's ``<model-viewer>`` (``[presets] ar``) and of the USD fallback (``[presets] usd``) where the spec asks.
+
+    Parameters
+    ----------
+    spec : swatch.catalog.spec.CatalogSpec
+        The validated catalog spec.
 
     Returns
     -------
     list of str
         The keys of each preset's ΔE2000 figures, as catalog.json names them.
     """
-    return [f"{prefix}{tail}" for fmt in PRESET_FORMATS for prefix in FORMAT_FIGURES[fmt]
+    keys = [f"{prefix}{tail}" for fmt in PRESET_FORMATS for prefix in FORMAT_FIGURES[fmt]
             for tail in ("_max_delta_E_00", "_max_delta_E_00_45", "_delta_E_00_45_0")]
+    for on, prefix in ((spec.presets and spec.ar, "modelviewer"), (spec.presets and spec.presets_usd, "usd_preview")):
+        if on:
+            keys += [f"{prefix}_max_delta_E_00", f"{prefix}_max_delta_E_00_45"]
+    return keys
 
 
 def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
@@ -55,7 +65,7 @@ def csv_columns(spec: CatalogSpec, illuminant: str, observer: str) -> list[str]:
                  f"h_{cs}_deg_{g.name}", f"srgb_hex_{g.name}"]
     files = ["sheet_png", "sheet_exr", "tile_row", "tile_col", "chip_png", "chip_tiff", "preset_gltf",
              "preset_blender", "preset_materialx", "preset_mitsuba", "preset_mitsuba_json"]
-    return [*head, *preset_figures(), *files]
+    return [*head, *preset_figures(spec), *files]
 
 
 def csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer: str) -> bytes:
@@ -79,7 +89,7 @@ def csv_bytes(spec: CatalogSpec, records: list[dict], illuminant: str, observer:
     w = csv.writer(buf, lineterminator="\n")
     geo = [g.name for g in spec.multi_angle]
     w.writerow(csv_columns(spec, illuminant, observer))
-    figures = preset_figures()
+    figures = preset_figures(spec)
 
     def f(x):
         return "" if x is None else repr(x) if isinstance(x, float) else str(x)

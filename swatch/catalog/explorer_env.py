@@ -1,19 +1,19 @@
 """The explorer's environment lighting: what the page needs to integrate the thin-film BRDF over
-an environment, computed by the engine (:mod:`swatch.render.env_shading`, :mod:`swatch.render.environment`).
+an environment, computed by the engine (:mod:`swatch.render.builtin.env_shading`, :mod:`swatch.render.environment`).
 
 The page's live view under ``studio`` or ``uniform`` is the method of
-:mod:`swatch.render.env_shading` ported to WebGL: per pixel a fixed set of GGX visible-normal samples
+:mod:`swatch.render.builtin.env_shading` ported to WebGL: per pixel a fixed set of GGX visible-normal samples
 (``SAMPLES`` per view bin, the renderer's own set), the environment blurred per sample
 (octahedral maps, the renderer's blur levels), ``F`` at every sample's own ``θ_d`` from the
 explorer's colour table and the per-bin, per-channel level ``c = A / Σ w F`` with the dense
 directional albedo ``A = H F`` (``H``: the renderer's dense sample set spread onto the table's
-``cos θ_d`` nodes, :func:`swatch.render.env_shading.directional_albedo`). The browser re-implements none
+``cos θ_d`` nodes, :func:`swatch.render.builtin.env_shading.directional_albedo`). The browser re-implements none
 of it: it reads the samples, ``H`` and the maps from here and only multiplies and adds.
 
 **The page's split (so that a thickness change is one cheap pass).** The radiance of a pixel in
 view bin ``j`` is ``Σ_i w_i (F(x_i) + δ_j) E_i`` (``x_i = cos θ_d`` of sample ``i``, ``E_i`` the
 environment in its direction, ``δ_j`` the level correction of
-:func:`swatch.render.env_shading.band_weights`). The environment part does not depend on the thickness, ``F`` only
+:func:`swatch.render.builtin.env_shading.band_weights`). The environment part does not depend on the thickness, ``F`` only
 through ``x_i``, which is fixed per bin. ``F`` is replaced by its weighted least-squares
 projection onto polynomials of degree ``BASIS − 1`` in ``x`` over the bin's samples (weights
 ``w_i``; orthonormal basis ``q_k`` from a QR factorisation per bin, embedded as ``u_ik = w_i
@@ -58,7 +58,7 @@ from swatch.core.choices import lightings_of
 from swatch.core.errors import SwatchError
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import code_hash
-from swatch.render import env_shading
+from swatch.render.builtin import env_shading
 from swatch.render.environment import LEVELS, get_environment, levels
 
 __all__ = ["BASIS", "PAGE_LIGHTINGS", "FORMAT", "environment_data", "environment_data_cached", "decode_block",
@@ -244,7 +244,7 @@ def environment_data(roughness_alpha: float, cos_nodes: int, studio: tuple | Non
     samples = _sample_blocks(roughness_alpha, maps, cos_nodes, used)
     doc = {
         "format": FORMAT, "format_version": _VERSION,
-        "method": "GGX visible-normal samples per view bin (swatch.render.env_shading), F at each sample's theta_d from the "
+        "method": "GGX visible-normal samples per view bin (swatch.render.builtin.env_shading), F at each sample's theta_d from the "
                   "colour table, per-sample blurred environment, level fixed by the dense directional albedo; F "
                   f"projected per bin on polynomials of degree {BASIS - 1} (weighted least squares)",
         "frame": "page direction (x, y, z) -> environment direction (-y, z, -x); the environment's +y is the plate's "

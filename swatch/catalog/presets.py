@@ -36,7 +36,6 @@ from swatch.catalog.context import catalog_mesh
 from swatch.catalog.folder import read_cache_json, remove_tree
 from swatch.catalog.layout import PRESETS
 from swatch.catalog.presets_mitsuba import mitsuba_presets
-from swatch.catalog.presets_usd import physicallybased_files, usd_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import code_hash, package_dir
@@ -253,6 +252,8 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
             entry.update(viewer)
             entry["renderers"]["modelviewer"] = VIEWER_RENDERER
         exact_files |= viewer_files
+    if spec.presets_usd or spec.presets_physicallybased:
+        from swatch.catalog.presets_usd import physicallybased_files, usd_presets  # usd-core only when asked for
     if spec.presets_usd:  # the .usdz of each swatch (swatch.catalog.presets_usd); off: the bytes of before
         mtlx_params, mtlx_figures = fits["materialx"]
         usd_files, usd_entries = usd_presets(spec, records, mtlx_params, mtlx_figures["materialx"]["60"],

@@ -16,10 +16,10 @@ import numpy as np
 
 from swatch.catalog.layout import PRESETS
 from swatch.presets import physicallybased, usd
-from swatch.presets.files import usd_preset
 from swatch.presets.fit import FIT_ANGLES_DEG
 from swatch.presets.naming import preset_file_name
 from swatch.presets.preview import preview_base_color, preview_delta_E_00
+from swatch.presets.usd_files import usd_preset
 from swatch.report.physicallybased import material_with_pictures
 
 __all__ = ["PHYSICALLYBASED_FILE", "usd_presets", "physicallybased_files"]

@@ -59,7 +59,7 @@ AMAP_CELL_PX = 2
 LIGHT_DEG = 45.0
 
 #: Lighting of the tile renders for the microfacet model (GGX): the studio, exposure 1
-#: (swatch.render.env_render), so a render and its chip are on one scale; the paper model keeps the light.
+#: (swatch.render.builtin.env_render), so a render and its chip are on one scale; the paper model keeps the light.
 ENVIRONMENT = "studio"
 
 

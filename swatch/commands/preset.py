@@ -48,7 +48,7 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, mesh_
     from swatch.core.errors import SwatchError
     from swatch.core.fileio import atomic_write_bytes, check_new, check_writable_dir
     from swatch.physics.finishes import finish_or_roughness
-    from swatch.presets.files import single_mitsuba_preset, single_preset, single_usd_preset
+    from swatch.presets.files import single_mitsuba_preset, single_preset
     from swatch.presets.naming import preset_file_name
 
     finish = finish_or_roughness(finish_name, roughness)
@@ -68,6 +68,7 @@ def preset(thickness, voltage, process, nm_per_volt, film, substrate, fmt, mesh_
         raise SwatchError(f"--base-url applies to --format physicallybased (got --format {fmt})")
     if fmt in USD_FORMATS:
         from swatch.presets.usd import triangle_part
+        from swatch.presets.usd_files import single_usd_preset
         from swatch.render.mesh import load_mesh
 
         part = None

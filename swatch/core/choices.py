@@ -36,7 +36,7 @@ __all__ = [
 SHAPES = ("flat", "cylinder", "sphere")
 #: Mesh files a render can show instead (``--mesh``; a .gltf only with embedded buffers).
 MESH_FORMATS = ("obj", "ply", "stl", "glb", "gltf")
-#: Intensity models (``model``); each intensity factor is registered by :mod:`swatch.render.shading`.
+#: Intensity models (``model``); each intensity factor is registered by :mod:`swatch.render.builtin.shading`.
 MODELS: Registry = Registry.declare("intensity model", "model", {
     "paper": "the half-vector reflectance alone, facet probability constant",
     "microfacet": "D G F / (4 cos θ_l cos θ_v)"})

@@ -117,7 +117,7 @@ MAX_ENV_FILE_BYTES = 512 * 1024 * 1024
 #: gathered environment samples of the shading points), within MAX_RUN_BYTES.
 MAX_ENV_RENDER_PX = 2048
 #: Side of an environment-lit render of an anisotropic (brushed) finish: four bins gathered per
-#: shading point (swatch.render.env_aniso), so a quarter of the pixels for the same memory.
+#: shading point (swatch.render.builtin.env_aniso), so a quarter of the pixels for the same memory.
 MAX_ANISO_RENDER_PX = 1024
 
 #: Swatches in one catalog (a spec's thickness or voltage list or range).
@@ -131,8 +131,8 @@ MAX_SEARCH_POINTS = 200_000
 #: Largest roughness Ra accepted by the Rayleigh criterion (nm; a millimetre).
 MAX_RA_NM = 1e6
 #: A coupon CSV (``swatch calibrate``): bytes, non-comment rows and coupons. A cap bounds time as well as
-#: memory: the search grows linearly with the coupons past 300 (the leave-one-out folds are Newton steps,
-#: swatch.fit.calibration.leave_one_out); 1,000 at 0–300 V take ~15 s of CPU and 0.8 GB peak
+#: memory: the search grows linearly with the coupons (the leave-one-out folds are Newton steps, a bounded number
+#: refitted: swatch.fit.calibration.leave_one_out); 1,000 at 0–300 V take ~20 s of CPU and 0.8 GB peak
 #: (``calibrate_1000_cpu_s``, ``calibrate_1000_peak_mb`` in ``python3 dev.py bench calibrate``); a line is
 #: calibrated from tens.
 MAX_COUPON_BYTES = 8 * 1024 * 1024

@@ -27,14 +27,14 @@ import numpy as np
 
 from swatch.presets.threejs import dfg, iridescence_fresnel
 
-__all__ = ["VERSION", "THREE_REVISION", "MIN_ROUGHNESS", "surround_fresnel"]
+__all__ = ["VERSION", "THREE_REVISION", "ROUGHNESS_FLOOR", "surround_fresnel"]
 
 #: The ``<model-viewer>`` release ported (and vendored for the catalog page).
 VERSION = "4.4.0"
 #: The three.js revision that release bundles.
 THREE_REVISION = "r183"
 #: ``material.roughness = max(roughnessFactor, 0.0525)`` in r183's ``lights_physical_fragment``.
-MIN_ROUGHNESS = 0.0525
+ROUGHNESS_FLOOR = 0.0525
 
 
 def surround_fresnel(cos_nv, thickness_nm, film_ior, base_f0, roughness) -> np.ndarray:
@@ -58,7 +58,7 @@ def surround_fresnel(cos_nv, thickness_nm, film_ior, base_f0, roughness) -> np.n
         ``FssEss + Fms·(1 − Ess)``, linear Rec.709 (1 = the white metal plate).
     """
     F = iridescence_fresnel(cos_nv, thickness_nm, film_ior, base_f0)
-    rough = np.clip(np.asarray(roughness, dtype=np.float64), MIN_ROUGHNESS, 1.0)
+    rough = np.clip(np.asarray(roughness, dtype=np.float64), ROUGHNESS_FLOOR, 1.0)
     nv = np.clip(np.asarray(cos_nv, dtype=np.float64), 0.0, 1.0)
     fab = dfg(rough, nv)
     scale, bias = fab[..., 0:1], fab[..., 1:2]

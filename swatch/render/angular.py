@@ -11,7 +11,7 @@ from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_ANGULAR_SAMPLES
 from swatch.physics import geometry, microfacet
 from swatch.physics.model import check_thickness_nm
-from swatch.render import shading
+from swatch.render.builtin import shading
 from swatch.render.display import HUE_SHOULDER_RULE, PAPER_EXPOSURE_RULE, display_encode, display_encode_hue, exposure
 from swatch.render.metadata import coating_and_colorimeter, common_metadata
 

@@ -8,7 +8,7 @@ An engine is a function ``engine(request, progress) -> SwatchImage`` of a checke
 renders what the request holds and checks nothing again. :data:`ENGINES` maps a name to it:
 
 ``builtin`` (the default) is the table-lookup renderer of this package (:func:`render_builtin`):
-:mod:`swatch.render.pointlight` for one directional light, :mod:`swatch.render.env_render` when an
+:mod:`swatch.render.builtin.pointlight` for one directional light, :mod:`swatch.render.builtin.env_render` when an
 environment lights the swatch. ``mitsuba`` is Mitsuba 3's spectral path tracer with the exact thin-film
 BSDF (:func:`swatch.render.mitsuba.engine.render_mitsuba`), imported only when it is asked for (Mitsuba
 and Dr.Jit are an optional dependency that takes seconds to load). A further engine (a GPU variant, a
@@ -23,10 +23,10 @@ from swatch.core.choices import ENGINES
 from swatch.core.errors import SwatchError
 from swatch.core.procguard import signals_held
 from swatch.core.version import __version__
-from swatch.render import env_render
+from swatch.render.builtin import env_render
+from swatch.render.builtin.pointlight import render_pointlight
 from swatch.render.image import SwatchImage, finish_meta
 from swatch.render.metadata import common_metadata
-from swatch.render.pointlight import render_pointlight
 from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
 __all__ = ["ENGINES", "Engine", "render_builtin", "render_swatch", "engine_unavailable", "engine_version", "set_engine_threads",
@@ -37,8 +37,8 @@ Engine = Callable[[RenderRequest, Progress | None], SwatchImage]
 
 
 def render_builtin(request: RenderRequest, progress: Progress | None = None) -> SwatchImage:
-    """The ``builtin`` engine: one directional light (:mod:`swatch.render.pointlight`) or an environment
-    (:mod:`swatch.render.env_render`), by the request's lighting.
+    """The ``builtin`` engine: one directional light (:mod:`swatch.render.builtin.pointlight`) or an environment
+    (:mod:`swatch.render.builtin.env_render`), by the request's lighting.
 
     Parameters
     ----------

@@ -20,7 +20,7 @@ constant map of any value equals ``uniform``.
 trigonometry to look up, padded with its octahedral neighbours for bilinear lookups across the
 folded edges. :meth:`Environment.filtered` returns the map blurred on the sphere by a Gaussian of
 a given angular width (a dense convolution with the texels' solid angles as weights), and
-:func:`levels` a stack of such blurs, used by :mod:`swatch.render.env_shading` so that a fixed set
+:func:`levels` a stack of such blurs, used by :mod:`swatch.render.builtin.env_shading` so that a fixed set
 of samples per pixel gives a smooth image.
 """
 from __future__ import annotations

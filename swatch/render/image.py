@@ -1,7 +1,7 @@
 """What every renderer returns and shares: the rendered image, its size and background checks, the
 silhouette pixels re-rendered for anti-aliasing, and the metadata of a mesh.
 
-This module is below every renderer (:mod:`swatch.render.pointlight`, :mod:`swatch.render.env_render`,
+This module is below every renderer (:mod:`swatch.render.builtin.pointlight`, :mod:`swatch.render.builtin.env_render`,
 and any further engine registered in :mod:`swatch.render.dispatch`); it imports no renderer.
 """
 from __future__ import annotations

@@ -3,7 +3,7 @@
 :func:`resolve_lighting` reads a render's ``environment`` for an engine and checks it (and the
 camera, the size and the background it implies) before anything is rendered:
 
-* ``builtin`` (:mod:`swatch.render.env_render`, :mod:`swatch.render.pointlight`): ``point`` (one
+* ``builtin`` (:mod:`swatch.render.builtin.env_render`, :mod:`swatch.render.builtin.pointlight`): ``point`` (one
   directional light; the default unless the model is the GGX microfacet one), ``studio`` (the
   built-in studio map, the default), ``uniform``, or an equirectangular ``.exr``/``.hdr`` map,
   resolved into an :class:`swatch.render.environment.Environment` (normalised: a white diffuser
@@ -31,7 +31,7 @@ from swatch.core.choices import ENGINES, LIGHTINGS, POINT_LIGHT, lightings_of
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_TURBIDITY, MAX_YEAR, MIN_TURBIDITY, MIN_YEAR
 from swatch.physics import geometry
-from swatch.render.env_render import check_env_size_px
+from swatch.render.builtin.env_render import check_env_size_px
 from swatch.render.environment import Environment, get_environment
 from swatch.render.hdri import read_equirect
 

@@ -7,7 +7,7 @@ is the inner diamond), which needs no trigonometry to look up. A direction ``d``
 diamond's edges. :class:`PaddedMap` keeps a one-texel border of the octahedral neighbours so that
 a bilinear lookup is continuous across the folds; :class:`LevelMaps` stacks several blurred
 copies of one map for per-sample filtered lookups (the renders' fixed samples,
-:mod:`swatch.render.env_shading`).
+:mod:`swatch.render.builtin.env_shading`).
 
 References
 ----------

@@ -38,7 +38,7 @@ from swatch.physics import microfacet
 from swatch.physics.finishes import Finish
 from swatch.physics.model import check_thickness_nm
 from swatch.physics.spread import NO_SPREAD, ThicknessSpread
-from swatch.render import shading
+from swatch.render.builtin import shading
 from swatch.render.checks import (
     check_denoise,
     check_denoise_size,

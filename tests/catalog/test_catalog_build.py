@@ -77,7 +77,9 @@ EXPECTED_FILES = {"index.html", "catalog.json", "catalog.csv", "test-catalog.cxf
                   "test-catalog-srgb.ase",
                   "sheets/sheet_01.png", "sheets/sheet_01.exr", "sheets/sheet_02.png", "sheets/sheet_02.exr"}
 EXPECTED_FILES |= {f"presets/preset_S{i + 1:03d}{end}" for i in range(len(THICKNESSES))
-                   for end in (".gltf", "_blender.py", ".mtlx", "_mitsuba.xml", "_mitsuba.json")}  # 3-D material presets
+                   for end in (".gltf", "_blender.py", ".mtlx", "_mitsuba.xml", "_mitsuba.json",
+                               "_viewer.gltf")}  # 3-D material presets, the page's <model-viewer> files
+EXPECTED_FILES |= {"presets/viewer_part.bin", "presets/model-viewer-4.4.0.min.js", "presets/model-viewer-4.4.0-LICENSE.txt"}
 EXPECTED_FILES |= {f"chips/chip_S{i:03d}.{ext}" for i in range(1, len(THICKNESSES) + 1) for ext in ("png", "tif")}
 
 
@@ -115,7 +117,7 @@ def test_outputs_and_records(built):
         assert row["colour_name"] == rec["colour_name"]
         assert all(row[f"srgb_hex_{g}"] == h for g, h in rec["multi_angle_srgb_hex"].items())
         figures = [k for k in rec["presets"] if "delta_E_00" in k]
-        assert len(figures) == 15 and all(float(row[k]) == rec["presets"][k] for k in figures)
+        assert len(figures) == 17 and all(float(row[k]) == rec["presets"][k] for k in figures)  # with the <model-viewer> pair
         assert (row["chip_png"], row["chip_tiff"]) == (rec["print_chip"]["png"], rec["print_chip"]["tiff"])
         kinds = ("gltf", "blender", "materialx", "mitsuba", "mitsuba_json")
         assert [row[f"preset_{f}"] for f in kinds] == [rec["presets"][f] for f in kinds]

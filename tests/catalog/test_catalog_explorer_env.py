@@ -1,6 +1,6 @@
 """The explorer's environment data (swatch.catalog.explorer_env) against the renderer's method.
 
-Reference: :mod:`swatch.render.env_shading`'s per-sample sum ``Σ_i a_i E_i`` (``band_weights``: F at
+Reference: :mod:`swatch.render.builtin.env_shading`'s per-sample sum ``Σ_i a_i E_i`` (``band_weights``: F at
 every sample's own θ_d, the level from the dense directional albedo), which tests/render/test_environment.py
 checks against tmm + scipy quadrature (furnace) and a 4096-sample brute force (studio). Here the
 page's arithmetic (per-bin polynomial projection of F, moments of the environment, the level
@@ -21,7 +21,8 @@ from swatch.catalog.explorer_env import BASIS, decode_block, environment_data, e
 from swatch.colorimetry.colorimeter import delta_E_00, get_colorimeter
 from swatch.core.choices import lightings_of
 from swatch.physics.model import get_coating
-from swatch.render import env_shading, environment
+from swatch.render import environment
+from swatch.render.builtin import env_shading
 
 COATING = get_coating()
 CM2 = get_colorimeter(COATING.wavelength_nm).display_colorimeter

@@ -2,7 +2,7 @@
 WebGL2), against ``swatch render --environment … --view 0``; and its scene (the bent sheet is
 ``--shape cylinder``) against ``swatch render`` image for image, the point light included.
 
-References we did not write for the page: the renderer (swatch.render.env_render), itself checked against
+References we did not write for the page: the renderer (swatch.render.builtin.env_render), itself checked against
 tmm + scipy quadrature (furnace) and a brute-force integration (studio) in tests/render/test_environment.py
 and tests/render/test_env_render.py; and, for ``uniform``, that quadrature directly. Both images go
 through the same display transform (exposure 1, the shoulder above 0.8, sRGB) before the

@@ -156,7 +156,8 @@ def test_the_part_hides_the_environment_from_itself(monkeypatch):
     """The built-in engine under an environment: a direction the part blocks is dark (self-occlusion). Under the
     furnace light the part with occlusion is nowhere brighter than without it, and much darker where it sees itself
     (the flange's top beside the grip, the flutes); the sphere, convex, has nothing to hide."""
-    from swatch.render import env_render, render_swatch
+    from swatch.render import render_swatch
+    from swatch.render.builtin import env_render
     from swatch.render.mesh import MeshShape, load_mesh
 
     part = load_mesh(PART)

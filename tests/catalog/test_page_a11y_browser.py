@@ -171,7 +171,7 @@ def hero_catalog(tmp_path_factory, chromium):
     spec.write_text(SMALL_CATALOG_SPEC.format(name="hero page").replace("[render]\n", "[render]\nhero = true\n"),
                     encoding="utf-8")
 
-    def fake(spec_, records, cache, say=None, mesh=None):
+    def fake(spec_, records, cache, say=None, mesh=None, render_many=None):
         files, entries = {}, []
         for k, rec in enumerate(records):
             if k == 0:  # a swatch without a hero: the page handles both

@@ -68,8 +68,7 @@ def test_lightings_name_the_engines_that_render_them():
 
 def test_distributions_and_models_run_through_their_registries():
     from swatch.physics import microfacet
-    from swatch.render import shading
-
+    from swatch.render.builtin import shading
     c = np.linspace(0.2, 1.0, 9)
     a = 0.3
     # Beckmann's D written out here (Walter et al. 2007, eq. 25), not taken from the module

@@ -22,7 +22,8 @@ from swatch.core.choices import FINISHES
 from swatch.core.errors import SwatchError
 from swatch.physics import microfacet
 from swatch.physics.finishes import brush_tangent, get_finish, highlight_half_width_deg
-from swatch.render import env_aniso, env_shading, environment
+from swatch.render import environment
+from swatch.render.builtin import env_aniso, env_shading
 from tests.cli_helpers import run_swatch
 from tests.helpers import random_directions
 
@@ -128,8 +129,7 @@ def test_anisotropic_path_with_equal_alphas_renders_as_the_isotropic_one():
     light (the level) and in the studio (the sample directions), random normals and views."""
     from swatch.colorimetry.colorimeter import get_colorimeter
     from swatch.physics.model import get_coating
-    from swatch.render import shading
-
+    from swatch.render.builtin import shading
     coating = get_coating()
     cm = get_colorimeter(coating.wavelength_nm)
     tab = shading.facet_colour_table(80.0, coating, cm, 257, (0.0, 1.0)).to_rgb(cm).values.astype(float)

@@ -20,7 +20,8 @@ from scipy import integrate
 
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.errors import SwatchError
-from swatch.render import env_shading, environment, render_swatch, scene, shading
+from swatch.render import environment, render_swatch, scene
+from swatch.render.builtin import env_shading, shading
 from tests.helpers import random_directions
 from tests.render.env_reference import (
     ALPHA,

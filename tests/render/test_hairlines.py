@@ -2,7 +2,7 @@
 built-in engine. The field varies across the grain and hardly along it, within its bound, and is deterministic;
 the tilt is a rotation of the facet normal about the grain; a brushed render shows lines along the grain (pixel
 differences across the grain several times those along it) where satin does not, and the four finishes differ
-at a glance; the first-order shading of the interpolated pixels (swatch.render.env_render._Hair) is close to
+at a glance; the first-order shading of the interpolated pixels (swatch.render.builtin.env_render._Hair) is close to
 shading every pixel with its own tilted normal; reruns are byte-identical."""
 from __future__ import annotations
 
@@ -17,7 +17,8 @@ from swatch.physics.finishes import (
     hairline_slope,
     tilt_normals,
 )
-from swatch.render import env_render, render_swatch
+from swatch.render import render_swatch
+from swatch.render.builtin import env_render
 from tests.cli_helpers import run_swatch
 from tests.helpers import random_directions
 

@@ -17,8 +17,9 @@ from swatch.core.errors import SwatchError
 from swatch.io import drawing, imageio, spectral_exr
 from swatch.physics import microfacet
 from swatch.physics.model import get_coating
-from swatch.render import angular, display, metadata, render_swatch, shading
+from swatch.render import angular, display, metadata, render_swatch
 from swatch.render import scene as scenes
+from swatch.render.builtin import shading
 from tests.cli_helpers import run_swatch
 from tests.synthetic import tmm_half_vector_reflectance
 

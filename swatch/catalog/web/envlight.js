@@ -1,5 +1,5 @@
 // envlight.js — the live view under an environment (the studio, uniform): the thin-film
-// GGX BRDF integrated over the environment as swatch.render.env_shading does it. Everything physical
+// GGX BRDF integrated over the environment as swatch.render.builtin.env_shading does it. Everything physical
 // comes from the build (swatch.catalog.explorer_env): per view bin the renderer's fixed GGX
 // visible-normal samples, the environment's blurred octahedral maps, the dense directional albedo
 // matrix and the weights of the per-bin projection of F. Two passes (explorer_env's module doc):
@@ -36,7 +36,7 @@ void main() {
   float cv = dot(n, v);
   vec3 t = v - cv * n;
   float tl = length(t);
-  if (tl < 1e-6) {  // along the normal: the tangent of swatch.render.env_shading.local_frame (environment frame)
+  if (tl < 1e-6) {  // along the normal: the tangent of swatch.render.builtin.env_shading.local_frame (environment frame)
     vec3 ne = toEnv(n);
     t = toPage(cross(ne, abs(ne.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0)));
     tl = length(t);

@@ -14,7 +14,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from swatch.catalog.spec_checks import SpecChecker
+from swatch.catalog.spec.checks import SpecChecker
 from swatch.core.choices import DEFAULT_ROUGHNESS_ALPHA, FINISHES, MESH_FORMATS, MODELS, SHAPES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_DENOISE_PX, MAX_MESH_BYTES, MAX_MITSUBA_PX, read_capped

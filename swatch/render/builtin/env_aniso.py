@@ -1,8 +1,8 @@
 """Anisotropic GGX under an environment (brushed finishes): the sample set of
-:mod:`swatch.render.env_shading` for ``α_u ≠ α_v``.
+:mod:`swatch.render.builtin.env_shading` for ``α_u ≠ α_v``.
 
 The method is the isotropic one (fixed visible-normal samples per view bin, per-sample blurred
-environment, the level fixed by a dense set: :mod:`swatch.render.env_shading`), with two changes:
+environment, the level fixed by a dense set: :mod:`swatch.render.builtin.env_shading`), with two changes:
 
 * **Bins over the view in the tangent frame.** With anisotropy the lobe depends on the view's
   azimuth to the brushing direction, not only on ``θ_v``: the bins are :data:`THETA_BINS`
@@ -25,7 +25,14 @@ import functools
 import numpy as np
 
 from swatch.physics import microfacet
-from swatch.render.env_shading import CHUNK, SAMPLES, SIGMA_PER_FOOTPRINT, combine, fibonacci_lattice, level_table
+from swatch.render.builtin.env_shading import (
+    CHUNK,
+    SAMPLES,
+    SIGMA_PER_FOOTPRINT,
+    combine,
+    fibonacci_lattice,
+    level_table,
+)
 
 __all__ = ["THETA_BINS", "PHI_BINS", "AnisoSampleSet", "aniso_sample_set", "gather_aniso", "combine_aniso",
            "shade_aniso"]
@@ -40,7 +47,7 @@ ANISO_DENSE = 1024
 
 class AnisoSampleSet:
     """The fixed sample set of an anisotropic GGX lobe (the attributes of
-    :class:`swatch.render.env_shading.SampleSet`: ``l`` (M, N, 3), ``w`` (M, N), ``cos_d``,
+    :class:`swatch.render.builtin.env_shading.SampleSet`: ``l`` (M, N, 3), ``w`` (M, N), ``cos_d``,
     ``sigma_deg``, ``dense_w``, ``dense_cos_d``, ``bins``).
 
     Parameters
@@ -140,9 +147,9 @@ def gather_aniso(n, v, maps, samples: AnisoSampleSet, table, tangent, occluded=N
     samples : AnisoSampleSet
         The anisotropic lobe's fixed samples per view bin (:func:`aniso_sample_set`).
     table : numpy.ndarray
-        :func:`swatch.render.env_shading.level_table` of ``samples`` on ``maps``.
+        :func:`swatch.render.builtin.env_shading.level_table` of ``samples`` on ``maps``.
     occluded : callable, optional
-        As :func:`swatch.render.env_shading.gather`'s: the sample directions the object hides are dark.
+        As :func:`swatch.render.builtin.env_shading.gather`'s: the sample directions the object hides are dark.
 
     Returns
     -------
@@ -180,7 +187,7 @@ def combine_aniso(E, j, mix, weights) -> np.ndarray:
     E, j, mix
         :func:`gather_aniso`'s output.
     weights : numpy.ndarray
-        :func:`swatch.render.env_shading.band_weights` of the thickness.
+        :func:`swatch.render.builtin.env_shading.band_weights` of the thickness.
 
     Returns
     -------

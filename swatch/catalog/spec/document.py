@@ -1,4 +1,4 @@
-"""Catalog specs: TOML files describing one catalog, parsed and validated strictly.
+"""The catalog spec as a document: :class:`CatalogSpec`, parsed from a TOML file and validated strictly.
 
 A spec names the catalog, the film and substrate, the thicknesses (or anodising voltages), the colorimetry, the
 geometries, the render options, the tolerance grade and the sheet layout. Every key is checked: an unknown key, a
@@ -14,9 +14,8 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from swatch.catalog.chip_size import CHIP_DPI, CHIP_SIZE_MM, chip_px
-from swatch.catalog.spec_checks import SpecChecker, spec_material, spec_process, spec_range
-from swatch.catalog.spec_files import SPECS_DIR, bundled_specs, resolve_spec_path
-from swatch.catalog.spec_render import parse_render
+from swatch.catalog.spec.checks import SpecChecker, spec_material, spec_process, spec_range
+from swatch.catalog.spec.render import parse_render
 from swatch.colorimetry import tolerance
 from swatch.colorimetry.geometry import DEFAULT_ASPECULAR_DEG, Geometry, geometry_name
 from swatch.colorimetry.tolerance import get_tolerance
@@ -28,8 +27,7 @@ from swatch.physics.growth import growth_law_nm, thickness_to_voltage_V
 from swatch.physics.process import DEFAULT_PROCESS
 from swatch.physics.spread import ThicknessSpread
 
-__all__ = ["spec_summary", "CatalogSpec", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS",
-           "SPECS_DIR", "bundled_specs", "resolve_spec_path"]
+__all__ = ["spec_summary", "CatalogSpec", "load_spec", "parse_spec", "RENDER_SHAPES", "RENDER_MODELS"]
 
 #: Shapes and shading models a tile can show (swatch.render.render_swatch accepts these).
 RENDER_SHAPES, RENDER_MODELS = SHAPES, MODELS

@@ -10,7 +10,7 @@ __all__ = ["SPECS_DIR", "bundled_specs", "resolve_spec_path"]
 
 #: The catalog specs shipped inside the package (``swatch/catalog/specs/*.toml``, package data; in the
 #: repository a link to its ``catalog/`` folder), found by name: ``swatch catalog build titanium``.
-SPECS_DIR = Path(__file__).resolve().parent / "specs"
+SPECS_DIR = Path(__file__).resolve().parents[1] / "specs"
 
 
 def bundled_specs() -> dict[str, Path]:

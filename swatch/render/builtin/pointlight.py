@@ -5,7 +5,7 @@ Light and colour
 A directional light whose spectrum is the colorimeter's illuminant (D65 by default, as the
 paper's CG) lights the swatch; the camera records CIE XYZ, converted to linear RGB. Pixel values
 are scene-referred with **1.0 = a perfect white diffuser lit by the same light at normal
-incidence**: a pixel is ``XYZ(F(·; d, θ_d)) · s`` (see :mod:`swatch.render.shading`) with
+incidence**: a pixel is ``XYZ(F(·; d, θ_d)) · s`` (see :mod:`swatch.render.builtin.shading`) with
 ``s = π D G cos θ_l / (4 cos θ_l cos θ_v)`` for the microfacet model and ``s = 1`` (lit and
 seen) for the paper's model. The scenes (camera, shapes, light) are in :mod:`swatch.render.scene`; the
 display image's exposure and tone shoulder in :mod:`swatch.render.display`.
@@ -23,7 +23,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from swatch.physics import microfacet
-from swatch.render import shading
+from swatch.render.builtin import shading
 from swatch.render.display import BACKGROUND_LINEAR, display_encode, exposure
 from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, edge_pixels, mesh_metadata
 from swatch.render.request import RenderRequest
@@ -59,7 +59,7 @@ def _intensity(hit, cos_l, cos_v, cos_h, cos_d, model, roughness_alpha, distribu
 
 
 def _fine_index(fine, cos_d) -> np.ndarray:
-    """Nearest node of a refined table (:meth:`swatch.render.shading.FacetColourTable.refined`: linear
+    """Nearest node of a refined table (:meth:`swatch.render.builtin.shading.FacetColourTable.refined`: linear
     interpolation of the coarse table to within 1/(2·factor) of a coarse node, at the cost of one gather)."""
     t32 = np.float32
     x = (cos_d - t32(fine.c0)) * t32((fine.nodes - 1) / max(fine.c1 - fine.c0, 1e-12)) + t32(0.5)
@@ -77,7 +77,7 @@ def render_scene(scene: Scene, table, size_px: int, model: str, roughness_alpha:
     ----------
     scene : swatch.render.scene.Scene
         Camera, shape and light.
-    table : callable or swatch.render.shading.FacetColourTable
+    table : callable or swatch.render.builtin.shading.FacetColourTable
         A factory ``table(c0, c1)`` called with the image's cos θ_d range, or a ready table (XYZ or
         linear RGB).
     size_px : int

@@ -1,4 +1,4 @@
-"""Swatch renders lit by an environment (:mod:`swatch.render.environment`, :mod:`swatch.render.env_shading`).
+"""Swatch renders lit by an environment (:mod:`swatch.render.environment`, :mod:`swatch.render.builtin.env_shading`).
 
 The scene (shape, perspective camera) is the renderer's; every covered pixel is shaded at its
 centre with the environment integral of the thin-film GGX BRDF (height-correlated Smith), and
@@ -34,10 +34,10 @@ from swatch.colorimetry.colorimeter import RGB_SPACES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_ENV_RENDER_PX, MIN_ENV_RENDER_PX
 from swatch.physics.finishes import brush_coordinates, brush_tangent, hairline_slope, tilt_normals
-from swatch.render import env_shading, shading
 from swatch.render import environment as envmod
+from swatch.render.builtin import env_shading, shading
+from swatch.render.builtin.env_aniso import AnisoSampleSet, aniso_sample_set, combine_aniso, gather_aniso
 from swatch.render.display import BACKGROUND_LINEAR, display_encode
-from swatch.render.env_aniso import AnisoSampleSet, aniso_sample_set, combine_aniso, gather_aniso
 from swatch.render.image import BACKGROUND_WHITE, SUPERSAMPLE, SwatchImage, edge_pixels, mesh_metadata
 
 __all__ = ["check_env_size_px", "render_swatch_environment", "Prepared", "prepared", "render_environment"]
@@ -133,7 +133,7 @@ class Prepared:
         Flat pixel indices (X,), (Q,).
     background : numpy.ndarray or None
         The environment behind the object (H, W, 3), or None.
-    samples : swatch.render.env_shading.SampleSet or swatch.render.env_aniso.AnisoSampleSet
+    samples : swatch.render.builtin.env_shading.SampleSet or swatch.render.builtin.env_aniso.AnisoSampleSet
         The fixed GGX visible-normal samples per pixel.
     """
 
@@ -191,7 +191,7 @@ def _normals_views(scene, x, y, size):
 
 
 def _self_occlusion(scene, v):
-    """For a mesh, ``occluded(rows, directions)`` of :func:`swatch.render.env_shading.gather`: the sample
+    """For a mesh, ``occluded(rows, directions)`` of :func:`swatch.render.builtin.env_shading.gather`: the sample
     directions the mesh hides from the points seen along ``-v`` (each camera ray cast again to find its point);
     None for the built-in shapes (convex, or the bent sheet, whose inner face sees the map as before)."""
     shape = scene.shape

@@ -216,8 +216,8 @@ def albedo_matrix(samples, k: int) -> np.ndarray:
 
     Parameters
     ----------
-    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
-        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
+    samples : SampleSet or swatch.render.builtin.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.builtin.env_aniso.aniso_sample_set`).
     k : int
         Table nodes.
 
@@ -243,8 +243,8 @@ def directional_albedo(samples, f_table) -> np.ndarray:
 
     Parameters
     ----------
-    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
-        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
+    samples : SampleSet or swatch.render.builtin.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.builtin.env_aniso.aniso_sample_set`).
     f_table : array_like, shape (K, 3)
         ``F``'s linear RGB, uniform over cos θ_d in [0, 1] (linear interpolation).
 
@@ -266,8 +266,8 @@ def band_weights(samples, f_table) -> np.ndarray:
 
     Parameters
     ----------
-    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
-        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
+    samples : SampleSet or swatch.render.builtin.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.builtin.env_aniso.aniso_sample_set`).
     f_table : array_like, shape (K, 3)
         As :func:`directional_albedo`.
 
@@ -327,8 +327,8 @@ def level_table(samples, maps) -> np.ndarray:
 
     Parameters
     ----------
-    samples : SampleSet or swatch.render.env_aniso.AnisoSampleSet
-        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.env_aniso.aniso_sample_set`).
+    samples : SampleSet or swatch.render.builtin.env_aniso.AnisoSampleSet
+        The lobe's fixed samples per view bin (:func:`sample_set`, :func:`swatch.render.builtin.env_aniso.aniso_sample_set`).
     maps : swatch.render.octahedral.LevelMaps
         The environment's blur levels (:func:`swatch.render.environment.levels`).
 
