@@ -5,6 +5,8 @@ The engine section runs last, so the final line is ``ratio_vs_colour=X ratio_vs_
 ``--tiny`` (or ``SWATCH_BENCH_TINY=1``) runs each section at a tiny size, one repeat: a smoke test whose
 figures mean nothing (tests/test_bench.py). Section names pick sections: ``python3 dev.py bench render qc``.
 Machines here are noisy: every figure is a median of repeats, and ratios are measured in one run.
+``mitsuba_cuda`` times the Mitsuba engine on an NVIDIA GPU beside the CPU where Dr.Jit and OIDN find one, and
+says ``cuda: not available here`` otherwise (``python3 dev.py bench mitsuba_cuda`` on a GPU machine).
 """
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ import sys
 
 import numpy as np
 
-SECTIONS = ["render", "environment", "mesh", "mitsuba", "catalog", "explorer", "exports", "fit", "calibrate", "qc", "presets",
+SECTIONS = ["render", "environment", "mesh", "mitsuba", "mitsuba_cuda", "catalog", "explorer", "exports", "fit", "calibrate", "qc", "presets",
             "engine"]
 
 

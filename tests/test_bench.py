@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: A key each section prints (the first of its lines).
 KEYS = {"render": "render_64_s", "environment": "render_env_64_s", "mesh": "render_mesh_64_s",
-        "mitsuba": "mitsuba_bsdf_ratio", "catalog": "catalog_cold_s", "explorer": "explorer_frame_ms",
+        "mitsuba": "mitsuba_bsdf_ratio", "mitsuba_cuda": "cuda_hero_s", "catalog": "catalog_cold_s", "explorer": "explorer_frame_ms",
         "exports": "exports_chips_s", "fit": "fit_100_geometries_ms", "calibrate": "calibrate_tables_ms",
         "qc": "check_100_parts_ms", "presets": "presets_fit_s", "engine": "ratio_vs_colour"}
 
@@ -40,6 +40,9 @@ def test_the_whole_bench_runs_to_its_end_at_a_tiny_size():
         if section == "explorer" and "explorer: skipped" in out and os.environ.get("SWATCH_REQUIRE_BROWSER") != "1":
             continue
         if section == "mitsuba" and "mitsuba: skipped" in out and os.environ.get("SWATCH_REQUIRE_MITSUBA") != "1":
+            continue
+        if section == "mitsuba_cuda" and re.search(r"^cuda: not available here \(.+\)$", out, re.M):
+            assert not re.search(r"(^| )cuda_\w+=", out, re.M)  # (no figure without a GPU)
             continue
         assert re.search(rf"(^| ){key}=[0-9.]+", out, re.M), f"section {section}: no {key}= in\n{out}"
     assert re.search(r"^ratio_vs_colour=[0-9.]+ ratio_vs_tmm=[0-9]+$", out.splitlines()[-1])

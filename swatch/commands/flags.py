@@ -43,6 +43,8 @@ PARAMETER_FLAGS = {
     "spp": "--spp",
     "seed": "--seed",
     "denoise": "--denoise",
+    "denoise=False": "--no-denoise",
+    "device": "--device",
     "finish": "--finish",
     "timezone_h": "--sun-timezone",
     "illuminant": "--illuminant",

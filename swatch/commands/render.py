@@ -17,6 +17,7 @@ from swatch.core.choices import (
     DEFAULT_ROUGHNESS_ALPHA,
     DEFAULT_SEED,
     DEFAULT_SPP,
+    DEVICES,
     DISTRIBUTIONS,
     ENGINES,
     FINISHES,
@@ -215,6 +216,8 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
 @click.option("--denoise/--no-denoise", default=None,
               help="mitsuba: denoise with Intel Open Image Denoise, guided by the render's albedo and normal buffers "
                    "(--no-denoise: the raw path-traced estimate) [default: denoise]")
+@click.option("--device", type=click.Choice(DEVICES.names(), case_sensitive=False), default=None,
+              help="mitsuba: where it renders and denoises: " + DEVICES.help() + " [default: cpu]")
 @click.option("--keep-raw", is_flag=True, help="mitsuba, denoised: also write the raw image and the albedo and normal "
               "buffers into the EXR as layers raw.RGB, albedo.RGB, normal.XYZ (for compositing)")
 @click.option("--finish", "finish_name", type=click.Choice(FINISHES), default=None,
@@ -223,13 +226,14 @@ def _sun(elevation, azimuth, place, date, time, timezone, turbidity):
 @_sun_options
 @_image_options
 def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, size_px, light_deg, environment, view_deg,
-           view_azimuth_deg, background, engine, spp, seed, denoise, keep_raw, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
+           view_azimuth_deg, background, engine, spp, seed, denoise, device, keep_raw, finish_name, sun_elevation, sun_azimuth, sun_place, sun_date,
            sun_time, sun_timezone, turbidity, model, roughness, distribution, space, force, film, substrate, illuminant,
            observer, wavelengths):
     """Render swatches: <shape>_<d>nm.exr (linear RGBA, half) and .png (display sRGB); mesh_<d>nm with --mesh.
 
     --engine mitsuba path-traces them with Mitsuba 3 and the exact thin-film BSDF (lighting studio, sun,
-    uniform, or an .exr/.hdr map; --spp, --seed), denoised by default (--no-denoise, --keep-raw; docs/mitsuba.md).
+    uniform, or an .exr/.hdr map; --spp, --seed), denoised by default (--no-denoise, --keep-raw; docs/mitsuba.md),
+    on the CPU or an NVIDIA GPU (--device cuda).
     """
     from swatch.core.fileio import check_new, check_writable_dir
     from swatch.io import imageio
@@ -252,7 +256,7 @@ def render(thickness, voltage, process, nm_per_volt, shape, mesh_file, out_dir, 
                                                observer, wavelengths)
     # every input checked once, before anything is written (a series reuses the request and its lighting)
     # the options given, or that the process profile sets (the library refuses one that would change nothing)
-    given = {"light_deg": light_deg, "spp": spp, "seed": seed, "denoise": denoise,
+    given = {"light_deg": light_deg, "spp": spp, "seed": seed, "denoise": denoise, "device": device,
              "roughness_alpha": None if finish is not None else _roughness(roughness, process)}
     request = render_request(d[0], shape, size_px, model=model, coating=coating, colorimeter=cm, space=space,
                              distribution=distribution, environment=environment, background=background,

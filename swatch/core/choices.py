@@ -30,6 +30,7 @@ __all__ = [
     "DEFAULT_MATCH_STEP_NM",
     "DEFAULT_EXCLUDE_MIRROR_DEG",
     "DENOISE_QUALITIES",
+    "DEVICES",
 ]
 
 #: Swatch shapes of a render: flat plate, half cylinder (a bent sheet), sphere.
@@ -107,3 +108,8 @@ SPECTRAL_VARIANTS = ("llvm_ad_spectral", "scalar_spectral", "cuda_ad_spectral")
 #: block ΔE00 5–10 % higher on the accuracy tests' 96 px renders).
 DENOISE_QUALITIES = ("high", "balanced", "fast")
 DEFAULT_VARIANT = "llvm_ad_spectral"
+#: Where a Mitsuba render runs (``device``), each with the spectral variant it renders in; Intel Open Image Denoise
+#: runs on the same device. The default, ``cpu``, is :data:`DEFAULT_VARIANT`'s (``scalar_spectral`` runs there too).
+DEVICES: Registry[str] = Registry("render device", "device", {
+    "cpu": (DEFAULT_VARIANT, "the processor: Mitsuba's LLVM variant, the denoiser on the CPU"),
+    "cuda": ("cuda_ad_spectral", "an NVIDIA GPU: Mitsuba's CUDA variant, the denoiser's CUDA device")})

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from swatch.core.choices import DENOISE_QUALITIES, SPECTRAL_VARIANTS
+from swatch.core.choices import DEFAULT_VARIANT, DENOISE_QUALITIES, DEVICES, SPECTRAL_VARIANTS
 from swatch.core.errors import SwatchError
 from swatch.core.limits import (
     MAX_DENOISE_PX,
@@ -18,7 +18,7 @@ from swatch.core.limits import (
 )
 
 __all__ = ["check_spp", "check_seed", "check_mitsuba_request", "check_window_px", "check_exposure", "check_variant",
-           "check_denoise", "check_denoise_size"]
+           "check_denoise", "check_denoise_size", "variant_device", "check_device"]
 
 
 def _whole_number(value, what: str, low: int, high: int) -> int:
@@ -192,6 +192,68 @@ def check_variant(variant: str) -> str:
         raise SwatchError(f"Mitsuba variant {variant!r} is not supported; the thin-film plugin needs a spectral "
                           f"variant: {', '.join(SPECTRAL_VARIANTS)}")
     return key
+
+
+def variant_device(variant: str) -> str:
+    """The device (:data:`swatch.core.choices.DEVICES`) a spectral variant renders on.
+
+    Parameters
+    ----------
+    variant : str
+        A checked variant (:func:`check_variant`).
+
+    Returns
+    -------
+    str
+        ``cuda`` for a ``cuda_*`` variant, else ``cpu``.
+
+    Examples
+    --------
+    >>> variant_device("cuda_ad_spectral"), variant_device("scalar_spectral")
+    ('cuda', 'cpu')
+    """
+    return "cuda" if variant.startswith("cuda_") else "cpu"
+
+
+def check_device(device: str | None, variant: str | None) -> tuple[str, str]:
+    """The device and the variant of a Mitsuba render: a device names its variant (``cpu``:
+    :data:`swatch.core.choices.DEFAULT_VARIANT`, ``cuda``: ``cuda_ad_spectral``), a variant its device; a
+    variant of another device than the one given is refused. Whether the device is here is the engine's
+    check (:func:`swatch.render.mitsuba.engine.device_unavailable`).
+
+    Parameters
+    ----------
+    device : str or None
+        ``cpu`` or ``cuda`` in any case (:data:`swatch.core.choices.DEVICES`), or None: the variant's.
+    variant : str or None
+        A spectral variant (:func:`check_variant`), or None: the device's.
+
+    Returns
+    -------
+    device, variant : str
+        Both, checked.
+
+    Raises
+    ------
+    SwatchError
+        For an unknown device or variant, or a variant of another device.
+
+    Examples
+    --------
+    >>> check_device(None, None), check_device("CUDA", None), check_device(None, "scalar_spectral")
+    (('cpu', 'llvm_ad_spectral'), ('cuda', 'cuda_ad_spectral'), ('cpu', 'scalar_spectral'))
+    """
+    if device is None:
+        key = check_variant(DEFAULT_VARIANT if variant is None else variant)
+        return variant_device(key), key
+    name = DEVICES.validate(device)
+    if variant is None:
+        return name, DEVICES[name]
+    key = check_variant(variant)
+    if variant_device(key) != name:
+        raise SwatchError(f"Mitsuba variant {key!r} renders on the {variant_device(key)}, not on `device='{name}'`; "
+                          "give the device or the variant, not both")
+    return name, key
 
 
 def check_denoise_size(quality: str | None, side_px: int) -> str | None:

@@ -11,8 +11,9 @@ renders what the request holds and checks nothing again. :data:`ENGINES` maps a 
 :mod:`swatch.render.builtin.pointlight` for one directional light, :mod:`swatch.render.builtin.env_render` when an
 environment lights the swatch. ``mitsuba`` is Mitsuba 3's spectral path tracer with the exact thin-film
 BSDF (:func:`swatch.render.mitsuba.engine.render_mitsuba`), imported only when it is asked for (Mitsuba
-and Dr.Jit are an optional dependency that takes seconds to load). A further engine (a GPU variant, a
-denoising step) is one entry here and one builder in :mod:`swatch.render.request` (docs/DEVNOTES.md).
+and Dr.Jit are an optional dependency that takes seconds to load); where it runs (the CPU, or an NVIDIA GPU) is
+its ``device`` option, not another engine. A further engine is one entry here and one builder in
+:mod:`swatch.render.request` (docs/DEVNOTES.md).
 """
 from __future__ import annotations
 
@@ -233,6 +234,10 @@ def render_swatch(thickness_nm: float, shape: str, size_px: int = 512, progress:
             mitsuba: ``(x, y, width, height)`` pixels of the image to render alone (the image returned).
         variant : str, optional
             mitsuba: the Mitsuba variant (default ``llvm_ad_spectral``).
+        device : str, optional
+            mitsuba: where it renders and denoises, ``cpu`` (the default) or ``cuda`` (an NVIDIA GPU: the
+            ``cuda_ad_spectral`` variant and the denoiser's CUDA device; refused where there is none, and beside a
+            variant of the other device: :data:`swatch.core.choices.DEVICES`).
         bsdf_override : dict, optional
             mitsuba: another BSDF for the object (tests and benchmarks).
         denoise : bool or str

@@ -25,14 +25,7 @@ from dataclasses import dataclass
 from typing import Any, TypedDict, Unpack
 
 from swatch.colorimetry.colorimeter import Colorimeter, check_rgb_space
-from swatch.core.choices import (
-    DEFAULT_LIGHT_DEG,
-    DEFAULT_ROUGHNESS_ALPHA,
-    DEFAULT_SEED,
-    DEFAULT_SPP,
-    DEFAULT_VARIANT,
-    POINT_LIGHT,
-)
+from swatch.core.choices import DEFAULT_LIGHT_DEG, DEFAULT_ROUGHNESS_ALPHA, DEFAULT_SEED, DEFAULT_SPP, POINT_LIGHT
 from swatch.core.errors import SwatchError
 from swatch.physics import microfacet
 from swatch.physics.finishes import Finish
@@ -42,9 +35,9 @@ from swatch.render.builtin import shading
 from swatch.render.checks import (
     check_denoise,
     check_denoise_size,
+    check_device,
     check_exposure,
     check_mitsuba_request,
-    check_variant,
     check_window_px,
 )
 from swatch.render.image import check_background, check_finish_lighting, check_size_px
@@ -100,6 +93,8 @@ class RenderOptions(TypedDict, total=False):
         Mitsuba's film window, pixels.
     variant : str or None
         Mitsuba variant.
+    device : str or None
+        Where Mitsuba renders and denoises: ``cpu`` or ``cuda`` (names the variant).
     bsdf_override : dict or None
         Another BSDF for Mitsuba (tests, benchmarks).
     denoise : bool or str
@@ -128,6 +123,7 @@ class RenderOptions(TypedDict, total=False):
     exposure: float | None
     window_px: tuple[int, int, int, int] | None
     variant: str | None
+    device: str | None
     bsdf_override: dict | None
     denoise: bool | str
 
@@ -138,7 +134,7 @@ _DEFAULTS: dict[str, Any] = {
     "colorimeter": None, "space": "srgb", "distribution": "ggx", "workers": None, "environment": None,
     "background": None, "view_deg": None, "view_azimuth_deg": 0.0, "mesh": None, "finish": None,
     "engine": "builtin", "spp": DEFAULT_SPP, "seed": DEFAULT_SEED, "sun": None, "exposure": None, "window_px": None,
-    "variant": None, "bsdf_override": None, "denoise": True,
+    "variant": None, "device": None, "bsdf_override": None, "denoise": True,
 }
 
 
@@ -200,7 +196,10 @@ class RenderRequest:
     window_px : (int, int, int, int) or None
         Mitsuba: ``(x, y, width, height)`` pixels of the image to render alone (film crop).
     variant : str or None
-        Mitsuba variant (checked; default :data:`swatch.core.choices.DEFAULT_VARIANT`).
+        Mitsuba variant (checked; default :data:`swatch.core.choices.DEFAULT_VARIANT`, the ``device``'s).
+    device : str
+        Mitsuba: where it renders and denoises, ``cpu`` or ``cuda`` (:func:`swatch.render.checks.check_device`;
+        the built-in engine refuses the option).
     bsdf_override : dict or None
         Mitsuba: another BSDF for the object (tests and benchmarks: Mitsuba's ``roughconductor``).
     denoise : str or None
@@ -234,6 +233,7 @@ class RenderRequest:
     variant: str | None = None
     bsdf_override: dict | None = None
     denoise: str | None = "high"
+    device: str = "cpu"
 
     @property
     def roughness_alpha(self) -> float:
@@ -333,7 +333,7 @@ def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
                           "(or uniform lighting or a map for a grey or white background)")
     exposure = check_exposure(1.0 if o["exposure"] is None else o["exposure"])
     window = check_window_px(o["window_px"], size)
-    variant = check_variant(DEFAULT_VARIANT if o["variant"] is None else o["variant"])
+    device, variant = check_device(o["device"], o["variant"])
     scene = make_scene(shape, _MITSUBA_SCENE_LIGHT_DEG, o["view_deg"], o["view_azimuth_deg"], o["mesh"])
     denoise = check_denoise_size(check_denoise(o["denoise"]), size if window is None else max(window[2:]))
     return RenderRequest(engine="mitsuba", thickness_nm=d, shape=shape, mesh=o["mesh"], size_px=size, scene=scene,
@@ -342,7 +342,7 @@ def _mitsuba(d: float, shape: str, size_px, o: dict[str, Any]) -> RenderRequest:
                          distribution=distribution, space=space, background=background, lighting=light,
                          coating=coating, colorimeter=colorimeter, finish=o["finish"], workers=o["workers"], spp=spp,
                          seed=seed, exposure=exposure, window_px=window, variant=variant,
-                         bsdf_override=o["bsdf_override"], denoise=denoise)
+                         bsdf_override=o["bsdf_override"], denoise=denoise, device=device)
 
 
 _BUILDERS: dict[str, Callable[[float, str, Any, dict[str, Any]], RenderRequest]] = {
@@ -368,7 +368,7 @@ _ONLY_WHERE: dict[str, tuple[Callable[[RenderRequest], bool], Callable[[RenderRe
     "roughness_alpha": (lambda r: r.finish is None,
                         lambda r: "`roughness_alpha` is the `finish`'s (its lobe replaces it); give one of them"),
     **{name: _mitsuba_only(name) for name in ("spp", "seed", "denoise", "exposure", "window_px", "bsdf_override",
-                                                "variant")},
+                                                "variant", "device")},
 }
 
 

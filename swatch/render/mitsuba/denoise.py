@@ -18,7 +18,9 @@ and sharper silhouettes than passing them as noisy.
 
 The denoiser is run through ``mitsuba-oidn`` (OIDN on Dr.Jit's own thread pool: the renderer and the
 denoiser share the same threads instead of oversubscribing the cores; NumPy arrays in, NumPy arrays
-out). The tests (tests/mitsuba/test_mitsuba_denoise.py) check the denoised image against an undenoised
+out). On the ``cuda`` device (:data:`swatch.core.choices.DEVICES`) it runs on OIDN's CUDA device: the images are
+copied to the GPU and back by the binding's ``denoise`` (:func:`device_unavailable` says when OIDN has none).
+The tests (tests/mitsuba/test_mitsuba_denoise.py) check the denoised image against an undenoised
 render of many samples: it must not move colour.
 """
 from __future__ import annotations
@@ -34,7 +36,7 @@ from swatch.core.choices import DENOISE_QUALITIES
 from swatch.core.errors import SwatchError
 from swatch.core.limits import MAX_DENOISE_MEMORY_MB
 
-__all__ = ["BUFFER_SPP", "QUALITIES", "render_buffers", "denoise_rgb", "describe", "oidn_version"]
+__all__ = ["BUFFER_SPP", "QUALITIES", "render_buffers", "denoise_rgb", "describe", "oidn_version", "device_unavailable"]
 
 #: Samples per pixel of the buffers (a power of 4, as the low-discrepancy sampler wants).
 BUFFER_SPP = 16
@@ -84,7 +86,7 @@ def render_buffers(scene, width: int, height: int, seed: int, max_lanes: int) ->
 
 
 def denoise_rgb(rgb: np.ndarray, albedo: np.ndarray | None = None, normal: np.ndarray | None = None,
-                quality: str = "high") -> np.ndarray:
+                quality: str = "high", device: str = "cpu") -> np.ndarray:
     """OIDN's ``RT`` filter (HDR input) on a linear image, guided by the buffers (as
     clean auxiliaries: module documentation). The albedo guides by its luminance (grey): with the
     film's saturated colour as albedo OIDN shifted a yellow plate's colour by ΔE00 0.25 (Δa* −0.4, Δb*
@@ -100,6 +102,9 @@ def denoise_rgb(rgb: np.ndarray, albedo: np.ndarray | None = None, normal: np.nd
         normal is used only with albedo).
     quality : str
         OIDN's filter quality (:data:`QUALITIES`).
+    device : str
+        ``cpu`` or ``cuda``: OIDN's device (:data:`swatch.core.choices.DEVICES`; ``cuda``: see
+        :func:`device_unavailable`).
 
     Returns
     -------
@@ -128,15 +133,50 @@ def denoise_rgb(rgb: np.ndarray, albedo: np.ndarray | None = None, normal: np.nd
         images["albedo"] = grey
         if aux[1] is not None:
             images["normal"] = aux[1]
-    return np.maximum(_run(images, QUALITIES[quality], clean_aux=aux[0] is not None), 0.0)
+    clean_aux = aux[0] is not None
+    if device == "cpu":
+        return np.maximum(_run(images, QUALITIES[quality], clean_aux=clean_aux), 0.0)
+    return np.maximum(_run_staged(_device(device), images, QUALITIES[quality], clean_aux), 0.0)
 
 
-@functools.lru_cache(maxsize=1)
-def _device():
-    """The OIDN device (CPU here), made once."""
-    device = oidn.Device()
+@functools.lru_cache(maxsize=2)
+def _device(kind: str = "cpu"):
+    """The OIDN device of ``kind`` (``cpu``: the CPU, named: OIDN's default is the fastest device it finds, a GPU
+    where there is one; ``cuda``: CUDA device 0, Dr.Jit's default), made once."""
+    device = oidn.Device(oidn.DeviceType.CPU) if kind == "cpu" else oidn.Device.cuda(0)
     device.commit()
     return device
+
+
+def device_unavailable(device: str) -> str | None:
+    """Why OIDN cannot denoise on ``device`` here (one line), or None when it can.
+
+    Parameters
+    ----------
+    device : str
+        ``cpu`` or ``cuda`` (:data:`swatch.core.choices.DEVICES`).
+
+    Returns
+    -------
+    str or None
+        For ``cuda`` without a CUDA device among OIDN's physical devices: what it found and what to do.
+    """
+    if device == "cpu":
+        return None
+    found = oidn.physical_devices()
+    if any(p.type == oidn.DeviceType.CUDA for p in found):
+        return None
+    seen = ", ".join(f"{p.type.name} {p.name}" for p in found) or "none"
+    return (f"`device='cuda'`: Intel Open Image Denoise finds no CUDA device (it sees: {seen}); render on a machine "
+            "with an NVIDIA GPU and driver, or give `denoise=False`")
+
+
+def _run_staged(device, images: dict[str, np.ndarray], quality: str, clean_aux: bool) -> np.ndarray:
+    """One OIDN ``RT`` filter (HDR) on ``device`` through the binding's ``denoise``, which copies host arrays to a
+    device that cannot read them (a GPU's) and the result back (its filters kept per device, inputs and size)."""
+    out = oidn.denoise(images["color"], images.get("albedo"), images.get("normal"), hdr=True, clean_aux=clean_aux,
+                       quality=getattr(oidn.Quality, quality), device=device)
+    return np.asarray(out, dtype=np.float32)
 
 
 def _run(images: dict[str, np.ndarray], quality: str, clean_aux: bool = False) -> np.ndarray:
@@ -175,13 +215,15 @@ def oidn_version() -> str:
     return f"Intel Open Image Denoise {oidn.oidn_version()}, mitsuba-oidn {importlib.metadata.version('mitsuba-oidn')}"
 
 
-def describe(quality: str | None) -> str:
+def describe(quality: str | None, device: str = "cpu") -> str:
     """The metadata's ``denoise`` entry: whether and how the image was denoised.
 
     Parameters
     ----------
     quality : str or None
         The request's ``denoise`` (:func:`swatch.render.checks.check_denoise`; None: not denoised).
+    device : str
+        ``cpu`` or ``cuda``: where OIDN ran (said for ``cuda`` alone).
 
     Returns
     -------
@@ -190,7 +232,8 @@ def describe(quality: str | None) -> str:
     """
     if quality is None:
         return "none (raw path-traced estimate)"
-    return (f"{oidn_version()}: RT filter, {quality} quality, HDR input, guided by the first hit's "
+    where = "" if device == "cpu" else f" on its {device.upper()} device"
+    return (f"{oidn_version()}: RT filter{where}, {quality} quality, HDR input, guided by the first hit's "
             "albedo (film: its directional reflectance colour) and shading normal of the same scene and camera "
             f"(Mitsuba aov integrator, {BUFFER_SPP} spp; albedo as luminance; clean auxiliaries)")
 

@@ -19,6 +19,12 @@ direction sampling on a fixed grid, averaged in numpy: deterministic), by quadra
 for an HDRI; ``uniform`` is radiance 1; every ``sun`` shares one scale (:data:`SUN_SCALE`: the
 sun at 45°), so a low sun is darker. Emitters are D65 white (the sun
 and sky are their own spectra); the display PNG is exposure 1 through the renderer's shoulder.
+
+Devices: ``device="cpu"`` (the default) renders in ``llvm_ad_spectral`` and denoises on the CPU;
+``device="cuda"`` in ``cuda_ad_spectral`` on an NVIDIA GPU, denoised on OIDN's CUDA device. Where Dr.Jit or
+OIDN finds no CUDA device, :func:`device_unavailable` says so in one line and nothing is rendered. A CUDA
+render is not byte-identical to a CPU one (other kernels, other orders of sums); each is byte-identical on
+rerun on its own device.
 """
 from __future__ import annotations
 
@@ -55,7 +61,8 @@ from swatch.render.mitsuba.setup import (
 )
 from swatch.render.request import Progress, RenderOptions, RenderRequest, render_request
 
-__all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "mitsuba_lighting",
+__all__ = ["PATH_BOUNCES", "SUN_SCALE", "SUN_Y_UP", "reference_sun_y_up", "Sun", "use_variant", "device_unavailable",
+           "mitsuba_lighting",
            "render_swatch_mitsuba", "render_mitsuba", "Lighting", "studio_scale", "floor_y"]
 
 PATH_BOUNCES = 12
@@ -92,14 +99,43 @@ def use_variant(variant: str = DEFAULT_VARIANT) -> str:
     Raises
     ------
     SwatchError
-        When the variant cannot run here (no usable libLLVM for an ``llvm_*`` one), with what to install.
+        When the variant cannot run here (no usable libLLVM for an ``llvm_*`` one, no CUDA GPU for a ``cuda_*``
+        one), with what to install.
     """
 
     return _set_variant(check_variant(variant))
 
 
+def device_unavailable(device: str, denoise: bool = True) -> str | None:
+    """Why a Mitsuba render cannot run on ``device`` here (one line: what is missing, what to do), or None.
+
+    Parameters
+    ----------
+    device : str
+        ``cpu`` or ``cuda`` (:data:`swatch.core.choices.DEVICES`; the CPU's libLLVM is :func:`use_variant`'s check).
+    denoise : bool
+        Whether the render is denoised (then OIDN needs the device too).
+
+    Returns
+    -------
+    str or None
+        For ``cuda``: Dr.Jit without its CUDA backend (no NVIDIA GPU or driver), or OIDN without a CUDA device;
+        None when both have one.
+    """
+    if device == "cpu":
+        return None
+    if not dr.has_backend(dr.JitBackend.CUDA):
+        return ("`device='cuda'`: Dr.Jit finds no CUDA GPU here (no NVIDIA GPU, or no driver: libcuda.so); render "
+                "on a machine with an NVIDIA GPU and its driver, or use `device='cpu'`")
+    return oidn.device_unavailable(device) if denoise else None
+
+
 def _set_variant(variant: str) -> str:
     """:func:`use_variant` of a variant already checked (a render request's)."""
+    if variant.startswith("cuda"):
+        why = device_unavailable("cuda", denoise=False)
+        if why is not None:
+            raise SwatchError(why)
     if variant.startswith("llvm"):
         path = os.environ.get(ENV_VAR)
         if not path:
@@ -207,7 +243,7 @@ def studio_scale(light_entries: dict) -> float:
     """The radiance scale of a lighting's scene entries (π / E_up: a white diffuser facing up at the object, lit
     directly by the emitters, reflects 1; :func:`_irradiance_scale`), kept for the process (a catalog's hero renders
     and a series of thicknesses share one studio: the quadrature took ~0.3–0.6 s of each render). Keyed by the
-    entries' text (plain values and transforms).
+    entries' text (plain values and transforms) and the variant (a CUDA quadrature's sums differ in the last bits).
 
     Parameters
     ----------
@@ -219,7 +255,7 @@ def studio_scale(light_entries: dict) -> float:
     float
         The factor on Mitsuba's radiance, dimensionless.
     """
-    key = repr(sorted((name, repr(entry)) for name, entry in light_entries.items()))
+    key = str(mi.variant()) + repr(sorted((name, repr(entry)) for name, entry in light_entries.items()))
     if key not in _SCALES:
         if len(_SCALES) >= 8:
             _SCALES.pop(next(iter(_SCALES)))
@@ -352,6 +388,10 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
     light, exposure, spread, bsdf_override = request.lighting, request.exposure, request.spread, request.bsdf_override
     film, substrate, film_index_scale = coating.film, coating.substrate, coating.film_index_scale
     variant = DEFAULT_VARIANT if request.variant is None else request.variant  # (a request's is checked)
+    quality = request.denoise  # OIDN's quality, or None (checked in the request)
+    why = device_unavailable(request.device, quality is not None)
+    if why is not None:
+        raise SwatchError(why)
     variant = _set_variant(variant)
 
     scene_geo = request.scene
@@ -389,7 +429,6 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         per //= 2
     passes = spp // per
     sensor = camera_dict(scene_geo.camera, size, per, window, SAMPLER)
-    quality = request.denoise  # OIDN's quality, or None (checked in the request)
     integrator = {"type": "path", "max_depth": PATH_BOUNCES, "hide_emitters": background != "environment"}
     scene = load_scene({"type": "scene", "integrator": integrator, "sensor": sensor,
                         **object_shapes(shape, bsdf, mesh), **lights})
@@ -407,7 +446,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         albedo, normal = oidn.render_buffers(scene, width, height, seed, MAX_PASS_LANES)
         raise_if_signalled()
         raw = (acc[..., :3] * scale).astype(np.float32)
-        rgb = oidn.denoise_rgb(raw, albedo, normal, quality)
+        rgb = oidn.denoise_rgb(raw, albedo, normal, quality, request.device)
         layers = {"raw": raw, "albedo": albedo, "normal": normal}
     else:
         rgb = (acc[..., :3] * scale).astype(np.float32)
@@ -448,7 +487,7 @@ def render_mitsuba(request: RenderRequest, progress: Progress | None = None) -> 
         "seed": seed,
         "integrator": f"Mitsuba path tracer, up to {PATH_BOUNCES} bounces, {passes} pass(es) of {per} spp",
         "rgb_space": space,
-        "denoise": oidn.describe(quality),
+        "denoise": oidn.describe(quality, request.device),
         "lighting": _description(light),
         "environment": light.kind if light.kind != "map" else light.name,
         "units": ("scene-referred linear; 1.0 = perfect white diffuser facing up (+y) at the origin under the same "
