@@ -17,15 +17,15 @@ no CSV parsing), median of repeats. Lines:
 * ``calibrate_tables_ms=T`` — the full search of issue 19 on the simulated line of
   tests/data/simulated-line-coupons.csv (30 coupons from tmm: TiO2-Franta on Ti-Palm, a knee at
   45 V, 3.5 % spread, one mislabelled): 25 film × substrate pairs screened, the best three through
-  the nested models with leave-one-out refits; one call, median of repeats (CSV parsed once);
+  the nested models by leave-one-out; one call, median of repeats (CSV parsed once);
 * ``calibrate_tables_held_out_dE00=M/X calibrate_tables_pair=F/S calibrate_tables_knee_V=K
   calibrate_tables_spread=F`` — what it found;
 * ``calibrate_1000_s=T calibrate_1000_cpu_s=C calibrate_1000_peak_mb=M`` — ``calibrate`` at the cap (``MAX_COUPONS``, 1000):
   a synthetic line generated from the model (TiO2-Siefke on Ti-Johnson, 3 nm + 2.1 nm/V, 1000 coupons
   evenly over 0.5–300 V, CIELAB at 45°:0°, D65, 10°, seeded noise 0.3 per coordinate), the full table
-  search from titanium-fujii2019 (leave-one-out by Newton steps past 300 coupons). Each run is a fresh
-  process (``python -m benchmarks.bench_calibrate 1000``: cold tables); ``T`` is the median wall time of
-  the ``calibrate`` call over three runs (``calibrate_1000_cpu_s`` its CPU time, all threads: what a
+  search from titanium-fujii2019 (leave-one-out by Newton steps, a bounded number of folds refitted). Each
+  run is a fresh process (``python -m benchmarks.bench_calibrate 1000``: cold tables); ``T`` is the median
+  wall time of the ``calibrate`` call over three runs (``calibrate_1000_cpu_s`` its CPU time, all threads: what a
   loaded machine measures fairly), ``M`` the largest peak resident memory of those processes, MB
   (interpreter and imports included). ``--tiny``: 40 coupons, one run.
 """
