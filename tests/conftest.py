@@ -24,23 +24,24 @@ import pytest
 
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chromium
 
-#: The suite's longest files, longest first: seconds per file (sum of its tests' durations) in a cold run
-#: (empty Dr.Jit and Mesa caches, as on CI's fresh machine) of ``python3 dev.py test`` of 09b5849 on
-#: 2026-12-02 (2 workers, quiet VM; 187 s wall). Files not named run after these, in collection order. A name
+#: The suite's longest files, longest first: seconds per file (sum of its tests' durations; the first six from
+#: ``python3 dev.py test --durations=60`` on 2026-12-07, the others from a cold run on 2026-12-02, 2 workers). Files not named run after these, in collection order. A name
 #: that no longer exists is harmless; a new long file belongs here. The two long browser files are not side by
 #: side: started together, both build tests.browser's small catalog at once and one worker waits ~4 s for the
 #: other's (its lock).
 LONGEST_FIRST = (
-    "tests/catalog/test_live_studio_browser.py",  # ~100 s (#46: two catalogs with heroes, the set baked; estimated)
-    "tests/test_docs_commands.py",  # ~50 s (issue 39, estimated: 97 s on the loaded VM; the default catalog cold)
-    "tests/mitsuba/test_mitsuba_checks.py",  # 38 s
-    "tests/commands/test_hardening_memory_caps.py",  # 32
+    "tests/test_docs_commands.py",  # ~190 s (#47-#50 run, loaded VM: the README's default catalog cold 138 s)
+    "tests/catalog/test_live_studio_browser.py",  # ~105 s (#46: two catalogs with heroes, the set baked)
+    "tests/commands/test_hardening_memory_caps.py",  # ~75 s (calibrate at 1,000 coupons among the cases)
+    "tests/fit/test_calibration_leave_one_out.py",  # ~60 s (scipy's converged refits, the reference)
+    "tests/test_bench.py",  # ~55 s (every bench section at a tiny size)
+    "tests/catalog/test_catalog_ar.py",  # ~47 s (<model-viewer> in Chromium over the default catalog's 57)
+    "tests/mitsuba/test_mitsuba_checks.py",  # 38 s (below: the 2026-12-02 cold run)
     "tests/catalog/test_catalog_explorer_env_browser.py",  # 26 (the two browser files apart: see above)
     "tests/presets/test_presets.py",  # 28
     "tests/core/test_hardening_runs.py",  # 27
     "tests/catalog/test_catalog_layout_browser.py",  # 26
     "tests/catalog/test_catalog_build.py",  # 17
-    "tests/test_bench.py",  # ~20 (issue 39, estimated: every bench section at a tiny size)
     "tests/catalog/test_catalog_hero.py",  # 14
     "tests/mitsuba/test_mitsuba_render.py",  # 11
     "tests/catalog/test_catalog_explorer_browser.py",  # 10

@@ -15,6 +15,7 @@ import colour
 import numpy as np
 import pytest
 
+from tests.catalog.folder_helpers import write_spec
 from tests.cli_helpers import run_swatch
 from tests.synthetic import tmm_half_vector_reflectance
 
@@ -145,6 +146,7 @@ def test_voltages_a_person_reads_are_to_a_tenth_of_a_volt(tmp_path):
 def test_small_things(tmp_path):
     assert "/work/" not in (ROOT / "scripts" / "convert_refractiveindex.py").read_text(encoding="utf-8")
     assert (ROOT / "docs" / "catalog.md").read_text(encoding="utf-8").splitlines()[0] == "# The catalog folder and page"
-    proc = run_swatch("catalog", "build", "paper-samples", "--out", f"{tmp_path}/cat/", "--jobs", "1")
+    spec = write_spec(tmp_path / "small.toml")  # (a three-swatch spec: the line printed is what is checked)
+    proc = run_swatch("catalog", "build", str(spec), "--out", f"{tmp_path}/cat/", "--jobs", "1")
     assert proc.returncode == 0, proc.stderr
     assert f"open {tmp_path}/cat/index.html" in proc.stdout and "//index.html" not in proc.stdout
