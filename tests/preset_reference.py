@@ -418,3 +418,21 @@ if __name__ == "__main__":
     import sys
 
     main(sys.argv[1:])
+
+
+def write_catalog_presets(spec_text: str, root: Path):
+    """The presets a catalog of ``spec_text`` writes (swatch.catalog.presets.catalog_presets), written under
+    ``root``: (spec, records with their ``presets`` entries, root, {name: bytes})."""
+    from swatch.catalog.context import catalog_context
+    from swatch.catalog.presets import catalog_presets
+    from swatch.catalog.records import compute
+    from swatch.catalog.spec import load_spec
+
+    (root / "s.toml").write_text(spec_text, encoding="utf-8")
+    spec, _ = load_spec(root / "s.toml")
+    data = compute(catalog_context(spec))
+    files, entries = catalog_presets(spec, data.records, root)
+    for name, blob in files.items():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / name).write_bytes(blob)
+    return spec, [dict(r, presets=e) for r, e in zip(data.records, entries, strict=True)], root, files

@@ -20,6 +20,7 @@ from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.presets import cycles, gltf, openpbr, spectral
 from swatch.presets.fit import FIT_ANGLES_DEG, exact_Lab, model_Lab
 from tests.preset_reference import tmm_exact_Lab as _tmm_exact_Lab
+from tests.preset_reference import write_catalog_presets
 from tests.tmm_reference import unpolarised_R
 
 pytestmark = pytest.mark.slow  # builds catalogs or runs processes (seconds per test)
@@ -111,19 +112,7 @@ roughness = 0.3
 
 @pytest.fixture(scope="module")
 def written(tmp_path_factory):
-    from swatch.catalog.context import catalog_context
-    from swatch.catalog.records import compute
-    from swatch.catalog.spec import load_spec
-
-    root = tmp_path_factory.mktemp("presets")
-    (root / "s.toml").write_text(SPEC, encoding="utf-8")
-    spec, _ = load_spec(root / "s.toml")
-    data = compute(catalog_context(spec))
-    files, entries = catalog_presets(spec, data.records, root)
-    for name, blob in files.items():
-        (root / name).parent.mkdir(parents=True, exist_ok=True)
-        (root / name).write_bytes(blob)
-    return spec, [dict(r, presets=e) for r, e in zip(data.records, entries, strict=True)], root, files
+    return write_catalog_presets(SPEC, tmp_path_factory.mktemp("presets"))
 
 
 def _params_gltf(path):

@@ -13,7 +13,7 @@ import pytest
 from pxr import Sdf, Usd, UsdGeom, UsdShade, UsdValidation
 
 from swatch.presets.fit import FIT_ANGLES_DEG
-from tests.preset_reference import tmm_exact_Lab
+from tests.preset_reference import tmm_exact_Lab, write_catalog_presets
 
 pytestmark = pytest.mark.slow  # fits presets, runs processes and MaterialX's renderer (seconds per test)
 
@@ -32,20 +32,7 @@ physicallybased = true
 
 @pytest.fixture(scope="module")
 def usd_written(tmp_path_factory):
-    from swatch.catalog.context import catalog_context
-    from swatch.catalog.presets import catalog_presets
-    from swatch.catalog.records import compute
-    from swatch.catalog.spec import load_spec
-
-    root = tmp_path_factory.mktemp("usd")
-    (root / "s.toml").write_text(SPEC, encoding="utf-8")
-    spec, _ = load_spec(root / "s.toml")
-    data = compute(catalog_context(spec))
-    files, entries = catalog_presets(spec, data.records, root)
-    for name, blob in files.items():
-        (root / name).parent.mkdir(parents=True, exist_ok=True)
-        (root / name).write_bytes(blob)
-    return spec, [dict(r, presets=e) for r, e in zip(data.records, entries, strict=True)], root, files
+    return write_catalog_presets(SPEC, tmp_path_factory.mktemp("usd"))
 
 
 def _materialx_nodedefs() -> set[str]:
