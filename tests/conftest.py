@@ -25,10 +25,10 @@ import pytest
 from tests.browser import CHROMIUM, SMALL_CATALOG_SPEC, WEBGL_ARGS, require_chromium
 
 #: The suite's longest files, longest first: seconds per file (sum of its tests' durations; the first six from
-#: ``python3 dev.py test --durations=60`` on 2026-12-07, the others from a cold run on 2026-12-02, 2 workers). Files not named run after these, in collection order. A name
-#: that no longer exists is harmless; a new long file belongs here. The two long browser files are not side by
-#: side: started together, both build tests.browser's small catalog at once and one worker waits ~4 s for the
-#: other's (its lock).
+#: ``python3 dev.py test --durations=0`` on 2026-12-07, the others from a cold run on 2026-12-02, 2 workers).
+#: Files not named run after these, in collection order. A name that no longer exists is harmless; a new long
+#: file belongs here. The two long browser files are not side by side: started together, both build
+#: tests.browser's small catalog at once and one worker waits ~4 s for the other's (its lock).
 LONGEST_FIRST = (
     "tests/test_docs_commands.py",  # ~190 s (#47-#50 run, loaded VM: the README's default catalog cold 138 s)
     "tests/catalog/test_live_studio_browser.py",  # ~105 s (#46: two catalogs with heroes, the set baked)
