@@ -21,7 +21,7 @@ from benchmarks.timing import DEFAULT_SPEC, TINY
 
 
 def run() -> list[str]:
-    from swatch.catalog.presets import fit_format
+    from swatch.catalog.preset_fit import fit_model
     from swatch.catalog.spec import load_spec
     from swatch.physics.materials import load_material
     from swatch.presets import FORMAT_MODEL, PRESET_FORMATS
@@ -38,7 +38,7 @@ def run() -> list[str]:
     fit_presets(d[:2], "threejs", [22.5], roughness=rough, extra_model_angles_deg=[0.0])  # imports and tables
     lines = []
     t0 = time.perf_counter()
-    fits = {FORMAT_MODEL[fmt]: fit_format(spec, fmt) for fmt in PRESET_FORMATS}  # as the catalog build fits them
+    fits = {FORMAT_MODEL[fmt]: fit_model(spec, FORMAT_MODEL[fmt]) for fmt in PRESET_FORMATS}  # as the catalog build fits them
     lines.append(f"presets_fit_s={time.perf_counter() - t0:.2f}")
     n550 = float(np.real(load_material(spec.film).nk(np.array([550.0]))[0]))
     bare = np.tile(_bare_metal_rgb(spec.substrate), (d.size, 1))

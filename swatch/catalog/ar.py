@@ -23,9 +23,10 @@ from importlib import resources
 import numpy as np
 
 from swatch.catalog.layout import PRESETS
+from swatch.catalog.preset_fit import fit_model
 from swatch.presets import modelviewer
 from swatch.presets.files import roughness_factor, round_params
-from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, fit_presets
+from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
 from swatch.presets.naming import preset_file_name
 from swatch.presets.viewer import PART_BIN, mesh_part, part_bin, sphere_part, viewer_gltf_bytes
 
@@ -98,10 +99,7 @@ def viewer_fit(spec) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """
     d = np.asarray(spec.thickness_nm, dtype=np.float64)
     rough = roughness_factor(spec.roughness)
-    groups = np.arange(d.size) // spec.per_sheet
-    extra = sorted({g.theta_d_deg for g in (spec.reference, *spec.multi_angle) if g.theta_d_deg <= 60.0})
-    fit = fit_presets(d, "modelviewer", extra, spec.film, spec.substrate, spec.film_index_scale, groups,
-                      spec.spread, rough)
+    fit = fit_model(spec, "modelviewer")
     params = round_params(fit.params)
     dE = errors_delta_E_00("modelviewer", params, d, FIT_ANGLES_DEG, spec.film, spec.substrate,
                            spec.film_index_scale, spec.spread, rough)

@@ -35,13 +35,14 @@ from swatch.catalog.ar import viewer_presets
 from swatch.catalog.context import catalog_mesh
 from swatch.catalog.folder import read_cache_json, remove_tree
 from swatch.catalog.layout import PRESETS
+from swatch.catalog.preset_fit import catalog_geometries, fit_model
 from swatch.catalog.presets_mitsuba import mitsuba_presets
 from swatch.colorimetry.colorimeter import delta_E_00
 from swatch.core.fileio import atomic_write_text
 from swatch.core.sources import code_hash, package_dir
 from swatch.presets import FORMAT_MODEL, PRESET_FORMATS, materialx, mitsuba_bsdf
 from swatch.presets.files import GEOMETRY_45_0, preset_bytes, roughness_factor, round_params
-from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab, fit_presets
+from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00, exact_Lab
 from swatch.presets.naming import preset_file_name
 from swatch.presets.spectral import rgb_to_Lab
 
@@ -128,42 +129,8 @@ def _read_cache(path: Path, n: int) -> dict | None:
     return out
 
 
-def _geometries(spec) -> list[float]:
-    return sorted({g.theta_d_deg for g in (spec.reference, *spec.multi_angle) if g.theta_d_deg <= 60.0})
-
-
-def fit_format(spec, fmt: str):
-    """Fit the model of preset format ``fmt`` for every swatch of ``spec`` (no cache).
-
-    The catalog's geometries (facet angles ≤ 60°) weigh in; three.js, which evaluates the film at
-    N·V, is fitted at the reference 45:0 with its own N·V instead.
-
-    Parameters
-    ----------
-    spec : swatch.catalog.spec.CatalogSpec
-        The validated catalog spec.
-    fmt : str
-        ``gltf``, ``blender`` or ``materialx``.
-
-    Returns
-    -------
-    swatch.presets.fit.PresetFit
-        The fitted parameters per swatch (thickness nm, IOR, linear RGB) and their ΔE2000 per facet
-        angle.
-    """
-
-    model = FORMAT_MODEL[fmt]
-    groups = np.arange(len(spec.thickness_nm)) // spec.per_sheet  # coupled within a sheet only
-    if model == "threejs":
-        extra, at = [GEOMETRY_45_0[model][0]], [GEOMETRY_45_0[model][1]]
-    else:
-        extra, at = _geometries(spec), None
-    return fit_presets(spec.thickness_nm, model, extra, spec.film, spec.substrate, spec.film_index_scale,
-                       groups, spec.spread, roughness_factor(spec.roughness), at)
-
-
 def _fits(spec, cache: Path | None) -> dict:
-    key = fit_key(spec, _geometries(spec))
+    key = fit_key(spec, catalog_geometries(spec))
     path = cache / f"presets-{key}.json" if cache is not None else None
     if path is not None:  # the cache is untrusted: checked, else refitted
         cached = _read_cache(path, len(spec.thickness_nm))
@@ -172,7 +139,7 @@ def _fits(spec, cache: Path | None) -> dict:
     rough = roughness_factor(spec.roughness)
     out = {}
     for fmt in PRESET_FORMATS:
-        written = round_params(fit_format(spec, fmt).params)
+        written = round_params(fit_model(spec, FORMAT_MODEL[fmt]).params)
         out[fmt] = (written, {prefix: _figures(FIGURE_MODELS[prefix], written, spec, rough)
                               for prefix in FORMAT_FIGURES[fmt]})
     if path is not None and cache is not None:
