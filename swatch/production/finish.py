@@ -15,7 +15,14 @@ import numpy as np
 
 from swatch.colorimetry.tolerance import Tolerance, get_tolerance
 from swatch.core.errors import SwatchError
-from swatch.core.limits import MAX_INSTRUMENT_GEOMETRIES, MAX_THICKNESS_NM
+from swatch.core.limits import (
+    MAX_INSTRUMENT_GEOMETRIES,
+    MAX_SPREAD_FRACTION,
+    MAX_SPREAD_NM,
+    MAX_THICKNESS_NM,
+    MAX_VOLTAGE_V,
+)
+from swatch.physics.process import OFFSET_RANGE, RATE_RANGE, SCALE_RANGE
 
 __all__ = ["SPEC_LAYOUT", "SpecGeometry", "SpecModel", "SpecReach", "FinishSpec"]
 
@@ -206,13 +213,16 @@ class FinishSpec:
         calibrated = doc.get("calibrated_model")
         col = doc["colorimetry"]
         window = doc.get("process_window") or {}
+        if not isinstance(window, dict):
+            raise ValueError(window)
         return cls(
             tolerance=tolerance, illuminant=col["illuminant"], observer=col["observer"], thickness_nm=d,
             geometries=geometries, judged=tuple(judged), model=_model(proc),
             calibrated_model=calibrated if isinstance(calibrated, bool) else voltage_calibrated is True,
             voltage_basis=basis.get("basis") if isinstance(basis.get("basis"), str) else None,
             voltage_calibrated=voltage_calibrated, reach=_reach(doc.get("reach")),
-            window_minus_nm=window.get("thickness_minus_nm"), window_plus_nm=window.get("thickness_plus_nm"),
+            window_minus_nm=_window_side(window.get("thickness_minus_nm")),
+            window_plus_nm=_window_side(window.get("thickness_plus_nm")),
             document=doc)
 
 
@@ -236,12 +246,31 @@ def _judged(tol: dict, reference: dict) -> list[str]:
 
 
 def _model(proc: dict) -> SpecModel:
-    def opt(key):
-        return None if proc.get(key) is None else float(proc[key])
+    """The spec's process, each number in the range a process profile allows (swatch.physics.process), else
+    ValueError: a spec.json is read back from a file."""
+    def num(key, lo, hi, default=None):
+        value = proc.get(key, default)
+        if value is None:
+            return None
+        value = float(value)
+        if not (np.isfinite(value) and lo <= value <= hi):
+            raise ValueError(key)
+        return value
 
-    return SpecModel(proc.get("process"), str(proc["film"]), str(proc["substrate"]), float(proc["film_index_scale"]),
-                     float(proc.get("spread_nm", 0.0)), float(proc.get("spread_fraction", 0.0)), opt("nm_per_V"),
-                     float(proc.get("offset_nm", 0.0)), opt("knee_V"), opt("nm_per_V_above_knee"))
+    return SpecModel(proc.get("process"), str(proc["film"]), str(proc["substrate"]),
+                     num("film_index_scale", *SCALE_RANGE), num("spread_nm", 0.0, MAX_SPREAD_NM, 0.0),
+                     num("spread_fraction", 0.0, MAX_SPREAD_FRACTION, 0.0), num("nm_per_V", *RATE_RANGE),
+                     num("offset_nm", *OFFSET_RANGE, 0.0), num("knee_V", 0.0, MAX_VOLTAGE_V),
+                     num("nm_per_V_above_knee", *RATE_RANGE))
+
+
+def _window_side(value) -> float | None:
+    """A process window's side read back (nm): None (capped, or not stated) or a finite number 0 … MAX_THICKNESS_NM."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.0 <= value <= MAX_THICKNESS_NM:
+        raise ValueError(value)
+    return float(value)
 
 
 def _reach(reach) -> SpecReach | None:

@@ -26,11 +26,13 @@ References
 from __future__ import annotations
 
 import json
+import re
 import struct
 from typing import TypeGuard
 
 from swatch.core.errors import SwatchError
 from swatch.core.limits import (
+    MAX_HEADER_COUNT_CHARS,
     MAX_MESH_BYTES,
     MAX_MESH_JSON_ITEMS,
     MAX_MESH_NODE_DEPTH,
@@ -121,14 +123,15 @@ def _check_ply_header(data: bytes, source: str) -> None:
     """A PLY's ``element vertex N`` and ``element face N`` within the caps (each face is a triangle at least),
     read from its header before the reader allocates for them."""
     head = data.split(b"end_header", 1)[0] if b"end_header" in data[:65536] else b""
-    for line in head.decode("utf-8").splitlines():
+    for line in head.decode("utf-8", "replace").splitlines():  # (any bytes: a count not of ASCII digits is refused)
         words = line.split()
         if len(words) != 3 or words[0] != "element" or words[1] not in ("vertex", "face"):
             continue
         cap, what = (MAX_MESH_VERTICES, "vertices") if words[1] == "vertex" else (MAX_MESH_TRIANGLES, "faces")
-        if not words[2].isdigit():
+        if len(words[2]) > MAX_HEADER_COUNT_CHARS or re.fullmatch(r"[0-9]+", words[2]) is None:  # (str.isdigit
+            # takes '²' and int() refuses it; int() also refuses over 4 300 digits)
             raise SwatchError(f"{source}: the PLY header's element {words[1]} count {words[2][:40]!r} is not a "
-                              "whole number")
+                              f"whole number of at most {MAX_HEADER_COUNT_CHARS} digits")
         if int(words[2]) > cap:
             raise SwatchError(f"{source}: the PLY header declares {int(words[2])} {what}; a mesh may have at most "
                               f"{cap} {'vertices' if what == 'vertices' else 'triangles'}")

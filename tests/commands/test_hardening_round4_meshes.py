@@ -88,6 +88,10 @@ def _cases() -> dict[str, tuple[bytes, str]]:
         "huge_header.ply": (b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
                             b"property float y\nproperty float z\nelement face 1\nproperty list uchar int "
                             b"vertex_indices\nend_header\n", "the PLY header declares 4000000000 vertices"),
+        "superscript_count.ply": ("ply\nformat ascii 1.0\nelement vertex ²\nend_header\n".encode(),
+                                  "element vertex count '²' is not a whole number"),  # (str.isdigit takes '²')
+        "long_count.ply": (b"ply\nformat ascii 1.0\nelement face " + b"9" * 5000 + b"\nend_header\n",
+                           "is not a whole number of at most"),  # (int() refuses over 4 300 digits)
         "json_items.gltf": (b'{"asset": {"version": "2.0"}, "nodes": [' + b"{}, " * MAX_MESH_JSON_ITEMS + b"{}]}",
                             f"a glTF's JSON may hold at most {MAX_MESH_JSON_ITEMS}"),
         **_sparse_cases(),

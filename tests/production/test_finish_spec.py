@@ -48,6 +48,12 @@ def test_the_typed_fields_are_the_documents(made):
     lambda d: d["process"].pop("film"),
     lambda d: d["process"].update(nm_per_V=float("inf")),
     lambda d: d["tolerance"].update(geometries=["45:61"]),
+    lambda d: d["process_window"].update(thickness_minus_nm=[1]),  # (swatch check died on float([1]))
+    lambda d: d["process_window"].update(thickness_plus_nm=-2.0),
+    lambda d: d.update(process_window=[1, 2]),
+    lambda d: d["process"].update(film_index_scale=-5.0),  # a profile allows 0.5 to 1.5
+    lambda d: d["process"].update(spread_fraction=1e9),
+    lambda d: d["process"].update(offset_nm=float("nan")),
 ])
 def test_a_spoiled_document_is_refused_in_one_sentence(made, spoil):
     doc = json.loads(json.dumps(made.document))
