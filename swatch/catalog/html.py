@@ -25,6 +25,7 @@ from swatch.catalog.words import METRIC_SYMBOLS, explain_html, geometry_list_htm
 from swatch.colorimetry.names import colour_names
 from swatch.core.choices import POINT_LIGHT, lightings_of
 from swatch.physics.growth import voltage_text
+from swatch.physics.materials import metal_name
 
 __all__ = ["index_html", "embed_json", "hero_png", "page_script", "page_style", "print_page_style", "css_string"]
 
@@ -427,6 +428,7 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
     present = {s.get("colour_name") for s in swatches}
     families = "".join(f'<option value="{e(n)}">{e(n)}</option>' for n in colour_names() if n in present)
     tools = _tools(c, env) if table is not None else ""
+    metal = e(metal_name(c["substrate"]))  # (the page's script says the same of a colour out of reach)
     blocks = f'<script type="application/json" id="catalog-data">{embed_json(catalog)}</script>\n'
     if table is not None:
         blocks += f'<script type="application/json" id="explorer-table">{embed_json(table)}</script>\n'
@@ -448,13 +450,13 @@ def index_html(catalog: dict, table: dict | None = None, tiles: dict | None = No
 <div class="head">
 <h1 id="catalog-name">{e(c["name"])}</h1>
 {_palette(swatches)}
-<p class="lede">{len(swatches)} colours of anodised titanium: a clear oxide film on the metal, coloured by light
+<p class="lede">{len(swatches)} colours of anodised {metal}: a clear oxide film on the metal, coloured by light
 interference, not dye. Each card is one film thickness{volts_text}. The picture is the colour on a part in a
 photo studio: turn it, or slide through the colours.</p>
 <p class="lede how-to"><strong>Choosing:</strong> pick a colour you like; the strip under its chip shows how it
 shifts with the viewing angle; prefer a wide process window (it forgives small voltage changes). “Compare”
 sets colours side by side; “Find by colour” finds the nearest to a colour code (hex) or L*a*b* numbers, and says
-when anodised titanium cannot make it.</p>
+when anodised {metal} cannot make it.</p>
 <details class="tech"><summary>Technical details: geometry, codes, tolerance, files</summary>
 <p class="sub">{e(c["film"])} on {e(c["substrate"])} · {len(swatches)} swatches ·
 process {e(c["process"]["name"])}: {e(_growth_text(c["process"]))} · {e(c["illuminant"])}, CIE {e(c["observer_name"])} ·

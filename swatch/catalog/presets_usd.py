@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from swatch.catalog.layout import PRESETS
+from swatch.physics.materials import metal_name
 from swatch.presets import physicallybased, usd
 from swatch.presets.fit import FIT_ANGLES_DEG
 from swatch.presets.naming import preset_file_name
@@ -91,8 +92,9 @@ def physicallybased_files(spec, records: list[dict]) -> dict[str, bytes]:
     coating = spec.coating(None)  # film, substrate, index scale, spread
     materials: list[dict] = []
     files: dict[str, bytes] = {}
+    metal = metal_name(spec.substrate).capitalize()
     for r in records:
-        entry, pictures = material_with_pictures(r["id"], f"Titanium (Anodized, {r['thickness_nm']:g} nm, {r['id']})",
+        entry, pictures = material_with_pictures(r["id"], f"{metal} (Anodized, {r['thickness_nm']:g} nm, {r['id']})",
                                                  float(r["thickness_nm"]), coating, spec.roughness,
                                                  spec.presets_physicallybased_base_url, f" Catalog {spec.name}.")
         materials.append(entry)

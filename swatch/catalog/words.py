@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import html
 
+from swatch.physics.materials import metal_name
+
 __all__ = ["METRIC_SYMBOLS", "SCHEME_NAMES", "aspecular_deg", "geometry_words", "tolerance_words", "explain_html",
            "geometry_list_html"]
 
@@ -137,7 +139,7 @@ def explain_html(c: dict) -> str:
 colour instrument does: light from {ref["light_deg"]:g}° off the surface's normal, viewed at
 {ref["view_deg"]:g}° (straight on for 0°). The film's colour is that of the tiny facets tilted to
 reflect the light into your eye; at {e(ref["name"])} they meet the light at θd = {ref["theta_d_deg"]:g}°.
-Anodised titanium changes colour with angle, so every number says its geometry.</p></details>
+Anodised {e(metal_name(c["substrate"]))} changes colour with angle, so every number says its geometry.</p></details>
 <details><summary>The colour at other angles (multi-angle codes)</summary><p>Under each chip, left to right: {names}. The light
 stays at 45°; “as15” means the viewer is 15° away from the gloss (the mirror direction), “as−15” 15°
 past it (further from the light), “as110” far from it, beside the light. Near the gloss the colour is the brightest and

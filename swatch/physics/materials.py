@@ -39,6 +39,7 @@ from swatch.core.limits import MAX_WAVELENGTHS
 __all__ = [
     "same_formula",
     "table_pairs",
+    "metal_name",
     "DEFAULT_FILM",
     "DEFAULT_SUBSTRATE",
     "DEFAULT_WAVELENGTHS_NM",
@@ -56,6 +57,8 @@ DEFAULT_FILM = "TiO2-Siefke"
 DEFAULT_SUBSTRATE = "Ti-Johnson"
 #: Allowed values of :attr:`Material.role`.
 ROLES = ("film", "substrate")
+#: The metals of the shipped substrate tables, by element (a table is named ``<element>-<author>``).
+METAL_NAMES = {"Ti": "titanium", "Nb": "niobium", "Ta": "tantalum"}
 
 _OPTICAL_SUBDIR = "optical"
 _COLUMNS = ("wavelength_nm", "n", "k")
@@ -403,3 +406,25 @@ def table_pairs(film: str, substrate: str) -> list[tuple[str, str]]:
         (film, substrate) pairs, films outer.
     """
     return [(f, s) for f in same_formula("film", film) for s in same_formula("substrate", substrate)]
+
+
+def metal_name(substrate: str) -> str:
+    """The metal a substrate table is of, in words, for what a person reads (``titanium`` for ``Ti-Johnson``).
+
+    Parameters
+    ----------
+    substrate : str
+        A substrate table's name (``<element>-<author>``).
+
+    Returns
+    -------
+    str
+        The metal's English name, lower case; the element symbol for a metal not in :data:`METAL_NAMES`.
+
+    Examples
+    --------
+    >>> metal_name("Nb-Weaver"), metal_name("Ti-Rakic-LD")
+    ('niobium', 'titanium')
+    """
+    symbol = str(substrate).split("-")[0]
+    return METAL_NAMES.get(symbol, symbol)

@@ -35,7 +35,7 @@ import json
 import numpy as np
 
 from swatch.colorimetry.colorimeter import get_colorimeter
-from swatch.physics.materials import load_material, wavelength_grid
+from swatch.physics.materials import load_material, metal_name, wavelength_grid
 from swatch.presets.fit import FIT_ANGLES_DEG, errors_delta_E_00
 from swatch.presets.naming import check_base_url
 from swatch.presets.spectral import rgb_to_xyz_matrix
@@ -109,7 +109,7 @@ def metal_color_and_ior(substrate: str) -> tuple[list[float], list[float], list[
 
 
 def physical_values_delta_E_00(thickness_nm: float, film: str, substrate: str, film_index_scale: float,
-                               roughness: float) -> float:
+                               roughness: float, spread=None) -> float:
     """The largest ΔE2000 of these physical values as an OpenPBR thin film in MaterialX 1.39.5's GLSL
     (:mod:`swatch.presets.materialx`: base colour the bare metal's, the real thickness, :func:`film_index`)
     against the exact colour over mirror geometries 0–60° (D65, CIE 1931 2°).
@@ -124,6 +124,8 @@ def physical_values_delta_E_00(thickness_nm: float, film: str, substrate: str, f
         The process's factor on the film's real index.
     roughness : float
         ``specular_roughness`` (√α).
+    spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread, in the exact colour as in the catalog's figures; None: uniform.
 
     Returns
     -------
@@ -133,7 +135,7 @@ def physical_values_delta_E_00(thickness_nm: float, film: str, substrate: str, f
     color, _, _ = metal_color_and_ior(substrate)
     params = np.array([[float(thickness_nm), film_index(film, film_index_scale), *color]])
     return float(errors_delta_E_00("materialx", params, [float(thickness_nm)], FIT_ANGLES_DEG, film, substrate,
-                                   film_index_scale, None, roughness).max())
+                                   film_index_scale, spread, roughness).max())
 
 
 def _reference(material) -> dict:
@@ -145,7 +147,7 @@ def _reference(material) -> dict:
 
 
 def material_entry(name: str, thickness_nm: float, film: str, substrate: str, film_index_scale: float,
-                   roughness: float, images: list[dict] | None = None, note: str = "") -> dict:
+                   roughness: float, images: list[dict] | None = None, note: str = "", spread=None) -> dict:
     """One material of the v2 schema for an oxide of ``thickness_nm``.
 
     Parameters
@@ -165,6 +167,8 @@ def material_entry(name: str, thickness_nm: float, film: str, substrate: str, fi
         :data:`PICTURE_TEXT`); None: left out (the document then misses a property the schema requires).
     note : str, optional
         Appended to the description (what it was made from).
+    spread : swatch.physics.spread.ThicknessSpread, optional
+        The film's thickness spread (the stated ΔE2000 is against the colour with it); None: uniform.
 
     Returns
     -------
@@ -173,17 +177,20 @@ def material_entry(name: str, thickness_nm: float, film: str, substrate: str, fi
     """
     color, n, k = metal_color_and_ior(substrate)
     eta = film_index(film, film_index_scale)
-    dE = physical_values_delta_E_00(thickness_nm, film, substrate, film_index_scale, roughness)
-    text = (f"Anodised titanium, oxide {thickness_nm:g} nm, written by swatch (anodic-swatch). thinFilmIor {eta:g}: "
-            f"{film} at {INDEX_WAVELENGTH_NM:g} nm (x{film_index_scale:g}), the index of swatch's model, "
-            f"not anatase's 2.488. color, complexIor: bare {substrate}. Physical values: as an OpenPBR thin film "
+    dE = physical_values_delta_E_00(thickness_nm, film, substrate, film_index_scale, roughness, spread)
+    metal = metal_name(substrate)
+    anatase = ", not anatase's 2.488" if load_material(film).formula == "TiO2" else ""  # (the database's titanium)
+    text = (f"Anodised {metal}, oxide {thickness_nm:g} nm, written by swatch (anodic-swatch). thinFilmIor {eta:g}: "
+            f"{film} at {INDEX_WAVELENGTH_NM:g} nm (x{film_index_scale:g}), the index of swatch's model"
+            f"{anatase}. color, complexIor: bare {substrate}. Physical values: as an OpenPBR thin film "
             f"in MaterialX 1.39.5 they show ΔE2000 up to {dE:.1f} (mirror 0-60°, D65, 2°); for the colour use "
             "swatch's fitted .mtlx preset." + (PICTURE_TEXT if images else "") + note)
     entry = {"name": name, "color": [{"colorSpace": "srgb-linear", "color": color}], "metalness": 1,
              "roughness": round(float(roughness), 4),
              "complexIor": [{"colorSpace": "srgb-linear", "n": n, "k": k}],
              "thinFilmThickness": [round(float(thickness_nm), 3)], "thinFilmIor": eta, "category": ["Metal"],
-             "group": "Titanium (Anodized)", "description": text[:500], "tags": ["anodised titanium", "swatch"],
+             "group": f"{metal.capitalize()} (Anodized)", "description": text[:500],
+             "tags": [f"anodised {metal}", "swatch"],
              "references": [{"title": "Physically Based API (v2)", "author": "Palmqvist, A.",
                              "url": "https://github.com/AntonPalmqvist/physically-based-api"},
                             _reference(load_material(film)), _reference(load_material(substrate))]}

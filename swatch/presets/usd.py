@@ -87,6 +87,9 @@ class UsdPreset:
         The mesh the material is bound to.
     anisotropy : dict, optional
         ``{"specular_roughness_anisotropy": ...}`` of a brushed finish; None: isotropic.
+    preview_roughness : float, optional
+        The fallback's isotropic ``roughness`` (√α of the lobe of the same area) where it differs from OpenPBR's
+        ``specular_roughness`` (a brushed finish); None: ``roughness``.
     """
 
     title: str
@@ -96,6 +99,7 @@ class UsdPreset:
     doc: str
     part: UsdPart
     anisotropy: dict | None = None
+    preview_roughness: float | None = None
 
 
 def sphere_part(radius_m: float = PART_RADIUS_M) -> UsdPart:
@@ -227,7 +231,7 @@ def usd_stage(preset: UsdPreset) -> Usd.Stage:
     prev.CreateIdAttr("UsdPreviewSurface")
     _input(prev, "diffuseColor", c3, _color(preset.preview_rgb))
     _input(prev, "metallic", f, 1.0)
-    _input(prev, "roughness", f, round(rough, 6))
+    _input(prev, "roughness", f, round(rough if preset.preview_roughness is None else float(preset.preview_roughness), 6))
     material.CreateSurfaceOutput().ConnectToSource(prev.CreateOutput("surface", Sdf.ValueTypeNames.Token))
     # the part
     part = preset.part

@@ -28,7 +28,7 @@ def usd_preset(title: str, params, alpha: float, materialx_dE: float, thickness_
     params : array_like, shape (5,)
         The MaterialX preset's rounded parameters (:func:`round_params`).
     alpha : float
-        GGX α of the finish.
+        GGX α of the finish (brushed: the isotropic α of the same lobe area, the fallback's).
     materialx_dE : float
         The OpenPBR network's largest ΔE2000 over mirror geometries 0–60° in MaterialX's GLSL (D65, CIE 1931 2°).
     thickness_nm : float
@@ -59,7 +59,7 @@ def usd_preset(title: str, params, alpha: float, materialx_dE: float, thickness_
            + ("" if finish is None else f" Finish {finish.label()}" + (
                " (the fallback is isotropic)." if aniso is not None else ".")))
     return usd.UsdPreset(title, np.asarray(params, dtype=np.float64), rough, np.asarray(preview_rgb), doc, part,
-                         aniso)
+                         aniso, None if aniso is None else roughness_factor(alpha))  # (fallback: isotropic, same area)
 
 
 def single_usd_preset(thickness_nm: float, fmt: str, film: str, substrate: str, film_index_scale: float,

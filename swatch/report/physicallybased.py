@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from swatch.io.imageio import write_png
+from swatch.physics.materials import metal_name
 from swatch.presets import physicallybased
 from swatch.presets.files import roughness_factor
 from swatch.presets.naming import preset_file_name
@@ -90,7 +91,8 @@ def material_with_pictures(ident: str, name: str, thickness_nm: float, coating, 
     names = {s: preset_file_name(ident, f"physicallybased_{s}") for s in physicallybased.IMAGE_SIZES_PX}
     images = physicallybased.image_entries(names, base_url)  # (the address checked before anything renders)
     entry = physicallybased.material_entry(name, float(thickness_nm), coating.film, coating.substrate,
-                                           coating.film_index_scale, roughness_factor(roughness_alpha), images, note)
+                                           coating.film_index_scale, roughness_factor(roughness_alpha), images, note,
+                                           coating.spread)
     files = {names[s]: picture_png(thickness_nm, s, coating, roughness_alpha) for s in physicallybased.IMAGE_SIZES_PX}
     return entry, files
 
@@ -118,8 +120,8 @@ def physicallybased_files(thickness_nm: float, coating, roughness_alpha: float,
     """
     d = float(thickness_nm)
     ident = f"{d:g}nm"
-    entry, pictures = material_with_pictures(ident, f"Titanium (Anodized, {d:g} nm)", d, coating, roughness_alpha,
-                                             base_url)
+    entry, pictures = material_with_pictures(ident, f"{metal_name(coating.substrate).capitalize()} (Anodized, {d:g} nm)",
+                                             d, coating, roughness_alpha, base_url)
     files = {preset_file_name(ident, "physicallybased"): physicallybased.document_bytes([entry]), **pictures}
     sizes = " and ".join(f"{s} px" for s in physicallybased.IMAGE_SIZES_PX)
     return files, (f"physicallybased.info v2 material: thinFilmThickness {d:g} nm, thinFilmIor "

@@ -278,6 +278,37 @@ def _errors(doc, formats: bool = True) -> list[str]:
     return sorted(f"{list(e.absolute_path)}: {e.message}" for e in _schema_validator(formats).iter_errors(doc))
 
 
+def test_brushed_fallback_is_the_lobe_of_the_same_area(tmp_path):
+    """A brushed finish: OpenPBR gets its anisotropic roughness (specular_roughness with an anisotropy), the isotropic
+    UsdPreviewSurface the √α of the lobe of the same area, sqrt(sqrt(α_u α_v)) (not OpenPBR's roughness)."""
+    from swatch.physics.finishes import get_finish
+    from swatch.presets.usd import sphere_part
+    from swatch.presets.usd_files import single_usd_preset
+
+    finish = get_finish("brushed")
+    data, _ = single_usd_preset(150.0, "usd", "TiO2-Siefke", "Ti-Johnson", 1.0, finish.roughness_alpha,
+                                finish=finish, part=sphere_part())
+    (tmp_path / "brushed.usda").write_bytes(data)
+    stage = Usd.Stage.Open(str(tmp_path / "brushed.usda"))
+    shaders = {prim.GetName(): UsdShade.Shader(prim) for prim in stage.Traverse() if prim.IsA(UsdShade.Shader)}
+    pbr, preview = shaders["OpenPBR"], shaders["PreviewSurface"]
+    lobe = float(np.sqrt(np.sqrt(finish.alpha_u * finish.alpha_v)))
+    assert preview.GetInput("roughness").Get() == pytest.approx(lobe, abs=5e-5)  # (written to 4 decimals)
+    assert pbr.GetInput("specular_roughness_anisotropy").Get() > 0
+    assert abs(pbr.GetInput("specular_roughness").Get() - lobe) > 1e-3  # (the two differ: the test can tell)
+
+
+def test_physicallybased_names_the_metal():
+    """A niobium film is published as anodised niobium (name words, group, tag), without titanium's anatase index."""
+    from swatch.presets.physicallybased import material_entry
+
+    nb = material_entry("Niobium (Anodized, 80 nm)", 80.0, "Nb2O5-Franta", "Nb-Weaver", 1.0, 0.3)
+    ti = material_entry("Titanium (Anodized, 80 nm)", 80.0, "TiO2-Siefke", "Ti-Johnson", 1.0, 0.3)
+    assert nb["group"] == "Niobium (Anodized)" and nb["tags"][0] == "anodised niobium"
+    assert nb["description"].startswith("Anodised niobium") and "anatase" not in nb["description"]
+    assert ti["group"] == "Titanium (Anodized)" and "anatase's 2.488" in ti["description"]
+
+
 def test_uri_format_is_asserted():
     """The FormatChecker really checks ``format: uri`` here (jsonschema skips it silently without a URI library)."""
     import jsonschema
