@@ -299,7 +299,8 @@ def _full_build(spec, spec_name, out, meta, fp, fingerprint, old, jobs, progress
         preset_files: dict[str, bytes] = {}
         preset_entries: Sequence[dict | None] = [None] * n  # `[presets] enabled = false`: no fits, files, entries
         if spec.presets:
-            preset_files, preset_entries = execute.catalog_presets(spec, data.records, cache)  # fits cached
+            preset_files, preset_entries = execute.catalog_presets(spec, data.records, cache,  # fits cached
+                                                                   data.context.mesh)
         heroes = execute.catalog_heroes(spec, data.records, cache, say, data.context.mesh,  # when spec.hero; cached
                                         None if cluster is None else cluster.render_heroes)
         hero_out, hero_used = heroes[0], heroes[1]

@@ -168,7 +168,7 @@ RENDERERS = {
 }
 
 
-def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict[str, bytes], list[dict]]:
+def catalog_presets(spec, records: list[dict], cache: Path | None, mesh=None) -> tuple[dict[str, bytes], list[dict]]:
     """The preset files of a catalog's swatches and each record's ``presets`` entry (fits cached in
     ``cache``, keyed by :func:`fit_key`; ``records`` are read only).
 
@@ -180,6 +180,9 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
         The swatches' records (JSON view; read only).
     cache : pathlib.Path or None
         The build cache (None: fit every time).
+    mesh : swatch.render.mesh.MeshShape, optional
+        The spec's part as the build read it (its context's); None: read here (:func:`catalog_mesh`) where the spec
+        names one.
 
     Returns
     -------
@@ -187,6 +190,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
         {file name: bytes} and the entries (file names, ΔE2000 figures, conditions, renderers).
     """
     fits = _fits(spec, cache)
+    part = mesh if mesh is not None else catalog_mesh(spec) if spec.ar or spec.presets_usd else None
     files: dict[str, bytes] = {}
     entries: list[dict] = []
     for i, rec in enumerate(records):
@@ -214,7 +218,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
         entry.update(exact)
         entry["renderers"]["mitsuba"] = RENDERERS["mitsuba"]
     if spec.ar:  # the page's <model-viewer> files and figures (swatch.catalog.ar)
-        viewer_files, viewer_entries = viewer_presets(spec, records, catalog_mesh(spec))
+        viewer_files, viewer_entries = viewer_presets(spec, records, part)
         for entry, viewer in zip(entries, viewer_entries, strict=True):
             entry.update(viewer)
             entry["renderers"]["modelviewer"] = VIEWER_RENDERER
@@ -223,8 +227,7 @@ def catalog_presets(spec, records: list[dict], cache: Path | None) -> tuple[dict
         from swatch.catalog.presets_usd import physicallybased_files, usd_presets  # usd-core only when asked for
     if spec.presets_usd:  # the .usdz of each swatch (swatch.catalog.presets_usd); off: the bytes of before
         mtlx_params, mtlx_figures = fits["materialx"]
-        usd_files, usd_entries = usd_presets(spec, records, mtlx_params, mtlx_figures["materialx"]["60"],
-                                             catalog_mesh(spec))
+        usd_files, usd_entries = usd_presets(spec, records, mtlx_params, mtlx_figures["materialx"]["60"], part)
         for entry, extra in zip(entries, usd_entries, strict=True):
             entry.update(extra)
             entry["renderers"]["usd_preview"] = RENDERERS["usd_preview"]
