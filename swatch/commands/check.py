@@ -103,6 +103,7 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
     if len(set(ids)) != len(ids):
         for r in results:
             r["id"] = f"{Path(r['source']).name}#{r['id']}"
+    notes = spec_notes(spec)
     doc = {"spec": str(spec_path), "pass": all(r["pass"] for r in results),
            "tolerance": {"metric": spec.tolerance.metric, "max": spec.tolerance.max, "label": spec.tolerance.text,
                          "geometries": list(spec.judged)},
@@ -112,14 +113,14 @@ def check(files, spec_path, thickness, voltage, process, tolerance, illuminant, 
                      "failing part or one near the window's edge, and only where the model at the best-fit thickness "
                      "explains the part within the tolerance (max_residual_delta_E); calibrate first where the spec's "
                      "uncalibrated model is the suspect; otherwise voltage_correction_reason says why not",
-           "nominal": written["nominal"], "notes": [*spec_notes(spec), *(n for f in read for n in resampling_notes(f))],
+           "nominal": written["nominal"], "notes": [*notes, *(n for f in read for n in resampling_notes(f))],
            "n_parts": len(results), "n_failed": sum(not r["pass"] for r in results),
            "measurements": results}
     text = json.dumps(doc, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     if report_dir is not None:
         check_writable_dir(out)
         with atomic_path(paths[0]) as tmp:
-            check_figure(results, written, spec_notes(spec)).save(tmp, format="PNG")
+            check_figure(results, written, notes).save(tmp, format="PNG")
         atomic_write_text(paths[1], text)
     if as_json:
         common.echo_json_text(text)

@@ -52,12 +52,10 @@ def fit(measurements, percent, scale, exclude_mirror, thickness_range, step, lig
     (global search over the range, then local refinement) and reports the best thickness, an
     uncertainty, the next-best minimum, ΔE*ab and ΔE2000 per geometry, their means and the grade.
     """
-    from swatch.colorimetry.tolerance import check_scheme
     from swatch.fit.spectral_fit import fit_measurement
     from swatch.io.instrument_files import read_instrument_file
     from swatch.report import text as report
 
-    scheme = check_scheme(scheme)
     proc = common.resolve_process(process, film, substrate, nm_per_volt)
     film, substrate = proc.film, proc.substrate
     rng = parse_pair(thickness_range, "--range")

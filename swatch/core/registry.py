@@ -155,7 +155,7 @@ class Registry(Mapping[str, T], Generic[T]):
         return str(self._entries[self.validate(name)][1])
 
     def help(self) -> str:
-        """Every name with its description, for ``--help``: ``name (description), …``.
+        """Every name with its description, for ``--help``: ``name: description; …``.
 
         Returns
         -------

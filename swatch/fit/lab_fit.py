@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from swatch.colorimetry.colorimeter import Colorimeter, delta_E_00, get_colorimeter
-from swatch.colorimetry.tolerance import DEFAULT_SCHEME
+from swatch.colorimetry.tolerance import DEFAULT_SCHEME, check_scheme
 from swatch.core.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
 from swatch.fit.fitting import FacetModel, check_scale, model_reflectance, sweep_curve, unique_geometry
 from swatch.fit.result import FitResult, fit_result, geometry_arrays, used_geometries
@@ -73,6 +73,7 @@ def fit_lab(
     G. Sharma, W. Wu and E. N. Dalal (2005), doi:10.1002/col.20070 (CIEDE2000).
     """
     scale = check_scale(scale)
+    scheme = check_scheme(scheme)  # (any case; refused before the search)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
     coating = get_coating() if coating is None else coating
     cm = get_colorimeter(coating.wavelength_nm, illuminant, observer)

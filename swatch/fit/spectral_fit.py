@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from swatch.colorimetry.colorimeter import get_colorimeter
-from swatch.colorimetry.tolerance import DEFAULT_SCHEME
+from swatch.colorimetry.tolerance import DEFAULT_SCHEME, check_scheme
 from swatch.core.choices import DEFAULT_EXCLUDE_MIRROR_DEG, DEFAULT_FIT_STEP_NM, DEFAULT_THICKNESS_RANGE_NM
 from swatch.core.errors import SwatchError
 from swatch.fit.fitting import (
@@ -151,6 +151,7 @@ def fit_spectra(
     H. Fujii et al. (2019), doi:10.14923/transinfj.2018JDP7030, §4 (intensity correction) and Table 2.
     """
     scale = check_scale(scale)
+    scheme = check_scheme(scheme)  # (any case; refused before the search)
     lo, hi, step, count = check_search_range(thickness_range, step_nm)
     check_in_tables(measurement, film, substrate)
     wl = measurement.wavelength_nm
